@@ -1,0 +1,66 @@
+package dev.prime;
+
+/**
+ * A service with one input and one output (topology layer).
+ *
+ * <p>A chain is created by a {@link PrimeCore} from a {@link Block} and belongs to that core. How
+ * the chain runs is the media's choice: a composed function (Liberty), a fused generated class
+ * (Radiant) or a service over Redis (Optimus).
+ *
+ * <h2>Single use</h2>
+ * A chain is consumed by {@link #toBlock()} and by every link ({@link #then}, the templates of
+ * {@link PrimeCore}): using it a second time throws {@link ChainAlreadyUsedException}. A
+ * combined chain replaces its parts; to call one piece of logic from several places, create a
+ * chain for each place, or share one with {@link PrimeCore#isolate(Chain)}.
+ *
+ * <p>Implementations are thread-safe.
+ *
+ * @param <I> input type
+ * @param <O> output type
+ */
+public interface Chain<I, O> {
+
+  /** The core that created this chain. */
+  PrimeCore core();
+
+  /**
+   * The chain's name, unique within its core. Optimus derives Redis keys from it, so every
+   * process that declares the same topology must give its chains the same names.
+   */
+  String name();
+
+  /**
+   * Converts the chain back to the logic layer, consuming it.
+   *
+   * <p>The returned block may be called from several threads at once. An exception thrown by a
+   * block inside the chain reaches the caller as a {@link ChainFailedException} naming the chain.
+   * For media whose chains are services (Optimus) the core must be started first.
+   *
+   * @return a block that runs this chain
+   * @throws ChainAlreadyUsedException if the chain was already consumed
+   */
+  Block<I, O> toBlock();
+
+  /**
+   * Links this chain's output to {@code next}'s input, consuming both.
+   *
+   * @param next the chain that processes this chain's outputs
+   * @param <R> output type of the combined chain
+   * @return the combined chain
+   * @see PrimeCore#link(Chain, Chain)
+   */
+  default <R> Chain<I, R> then(Chain<O, R> next) {
+    return core().link(this, next);
+  }
+
+  /**
+   * Links this chain to a new chain made of {@code next}, consuming this chain.
+   *
+   * @param next the block that processes this chain's outputs
+   * @param <R> output type of the combined chain
+   * @return the combined chain
+   */
+  default <R> Chain<I, R> then(Block<O, R> next) {
+    return core().link(this, core().chain(next));
+  }
+}

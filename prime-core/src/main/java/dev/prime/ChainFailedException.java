@@ -1,0 +1,28 @@
+package dev.prime;
+
+/**
+ * A block inside a chain threw. The original exception is the {@linkplain #getCause() cause}
+ * (for a remote service: a {@link PrimeException} describing the remote failure).
+ *
+ * <p>When chains are nested, the innermost chain that failed is named; outer chains pass the
+ * exception on unchanged.
+ */
+public class ChainFailedException extends PrimeException {
+  private static final long serialVersionUID = 1L;
+
+  private final String chainName;
+
+  /**
+   * @param chainName the chain whose block failed
+   * @param cause what the block threw
+   */
+  public ChainFailedException(String chainName, Throwable cause) {
+    super("chain '" + chainName + "' failed: " + cause, cause);
+    this.chainName = chainName;
+  }
+
+  /** The name of the chain whose block failed. */
+  public String chainName() {
+    return chainName;
+  }
+}

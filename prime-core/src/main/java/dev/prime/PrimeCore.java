@@ -1,0 +1,740 @@
+package dev.prime;
+
+import dev.prime.blocks.AsyncCollectorBlock;
+import dev.prime.blocks.ForEachBlock;
+import dev.prime.blocks.ForkBlock;
+import dev.prime.blocks.GuardBlock;
+import dev.prime.blocks.IfThenElseBlock;
+import dev.prime.blocks.IsolateBlock;
+import dev.prime.blocks.LinkBlock;
+import dev.prime.blocks.RepeaterLoopBlock;
+import dev.prime.blocks.SyncCollectorBlock;
+import dev.prime.blocks.UnionBlock;
+import dev.prime.internal.MemorySource;
+import dev.prime.internal.Names;
+import dev.prime.internal.ServiceThreads;
+import dev.prime.internal.SourceService;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Objects;
+import java.util.Set;
+import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.atomic.AtomicInteger;
+import java.util.function.Consumer;
+import java.util.function.Predicate;
+
+/**
+ * The media layer: turns blocks into chains and event blocks into sources, links them, and runs
+ * the services. Switching media is switching the subclass that is created:
+ *
+ * <pre>{@code
+ * try (PrimeCore core = new LibertyCore()) {          // or new RadiantCore(), new OptimusCore()
+ *   Chain<Ticks, Pose> odometry = core.chain("odometry", new Odometry());
+ *   Chain<Ticks, Command> control = odometry.then(core.chain("planner", new Planner()));
+ *   core.start();
+ *   Block<Ticks, Command> controller = control.toBlock();
+ *   Command command = controller.process(ticks);
+ * }
+ * }</pre>
+ *
+ * <h2>What every media guarantees</h2>
+ * <ul>
+ *   <li>Chains are single use ({@link ChainAlreadyUsedException}); values leave chains and sources
+ *       in the order they entered.
+ *   <li>Sources are broadcast with bounded retention ({@link CoreConfig#sourceRetention()}).
+ *   <li>A chain linked to a source runs as one service: linking chains first and then linking the
+ *       combined chain to a source makes one service, not one per chain.
+ *   <li>A block that throws reaches a synchronous caller as {@link ChainFailedException}; in a
+ *       service it goes to the {@link ErrorHandler} and the service carries on.
+ *   <li>{@link #close()} stops every service within {@link CoreConfig#shutdownTimeout()} and
+ *       releases every thread and connection; a closed core throws {@link CoreClosedException}.
+ * </ul>
+ *
+ * <h2>Threading</h2>
+ * Declaring the topology (chains, sources, links, templates) is thread-safe and allowed at any
+ * time before {@link #close()}; services declared after {@link #start()} start at once.
+ *
+ * <h2>For media authors</h2>
+ * A media implements {@link #newChain}; everything else has a generic implementation built on
+ * {@code newChain}, {@link Chain#toBlock()} and in-memory sources with one thread per service.
+ * A media overrides what it can do better (Optimus re-routes Redis lists, Radiant fuses chains).
+ */
+public abstract class PrimeCore implements AutoCloseable {
+
+  private static final ConcurrentHashMap<String, AtomicInteger> CORE_COUNTERS =
+      new ConcurrentHashMap<>();
+
+  private enum State {
+    NEW,
+    STARTED,
+    CLOSED
+  }
+
+  private final CoreConfig config;
+  private final String name;
+  private final Names names = new Names();
+  private final ServiceThreads services;
+  private final List<MemorySource<?>> memorySources = new ArrayList<>(); // guarded by itself
+  private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by memorySources
+  private final Object lifecycle = new Object();
+  private volatile State state = State.NEW;
+
+  /**
+   * @param media the media's short name, for generated core names ({@code liberty-1})
+   * @param config the settings
+   */
+  protected PrimeCore(String media, CoreConfig config) {
+    Objects.requireNonNull(media, "media");
+    this.config = Objects.requireNonNull(config, "config must not be null");
+    this.name =
+        config.name() != null
+            ? config.name()
+            : media + "-" + CORE_COUNTERS.computeIfAbsent(media, k -> new AtomicInteger()).incrementAndGet();
+    this.services = new ServiceThreads(name);
+  }
+
+  /** The core's name (from {@link CoreConfig#name()} or generated). */
+  public final String name() {
+    return name;
+  }
+
+  /** The core's settings. */
+  public final CoreConfig config() {
+    return config;
+  }
+
+  /** Whether {@link #start()} was called. */
+  public final boolean isStarted() {
+    return state != State.NEW;
+  }
+
+  /** Whether {@link #close()} was called. */
+  public final boolean isClosed() {
+    return state == State.CLOSED;
+  }
+
+  // ---------------------------------------------------------------- chains
+
+  /**
+   * Creates a chain named {@code chain-N}.
+   *
+   * @param block the logic
+   * @param <I> input type
+   * @param <O> output type
+   * @return a new chain of this core
+   */
+  public final <I, O> Chain<I, O> chain(Block<I, O> block) {
+    Objects.requireNonNull(block, "block must not be null");
+    ensureOpen();
+    return newChain(names.fresh("chain"), block);
+  }
+
+  /**
+   * Creates a named chain.
+   *
+   * @param name unique in this core; 1 to 200 characters, no whitespace or braces
+   * @param block the logic
+   * @param <I> input type
+   * @param <O> output type
+   * @return a new chain of this core
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public final <I, O> Chain<I, O> chain(String name, Block<I, O> block) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(block, "block must not be null");
+    ensureOpen();
+    return newChain(names.claim(name), block);
+  }
+
+  /**
+   * Creates this media's chain for a block. The name is already claimed.
+   *
+   * @param name the chain's name
+   * @param block the logic
+   * @param <I> input type
+   * @param <O> output type
+   * @return the chain
+   */
+  protected abstract <I, O> Chain<I, O> newChain(String name, Block<I, O> block);
+
+  /**
+   * Links two chains: the result feeds {@code first}'s output to {@code second}. Consumes both. A
+   * chain of another core is taken through its {@link Chain#toBlock()}.
+   *
+   * @param first runs first
+   * @param second runs on the first chain's outputs
+   * @param <I> input type
+   * @param <M> type passed between the chains
+   * @param <O> output type
+   * @return the combined chain, named {@code first>second}
+   */
+  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+    requireChains(first, second);
+    return newChain(
+        derivedName(first.name() + ">" + second.name(), "link"),
+        new LinkBlock<>(first.toBlock(), second.toBlock()));
+  }
+
+  // ---------------------------------------------------------------- templates
+
+  /**
+   * A chain that runs {@code then} for inputs that satisfy {@code condition}, else
+   * {@code otherwise}. Consumes both chains.
+   *
+   * @param condition chooses the branch
+   * @param then the chain for inputs that satisfy it
+   * @param otherwise the chain for the others
+   * @param <I> input type
+   * @param <O> output type
+   * @return the combined chain
+   */
+  public <I, O> Chain<I, O> ifThenElse(
+      Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
+    Objects.requireNonNull(condition, "condition must not be null");
+    requireChains(then, otherwise);
+    return newChain(
+        derivedName("if(" + then.name() + "|" + otherwise.name() + ")", "if"),
+        new IfThenElseBlock<>(condition, then.toBlock(), otherwise.toBlock()));
+  }
+
+  /**
+   * A chain that runs {@code body} on each element of a list. Consumes {@code body}.
+   *
+   * @param body the chain for one element
+   * @param <I> element type of the input
+   * @param <O> element type of the output
+   * @return the combined chain
+   */
+  public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
+    requireChains(body);
+    return newChain(
+        derivedName("forEach(" + body.name() + ")", "forEach"), new ForEachBlock<>(body.toBlock()));
+  }
+
+  /**
+   * A chain that gives each input to both chains and returns both outputs. Consumes them.
+   *
+   * @param a first chain
+   * @param b second chain
+   * @param <I> input type
+   * @param <A> output of a
+   * @param <B> output of b
+   * @return the union
+   */
+  public <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
+    requireChains(a, b);
+    return newChain(unionName(a, b), UnionBlock.of(a.toBlock(), b.toBlock()));
+  }
+
+  /**
+   * A chain that gives each input to three chains and returns their outputs. Consumes them.
+   *
+   * @param a first chain
+   * @param b second chain
+   * @param c third chain
+   * @param <I> input type
+   * @param <A> output of a
+   * @param <B> output of b
+   * @param <C> output of c
+   * @return the union
+   */
+  public <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
+      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
+    requireChains(a, b, c);
+    return newChain(unionName(a, b, c), UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock()));
+  }
+
+  /**
+   * A chain that gives each input to four chains and returns their outputs. Consumes them.
+   *
+   * @param a first chain
+   * @param b second chain
+   * @param c third chain
+   * @param d fourth chain
+   * @param <I> input type
+   * @param <A> output of a
+   * @param <B> output of b
+   * @param <C> output of c
+   * @param <D> output of d
+   * @return the union
+   */
+  public <I, A, B, C, D> Chain<I, Tuple4<A, B, C, D>> union(
+      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
+    requireChains(a, b, c, d);
+    return newChain(
+        unionName(a, b, c, d),
+        UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock()));
+  }
+
+  /**
+   * A chain that gives each input to five chains and returns their outputs. Consumes them.
+   *
+   * @param a first chain
+   * @param b second chain
+   * @param c third chain
+   * @param d fourth chain
+   * @param e fifth chain
+   * @param <I> input type
+   * @param <A> output of a
+   * @param <B> output of b
+   * @param <C> output of c
+   * @param <D> output of d
+   * @param <E> output of e
+   * @return the union
+   */
+  public <I, A, B, C, D, E> Chain<I, Tuple5<A, B, C, D, E>> union(
+      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
+    requireChains(a, b, c, d, e);
+    return newChain(
+        unionName(a, b, c, d, e),
+        UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock(), e.toBlock()));
+  }
+
+  /**
+   * A chain that behaves like {@code chain} and also publishes each (non-null) output to
+   * {@code events}; make a source of them with {@link #source(EventBlock)}. Consumes the chain.
+   *
+   * @param chain the chain
+   * @param events receives every output
+   * @param <I> input type
+   * @param <O> output type
+   * @return the forked chain
+   */
+  public <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
+    Objects.requireNonNull(events, "events must not be null");
+    requireChains(chain);
+    return newChain(
+        derivedName("fork(" + chain.name() + ")", "fork"), new ForkBlock<>(chain.toBlock(), events));
+  }
+
+  /**
+   * A chain that runs {@code chain} only for inputs that pass {@code pass}; the others get
+   * {@code substitute}'s output without running the chain. Consumes the chain.
+   *
+   * @param pass decides which inputs run the chain
+   * @param chain the guarded chain
+   * @param substitute the output for inputs that do not pass
+   * @param <I> input type
+   * @param <O> output type
+   * @return the guarded chain
+   */
+  public <I, O> Chain<I, O> guard(
+      Predicate<? super I> pass, Chain<I, O> chain, Block<? super I, ? extends O> substitute) {
+    Objects.requireNonNull(pass, "pass predicate must not be null");
+    Objects.requireNonNull(substitute, "substitute must not be null");
+    requireChains(chain);
+    return newChain(
+        derivedName("guard(" + chain.name() + ")", "guard"),
+        new GuardBlock<>(pass, chain.toBlock(), substitute));
+  }
+
+  /**
+   * Shares one chain between several users without ever running it concurrently. Consumes it.
+   *
+   * @param chain the shared chain
+   * @param <I> input type
+   * @param <O> output type
+   * @return a factory of user chains
+   */
+  public <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
+    requireChains(chain);
+    String sharedName = chain.name();
+    Block<I, O> shared = new IsolateBlock<>(chain.toBlock());
+    AtomicInteger users = new AtomicInteger();
+    return new Isolated<>() {
+      @Override
+      public String name() {
+        return sharedName;
+      }
+
+      @Override
+      public Chain<I, O> newUser() {
+        ensureOpen();
+        return newChain(derivedName(sharedName + "@" + users.incrementAndGet(), "isolated"), shared);
+      }
+    };
+  }
+
+  /**
+   * A chain that returns the next value of {@code source} on each call, waiting for one if
+   * needed. Its reader is created now, so it sees the values retained now and everything later.
+   *
+   * @param source the source
+   * @param <T> value type
+   * @return the collector chain
+   */
+  public <T> Chain<Token, T> syncCollector(Source<T> source) {
+    requireSource(source);
+    return newChain(
+        derivedName("collect(" + source.name() + ")", "collect"),
+        new SyncCollectorBlock<>(source.reader()));
+  }
+
+  /**
+   * A chain that returns every value of {@code source} published since its previous call (at
+   * the first call: the values retained when the collector was made, and later ones). Never
+   * waits.
+   *
+   * @param source the source
+   * @param <T> value type
+   * @return the collector chain
+   */
+  public <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
+    requireSource(source);
+    return newChain(
+        derivedName("collectAll(" + source.name() + ")", "collectAll"),
+        new AsyncCollectorBlock<>(source.reader()));
+  }
+
+  /**
+   * A chain that runs {@code inner} in a loop until {@code repeater} says stop, and returns its
+   * conclusion. Consumes {@code inner}.
+   *
+   * @param inner runs each round; the first round gets the repeater chain's input
+   * @param repeater decides after each round (its {@code collected} list is always empty)
+   * @param <I> input type
+   * @param <R> output type of the inner chain
+   * @param <O> output type: the conclusion
+   * @return the repeater chain
+   */
+  public <I, R, O> Chain<I, O> repeater(
+      Chain<I, R> inner, RepeaterBlock<I, R, Void, O> repeater) {
+    Objects.requireNonNull(repeater, "repeater block must not be null");
+    requireChains(inner);
+    return newChain(
+        derivedName("repeat(" + inner.name() + ")", "repeat"),
+        new RepeaterLoopBlock<>(inner.toBlock(), null, repeater));
+  }
+
+  /**
+   * A chain that runs {@code inner} in a loop; after each round {@code repeater} sees the
+   * round's input and output and the values {@code source} published since the previous round,
+   * and says whether to run again or stop with a conclusion. Consumes {@code inner}.
+   *
+   * @param inner runs each round; the first round gets the repeater chain's input
+   * @param source whose values are collected between rounds
+   * @param repeater decides after each round
+   * @param <I> input type
+   * @param <R> output type of the inner chain
+   * @param <E> value type of the source
+   * @param <O> output type: the conclusion
+   * @return the repeater chain
+   */
+  public <I, R, E, O> Chain<I, O> repeater(
+      Chain<I, R> inner, Source<E> source, RepeaterBlock<I, R, E, O> repeater) {
+    Objects.requireNonNull(repeater, "repeater block must not be null");
+    requireChains(inner);
+    requireSource(source);
+    Chain<Token, List<E>> collector = asyncCollector(source);
+    return newChain(
+        derivedName("repeat(" + inner.name() + ")", "repeat"),
+        new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater));
+  }
+
+  // ---------------------------------------------------------------- sources
+
+  /**
+   * Creates a source named {@code source-N} that publishes what {@code events} publishes.
+   *
+   * @param events the event block
+   * @param <T> value type
+   * @return a new source
+   */
+  public final <T> Source<T> source(EventBlock<T> events) {
+    Objects.requireNonNull(events, "events must not be null");
+    ensureOpen();
+    return newSource(names.fresh("source"), events);
+  }
+
+  /**
+   * Creates a named source that publishes what {@code events} publishes.
+   *
+   * @param name unique in this core
+   * @param events the event block
+   * @param <T> value type
+   * @return a new source
+   */
+  public final <T> Source<T> source(String name, EventBlock<T> events) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(events, "events must not be null");
+    ensureOpen();
+    return newSource(names.claim(name), events);
+  }
+
+  /**
+   * Creates this media's source for an event block. The default is an in-memory broadcast
+   * source. The name is already claimed.
+   *
+   * @param name the source's name
+   * @param events the event block
+   * @param <T> value type
+   * @return the source
+   */
+  protected <T> Source<T> newSource(String name, EventBlock<T> events) {
+    MemorySource<T> source = newMemorySource(name);
+    synchronized (memorySources) {
+      subscriptions.add(
+          events.subscribe(
+              value -> {
+                if (!isClosed()) {
+                  source.publish(value);
+                }
+              }));
+    }
+    return source;
+  }
+
+  /**
+   * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
+   * Values the chain maps to {@code null} are not published. The default runs the service on a
+   * thread of this core and publishes to an in-memory source.
+   *
+   * @param source the input source (may belong to another core)
+   * @param chain the chain
+   * @param <I> input type
+   * @param <O> output type
+   * @return the source of outputs, named {@code source>chain}
+   */
+  public <I, O> Source<O> link(Source<I> source, Chain<I, O> chain) {
+    requireSource(source);
+    requireChains(chain);
+    Block<I, O> block = chain.toBlock();
+    String name = derivedName(source.name() + ">" + chain.name(), "link");
+    MemorySource<O> out = newMemorySource(name);
+    runService(
+        name,
+        source.reader(),
+        value -> {
+          O output = block.process(value);
+          if (output != null) {
+            out.publish(output);
+          }
+        });
+    return out;
+  }
+
+  /**
+   * The default of {@link Source#filter}: a service that republishes the values that pass.
+   *
+   * @param source the source
+   * @param predicate decides
+   * @param <T> value type
+   * @return the filtered source
+   */
+  protected <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
+    requireSource(source);
+    Objects.requireNonNull(predicate, "predicate must not be null");
+    String name = derivedName("filter(" + source.name() + ")", "filter");
+    MemorySource<T> out = newMemorySource(name);
+    runService(
+        name,
+        source.reader(),
+        value -> {
+          if (predicate.test(value)) {
+            out.publish(value);
+          }
+        });
+    return out;
+  }
+
+  /**
+   * The default of {@link Source#flatMap}: a service that publishes every value made of each.
+   *
+   * @param source the source
+   * @param block makes the values
+   * @param <T> input type
+   * @param <R> output type
+   * @return the flattened source
+   */
+  protected <T, R> Source<R> flatMapSource(
+      Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
+    requireSource(source);
+    Objects.requireNonNull(block, "block must not be null");
+    String name = derivedName("flatMap(" + source.name() + ")", "flatMap");
+    MemorySource<R> out = newMemorySource(name);
+    runService(
+        name,
+        source.reader(),
+        value -> {
+          Iterable<? extends R> outputs = block.process(value);
+          if (outputs != null) {
+            for (R output : outputs) {
+              if (output != null) {
+                out.publish(output);
+              }
+            }
+          }
+        });
+    return out;
+  }
+
+  /**
+   * The default of {@link Source#listen}: a service that calls the listener with each value.
+   *
+   * @param source the source
+   * @param listener the listener
+   * @param <T> value type
+   */
+  protected <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
+    requireSource(source);
+    Objects.requireNonNull(listener, "listener must not be null");
+    runService(derivedName("listen(" + source.name() + ")", "listen"), source.reader(), listener);
+  }
+
+  /**
+   * The names of the asynchronous services this core runs in this process.
+   *
+   * @return a snapshot
+   */
+  public Set<String> serviceNames() {
+    return services.names();
+  }
+
+  // ---------------------------------------------------------------- lifecycle
+
+  /**
+   * Starts the services declared so far; services declared later start at once.
+   *
+   * @throws IllegalStateException if the core was already started
+   * @throws CoreClosedException if the core is closed
+   */
+  public final void start() {
+    synchronized (lifecycle) {
+      if (state == State.CLOSED) {
+        throw new CoreClosedException(name);
+      }
+      if (state == State.STARTED) {
+        throw new IllegalStateException(
+            "core '" + name + "' is already started; call start() once per core");
+      }
+      state = State.STARTED;
+    }
+    onStart();
+    services.startAll();
+  }
+
+  /**
+   * Stops every service, waiting at most {@link CoreConfig#shutdownTimeout()} for them, and
+   * releases the core's threads and connections. Idempotent.
+   */
+  @Override
+  public final void close() {
+    synchronized (lifecycle) {
+      if (state == State.CLOSED) {
+        return;
+      }
+      state = State.CLOSED;
+    }
+    List<MemorySource<?>> sources;
+    synchronized (memorySources) {
+      subscriptions.forEach(EventBlock.Subscription::close);
+      subscriptions.clear();
+      sources = new ArrayList<>(memorySources);
+      memorySources.clear();
+    }
+    sources.forEach(MemorySource::close);
+    services.stopAll(config.shutdownTimeout());
+    onClose();
+  }
+
+  /** Called by {@link #start()} before the in-process services start. */
+  protected void onStart() {}
+
+  /** Called once by {@link #close()} after the in-process services stopped. */
+  protected void onClose() {}
+
+  @Override
+  public String toString() {
+    return getClass().getSimpleName() + "[" + name + ", " + state + "]";
+  }
+
+  // ---------------------------------------------------------------- for media
+
+  /**
+   * Throws if the core is closed.
+   *
+   * @throws CoreClosedException if it is
+   */
+  protected final void ensureOpen() {
+    if (state == State.CLOSED) {
+      throw new CoreClosedException(name);
+    }
+  }
+
+  /**
+   * Claims a name derived from others, such as {@code a>b}; see the class docs of the names.
+   *
+   * @param preferred the derived name
+   * @param kind the fallback prefix if it is too long
+   * @return a unique name
+   */
+  protected final String derivedName(String preferred, String kind) {
+    return names.derived(preferred, kind);
+  }
+
+  /**
+   * Checks that chains given to a link or template are usable.
+   *
+   * @param chains the chains
+   */
+  protected final void requireChains(Chain<?, ?>... chains) {
+    ensureOpen();
+    for (int i = 0; i < chains.length; i++) {
+      Chain<?, ?> chain = chains[i];
+      if (chain == null) {
+        throw new NullPointerException("chain argument " + (i + 1) + " must not be null");
+      }
+      for (int j = 0; j < i; j++) {
+        if (chains[j] == chain) {
+          throw new ChainAlreadyUsedException(chain.name());
+        }
+      }
+      if (chain.core().isClosed()) {
+        throw new CoreClosedException(chain.core().name());
+      }
+    }
+  }
+
+  /**
+   * Checks that a source given to a link or template is usable.
+   *
+   * @param source the source
+   */
+  protected final void requireSource(Source<?> source) {
+    ensureOpen();
+    Objects.requireNonNull(source, "source must not be null");
+    if (source.core().isClosed()) {
+      throw new CoreClosedException(source.core().name());
+    }
+  }
+
+  /**
+   * Runs a service on a thread of this core: take each value of {@code reader} and give it to
+   * {@code step}; failures go to the error handler.
+   *
+   * @param name the service's name
+   * @param reader its input
+   * @param step what it does with each value
+   * @param <T> value type
+   */
+  protected final <T> void runService(String name, Reader<T> reader, Consumer<? super T> step) {
+    services.add(name, new SourceService<>(name, reader, step, config.errorHandler()));
+  }
+
+  private <T> MemorySource<T> newMemorySource(String name) {
+    MemorySource<T> source = new MemorySource<>(this, name, config.sourceRetention());
+    synchronized (memorySources) {
+      ensureOpen();
+      memorySources.add(source);
+    }
+    return source;
+  }
+
+  private String unionName(Chain<?, ?>... parts) {
+    StringBuilder b = new StringBuilder("union(");
+    for (int i = 0; i < parts.length; i++) {
+      b.append(i == 0 ? "" : "|").append(parts[i].name());
+    }
+    return derivedName(b.append(')').toString(), "union");
+  }
+}

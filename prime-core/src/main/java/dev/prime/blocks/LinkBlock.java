@@ -1,0 +1,30 @@
+package dev.prime.blocks;
+
+import dev.prime.Block;
+import java.util.Objects;
+
+/**
+ * Feeds the output of one block to another: {@code second.process(first.process(x))}.
+ *
+ * @param <I> input type
+ * @param <M> type passed between the blocks
+ * @param <O> output type
+ */
+public final class LinkBlock<I, M, O> implements Block<I, O> {
+  private final Block<I, M> first;
+  private final Block<M, O> second;
+
+  /**
+   * @param first runs first
+   * @param second runs on the first block's output
+   */
+  public LinkBlock(Block<I, M> first, Block<M, O> second) {
+    this.first = Objects.requireNonNull(first, "first block must not be null");
+    this.second = Objects.requireNonNull(second, "second block must not be null");
+  }
+
+  @Override
+  public O process(I input) {
+    return second.process(first.process(input));
+  }
+}

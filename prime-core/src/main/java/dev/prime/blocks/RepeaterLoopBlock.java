@@ -1,0 +1,54 @@
+package dev.prime.blocks;
+
+import dev.prime.Block;
+import dev.prime.Repeat;
+import dev.prime.RepeaterBlock;
+import dev.prime.Token;
+import java.util.List;
+import java.util.Objects;
+
+/**
+ * Runs an inner block in a loop: after each run, a collector gathers what a source published
+ * meanwhile and a {@link RepeaterBlock} decides to run again (with a new input) or to stop (with a
+ * conclusion, which this block returns).
+ *
+ * @param <I> input type of the inner block and of this block
+ * @param <R> output type of the inner block
+ * @param <E> type of the collected values
+ * @param <O> output type: the conclusion
+ */
+public final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
+  private final Block<I, R> inner;
+  private final Block<Token, List<E>> collector;
+  private final RepeaterBlock<I, R, E, O> repeater;
+
+  /**
+   * @param inner the block that runs each round
+   * @param collector returns the values gathered since its previous call; {@code null} for none
+   * @param repeater decides after each round
+   */
+  public RepeaterLoopBlock(
+      Block<I, R> inner, Block<Token, List<E>> collector, RepeaterBlock<I, R, E, O> repeater) {
+    this.inner = Objects.requireNonNull(inner, "inner block must not be null");
+    this.collector = collector;
+    this.repeater = Objects.requireNonNull(repeater, "repeater block must not be null");
+  }
+
+  @Override
+  public O process(I input) {
+    I round = input;
+    while (true) {
+      R output = inner.process(round);
+      List<E> collected = collector == null ? List.of() : collector.process(Token.INSTANCE);
+      Repeat<I, O> decision = repeater.next(round, output, collected);
+      if (decision == null) {
+        throw new NullPointerException(
+            "the repeater block returned null; return Repeat.again(next) or Repeat.stop(result)");
+      }
+      if (!decision.isAgain()) {
+        return decision.conclusion();
+      }
+      round = decision.next();
+    }
+  }
+}

@@ -1,0 +1,121 @@
+package dev.prime.internal;
+
+import java.time.Duration;
+import java.util.ArrayList;
+import java.util.LinkedHashMap;
+import java.util.List;
+import java.util.Map;
+import java.util.Set;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
+
+/**
+ * The service threads of one core: one named platform thread per asynchronous service.
+ *
+ * <p>Design: services declared before {@link #startAll()} wait; services added after it start at
+ * once. Threads are daemons, so a core that was never closed cannot keep the JVM alive. Stopping
+ * interrupts every thread and joins them against one shared deadline; a thread that ignores the
+ * interrupt (a block stuck in uninterruptible I/O) is reported and abandoned. All methods are
+ * synchronized: they run on lifecycle calls, never per value.
+ */
+public final class ServiceThreads {
+  private static final Logger LOG = LoggerFactory.getLogger(ServiceThreads.class);
+
+  private final String prefix;
+  private final Map<String, Thread> threads = new LinkedHashMap<>();
+  private boolean started;
+  private boolean stopped;
+
+  /**
+   * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
+   */
+  public ServiceThreads(String coreName) {
+    this.prefix = threadPrefix(coreName);
+  }
+
+  /**
+   * The prefix of the names of a core's service threads.
+   *
+   * @param coreName the core's name
+   * @return {@code prime-<core>-}
+   */
+  public static String threadPrefix(String coreName) {
+    return "prime-" + coreName + "-";
+  }
+
+  /**
+   * Adds a service; it starts now if the services are started.
+   *
+   * @param service unique service name
+   * @param body the service loop; must return when interrupted
+   */
+  public synchronized void add(String service, Runnable body) {
+    if (stopped) {
+      throw new IllegalStateException("services are stopped");
+    }
+    if (threads.containsKey(service)) {
+      throw new IllegalArgumentException("service '" + service + "' already exists");
+    }
+    Thread thread = new Thread(body, prefix + service);
+    thread.setDaemon(true);
+    threads.put(service, thread);
+    if (started) {
+      thread.start();
+    }
+  }
+
+  /** Starts every service added so far. */
+  public synchronized void startAll() {
+    started = true;
+    for (Thread thread : threads.values()) {
+      if (thread.getState() == Thread.State.NEW) {
+        thread.start();
+      }
+    }
+  }
+
+  /** The names of the services. */
+  public synchronized Set<String> names() {
+    return Set.copyOf(threads.keySet());
+  }
+
+  /**
+   * Interrupts every service and waits for them until {@code timeout} has passed.
+   *
+   * @param timeout the whole wait
+   * @return the names of services still running after it
+   */
+  public List<String> stopAll(Duration timeout) {
+    List<Thread> toJoin;
+    synchronized (this) {
+      stopped = true;
+      toJoin = new ArrayList<>(threads.values());
+    }
+    for (Thread thread : toJoin) {
+      thread.interrupt();
+    }
+    long deadline = System.nanoTime() + timeout.toNanos();
+    List<String> stuck = new ArrayList<>();
+    boolean interrupted = false;
+    for (Thread thread : toJoin) {
+      long left = deadline - System.nanoTime();
+      try {
+        if (left > 0 && thread.getState() != Thread.State.NEW) {
+          thread.join(Math.max(1, left / 1_000_000));
+        }
+      } catch (InterruptedException e) {
+        interrupted = true;
+      }
+      if (thread.isAlive()) {
+        stuck.add(thread.getName());
+      }
+    }
+    if (interrupted) {
+      Thread.currentThread().interrupt();
+    }
+    if (!stuck.isEmpty()) {
+      LOG.warn("services did not stop within {} and were abandoned: {}", timeout, stuck);
+    }
+    return stuck;
+  }
+}

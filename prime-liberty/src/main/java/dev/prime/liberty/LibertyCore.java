@@ -1,0 +1,57 @@
+package dev.prime.liberty;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.PrimeCore;
+import dev.prime.blocks.LinkBlock;
+
+/**
+ * The Liberty media: a chain is a function, and linking chains composes their functions, so a
+ * linked call costs a few method invocations. Sources are in-memory and broadcast; every chain
+ * linked to a source, every filter, flat-map and listener runs on its own service thread.
+ *
+ * <pre>{@code
+ * try (PrimeCore core = new LibertyCore()) {
+ *   Block<Integer, Integer> plusThree =
+ *       core.chain((Integer x) -> x + 1).then((Integer x) -> x + 2).toBlock();
+ *   plusThree.process(1); // 4
+ * }
+ * }</pre>
+ *
+ * <p>Thread-safe. Templates use the generic implementations of {@link PrimeCore}.
+ */
+public final class LibertyCore extends PrimeCore {
+
+  /** A core with the default settings. */
+  public LibertyCore() {
+    this(CoreConfig.defaults());
+  }
+
+  /**
+   * A core with the given settings.
+   *
+   * @param config the settings
+   */
+  public LibertyCore(CoreConfig config) {
+    super("liberty", config);
+  }
+
+  @Override
+  protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
+    return LibertyChain.leaf(this, name, block);
+  }
+
+  /**
+   * Links two chains by composing their functions. Chains of another core are taken through
+   * their {@link Chain#toBlock()}.
+   */
+  @Override
+  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+    requireChains(first, second);
+    Block<I, M> a = LibertyChain.take(this, first);
+    Block<M, O> b = LibertyChain.take(this, second);
+    return LibertyChain.composite(
+        this, derivedName(first.name() + ">" + second.name(), "link"), new LinkBlock<>(a, b));
+  }
+}
