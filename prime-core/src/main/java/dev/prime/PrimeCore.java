@@ -476,8 +476,10 @@ public abstract class PrimeCore implements AutoCloseable {
       subscriptions.add(
           events.subscribe(
               value -> {
-                if (!isClosed()) {
+                try {
                   source.publish(value);
+                } catch (CoreClosedException closing) {
+                  // the core closed while this value was on its way: nobody can read it any more
                 }
               }));
     }
