@@ -1,0 +1,179 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNotEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.ChainAlreadyUsedException;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Source;
+import java.util.ArrayList;
+import java.util.List;
+import org.junit.jupiter.api.Test;
+
+/** Chains and links: composition, single use, order and the one-service rule. */
+public interface ChainConformance extends ConformanceBase {
+
+  @Test
+  default void chainBlockComputes() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> twice = core.chain("twice", x -> x * 2);
+      core.start();
+      assertEquals("twice", twice.name());
+      assertEquals(core, twice.core());
+      assertEquals(42, twice.toBlock().process(21));
+    }
+  }
+
+  @Test
+  default void linkedChainsRunInOrder() {
+    try (PrimeCore core = newCore()) {
+      Chain<String, String> a = core.chain(s -> s + "a");
+      Chain<String, String> b = core.chain(s -> s + "b");
+      Chain<String, Integer> len = core.chain(String::length);
+      Chain<String, Integer> all = core.link(core.link(a, b), len);
+      Chain<String, String> viaThen = core.chain((String s) -> s + "x").then(s -> s + "y");
+      core.start();
+      Block<String, Integer> block = all.toBlock();
+      assertEquals(3, block.process("_"));
+      assertEquals(2, block.process(""));
+      assertEquals("_xy", viaThen.toBlock().process("_"));
+    }
+  }
+
+  @Test
+  default void derivedNamesAreDistinct() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> one = core.link(core.chain("a", x -> x), core.chain("b", x -> x));
+      Chain<Integer, Integer> unnamed1 = core.chain(x -> x);
+      Chain<Integer, Integer> unnamed2 = core.chain(x -> x);
+      assertNotEquals(unnamed1.name(), unnamed2.name());
+      assertNotEquals(one.name(), unnamed1.name());
+      assertTrue(one.name().contains("a") && one.name().contains("b"), one.name());
+    }
+  }
+
+  @Test
+  default void toBlockTwiceIsRefused() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> chain = core.chain("once", x -> x);
+      chain.toBlock();
+      ChainAlreadyUsedException e =
+          assertThrows(ChainAlreadyUsedException.class, chain::toBlock);
+      assertTrue(e.getMessage().contains("once"), e.getMessage());
+      assertEquals("once", e.chainName());
+    }
+  }
+
+  @Test
+  default void linkingAUsedChainIsRefused() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> a = core.chain("a", x -> x);
+      Chain<Integer, Integer> b = core.chain("b", x -> x);
+      core.link(a, b);
+      assertThrows(ChainAlreadyUsedException.class, () -> core.link(a, core.chain((Integer x) -> x)));
+      assertThrows(ChainAlreadyUsedException.class, () -> core.link(core.chain((Integer x) -> x), b));
+      assertThrows(ChainAlreadyUsedException.class, a::toBlock);
+    }
+  }
+
+  @Test
+  default void linkingAChainToItselfIsRefused() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> self = core.chain("self", x -> x);
+      ChainAlreadyUsedException e =
+          assertThrows(ChainAlreadyUsedException.class, () -> core.link(self, self));
+      assertTrue(e.getMessage().contains("self"), e.getMessage());
+    }
+  }
+
+  @Test
+  default void chainLinkedToSourceCannotBeReused() {
+    try (PrimeCore core = newCore()) {
+      Source<Integer> source = core.source(new EventBlock<Integer>());
+      Chain<Integer, Integer> chain = core.chain(x -> x);
+      core.link(source, chain);
+      assertThrows(ChainAlreadyUsedException.class, () -> core.link(source, chain));
+      assertThrows(ChainAlreadyUsedException.class, chain::toBlock);
+    }
+  }
+
+  @Test
+  default void linkingChainsFirstMakesOneService() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("numbers", events);
+      int before = core.serviceNames().size();
+      Chain<Integer, Integer> plus1 = core.chain(x -> x + 1);
+      Chain<Integer, Integer> times10 = core.chain(x -> x * 10);
+      Chain<Integer, String> show = core.chain(x -> "v" + x);
+      Source<String> out = core.link(source, core.link(core.link(plus1, times10), show));
+      assertEquals(before + servicesPerSourceLink(), core.serviceNames().size(), core.serviceNames().toString());
+      Reader<String> reader = out.reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(List.of("v20", "v30"), takeOrFail(reader, 2));
+    }
+  }
+
+  @Test
+  default void linkedChainKeepsOrderOfThousandsOfValues() throws InterruptedException {
+    int n = 5000;
+    try (PrimeCore core = newCore(dev.prime.CoreConfig.builder().sourceRetention(n).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source(events);
+      Source<Integer> out = core.link(source, core.link(core.chain(x -> x + 1), core.chain(x -> x * 2)));
+      Reader<Integer> direct = source.reader();
+      Reader<Integer> linked = out.reader();
+      core.start();
+      for (int i = 0; i < n; i++) {
+        events.publish(i);
+      }
+      List<Integer> seen = takeOrFail(direct, n);
+      List<Integer> transformed = takeOrFail(linked, n);
+      List<Integer> expected = new ArrayList<>();
+      List<Integer> expectedOut = new ArrayList<>();
+      for (int i = 0; i < n; i++) {
+        expected.add(i);
+        expectedOut.add((i + 1) * 2);
+      }
+      assertEquals(expected, seen);
+      assertEquals(expectedOut, transformed);
+      assertEquals(0, linked.missed());
+    }
+  }
+
+  @Test
+  default void chainReturningNullPublishesNothing() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> evens = core.link(core.source(events), core.chain(x -> x % 2 == 0 ? x : null));
+      Reader<Integer> reader = evens.reader();
+      core.start();
+      for (int i = 1; i <= 6; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 4, 6), takeOrFail(reader, 3));
+      assertTrue(reader.poll().isEmpty());
+    }
+  }
+
+  @Test
+  default void sourceThenChainsAcrossSeveralStages() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<String> events = new EventBlock<>();
+      Source<Integer> lengths = core.source(events).then(String::length).then(x -> x * x);
+      Reader<Integer> reader = lengths.reader();
+      core.start();
+      events.publish("ab");
+      events.publish("abc");
+      assertEquals(List.of(4, 9), takeOrFail(reader, 2));
+    }
+  }
+}

@@ -1,0 +1,79 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+import static org.junit.jupiter.api.Assertions.fail;
+
+import dev.prime.CoreConfig;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import java.time.Duration;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Optional;
+
+/**
+ * Base of the media conformance kit: a media implements {@link #newCore(CoreConfig)} and inherits
+ * every semantic test through {@link MediaConformance}.
+ *
+ * <p>Hooks that media may legitimately override are the default methods without {@code @Test}.
+ */
+public interface ConformanceBase {
+
+  /** A new, not yet started core of the media under test, built from {@code config}. */
+  PrimeCore newCore(CoreConfig config);
+
+  /** A new core with default configuration. */
+  default PrimeCore newCore() {
+    return newCore(CoreConfig.defaults());
+  }
+
+  /**
+   * How many in-process services linking one chain to a source adds (1 for media that run each
+   * source-linked chain as a service thread in this process).
+   */
+  default int servicesPerSourceLink() {
+    return 1;
+  }
+
+  /** Upper bound for any single wait in the kit; generous because the machine may be busy. */
+  default Duration patience() {
+    return Duration.ofSeconds(20);
+  }
+
+  /** Takes one value from {@code reader}, failing the test instead of hanging. */
+  default <T> T takeOrFail(Reader<T> reader) throws InterruptedException {
+    Optional<T> value = reader.take(patience());
+    if (value.isEmpty()) {
+      fail("no value arrived within " + patience());
+    }
+    return value.get();
+  }
+
+  /** Takes {@code count} values from {@code reader}, in order. */
+  default <T> List<T> takeOrFail(Reader<T> reader, int count) throws InterruptedException {
+    List<T> values = new ArrayList<>(count);
+    for (int i = 0; i < count; i++) {
+      values.add(takeOrFail(reader));
+    }
+    return values;
+  }
+
+  /** Live threads whose name says they belong to {@code core}. */
+  static List<String> threadsOf(PrimeCore core) {
+    String prefix = "prime-" + core.name() + "-";
+    List<String> names = new ArrayList<>();
+    for (Thread thread : Thread.getAllStackTraces().keySet()) {
+      if (thread.isAlive() && thread.getName().startsWith(prefix)) {
+        names.add(thread.getName());
+      }
+    }
+    return names;
+  }
+
+  /** Asserts that a closed core left no thread behind. */
+  static void assertNoThreadsLeft(PrimeCore core) {
+    assertTrue(core.isClosed(), "close the core before checking its threads");
+    assertEquals(List.of(), threadsOf(core), "threads left behind by closed core " + core.name());
+  }
+}

@@ -1,0 +1,142 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertSame;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.ChainFailedException;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import java.util.List;
+import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import org.junit.jupiter.api.Test;
+
+/** Errors: a failing block names its chain to sync callers, and async services survive it. */
+public interface ErrorConformance extends ConformanceBase {
+
+  /** A failure a test provokes on purpose. */
+  final class Boom extends RuntimeException {
+    private static final long serialVersionUID = 1L;
+
+    Boom(String message) {
+      super(message);
+    }
+  }
+
+  @Test
+  default void syncFailureNamesTheInnermostChain() {
+    Boom boom = new Boom("bad value");
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> failing =
+          core.chain(
+              "failing",
+              x -> {
+                throw boom;
+              });
+      Chain<List<Integer>, Integer> outer =
+          core.link(
+              core.forEach(core.link(core.chain("first", (Integer x) -> x + 1), failing)),
+              core.chain("last", (List<Integer> l) -> l.size()));
+      core.start();
+      Block<List<Integer>, Integer> block = outer.toBlock();
+      ChainFailedException e =
+          assertThrows(ChainFailedException.class, () -> block.process(List.of(1)));
+      assertEquals("failing", e.chainName());
+      assertTrue(e.getMessage().contains("failing"), e.getMessage());
+      assertSame(boom, e.getCause());
+    }
+  }
+
+  @Test
+  default void syncFailureOfASingleChain() {
+    try (PrimeCore core = newCore()) {
+      Chain<String, Integer> parse = core.chain("parse", Integer::parseInt);
+      core.start();
+      Block<String, Integer> block = parse.toBlock();
+      assertEquals(12, block.process("12"));
+      ChainFailedException e = assertThrows(ChainFailedException.class, () -> block.process("x"));
+      assertEquals("parse", e.chainName());
+      assertTrue(e.getCause() instanceof NumberFormatException, String.valueOf(e.getCause()));
+      assertEquals(13, block.process("13"), "a chain keeps working after a failure");
+    }
+  }
+
+  @Test
+  default void asyncFailureGoesToTheErrorHandlerAndTheServiceGoesOn() throws InterruptedException {
+    CopyOnWriteArrayList<Object> failedInputs = new CopyOnWriteArrayList<>();
+    CopyOnWriteArrayList<Throwable> errors = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(2);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  failedInputs.add(input);
+                  errors.add(error);
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.link(
+                  core.source(events),
+                  core.chain(
+                      "picky",
+                      (Integer x) -> {
+                        if (x % 3 == 0) {
+                          throw new Boom("no multiples of 3: " + x);
+                        }
+                        return x;
+                      }))
+              .reader();
+      core.start();
+      for (int i = 1; i <= 7; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 2, 4, 5, 7), takeOrFail(out, 5));
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(3, 6), failedInputs);
+      for (Throwable error : errors) {
+        assertTrue(
+            error instanceof Boom || error.getCause() instanceof Boom,
+            "the handler gets the block's exception (maybe wrapped once): " + error);
+      }
+    }
+  }
+
+  @Test
+  default void failingErrorHandlerDoesNotKillTheService() throws InterruptedException {
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  throw new Boom("handler fails too");
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.link(
+                  core.source(events),
+                  core.chain(
+                      (Integer x) -> {
+                        if (x == 1) {
+                          throw new Boom("first fails");
+                        }
+                        return x;
+                      }))
+              .reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(2, takeOrFail(out));
+    }
+  }
+}

@@ -1,0 +1,227 @@
+package dev.prime.conformance;
+
+import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreClosedException;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Source;
+import dev.prime.Token;
+import java.time.Duration;
+import java.util.List;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
+import java.util.concurrent.Future;
+import java.util.concurrent.TimeUnit;
+import org.junit.jupiter.api.Test;
+
+/** Lifecycle and misuse: start/close, leaks, and clear exceptions for bad input. */
+public interface LifecycleConformance extends ConformanceBase {
+
+  @Test
+  default void startAndCloseManyTimesLeavesNoThreads() throws InterruptedException {
+    for (int round = 0; round < 30; round++) {
+      PrimeCore core = newCore();
+      try (core) {
+        EventBlock<Integer> events = new EventBlock<>();
+        Source<Integer> out = core.link(core.source(events), core.chain(x -> x + 1));
+        Reader<Integer> reader = out.reader();
+        assertFalse(core.isStarted());
+        core.start();
+        assertTrue(core.isStarted());
+        events.publish(round);
+        assertEquals(round + 1, takeOrFail(reader));
+      }
+      assertTrue(core.isClosed());
+      assertNoThreadsLeft(core);
+    }
+  }
+
+  @Test
+  default void closeWithoutStartAndCloseTwice() {
+    PrimeCore core = newCore();
+    core.link(core.source(new EventBlock<Integer>()), core.chain(x -> x));
+    core.close();
+    core.close();
+    assertTrue(core.isClosed());
+    assertNoThreadsLeft(core);
+    assertThrows(CoreClosedException.class, core::start);
+  }
+
+  @Test
+  default void closeStopsAServiceBlockedInTakePromptly() throws InterruptedException {
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(Duration.ofSeconds(10)).build());
+    try (core) {
+      core.link(core.source(new EventBlock<Integer>()), core.chain(x -> x));
+      core.start();
+    }
+    assertNoThreadsLeft(core);
+  }
+
+  @Test
+  default void closeStopsABusyServiceAndLeavesNoThreads() throws InterruptedException {
+    CountDownLatch inside = new CountDownLatch(1);
+    PrimeCore core = newCore();
+    try (core) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.link(
+          core.source(events),
+          core.chain(
+              x -> {
+                inside.countDown();
+                return x;
+              }));
+      core.start();
+      for (int i = 0; i < 100; i++) {
+        events.publish(i);
+      }
+      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+    }
+    assertNoThreadsLeft(core);
+  }
+
+  @Test
+  default void syncCollectorWaitingWhenTheCoreClosesFailsClearly() throws Exception {
+    ExecutorService pool = Executors.newSingleThreadExecutor();
+    try {
+      PrimeCore core = newCore();
+      Block<Token, Integer> block;
+      try (core) {
+        Chain<Token, Integer> collector = core.syncCollector(core.source(new EventBlock<Integer>()));
+        core.start();
+        block = collector.toBlock();
+        CountDownLatch calling = new CountDownLatch(1);
+        Future<Integer> waiting =
+            pool.submit(
+                () -> {
+                  calling.countDown();
+                  return block.process(Token.INSTANCE);
+                });
+        assertTrue(calling.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        core.close();
+        java.util.concurrent.ExecutionException e =
+            assertThrows(
+                java.util.concurrent.ExecutionException.class,
+                () -> waiting.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+        assertTrue(
+            e.getCause() instanceof CoreClosedException
+                || e.getCause().getCause() instanceof CoreClosedException,
+            "a caller blocked on a closed core gets CoreClosedException: " + e.getCause());
+      }
+      assertNoThreadsLeft(core);
+    } finally {
+      pool.shutdownNow();
+    }
+  }
+
+  @Test
+  default void startTwiceIsRefused() {
+    try (PrimeCore core = newCore()) {
+      core.start();
+      IllegalStateException e = assertThrows(IllegalStateException.class, core::start);
+      assertTrue(e.getMessage().contains(core.name()), e.getMessage());
+    }
+  }
+
+  @Test
+  default void useAfterCloseIsRefused() throws InterruptedException {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Chain<Integer, Integer> unused = core.chain(x -> x);
+    Chain<Integer, Integer> other = core.chain(x -> x);
+    Source<Integer> source = core.source(events);
+    Reader<Integer> reader = source.reader();
+    core.start();
+    core.close();
+    assertThrows(CoreClosedException.class, () -> core.chain(x -> x));
+    assertThrows(CoreClosedException.class, () -> core.chain("late", x -> x));
+    assertThrows(CoreClosedException.class, () -> core.source(events));
+    assertThrows(CoreClosedException.class, () -> core.link(unused, other));
+    assertThrows(CoreClosedException.class, () -> core.link(source, core.chain(x -> x)));
+    assertThrows(CoreClosedException.class, unused::toBlock);
+    assertThrows(CoreClosedException.class, source::reader);
+    assertThrows(CoreClosedException.class, reader::take);
+    assertThrows(CoreClosedException.class, reader::poll);
+    assertThrows(CoreClosedException.class, reader::drain);
+    assertThrows(CoreClosedException.class, () -> reader.take(Duration.ofMillis(10)));
+    events.publish(1); // the closed core no longer listens; publishing stays harmless
+    assertNoThreadsLeft(core);
+  }
+
+  @Test
+  default void nullArgumentsAreRefusedWithAMessage() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> c = core.chain(x -> x);
+      Source<Integer> s = core.source(new EventBlock<Integer>());
+      List<Runnable> calls =
+          List.of(
+              () -> core.chain((dev.prime.Block<Integer, Integer>) null),
+              () -> core.chain("n", null),
+              () -> core.chain(null, (Integer x) -> x),
+              () -> core.source((EventBlock<Integer>) null),
+              () -> core.source("s", null),
+              () -> core.link((Chain<Integer, Integer>) null, core.chain((Integer x) -> x)),
+              () -> core.link(core.chain((Integer x) -> x), (Chain<Integer, Integer>) null),
+              () -> core.link((Source<Integer>) null, core.chain((Integer x) -> x)),
+              () -> core.link(s, (Chain<Integer, Integer>) null),
+              () -> core.ifThenElse(null, core.chain((Integer x) -> x), core.chain((Integer x) -> x)),
+              () -> core.forEach((Chain<Integer, Integer>) null),
+              () -> core.fork(core.chain((Integer x) -> x), null),
+              () -> core.guard(null, core.chain((Integer x) -> x), x -> x),
+              () -> core.guard((Integer x) -> true, core.chain((Integer x) -> x), null),
+              () -> core.isolate((Chain<Integer, Integer>) null),
+              () -> core.syncCollector((Source<Integer>) null),
+              () -> core.asyncCollector((Source<Integer>) null),
+              () -> core.repeater(c, (dev.prime.RepeaterBlock<Integer, Integer, Void, Integer>) null));
+      for (int i = 0; i < calls.size(); i++) {
+        Runnable call = calls.get(i);
+        NullPointerException e = assertThrows(NullPointerException.class, call::run, "call " + i);
+        assertTrue(e.getMessage() != null && !e.getMessage().isBlank(), "call " + i + " has no message");
+      }
+    }
+  }
+
+  @Test
+  default void invalidAndDuplicateNamesAreRefused() {
+    try (PrimeCore core = newCore()) {
+      core.chain("taken", x -> x);
+      IllegalArgumentException dup =
+          assertThrows(IllegalArgumentException.class, () -> core.chain("taken", x -> x));
+      assertTrue(dup.getMessage().contains("taken"), dup.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> core.source("taken", new EventBlock<Integer>()));
+      for (String bad : List.of("", "has space", "tab\t", "{brace}", "x".repeat(201))) {
+        assertThrows(IllegalArgumentException.class, () -> core.chain(bad, x -> x), "name '" + bad + "'");
+      }
+    }
+  }
+
+  @Test
+  default void configurationIsValidated() {
+    assertThrows(IllegalArgumentException.class, () -> CoreConfig.builder().sourceRetention(0));
+    assertThrows(NullPointerException.class, () -> CoreConfig.builder().errorHandler(null));
+    try (PrimeCore core = newCore(CoreConfig.builder().name("named-core").build())) {
+      assertEquals("named-core", core.name());
+    }
+  }
+
+  @Test
+  default void serviceNamesListTheSourceLinks() {
+    try (PrimeCore core = newCore()) {
+      int before = core.serviceNames().size();
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source(events);
+      core.link(source, core.chain(x -> x));
+      core.link(source, core.chain(x -> x));
+      assertEquals(before + 2 * servicesPerSourceLink(), core.serviceNames().size());
+    }
+  }
+}

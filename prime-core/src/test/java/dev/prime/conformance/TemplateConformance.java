@@ -1,0 +1,306 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.EventBlock;
+import dev.prime.Isolated;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Repeat;
+import dev.prime.Source;
+import dev.prime.Token;
+import dev.prime.Tuple2;
+import dev.prime.Tuple3;
+import dev.prime.Tuple4;
+import dev.prime.Tuple5;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
+import java.util.concurrent.Future;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicInteger;
+import org.junit.jupiter.api.Test;
+
+/** Every template of the paper: if/then/else, forEach, union, fork, guard, isolate, collectors, repeater. */
+public interface TemplateConformance extends ConformanceBase {
+
+  @Test
+  default void ifThenElseChoosesABranch() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, String> chain =
+          core.ifThenElse(x -> x > 0, core.chain(x -> "pos" + x), core.chain(x -> "neg" + x));
+      core.start();
+      Block<Integer, String> block = chain.toBlock();
+      assertEquals("pos3", block.process(3));
+      assertEquals("neg-3", block.process(-3));
+    }
+  }
+
+  @Test
+  default void forEachMapsEveryElementInOrder() {
+    try (PrimeCore core = newCore()) {
+      Chain<List<Integer>, List<Integer>> chain = core.forEach(core.chain(x -> x * x));
+      core.start();
+      Block<List<Integer>, List<Integer>> block = chain.toBlock();
+      assertEquals(List.of(1, 4, 9), block.process(List.of(1, 2, 3)));
+      assertEquals(List.of(), block.process(List.of()));
+    }
+  }
+
+  @Test
+  default void unionOfTwoToFive() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Tuple2<Integer, String>> u2 = core.union(core.chain(x -> x + 1), core.chain(x -> "s" + x));
+      Chain<Integer, Tuple3<Integer, Integer, Integer>> u3 =
+          core.union(core.chain(x -> x), core.chain(x -> x * 2), core.chain(x -> x * 3));
+      Chain<Integer, Tuple4<Integer, Integer, Integer, Integer>> u4 =
+          core.union(core.chain(x -> x), core.chain(x -> x * 2), core.chain(x -> x * 3), core.chain(x -> x * 4));
+      Chain<Integer, Tuple5<Integer, Integer, Integer, Integer, String>> u5 =
+          core.union(
+              core.chain(x -> x),
+              core.chain(x -> x * 2),
+              core.chain(x -> x * 3),
+              core.chain(x -> x * 4),
+              core.chain(x -> "five" + x));
+      core.start();
+      assertEquals(new Tuple2<>(2, "s1"), u2.toBlock().process(1));
+      assertEquals(new Tuple3<>(2, 4, 6), u3.toBlock().process(2));
+      assertEquals(new Tuple4<>(1, 2, 3, 4), u4.toBlock().process(1));
+      assertEquals(new Tuple5<>(1, 2, 3, 4, "five1"), u5.toBlock().process(1));
+    }
+  }
+
+  @Test
+  default void forkPublishesOutputsToASource() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> side = new EventBlock<>();
+      Reader<Integer> reader = core.source(side).reader();
+      Chain<Integer, Integer> chain = core.fork(core.chain(x -> x == 0 ? null : x * 10), side);
+      core.start();
+      Block<Integer, Integer> block = chain.toBlock();
+      assertEquals(10, block.process(1));
+      assertEquals(null, block.process(0));
+      assertEquals(20, block.process(2));
+      assertEquals(List.of(10, 20), takeOrFail(reader, 2));
+      assertTrue(reader.poll().isEmpty(), "a fork publishes no null");
+    }
+  }
+
+  @Test
+  default void guardSubstitutesWhenThePredicateFails() {
+    try (PrimeCore core = newCore()) {
+      AtomicInteger guardedCalls = new AtomicInteger();
+      Chain<Integer, Integer> chain =
+          core.guard(
+              x -> x != 0,
+              core.chain(
+                  x -> {
+                    guardedCalls.incrementAndGet();
+                    return 100 / x;
+                  }),
+              x -> -1);
+      core.start();
+      Block<Integer, Integer> block = chain.toBlock();
+      assertEquals(50, block.process(2));
+      assertEquals(-1, block.process(0));
+      assertEquals(1, guardedCalls.get());
+    }
+  }
+
+  @Test
+  default void isolatedChainIsNeverRunConcurrently() throws Exception {
+    int users = 4;
+    int callsEach = 50;
+    AtomicInteger inside = new AtomicInteger();
+    AtomicInteger maxInside = new AtomicInteger();
+    AtomicInteger total = new AtomicInteger();
+    try (PrimeCore core = newCore()) {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  "shared",
+                  x -> {
+                    int now = inside.incrementAndGet();
+                    maxInside.accumulateAndGet(now, Math::max);
+                    Thread.yield();
+                    total.incrementAndGet();
+                    inside.decrementAndGet();
+                    return x + 1;
+                  }));
+      assertEquals("shared", isolated.name());
+      List<Block<Integer, Integer>> blocks = new ArrayList<>();
+      for (int i = 0; i < users; i++) {
+        blocks.add(isolated.newUser().toBlock());
+      }
+      core.start();
+      ExecutorService pool = Executors.newFixedThreadPool(users);
+      try {
+        CountDownLatch go = new CountDownLatch(1);
+        List<Future<Integer>> results = new ArrayList<>();
+        for (Block<Integer, Integer> block : blocks) {
+          results.add(
+              pool.submit(
+                  () -> {
+                    go.await();
+                    int sum = 0;
+                    for (int c = 0; c < callsEach; c++) {
+                      sum += block.process(c);
+                    }
+                    return sum;
+                  }));
+        }
+        go.countDown();
+        int expectedSum = callsEach * (callsEach + 1) / 2;
+        for (Future<Integer> result : results) {
+          assertEquals(expectedSum, result.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+        }
+      } finally {
+        pool.shutdownNow();
+      }
+      assertEquals(users * callsEach, total.get());
+      assertEquals(1, maxInside.get(), "the isolated chain ran concurrently");
+    }
+  }
+
+  @Test
+  default void isolatedUserBlockedInsideDelaysTheOthers() throws Exception {
+    CountDownLatch entered = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    try (PrimeCore core = newCore()) {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  x -> {
+                    if (x == 1) {
+                      entered.countDown();
+                      try {
+                        release.await();
+                      } catch (InterruptedException e) {
+                        Thread.currentThread().interrupt();
+                      }
+                    }
+                    return x;
+                  }));
+      Block<Integer, Integer> first = isolated.newUser().toBlock();
+      Block<Integer, Integer> second = isolated.newUser().toBlock();
+      core.start();
+      ExecutorService pool = Executors.newFixedThreadPool(2);
+      try {
+        Future<Integer> holder = pool.submit(() -> first.process(1));
+        assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        Future<Integer> waiter = pool.submit(() -> second.process(2));
+        assertTrue(!waiter.isDone(), "second user entered while the first was inside");
+        release.countDown();
+        assertEquals(1, holder.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+        assertEquals(2, waiter.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+      } finally {
+        release.countDown();
+        pool.shutdownNow();
+      }
+    }
+  }
+
+  @Test
+  default void syncCollectorReturnsTheNextValueEachCall() throws Exception {
+    try (PrimeCore core = newCore()) {
+      EventBlock<String> events = new EventBlock<>();
+      Chain<Token, String> collector = core.syncCollector(core.source(events));
+      core.start();
+      Block<Token, String> block = collector.toBlock();
+      events.publish("x");
+      events.publish("y");
+      assertEquals("x", block.process(Token.INSTANCE));
+      assertEquals("y", block.process(Token.INSTANCE));
+      ExecutorService pool = Executors.newSingleThreadExecutor();
+      try {
+        Future<String> waiting = pool.submit(() -> block.process(Token.INSTANCE));
+        events.publish("z");
+        assertEquals("z", waiting.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+      } finally {
+        pool.shutdownNow();
+      }
+    }
+  }
+
+  @Test
+  default void asyncCollectorReturnsEverythingSinceItsLastCall() {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Chain<Token, List<Integer>> collector = core.asyncCollector(core.source(events));
+      core.start();
+      Block<Token, List<Integer>> block = collector.toBlock();
+      assertEquals(List.of(), block.process(Token.INSTANCE));
+      events.publish(1);
+      events.publish(2);
+      assertEquals(List.of(1, 2), block.process(Token.INSTANCE));
+      events.publish(3);
+      assertEquals(List.of(3), block.process(Token.INSTANCE));
+      assertEquals(List.of(), block.process(Token.INSTANCE));
+    }
+  }
+
+  @Test
+  default void repeaterWithoutSourceLoopsUntilStop() {
+    try (PrimeCore core = newCore()) {
+      AtomicInteger rounds = new AtomicInteger();
+      Chain<Integer, String> chain =
+          core.repeater(
+              core.chain(
+                  x -> {
+                    rounds.incrementAndGet();
+                    return x * 2;
+                  }),
+              (Integer in, Integer out, List<Void> none) ->
+                  out >= 100 ? Repeat.stop("done:" + out) : Repeat.again(out));
+      core.start();
+      assertEquals("done:128", chain.toBlock().process(1));
+      assertEquals(7, rounds.get());
+    }
+  }
+
+  @Test
+  default void repeaterWithSourceSeesCollectedValues() {
+    try (PrimeCore core = newCore()) {
+      EventBlock<String> events = new EventBlock<>();
+      Source<String> commands = core.source(events);
+      List<List<String>> seen = new ArrayList<>();
+      Chain<Integer, Integer> chain =
+          core.repeater(
+              core.chain(
+                  x -> {
+                    if (x == 2) {
+                      events.publish("stop");
+                    }
+                    return x + 1;
+                  }),
+              commands,
+              (Integer in, Integer out, List<String> collected) -> {
+                seen.add(collected);
+                return collected.contains("stop") ? Repeat.stop(out) : Repeat.again(out);
+              });
+      core.start();
+      events.publish("hello");
+      assertEquals(3, chain.toBlock().process(0));
+      assertEquals(List.of(List.of("hello"), List.of(), List.of("stop")), seen);
+    }
+  }
+
+  @Test
+  default void templatesCompose() {
+    try (PrimeCore core = newCore()) {
+      Chain<List<Integer>, List<String>> chain =
+          core.forEach(
+              core.ifThenElse(
+                  x -> x % 2 == 0,
+                  core.link(core.chain(x -> x / 2), core.chain(x -> "half" + x)),
+                  core.guard(x -> x > 0, core.chain(x -> "odd" + x), x -> "neg")));
+      core.start();
+      assertEquals(List.of("half1", "odd3", "neg"), chain.toBlock().process(List.of(2, 3, -1)));
+    }
+  }
+}
