@@ -5,6 +5,7 @@ import dev.prime.Tuple2;
 import dev.prime.Tuple3;
 import dev.prime.Tuple4;
 import dev.prime.Tuple5;
+import java.util.Arrays;
 import java.util.List;
 import java.util.Objects;
 
@@ -47,7 +48,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
    */
   @SuppressWarnings("unchecked")
   public static <I, A, B> Block<I, Tuple2<A, B>> of(Block<I, A> a, Block<I, B> b) {
-    return new UnionBlock<>(o -> new Tuple2<>((A) o[0], (B) o[1]), List.<Block<? super I, ?>>of(a, b));
+    return new UnionBlock<>(o -> new Tuple2<>((A) o[0], (B) o[1]), Arrays.<Block<? super I, ?>>asList(a, b));
   }
 
   /**
@@ -63,7 +64,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
   @SuppressWarnings("unchecked")
   public static <I, A, B, C> Block<I, Tuple3<A, B, C>> of(
       Block<I, A> a, Block<I, B> b, Block<I, C> c) {
-    return new UnionBlock<>(o -> new Tuple3<>((A) o[0], (B) o[1], (C) o[2]), List.<Block<? super I, ?>>of(a, b, c));
+    return new UnionBlock<>(o -> new Tuple3<>((A) o[0], (B) o[1], (C) o[2]), Arrays.<Block<? super I, ?>>asList(a, b, c));
   }
 
   /**
@@ -83,7 +84,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
       Block<I, A> a, Block<I, B> b, Block<I, C> c, Block<I, D> d) {
     return new UnionBlock<>(
         o -> new Tuple4<>((A) o[0], (B) o[1], (C) o[2], (D) o[3]),
-        List.<Block<? super I, ?>>of(a, b, c, d));
+        Arrays.<Block<? super I, ?>>asList(a, b, c, d));
   }
 
   /**
@@ -105,7 +106,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
       Block<I, A> a, Block<I, B> b, Block<I, C> c, Block<I, D> d, Block<I, E> e) {
     return new UnionBlock<>(
         o -> new Tuple5<>((A) o[0], (B) o[1], (C) o[2], (D) o[3], (E) o[4]),
-        List.<Block<? super I, ?>>of(a, b, c, d, e));
+        Arrays.<Block<? super I, ?>>asList(a, b, c, d, e));
   }
 
   @Override

@@ -1,0 +1,183 @@
+package dev.prime.blocks;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNull;
+import static org.junit.jupiter.api.Assertions.assertSame;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.EventBlock;
+import dev.prime.Repeat;
+import dev.prime.Token;
+import dev.prime.Tuple2;
+import dev.prime.Tuple3;
+import dev.prime.Tuple4;
+import dev.prime.Tuple5;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.concurrent.atomic.AtomicInteger;
+import org.junit.jupiter.api.Test;
+
+/** The logic-layer template blocks on their own, without any core. */
+class LogicBlocksTest {
+
+  @Test
+  void linkAppliesFirstThenSecond() {
+    Block<Integer, String> block = new LinkBlock<>(x -> x + 1, x -> "v" + x);
+    assertEquals("v3", block.process(2));
+  }
+
+  @Test
+  void ifThenElseEvaluatesOnlyTheChosenBranch() {
+    AtomicInteger otherwiseCalls = new AtomicInteger();
+    Block<Integer, String> block =
+        new IfThenElseBlock<>(
+            x -> x > 0,
+            x -> "then",
+            x -> {
+              otherwiseCalls.incrementAndGet();
+              return "else";
+            });
+    assertEquals("then", block.process(1));
+    assertEquals(0, otherwiseCalls.get());
+    assertEquals("else", block.process(0));
+    assertEquals(1, otherwiseCalls.get());
+  }
+
+  @Test
+  void forEachKeepsOrderAndNullElements() {
+    Block<List<Integer>, List<Integer>> block = new ForEachBlock<>(x -> x == 0 ? null : x * 2);
+    List<Integer> expected = new ArrayList<>();
+    expected.add(2);
+    expected.add(null);
+    expected.add(6);
+    assertEquals(expected, block.process(List.of(1, 0, 3)));
+    NullPointerException e = assertThrows(NullPointerException.class, () -> block.process(null));
+    assertTrue(e.getMessage().contains("for-each"), e.getMessage());
+  }
+
+  @Test
+  void unionCallsEveryPartInOrderWithTheSameInput() {
+    List<String> calls = new ArrayList<>();
+    Block<Integer, Tuple5<Integer, Integer, Integer, Integer, Integer>> five =
+        UnionBlock.of(
+            x -> {
+              calls.add("a");
+              return x;
+            },
+            x -> {
+              calls.add("b");
+              return x + 1;
+            },
+            x -> {
+              calls.add("c");
+              return x + 2;
+            },
+            x -> {
+              calls.add("d");
+              return x + 3;
+            },
+            x -> {
+              calls.add("e");
+              return x + 4;
+            });
+    assertEquals(new Tuple5<>(10, 11, 12, 13, 14), five.process(10));
+    assertEquals(List.of("a", "b", "c", "d", "e"), calls);
+    Block<Integer, Tuple2<Integer, String>> two = UnionBlock.of(x -> x, x -> "s");
+    assertEquals(new Tuple2<>(1, "s"), two.process(1));
+    Block<Integer, Tuple3<Integer, Integer, Integer>> three = UnionBlock.of(x -> x, x -> x, x -> x);
+    assertEquals(new Tuple3<>(1, 1, 1), three.process(1));
+    Block<Integer, Tuple4<Integer, Integer, Integer, Integer>> four =
+        UnionBlock.of(x -> x, x -> x, x -> x, x -> -x);
+    assertEquals(new Tuple4<>(1, 1, 1, -1), four.process(1));
+    Block<Integer, Integer> none = null;
+    NullPointerException e =
+        assertThrows(NullPointerException.class, () -> UnionBlock.of(x -> x, none));
+    assertTrue(e.getMessage().contains("2"), e.getMessage());
+  }
+
+  @Test
+  void forkPublishesNonNullOutputs() {
+    EventBlock<Integer> events = new EventBlock<>();
+    List<Integer> published = new ArrayList<>();
+    events.subscribe(published::add);
+    Block<Integer, Integer> block = new ForkBlock<>(x -> x < 0 ? null : x, events);
+    assertEquals(1, block.process(1));
+    assertNull(block.process(-1));
+    assertEquals(List.of(1), published);
+  }
+
+  @Test
+  void guardUsesTheSubstituteWhenThePredicateFails() {
+    Block<Integer, Integer> block = new GuardBlock<>(x -> x != 0, x -> 10 / x, x -> 0);
+    assertEquals(5, block.process(2));
+    assertEquals(0, block.process(0));
+  }
+
+  @Test
+  void isolateReleasesItsLockWhenTheBlockThrows() {
+    RuntimeException boom = new IllegalStateException("boom");
+    Block<Integer, Integer> block =
+        new IsolateBlock<>(
+            x -> {
+              if (x < 0) {
+                throw boom;
+              }
+              return x;
+            });
+    assertSame(boom, assertThrows(IllegalStateException.class, () -> block.process(-1)));
+    assertEquals(3, block.process(3));
+  }
+
+  @Test
+  void repeaterLoopsAndPassesCollectedValues() {
+    List<List<String>> collectedSeen = new ArrayList<>();
+    AtomicInteger collectorCalls = new AtomicInteger();
+    Block<Token, List<String>> collector =
+        t -> List.of("c" + collectorCalls.incrementAndGet());
+    Block<Integer, String> block =
+        new RepeaterLoopBlock<Integer, Integer, String, String>(
+            x -> x + 1,
+            collector,
+            (in, out, collected) -> {
+              collectedSeen.add(collected);
+              return out < 3 ? Repeat.again(out) : Repeat.stop("r" + out);
+            });
+    assertEquals("r3", block.process(0));
+    assertEquals(List.of(List.of("c1"), List.of("c2"), List.of("c3")), collectedSeen);
+  }
+
+  @Test
+  void repeaterWithoutCollectorSeesEmptyListsAndRejectsNullDecisions() {
+    Block<Integer, Integer> stopAtOnce =
+        new RepeaterLoopBlock<Integer, Integer, Void, Integer>(
+            x -> x, null, (in, out, collected) -> Repeat.stop(collected.size()));
+    assertEquals(0, stopAtOnce.process(1));
+    Block<Integer, Integer> broken =
+        new RepeaterLoopBlock<Integer, Integer, Void, Integer>(x -> x, null, (in, out, c) -> null);
+    NullPointerException e = assertThrows(NullPointerException.class, () -> broken.process(1));
+    assertTrue(e.getMessage().contains("Repeat.stop"), e.getMessage());
+  }
+
+  @Test
+  void repeatValues() {
+    assertEquals(Repeat.again(1), Repeat.again(1));
+    assertEquals(Repeat.stop("x"), Repeat.stop("x"));
+    assertTrue(Repeat.again(1).isAgain());
+    assertEquals("Repeat.stop(x)", Repeat.stop("x").toString());
+  }
+
+  @Test
+  void constructorsRefuseNulls() {
+    Block<Integer, Integer> id = x -> x;
+    assertThrows(NullPointerException.class, () -> new LinkBlock<Integer, Integer, Integer>(null, id));
+    assertThrows(NullPointerException.class, () -> new IfThenElseBlock<Integer, Integer>(null, id, id));
+    assertThrows(NullPointerException.class, () -> new ForEachBlock<Integer, Integer>(null));
+    assertThrows(NullPointerException.class, () -> new ForkBlock<Integer, Integer>(id, null));
+    assertThrows(NullPointerException.class, () -> new GuardBlock<Integer, Integer>(x -> true, null, id));
+    assertThrows(NullPointerException.class, () -> new IsolateBlock<Integer, Integer>(null));
+    assertThrows(NullPointerException.class, () -> new SyncCollectorBlock<Integer>(null));
+    assertThrows(NullPointerException.class, () -> new AsyncCollectorBlock<Integer>(null));
+  }
+}

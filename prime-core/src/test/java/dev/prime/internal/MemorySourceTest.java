@@ -1,0 +1,112 @@
+package dev.prime.internal;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreClosedException;
+import dev.prime.CoreConfig;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import java.time.Duration;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Optional;
+import org.junit.jupiter.api.Test;
+
+/** Ring and cursor arithmetic of the in-memory source, without running any service. */
+class MemorySourceTest {
+
+  /** The smallest core a MemorySource can belong to; its chains are never used here. */
+  private static final class BareCore extends PrimeCore {
+    BareCore() {
+      super("bare", CoreConfig.defaults());
+    }
+
+    @Override
+    protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
+      throw new UnsupportedOperationException("not needed");
+    }
+  }
+
+  private static List<Integer> range(int from, int to) {
+    List<Integer> values = new ArrayList<>();
+    for (int i = from; i < to; i++) {
+      values.add(i);
+    }
+    return values;
+  }
+
+  @Test
+  void readerCreatedBeforePublishingSeesAllWithinRetention() {
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 4);
+      Reader<Integer> reader = source.reader();
+      range(0, 4).forEach(source::publish);
+      assertEquals(range(0, 4), reader.drain());
+      assertEquals(0, reader.missed());
+    }
+  }
+
+  @Test
+  void wrapAroundManyTimesKeepsTheNewestAndCountsMissed() {
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 3);
+      Reader<Integer> reader = source.reader();
+      range(0, 1000).forEach(source::publish);
+      assertEquals(Optional.of(997), reader.poll());
+      assertEquals(997, reader.missed());
+      source.publish(1000);
+      assertEquals(List.of(998, 999, 1000), reader.drain());
+      assertEquals(997, reader.missed());
+      Reader<Integer> late = source.reader();
+      assertEquals(List.of(998, 999, 1000), late.drain());
+      assertEquals(0, late.missed());
+    }
+  }
+
+  @Test
+  void retentionOfOne() throws InterruptedException {
+    try (BareCore core = new BareCore()) {
+      MemorySource<String> source = new MemorySource<>(core, "s", 1);
+      Reader<String> reader = source.reader();
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(1)));
+      source.publish("a");
+      source.publish("b");
+      assertEquals("b", reader.take());
+      assertEquals(1, reader.missed());
+      assertEquals(Optional.empty(), reader.poll());
+    }
+  }
+
+  @Test
+  void readersAreIndependent() {
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 8);
+      Reader<Integer> a = source.reader();
+      Reader<Integer> b = source.reader();
+      range(0, 5).forEach(source::publish);
+      assertEquals(Optional.of(0), a.poll());
+      assertEquals(range(0, 5), b.drain());
+      assertEquals(range(1, 5), a.drain());
+    }
+  }
+
+  @Test
+  void badInputAndClose() {
+    try (BareCore core = new BareCore()) {
+      assertThrows(IllegalArgumentException.class, () -> new MemorySource<Integer>(core, "s", 0));
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 2);
+      assertThrows(NullPointerException.class, () -> source.publish(null));
+      Reader<Integer> reader = source.reader();
+      source.publish(1);
+      source.close();
+      assertThrows(CoreClosedException.class, reader::poll);
+      assertThrows(CoreClosedException.class, () -> source.publish(2));
+      assertThrows(CoreClosedException.class, source::reader);
+      assertTrue(source.toString().contains("s"));
+    }
+  }
+}
