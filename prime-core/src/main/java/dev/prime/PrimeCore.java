@@ -720,7 +720,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    */
   protected final <T> void runService(String name, Reader<T> reader, Consumer<? super T> step) {
-    services.add(name, new SourceService<>(name, reader, step, config.errorHandler()));
+    services.add(name, new SourceService<>(name, reader, step, config.errorHandler(), this::isClosed));
   }
 
   private <T> MemorySource<T> newMemorySource(String name) {

@@ -66,6 +66,9 @@ public final class ServiceThreads {
 
   /** Starts every service added so far. */
   public synchronized void startAll() {
+    if (stopped) {
+      return; // close() overtook start(): the services must stay down
+    }
     started = true;
     for (Thread thread : threads.values()) {
       if (thread.getState() == Thread.State.NEW) {

@@ -4,6 +4,7 @@ import dev.prime.CoreClosedException;
 import dev.prime.ErrorHandler;
 import dev.prime.Reader;
 import java.util.Objects;
+import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
@@ -13,7 +14,8 @@ import org.slf4j.LoggerFactory;
  * (a chain's block and a publish, a filter, a listener), repeat until interrupted or closed.
  *
  * <p>A step that throws is reported to the error handler and the loop goes on with the next
- * value: a service never dies silently. Only an interrupt or a closed core ends it.
+ * value: a service never dies silently. Only an interrupt, the closing of the core that runs it, or the closing of its input
+ * source ends it.
  *
  * @param <T> value type
  */
@@ -24,18 +26,27 @@ public final class SourceService<T> implements Runnable {
   private final Reader<T> reader;
   private final Consumer<? super T> step;
   private final ErrorHandler errors;
+  private final BooleanSupplier ownerClosed;
 
   /**
    * @param name the service's name, for the error handler
    * @param reader where values come from
    * @param step what to do with each value
    * @param errors where failures go
+   * @param ownerClosed whether the core running this service is closed: a CoreClosedException
+   *     from the step ends the service only then (a closed foreign core is an ordinary failure)
    */
-  public SourceService(String name, Reader<T> reader, Consumer<? super T> step, ErrorHandler errors) {
+  public SourceService(
+      String name,
+      Reader<T> reader,
+      Consumer<? super T> step,
+      ErrorHandler errors,
+      BooleanSupplier ownerClosed) {
     this.name = Objects.requireNonNull(name, "name");
     this.reader = Objects.requireNonNull(reader, "reader");
     this.step = Objects.requireNonNull(step, "step");
     this.errors = Objects.requireNonNull(errors, "errors");
+    this.ownerClosed = Objects.requireNonNull(ownerClosed, "ownerClosed");
   }
 
   @Override
@@ -44,13 +55,21 @@ public final class SourceService<T> implements Runnable {
       T value;
       try {
         value = reader.take();
-      } catch (InterruptedException | CoreClosedException e) {
+      } catch (InterruptedException e) {
+        return;
+      } catch (CoreClosedException e) {
+        if (!ownerClosed.getAsBoolean()) {
+          LOG.warn("service '{}' stops: its input source belongs to a closed core", name, e);
+        }
         return;
       }
       try {
         step.accept(value);
       } catch (CoreClosedException e) {
-        return;
+        if (ownerClosed.getAsBoolean()) {
+          return;
+        }
+        report(value, e); // another core closed under this step: an ordinary failure, go on
       } catch (VirtualMachineError e) {
         throw e;
       } catch (Throwable e) {

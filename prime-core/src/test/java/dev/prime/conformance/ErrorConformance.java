@@ -139,4 +139,31 @@ public interface ErrorConformance extends ConformanceBase {
       assertEquals(2, takeOrFail(out));
     }
   }
+
+  @Test
+  default void closedCoreExceptionFromAnotherCoreDoesNotStopTheService()
+      throws InterruptedException {
+    CopyOnWriteArrayList<Object> failedInputs = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> failedInputs.add(input)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.link(
+                  core.source(events),
+                  core.chain(
+                      (Integer x) -> {
+                        if (x == 1) {
+                          throw new dev.prime.CoreClosedException("some-other-core");
+                        }
+                        return x;
+                      }))
+              .reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(2, takeOrFail(out), "the service went on after the failure");
+      assertEquals(List.of(1), failedInputs);
+    }
+  }
 }
