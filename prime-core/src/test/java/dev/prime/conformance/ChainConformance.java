@@ -176,4 +176,20 @@ public interface ChainConformance extends ConformanceBase {
       assertEquals(List.of(4, 9), takeOrFail(reader, 2));
     }
   }
+
+  @Test
+  default void oneChainTwiceInATemplateIsRefused() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> twice = core.chain("twice-used", x -> x);
+      assertThrows(ChainAlreadyUsedException.class, () -> core.ifThenElse(x -> true, twice, twice));
+      assertThrows(ChainAlreadyUsedException.class, () -> core.union(twice, twice));
+      Chain<Integer, Integer> other = core.chain(x -> x);
+      assertThrows(
+          ChainAlreadyUsedException.class,
+          () -> core.union(other, core.chain((Integer x) -> x), core.chain((Integer x) -> x), core.chain((Integer x) -> x), other));
+      Chain<Integer, Integer> fresh = core.chain(x -> x + 1);
+      core.start();
+      assertEquals(2, fresh.toBlock().process(1), "a refused template consumed nothing else");
+    }
+  }
 }

@@ -1,0 +1,8 @@
+/**
+ * The media conformance kit, published in prime-core's test-jar. A media depends on it with
+ * {@code <type>test-jar</type>} and runs every semantic of DESIGN.md with one class implementing
+ * {@link dev.prime.conformance.MediaConformance}. Each theme is one interface of default
+ * {@code @Test} methods; the only overridable hooks are in {@link
+ * dev.prime.conformance.ConformanceBase} (services per source link, patience).
+ */
+package dev.prime.conformance;
