@@ -20,7 +20,7 @@ public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery,
           "  --goal X,Y        where to drive, in metres from the start (default 2,1)",
           "  --steps N         give up after N steps of 10 ms simulated time (default 3000)",
           "  --trace-every N   print a trace line every N steps (default 100)",
-          "with Maven: ./mvnw -q -pl examples -am compile exec:java -Dexec.args=\"--goal 1.5,-0.5\"");
+          "with Maven: ./mvnw -q -pl examples -am test-compile exec:java -Dexec.args=\"--goal 1.5,-0.5\"");
 
   /** The defaults: Liberty, goal (2, 1), at most 3000 steps, a trace line every 100. */
   public static final RobotOptions DEFAULTS =
