@@ -15,7 +15,8 @@ public record Goal(double x, double y) {
    */
   public Goal {
     if (!Double.isFinite(x) || !Double.isFinite(y)) {
-      throw new IllegalArgumentException("goal coordinates must be finite numbers, were " + x + "," + y);
+      throw new IllegalArgumentException(
+          "goal coordinates must be finite numbers, were " + x + "," + y);
     }
   }
 

@@ -38,7 +38,8 @@ public final class GoalPlanner implements Block<Estimate, Setpoint> {
     double distance = pose.distanceTo(goal);
     double bearing = Math.atan2(goal.y() - pose.y(), goal.x() - pose.x());
     double headingError = Pose.normalize(bearing - pose.heading());
-    double speed = Math.min(MAX_SPEED, DISTANCE_GAIN * distance) * Math.max(0, Math.cos(headingError));
+    double facing = Math.max(0, Math.cos(headingError));
+    double speed = Math.min(MAX_SPEED, DISTANCE_GAIN * distance) * facing;
     double turnRate = clamp(HEADING_GAIN * headingError, MAX_TURN_RATE);
     double half = turnRate * spec.trackWidth() / 2;
     return new Setpoint(estimate, new WheelSpeeds(speed - half, speed + half));

@@ -25,7 +25,8 @@ public record Mission(Goal goal, int maxSteps, int traceEvery) {
       throw new IllegalArgumentException("steps must be at least 1, was " + maxSteps);
     }
     if (traceEvery < 1) {
-      throw new IllegalArgumentException("trace interval must be at least 1 step, was " + traceEvery);
+      throw new IllegalArgumentException(
+          "trace interval must be at least 1 step, was " + traceEvery);
     }
   }
 }

@@ -1,5 +1,7 @@
 package dev.prime.examples.robot;
 
+import java.util.Locale;
+
 /**
  * Where the robot is on the floor.
  *
@@ -35,6 +37,7 @@ public record Pose(double x, double y, double heading) {
 
   @Override
   public String toString() {
-    return String.format(java.util.Locale.ROOT, "(x=%.3f, y=%.3f, heading=%.1f deg)", x, y, Math.toDegrees(heading));
+    return String.format(
+        Locale.ROOT, "(x=%.3f, y=%.3f, heading=%.1f deg)", x, y, Math.toDegrees(heading));
   }
 }

@@ -43,7 +43,8 @@ public final class RobotController {
 
     // A source linked to a chain: odometry runs as a service on every encoder reading.
     Source<EncoderReading> ticks = core.source("encoders", encoders.events());
-    Source<Estimate> estimates = ticks.then(core.chain("odometry", new Odometry(spec, dt, Pose.ORIGIN)));
+    Source<Estimate> estimates =
+        ticks.then(core.chain("odometry", new Odometry(spec, dt, Pose.ORIGIN)));
 
     // chain.then: the planner's setpoints feed the motor controller, fused into one chain.
     Chain<Estimate, DriveCommand> drive =

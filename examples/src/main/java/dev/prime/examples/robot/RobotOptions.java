@@ -20,7 +20,8 @@ public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery,
           "  --goal X,Y        where to drive, in metres from the start (default 2,1)",
           "  --steps N         give up after N steps of 10 ms simulated time (default 3000)",
           "  --trace-every N   print a trace line every N steps (default 100)",
-          "with Maven: ./mvnw -q -pl examples -am test-compile exec:java -Dexec.args=\"--goal 1.5,-0.5\"");
+          "with Maven: ./mvnw -q -pl examples -am test-compile exec:java"
+              + " -Dexec.args=\"--goal 1.5,-0.5\"");
 
   /** The defaults: Liberty, goal (2, 1), at most 3000 steps, a trace line every 100. */
   public static final RobotOptions DEFAULTS =
@@ -87,12 +88,14 @@ public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery,
   private static Goal goal(String value) {
     String[] parts = value.split(",", -1);
     if (parts.length != 2) {
-      throw new UsageException("--goal wants two numbers X,Y in metres, like 2,1; got '" + value + "'");
+      throw new UsageException(
+          "--goal wants two numbers X,Y in metres, like 2,1; got '" + value + "'");
     }
     try {
       return new Goal(Double.parseDouble(parts[0].trim()), Double.parseDouble(parts[1].trim()));
     } catch (IllegalArgumentException e) {
-      throw new UsageException("--goal wants two finite numbers X,Y in metres, like 2,1; got '" + value + "'");
+      throw new UsageException(
+          "--goal wants two finite numbers X,Y in metres, like 2,1; got '" + value + "'");
     }
   }
 

@@ -41,7 +41,8 @@ class GoalPlannerTest {
     WheelSpeeds target = planner.process(at(Pose.ORIGIN)).target();
 
     assertEquals(0.0, target.left() + target.right(), 1e-12, "no forward speed: " + target);
-    assertEquals(GoalPlanner.MAX_TURN_RATE * SPEC.trackWidth(), target.right() - target.left(), 1e-12);
+    assertEquals(
+        GoalPlanner.MAX_TURN_RATE * SPEC.trackWidth(), target.right() - target.left(), 1e-12);
   }
 
   @Test

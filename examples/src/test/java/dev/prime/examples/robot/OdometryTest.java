@@ -72,6 +72,7 @@ class OdometryTest {
         assertThrows(
             IllegalArgumentException.class,
             () -> odometry.process(new EncoderReading(5, 10, 10)));
-    assertEquals("encoder readings must come in step order: got step 5 after step 5", e.getMessage());
+    assertEquals(
+        "encoder readings must come in step order: got step 5 after step 5", e.getMessage());
   }
 }

@@ -17,7 +17,8 @@ class RobotOptionsTest {
   @Test
   void parsesEveryOptionInBothForms() {
     RobotOptions options =
-        RobotOptions.parse("--media", "LIBERTY", "--goal=1.5,-0.5", "--steps", "40", "--trace-every=7");
+        RobotOptions.parse(
+            "--media", "LIBERTY", "--goal=1.5,-0.5", "--steps", "40", "--trace-every=7");
 
     assertEquals(new RobotOptions(Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false), options);
   }
@@ -29,7 +30,8 @@ class RobotOptionsTest {
 
   @Test
   void unknownMediaNamesTheKnownOnes() {
-    UsageException e = assertThrows(UsageException.class, () -> RobotOptions.parse("--media", "warp"));
+    UsageException e =
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--media", "warp"));
     assertEquals("unknown media 'warp'; known media: liberty", e.getMessage());
   }
 

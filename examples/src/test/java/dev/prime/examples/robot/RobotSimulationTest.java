@@ -27,7 +27,10 @@ class RobotSimulationTest {
     try (PrimeCore core = new LibertyCore(CoreConfig.builder().name(CORE).build())) {
       result[0] =
           new RobotSimulation(RobotSpec.SMALL_INDOOR)
-              .run(core, new Mission(goal, 4000, 50), new PrintStream(trace, true, StandardCharsets.UTF_8));
+              .run(
+                  core,
+                  new Mission(goal, 4000, 50),
+                  new PrintStream(trace, true, StandardCharsets.UTF_8));
     }
     return trace.toString(StandardCharsets.UTF_8);
   }
