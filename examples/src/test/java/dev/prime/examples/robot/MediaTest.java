@@ -1,0 +1,37 @@
+package dev.prime.examples.robot;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+
+import dev.prime.CoreConfig;
+import dev.prime.PrimeCore;
+import dev.prime.liberty.LibertyCore;
+import org.junit.jupiter.api.Test;
+
+class MediaTest {
+
+  @Test
+  void everyMediaCreatesANewCoreWithTheGivenConfig() {
+    for (Media media : Media.values()) {
+      try (PrimeCore core = media.create(CoreConfig.builder().name("media-test").build())) {
+        assertEquals("media-test", core.name());
+        assertFalse(core.isStarted());
+        assertEquals(media, Media.byName(media.cliName()));
+      }
+    }
+  }
+
+  @Test
+  void libertyIsLibertyCore() {
+    try (PrimeCore core = Media.byName("liberty").create(CoreConfig.defaults())) {
+      assertInstanceOf(LibertyCore.class, core);
+    }
+  }
+
+  @Test
+  void unknownNameIsRejected() {
+    assertThrows(IllegalArgumentException.class, () -> Media.byName("carrier-pigeon"));
+  }
+}

@@ -1,0 +1,57 @@
+package dev.prime.examples.robot;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import org.junit.jupiter.api.Test;
+
+class RobotOptionsTest {
+
+  @Test
+  void noArgumentsGiveTheDefaults() {
+    assertEquals(RobotOptions.DEFAULTS, RobotOptions.parse());
+    assertEquals(Media.LIBERTY, RobotOptions.DEFAULTS.media());
+  }
+
+  @Test
+  void parsesEveryOptionInBothForms() {
+    RobotOptions options =
+        RobotOptions.parse(
+            "--media", "LIBERTY", "--goal=1.5,-0.5", "--steps", "40", "--trace-every=7");
+
+    assertEquals(new RobotOptions(Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false), options);
+  }
+
+  @Test
+  void helpWins() {
+    assertTrue(RobotOptions.parse("--steps", "3", "--help").help());
+  }
+
+  @Test
+  void unknownMediaNamesTheKnownOnes() {
+    UsageException e =
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--media", "warp"));
+    assertEquals("unknown media 'warp'; known media: liberty", e.getMessage());
+  }
+
+  @Test
+  void badArgumentsSayWhatIsWrong() {
+    assertEquals(
+        "unknown argument '--fast'",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--fast")).getMessage());
+    assertEquals(
+        "--media needs a value",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--media")).getMessage());
+    assertEquals(
+        "--goal wants two numbers X,Y in metres, like 2,1; got '3'",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--goal", "3")).getMessage());
+    assertEquals(
+        "--goal wants two finite numbers X,Y in metres, like 2,1; got '1,NaN'",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--goal", "1,NaN"))
+            .getMessage());
+    assertEquals(
+        "--steps wants a whole number of at least 1; got '0'",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--steps", "0")).getMessage());
+  }
+}
