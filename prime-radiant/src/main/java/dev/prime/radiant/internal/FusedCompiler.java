@@ -35,6 +35,8 @@ public final class FusedCompiler {
 
   private static final String PACKAGE = "dev.prime.radiant.fused.";
   private static final AtomicLong CLASSES = new AtomicLong();
+  /** Descriptions of Prime's and the JDK's types, for frame computation; cached, thread-safe. */
+  private static final TypePool TYPES = TypePool.Default.of(FusedCompiler.class.getClassLoader());
 
   private FusedCompiler() {}
 
@@ -115,7 +117,7 @@ public final class FusedCompiler {
             .method(ElementMatchers.named("toString"))
             .intercept(FixedValue.value("fused Radiant chain '" + chainName + "'"))
             .visit(new AsmVisitorWrapper.ForDeclaredMethods().writerFlags(ClassWriter.COMPUTE_FRAMES))
-            .make(TypePool.Default.of(prime))
+            .make(TYPES)
             .getBytes();
 
     Class<?> type = new FusedClassLoader(chainName, prime).define(binaryName, bytes);
