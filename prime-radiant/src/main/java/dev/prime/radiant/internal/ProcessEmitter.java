@@ -20,6 +20,7 @@ import static net.bytebuddy.jar.asm.Opcodes.INVOKEVIRTUAL;
 import static net.bytebuddy.jar.asm.Opcodes.NEW;
 import static net.bytebuddy.jar.asm.Opcodes.POP;
 import static net.bytebuddy.jar.asm.Opcodes.PUTSTATIC;
+import static net.bytebuddy.jar.asm.Opcodes.SWAP;
 
 import dev.prime.Block;
 import dev.prime.ChainFailedException;
@@ -47,7 +48,10 @@ import net.bytebuddy.jar.asm.Type;
  * {@code invokevirtual} on the leaf's own class (or {@code invokeinterface Block.process} when
  * that class cannot be named) with a {@code static final} receiver, so every leaf has a call site
  * of its own and the JIT sees a constant receiver. Links are local variables, if/else and guards
- * are branches, for-each is a loop, a union builds its tuple in place. Failure naming is in the
+ * are branches, for-each is a loop, a union builds its tuple in place. Between the blocks of a
+ * link the value stays on the operand stack (a leaf then costs {@code getstatic; swap; invoke}),
+ * which keeps the method small enough for the JIT to inline it into its caller up to about 20
+ * blocks. Failure naming is in the
  * exception table: every call the chain makes is covered by a {@code RuntimeException} range whose
  * handler pushes the name of the chain that owns the call and jumps to one shared handler, which
  * rethrows {@link ChainFailedException} and {@link CoreClosedException} unchanged and wraps
@@ -66,6 +70,8 @@ final class ProcessEmitter implements ByteCodeAppender {
   private static final String ITERATOR = Type.getInternalName(Iterator.class);
   /** Deep enough for a 5-tuple under construction plus a call. */
   private static final int MAX_STACK = 8;
+  /** Instead of a local variable: the input is on top of the operand stack. */
+  private static final int ON_STACK = -1;
 
   private final Node root;
   private final ConstantFields fields;
@@ -119,16 +125,26 @@ final class ProcessEmitter implements ByteCodeAppender {
       this.mv = mv;
     }
 
-    /** Emits {@code node} applied to the value in local {@code input}; leaves the output on the stack. */
+    /**
+     * Emits {@code node} applied to the value in local {@code input} (or on the stack, if
+     * {@link #ON_STACK}); leaves the output on the stack.
+     */
     void emit(Node node, int input) {
+      boolean leafLike = node instanceof Node.Leaf || node instanceof Node.Opaque;
+      if (input == ON_STACK && !leafLike && !(node instanceof Node.Link)) {
+        input = store();
+      }
+      emitFrom(node, input);
+    }
+
+    private void emitFrom(Node node, int input) {
       if (node instanceof Node.Leaf leaf) {
         named(leaf.chain(), () -> callBlock(fields.block(leaf.block()), input));
       } else if (node instanceof Node.Opaque opaque) {
         callBlock(fields.block(opaque.block()), input);
       } else if (node instanceof Node.Link link) {
         emit(link.first(), input);
-        int middle = store();
-        emit(link.second(), middle);
+        emit(link.second(), ON_STACK);
       } else if (node instanceof Node.IfElse branch) {
         emitBranch(
             branch.chain(),
@@ -287,7 +303,11 @@ final class ProcessEmitter implements ByteCodeAppender {
     private void call(
         ConstantFields.Field field, int input, Class<?> api, String method, String descriptor) {
       mv.visitFieldInsn(GETSTATIC, owner, field.name(), Type.getDescriptor(field.type()));
-      mv.visitVarInsn(ALOAD, input);
+      if (input == ON_STACK) {
+        mv.visitInsn(SWAP);
+      } else {
+        mv.visitVarInsn(ALOAD, input);
+      }
       if (field.viaInterface()) {
         mv.visitMethodInsn(INVOKEINTERFACE, Type.getInternalName(api), method, descriptor, true);
       } else {
