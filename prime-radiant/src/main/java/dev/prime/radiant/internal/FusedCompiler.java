@@ -30,7 +30,7 @@ import net.bytebuddy.pool.TypePool;
  * outer class as one opaque block. Thread-safe and stateless apart from a counter for class names.
  */
 public final class FusedCompiler {
-  /** Most call sites in one generated method (about 20 bytes of bytecode each). */
+  /** Most call sites in one generated method (each 12 to 20 bytes of bytecode). */
   public static final int MAX_SITES = 200;
 
   private static final String PACKAGE = "dev.prime.radiant.fused.";
