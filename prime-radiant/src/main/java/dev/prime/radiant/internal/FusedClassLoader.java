@@ -1,0 +1,23 @@
+package dev.prime.radiant.internal;
+
+/**
+ * The class loader of one fused class.
+ *
+ * <p>Design note. Each fused class gets a loader of its own, so the class (and its loader) can be
+ * unloaded as soon as the block is no longer referenced. Hidden classes
+ * ({@code Lookup.defineHiddenClass}) would be unloadable too, but the JVM leaves their frames out
+ * of stack traces and of {@code StackWalker} by default, and Radiant promises that a failing
+ * user block shows up directly under the fused chain that called it. The parent is the loader of
+ * Prime's own classes, which the generated code refers to; user blocks are referred to by their
+ * class only when that loader resolves the same class.
+ */
+final class FusedClassLoader extends ClassLoader {
+
+  FusedClassLoader(String chainName, ClassLoader parent) {
+    super("prime-radiant[" + chainName + "]", parent);
+  }
+
+  Class<?> define(String binaryName, byte[] bytes) {
+    return defineClass(binaryName, bytes, 0, bytes.length);
+  }
+}
