@@ -3,6 +3,7 @@ package dev.prime.examples.robot;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.radiant.RadiantCore;
 import java.util.Arrays;
 import java.util.Locale;
 import java.util.function.Function;
@@ -15,8 +16,9 @@ import java.util.stream.Collectors;
 public enum Media {
   /** Chains fused by function composition, in-memory sources. */
   LIBERTY("liberty", LibertyCore::new),
+  /** Each linked chain fused into one generated class, in-memory sources. */
+  RADIANT("radiant", RadiantCore::new),
   // A new media plugs in here with one line (and its module as a dependency in examples/pom.xml):
-  //   RADIANT("radiant", RadiantCore::new),
   //   OPTIMUS("optimus", OptimusCore::new),
   ;
 

@@ -32,7 +32,7 @@ class RobotOptionsTest {
   void unknownMediaNamesTheKnownOnes() {
     UsageException e =
         assertThrows(UsageException.class, () -> RobotOptions.parse("--media", "warp"));
-    assertEquals("unknown media 'warp'; known media: liberty", e.getMessage());
+    assertEquals("unknown media 'warp'; known media: liberty, radiant", e.getMessage());
   }
 
   @Test

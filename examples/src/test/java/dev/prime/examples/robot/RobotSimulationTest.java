@@ -23,8 +23,12 @@ class RobotSimulationTest {
   }
 
   private static String run(Goal goal, SimulationResult[] result) {
+    return run(Media.LIBERTY, goal, result);
+  }
+
+  private static String run(Media media, Goal goal, SimulationResult[] result) {
     ByteArrayOutputStream trace = new ByteArrayOutputStream();
-    try (PrimeCore core = new LibertyCore(CoreConfig.builder().name(CORE).build())) {
+    try (PrimeCore core = media.create(CoreConfig.builder().name(CORE).build())) {
       result[0] =
           new RobotSimulation(RobotSpec.SMALL_INDOOR)
               .run(
@@ -66,5 +70,17 @@ class RobotSimulationTest {
             .filter(name -> name.startsWith("prime-" + CORE + "-"))
             .toList();
     assertEquals(List.of(), left);
+  }
+
+  @ParameterizedTest
+  @MethodSource("goals")
+  void everyMediaGivesTheSameTraceAndSummaryAsLiberty(Goal goal) {
+    SimulationResult[] liberty = new SimulationResult[1];
+    String expected = run(Media.LIBERTY, goal, liberty);
+    for (Media media : Media.values()) {
+      SimulationResult[] other = new SimulationResult[1];
+      assertEquals(expected, run(media, goal, other), media.cliName());
+      assertEquals(liberty[0], other[0], media.cliName());
+    }
   }
 }
