@@ -40,14 +40,7 @@ public final class DifferentialDrivePlant {
     double right = rightSpeed * dt;
     leftTravel += left;
     rightTravel += right;
-    double forward = (left + right) / 2;
-    double turn = (right - left) / spec.trackWidth();
-    double midHeading = pose.heading() + turn / 2;
-    pose =
-        new Pose(
-            pose.x() + forward * Math.cos(midHeading),
-            pose.y() + forward * Math.sin(midHeading),
-            Pose.normalize(pose.heading() + turn));
+    pose = pose.drive(left, right, spec.trackWidth());
   }
 
   private double motor(double speed, double volts, double dt) {

@@ -44,14 +44,7 @@ public final class Odometry implements Block<EncoderReading, Estimate> {
     }
     double left = (reading.leftTicks() - last.leftTicks()) * spec.metresPerTick();
     double right = (reading.rightTicks() - last.rightTicks()) * spec.metresPerTick();
-    double forward = (left + right) / 2;
-    double turn = (right - left) / spec.trackWidth();
-    double midHeading = pose.heading() + turn / 2;
-    pose =
-        new Pose(
-            pose.x() + forward * Math.cos(midHeading),
-            pose.y() + forward * Math.sin(midHeading),
-            Pose.normalize(pose.heading() + turn));
+    pose = pose.drive(left, right, spec.trackWidth());
     last = reading;
     double elapsed = steps * dt;
     return new Estimate(reading.step(), pose, new WheelSpeeds(left / elapsed, right / elapsed));

@@ -25,6 +25,25 @@ public record Pose(double x, double y, double heading) {
   }
 
   /**
+   * The pose after the wheels of a differential drive travelled the given distances (the
+   * midpoint-heading approximation, exact for straight lines and arcs traversed in small steps).
+   *
+   * @param left metres travelled by the left wheel
+   * @param right metres travelled by the right wheel
+   * @param trackWidth metres between the wheels
+   * @return the new pose
+   */
+  public Pose drive(double left, double right, double trackWidth) {
+    double forward = (left + right) / 2;
+    double turn = (right - left) / trackWidth;
+    double midHeading = heading + turn / 2;
+    return new Pose(
+        x + forward * Math.cos(midHeading),
+        y + forward * Math.sin(midHeading),
+        normalize(heading + turn));
+  }
+
+  /**
    * An angle brought into (-pi, pi].
    *
    * @param radians any angle
