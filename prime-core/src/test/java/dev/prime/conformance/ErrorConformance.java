@@ -121,22 +121,7 @@ public interface ErrorConformance extends ConformanceBase {
                 })
             .build();
     try (PrimeCore core = newCore(config)) {
-      EventBlock<Integer> events = new EventBlock<>();
-      Reader<Integer> out =
-          core.link(
-                  core.source(events),
-                  core.chain(
-                      (Integer x) -> {
-                        if (x == 1) {
-                          throw new Boom("first fails");
-                        }
-                        return x;
-                      }))
-              .reader();
-      core.start();
-      events.publish(1);
-      events.publish(2);
-      assertEquals(2, takeOrFail(out));
+      assertEquals(2, secondValueAfterFirstFails(core, new Boom("first fails")));
     }
   }
 
@@ -147,23 +132,35 @@ public interface ErrorConformance extends ConformanceBase {
     CoreConfig config =
         CoreConfig.builder().errorHandler((service, input, error) -> failedInputs.add(input)).build();
     try (PrimeCore core = newCore(config)) {
-      EventBlock<Integer> events = new EventBlock<>();
-      Reader<Integer> out =
-          core.link(
-                  core.source(events),
-                  core.chain(
-                      (Integer x) -> {
-                        if (x == 1) {
-                          throw new dev.prime.CoreClosedException("some-other-core");
-                        }
-                        return x;
-                      }))
-              .reader();
-      core.start();
-      events.publish(1);
-      events.publish(2);
-      assertEquals(2, takeOrFail(out), "the service went on after the failure");
+      assertEquals(
+          2,
+          secondValueAfterFirstFails(core, new dev.prime.CoreClosedException("some-other-core")),
+          "the service went on after the failure");
       assertEquals(List.of(1), failedInputs);
     }
+  }
+
+  /**
+   * Links a chain that throws {@code failure} on the value 1 to a source, starts the core,
+   * publishes 1 then 2, and returns what the service published next.
+   */
+  private Integer secondValueAfterFirstFails(PrimeCore core, RuntimeException failure)
+      throws InterruptedException {
+    EventBlock<Integer> events = new EventBlock<>();
+    Reader<Integer> out =
+        core.link(
+                core.source(events),
+                core.chain(
+                    (Integer x) -> {
+                      if (x == 1) {
+                        throw failure;
+                      }
+                      return x;
+                    }))
+            .reader();
+    core.start();
+    events.publish(1);
+    events.publish(2);
+    return takeOrFail(out);
   }
 }
