@@ -1,0 +1,42 @@
+package dev.prime.optimus
+
+/**
+ * Turns the values that travel between Optimus services into bytes and back.
+ *
+ * Every value that crosses Redis (a chain's input and output, a source's values) goes through
+ * the core's codec. All processes that share a topology must use codecs that agree: same
+ * registered types, in the same order. [fingerprint] lets the core check that at start.
+ *
+ * ## Contract
+ * - **Threading.** Both methods are called concurrently from many threads; implementations are
+ *   thread-safe.
+ * - **Safety.** [decode] reads bytes that anybody with access to Redis could have written. It
+ *   must never run Java native deserialization, and it must only create instances of types the
+ *   application allowed.
+ * - **Nulls.** Neither method sees `null`: the core encodes `null` outputs itself.
+ * - **Exceptions.** [encode] throws [IllegalArgumentException] for a value it cannot encode,
+ *   with a message that says how to allow it; [decode] throws [CodecException] for bytes it
+ *   cannot or must not decode. The core sends undecodable input to a dead-letter list.
+ */
+public interface OptimusCodec {
+
+    /**
+     * Encodes one value.
+     *
+     * @throws IllegalArgumentException if the value's type is not allowed
+     */
+    public fun encode(value: Any): ByteArray
+
+    /**
+     * Decodes one value written by [encode] of an agreeing codec.
+     *
+     * @throws CodecException if the bytes are malformed or name a type that is not allowed
+     */
+    public fun decode(bytes: ByteArray): Any
+
+    /**
+     * A short text that is equal for two codecs exactly when they read each other's bytes, such
+     * as a hash of the registered type names in order.
+     */
+    public fun fingerprint(): String
+}
