@@ -19,8 +19,12 @@ public final class Arrivals {
   /** How long {@link #await} waits for a batch before it fails. */
   public static final long TIMEOUT_SECONDS = 30;
 
-  /** Busy-wait rounds before the producer starts yielding. */
-  public static final int SPINS = 1000;
+  /**
+   * Busy-wait rounds before the producer starts yielding: 1000, or the system property
+   * {@code dev.prime.bench.spins} (e.g. {@code -jvmArgsAppend -Ddev.prime.bench.spins=2000000000}
+   * to spin only).
+   */
+  public static final int SPINS = Integer.getInteger("dev.prime.bench.spins", 1000);
 
   private final AtomicLong count = new AtomicLong();
   private volatile long sum;
