@@ -110,7 +110,7 @@ public class EmbeddedRedis private constructor(
                         "port $port; its log ends with:\n${tail(log)}",
                 )
             }
-            if (answersPing()) return
+            if (answers(started.pid())) return
             if (System.nanoTime() > deadline) {
                 started.destroyForcibly()
                 throw PrimeException(
@@ -121,9 +121,16 @@ public class EmbeddedRedis private constructor(
         }
     }
 
-    private fun answersPing(): Boolean = try {
+    /**
+     * Whether the server on [port] is the process [pid] (another server may hold the port) and has
+     * finished loading its data.
+     */
+    private fun answers(pid: Long): Boolean = try {
         Jedis(HostAndPort("127.0.0.1", port), DefaultJedisClientConfig.builder().resp2().autoNegotiateProtocol(false).timeoutMillis(500).build())
-            .use { it.ping() == "PONG" }
+            .use { jedis ->
+                val info = jedis.info().lineSequence().map { it.trim() }.toSet()
+                "process_id:$pid" in info && "loading:0" in info
+            }
     } catch (_: Exception) {
         false
     }
