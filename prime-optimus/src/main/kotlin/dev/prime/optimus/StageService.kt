@@ -84,8 +84,8 @@ internal class StageService(
             step.push(dead, DeadLetter.encode("undecodable envelope: ${e.message}", raw))
             return
         }
-        if (envelope.id in recent) return // a duplicate of a value already handled
-        step.ids += envelope.id
+        // a duplicate of a value handled recently, or earlier in this batch
+        if (envelope.id in recent || !step.ids.add(envelope.id)) return
         val value = try {
             envelope.payload()?.let(core.codec::decode)
         } catch (e: CodecException) {

@@ -17,7 +17,7 @@ internal class StepBatch(
     private val published = ArrayList<ByteArray>()
 
     /** Ids of the values this step handled; remembered once the step is stored. */
-    val ids: MutableList<Long> = ArrayList()
+    val ids: MutableSet<Long> = LinkedHashSet()
 
     fun push(list: ByteArray, value: ByteArray) {
         pushes += list
