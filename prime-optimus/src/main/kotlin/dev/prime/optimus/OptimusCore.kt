@@ -23,6 +23,7 @@ import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
 import java.util.Collections
+import java.util.Objects
 import java.util.UUID
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.ConcurrentLinkedQueue
@@ -174,36 +175,39 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return output
     }
 
+    @Suppress("UNCHECKED_CAST")
     override fun <T> filterSource(source: Source<T>?, predicate: Predicate<in T>?): Source<T> {
-        requireSource(source)
-        requireNotNull(predicate) { "predicate must not be null" }
-        if (source !is OptimusSource<T> || source.core() !== this) return super.filterSource(source, predicate)
-        val name = derivedName("filter(" + source.name() + ")", "filter")
-        val output = OptimusSource<T>(this, name)
-        @Suppress("UNCHECKED_CAST")
-        bindToSource(source, listOf(StageSpec(name) { input, emit -> if (predicate.test(input as T)) emit(input) }), output)
-        return output
+        Objects.requireNonNull(predicate, "predicate must not be null")
+        if (!isOwn(source)) return super.filterSource(source, predicate)
+        return serviceOn(source!!, "filter", publishes = true) { input, emit -> if (predicate!!.test(input as T)) emit(input) }!!
     }
 
+    @Suppress("UNCHECKED_CAST")
     override fun <T, R> flatMapSource(source: Source<T>?, block: Block<in T, out Iterable<R>>?): Source<R> {
-        requireSource(source)
-        requireNotNull(block) { "block must not be null" }
-        if (source !is OptimusSource<T> || source.core() !== this) return super.flatMapSource(source, block)
-        val name = derivedName("flatMap(" + source.name() + ")", "flatMap")
-        val output = OptimusSource<R>(this, name)
-        @Suppress("UNCHECKED_CAST")
-        val logic = StageLogic { input, emit -> block.process(input as T)?.forEach(emit) }
-        bindToSource(source, listOf(StageSpec(name, logic)), output)
-        return output
+        Objects.requireNonNull(block, "block must not be null")
+        if (!isOwn(source)) return super.flatMapSource(source, block)
+        return serviceOn(source!!, "flatMap", publishes = true) { input, emit -> block!!.process(input as T)?.forEach(emit) }!!
     }
 
+    @Suppress("UNCHECKED_CAST")
     override fun <T> listenSource(source: Source<T>?, listener: Consumer<in T>?) {
+        Objects.requireNonNull(listener, "listener must not be null")
+        if (!isOwn(source)) return super.listenSource(source, listener)
+        serviceOn<Any>(source!!, "listen", publishes = false) { input, _ -> listener!!.accept(input as T) }
+    }
+
+    /** Checks [source] like every link does; whether it is a source of this core (else the generic service is used). */
+    private fun isOwn(source: Source<*>?): Boolean {
         requireSource(source)
-        requireNotNull(listener) { "listener must not be null" }
-        if (source !is OptimusSource<T> || source.core() !== this) return super.listenSource(source, listener)
-        val name = derivedName("listen(" + source.name() + ")", "listen")
-        @Suppress("UNCHECKED_CAST")
-        bindToSource(source, listOf(StageSpec(name) { input, _ -> listener.accept(input as T) }), null)
+        return source is OptimusSource<*> && source.core() === this
+    }
+
+    /** One service reading [source] and running [logic], named `kind(source)`; its output source if it [publishes]. */
+    private fun <R> serviceOn(source: Source<*>, kind: String, publishes: Boolean, logic: StageLogic): OptimusSource<R>? {
+        val name = derivedName(kind + "(" + source.name() + ")", kind)
+        val output = if (publishes) OptimusSource<R>(this, name) else null
+        bindToSource(source as OptimusSource<*>, listOf(StageSpec(name, logic)), output)
+        return output
     }
 
     /**
