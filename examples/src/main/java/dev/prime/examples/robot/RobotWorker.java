@@ -3,6 +3,7 @@ package dev.prime.examples.robot;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.PrimeException;
+import dev.prime.optimus.EmbeddedRedis;
 import java.io.BufferedReader;
 import java.io.IOException;
 import java.io.InputStream;
@@ -12,16 +13,19 @@ import java.nio.charset.StandardCharsets;
 import java.util.List;
 
 /**
- * The other process of the two-process robot: {@code robot-worker --redis URL --hosts
- * SERVICE,... [--goal X,Y] [--name NAME]}. It declares the same topology as {@link RobotMain}
- * (same core name, same goal) and runs only the named services, taking their inputs from Redis
- * and storing their results there, until it is stopped (Ctrl-C, end of input, or a line {@code
- * STOP}). Pair it with {@code robot --media optimus --redis URL --remote SERVICE,...}.
+ * The other process of the two-process robot: {@code robot-worker --hosts SERVICE,... [--redis
+ * URL] [--goal X,Y] [--name NAME]}. It declares the same topology as {@link RobotMain} (same core
+ * name, same goal) and runs only the named services, taking their inputs from Redis and storing
+ * their results there, until it is stopped (Ctrl-C, end of input, or a line {@code STOP}). Pair it
+ * with {@code robot --media optimus --redis URL --remote SERVICE,...}. Without {@code --redis} it
+ * starts an embedded Redis (listening on 127.0.0.1 only) and prints its URL in its {@code READY}
+ * line, so both processes run on one machine with nothing installed.
  *
  * <p>Blocks keep their state in the process that hosts them: a worker hosting a stateful block
  * (odometry, pid) serves one mission; the planner holds none and may serve many.
  *
- * <p>Exit codes: 0 stopped, 2 the command line is wrong, 3 the Redis cannot be reached.
+ * <p>Exit codes: 0 stopped, 2 the command line is wrong, 3 the Redis cannot be reached (or the
+ * embedded one cannot start).
  */
 public final class RobotWorker {
 
@@ -29,8 +33,9 @@ public final class RobotWorker {
   public static final String USAGE =
       String.join(
           System.lineSeparator(),
-          "usage: robot-worker --redis URL --hosts SERVICE,... [--goal X,Y] [--name NAME]",
-          "  --redis URL       the Redis shared with the robot, like redis://localhost:6379",
+          "usage: robot-worker --hosts SERVICE,... [--redis URL] [--goal X,Y] [--name NAME]",
+          "  --redis URL       the Redis shared with the robot, like redis://localhost:6379"
+              + " (default: start an embedded one and print its URL)",
           "  --hosts S,...     the services this process runs: "
               + String.join(", ", RobotController.SERVICES),
           "  --goal X,Y        the robot's goal, as given to the robot (default 2,1)",
@@ -69,18 +74,27 @@ public final class RobotWorker {
       err.println(USAGE);
       return 2;
     }
+    EmbeddedRedis embedded = null;
     PrimeCore core;
     try {
+      String redisUrl = options.redisUrl;
+      if (redisUrl == null) {
+        embedded = EmbeddedRedis.start();
+        redisUrl = embedded.getUri();
+      }
       core =
-          Media.optimus(
-              CoreConfig.builder().name(options.name).build(), options.redisUrl, options.hosts);
+          Media.optimus(CoreConfig.builder().name(options.name).build(), redisUrl, options.hosts);
     } catch (PrimeException e) {
+      if (embedded != null) {
+        embedded.close();
+      }
       err.println("error: " + e.getMessage());
       return 3;
     }
-    Thread closeOnExit = new Thread(core::close, "robot-worker-close");
+    EmbeddedRedis ownRedis = embedded;
+    Thread closeOnExit = new Thread(() -> close(core, ownRedis), "robot-worker-close");
     Runtime.getRuntime().addShutdownHook(closeOnExit);
-    try (core) {
+    try {
       // Only the hosted services run here, but the whole topology is declared, in the same order.
       RobotController.wire(
           core,
@@ -89,17 +103,34 @@ public final class RobotWorker {
           options.goal,
           Mission.DT);
       core.start();
-      out.println("READY robot worker hosting " + options.hosts + " of core '" + core.name() + "'");
+      out.println(
+          "READY robot worker hosting "
+              + options.hosts
+              + " of core '"
+              + core.name()
+              + "' on "
+              + (ownRedis == null ? options.redisUrl : ownRedis.getUri()));
       awaitStop(in);
     } finally {
+      close(core, ownRedis);
       try {
         Runtime.getRuntime().removeShutdownHook(closeOnExit);
       } catch (IllegalStateException e) {
-        // the JVM is exiting: the hook closes the core
+        // the JVM is exiting: the hook closes the core as well (closing twice does nothing)
       }
     }
     out.println("STOPPED");
     return 0;
+  }
+
+  private static void close(PrimeCore core, EmbeddedRedis redis) {
+    try {
+      core.close();
+    } finally {
+      if (redis != null) {
+        redis.close();
+      }
+    }
   }
 
   private static void awaitStop(InputStream in) {
@@ -144,9 +175,6 @@ public final class RobotWorker {
           case "--goal" -> goal = RobotOptions.goal(value);
           default -> name = RobotOptions.coreName(value);
         }
-      }
-      if (redisUrl == null) {
-        throw new UsageException("--redis URL is required: the Redis shared with the robot");
       }
       if (hosts == null) {
         throw new UsageException("--hosts is required: the services this worker runs");
