@@ -5,6 +5,7 @@ import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Test
 import java.io.File
+import java.io.IOException
 import java.time.Duration
 import java.util.Collections
 import java.util.Optional
@@ -66,11 +67,15 @@ class TwoProcessTest {
         val lines: MutableList<String> = Collections.synchronizedList(mutableListOf<String>())
         private val readyLine = CompletableFuture<String>()
         private val pump = thread(name = "two-process-test-worker-output", isDaemon = true) {
-            process.inputStream.bufferedReader().useLines { all ->
-                all.forEach { line ->
-                    lines += line
-                    if (line.startsWith("READY")) readyLine.complete(line)
+            try {
+                process.inputStream.bufferedReader().useLines { all ->
+                    all.forEach { line ->
+                        lines += line
+                        if (line.startsWith("READY")) readyLine.complete(line)
+                    }
                 }
+            } catch (_: IOException) {
+                // destroying the process closed its output: it ends here
             }
             readyLine.complete("(the worker ended without READY)")
         }
@@ -107,6 +112,7 @@ class TwoProcessTest {
         override fun close() {
             process.destroyForcibly()
             process.waitFor(PATIENCE_S, TimeUnit.SECONDS)
+            pump.join(TimeUnit.SECONDS.toMillis(PATIENCE_S))
         }
 
         companion object {
