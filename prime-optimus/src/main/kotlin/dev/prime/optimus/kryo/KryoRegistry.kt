@@ -1,0 +1,166 @@
+package dev.prime.optimus.kryo
+
+import com.esotericsoftware.kryo.Kryo
+import com.esotericsoftware.kryo.Serializer
+import com.esotericsoftware.kryo.serializers.DefaultArraySerializers
+import com.esotericsoftware.kryo.serializers.DefaultSerializers
+import com.esotericsoftware.kryo.serializers.ExternalizableSerializer
+import com.esotericsoftware.kryo.serializers.OptionalSerializers
+import com.esotericsoftware.kryo.serializers.RecordSerializer
+import com.esotericsoftware.kryo.serializers.TimeSerializers
+import com.esotericsoftware.kryo.serializers.JavaSerializer
+import com.esotericsoftware.kryo.util.DefaultInstantiatorStrategy
+import dev.prime.Repeat
+import dev.prime.Token
+import dev.prime.Tuple2
+import dev.prime.Tuple3
+import dev.prime.Tuple4
+import dev.prime.Tuple5
+import org.objenesis.strategy.StdInstantiatorStrategy
+import java.math.BigDecimal
+import java.math.BigInteger
+import java.security.MessageDigest
+import java.time.Duration
+import java.time.Instant
+import java.time.LocalDate
+import java.time.LocalDateTime
+import java.time.LocalTime
+import java.util.Optional
+import java.util.UUID
+
+/**
+ * The registration table of one codec, and the factory of its [Kryo] instances.
+ *
+ * Ids are fixed so that every process that registers the same application types in the same
+ * order assigns the same ids:
+ * - 0..8: Kryo's own (`int`, `String`, `float`, `boolean`, `byte`, `char`, `short`, `long`,
+ *   `double`; each boxed type shares its primitive's registration);
+ * - [FIRST_BUILT_IN_ID]..: [BUILT_INS], in list order;
+ * - [FIRST_USER_ID]..: the application's types, in registration order (a gap above the
+ *   built-ins, so adding a built-in later does not move the application's ids).
+ *
+ * Immutable and thread-safe; [newKryo] builds a fresh, unshared Kryo each time.
+ */
+internal class KryoRegistry(private val userTypes: List<Class<*>>, val maxDepth: Int) {
+
+    /** `"id class-name"` for every registration, ordered by id. */
+    val typeNames: List<String>
+
+    /** A short hash of [typeNames] and the wire-format version. */
+    val fingerprint: String
+
+    init {
+        val kryo = newKryo()
+        typeNames = (0 until FIRST_USER_ID + userTypes.size).mapNotNull { id ->
+            kryo.classResolver.getRegistration(id)?.let { "$id ${it.type.name}" }
+        }
+        val digest = MessageDigest.getInstance("SHA-256")
+            .digest((listOf(FORMAT) + typeNames).joinToString("\n").toByteArray(Charsets.UTF_8))
+        fingerprint = "kryo-" + digest.take(FINGERPRINT_BYTES).joinToString("") { "%02x".format(it) }
+    }
+
+    /**
+     * A new Kryo with registration required, no references, the [maxDepth] limit, and every
+     * registration of this table.
+     *
+     * @throws IllegalArgumentException if an application type cannot be registered safely
+     */
+    fun newKryo(): Kryo {
+        val kryo = AllowListKryo(AllowListClassResolver(knownIds()))
+        kryo.isRegistrationRequired = true
+        kryo.warnUnregisteredClasses = false
+        kryo.references = false
+        kryo.setMaxDepth(maxDepth)
+        // No-arg constructor when there is one, else create without calling a constructor (as
+        // for Kotlin data classes); the fields are then set from the bytes.
+        kryo.instantiatorStrategy = DefaultInstantiatorStrategy(StdInstantiatorStrategy())
+        // Kryo's String serializer is kept; its reads go through BoundedInput.readString.
+        BUILT_INS.forEachIndexed { index, (type, serializer) ->
+            val id = FIRST_BUILT_IN_ID + index
+            kryo.register(type, serializer(), id)
+        }
+        userTypes.forEachIndexed { index, type ->
+            val registration = try {
+                kryo.register(type, FIRST_USER_ID + index)
+            } catch (e: RuntimeException) {
+                throw IllegalArgumentException(
+                    "KryoCodec cannot register ${type.name}: ${e.message}. Register records or " +
+                        "classes whose fields Kryo can read and write",
+                    e,
+                )
+            }
+            val serializer = registration.serializer
+            require(serializer !is JavaSerializer && serializer !is ExternalizableSerializer) {
+                "KryoCodec does not register ${type.name}: it asks for " +
+                    "${serializer.javaClass.simpleName} (Java serialization), which the codec " +
+                    "never runs on bytes from Redis. Remove its @DefaultSerializer annotation"
+            }
+        }
+        return kryo
+    }
+
+    private fun knownIds(): String {
+        val lastBuiltIn = FIRST_BUILT_IN_ID + BUILT_INS.size - 1
+        val user = if (userTypes.isEmpty()) "no application types" else
+            "application types $FIRST_USER_ID-${FIRST_USER_ID + userTypes.size - 1}"
+        return "0-8 (Kryo's), $FIRST_BUILT_IN_ID-$lastBuiltIn (built in) and $user"
+    }
+
+    companion object {
+        /** Wire-format version of this codec's own serializers; part of the fingerprint. */
+        private const val FORMAT = "optimus-kryo5-v1"
+        private const val FINGERPRINT_BYTES = 8
+        const val FIRST_BUILT_IN_ID = 10
+        const val FIRST_USER_ID = 100
+
+        /** Built-in types in id order, each with the factory of its (stateless) serializer. */
+        private val BUILT_INS: List<Pair<Class<*>, () -> Serializer<*>>> = listOf(
+            ByteArray::class.java to { DefaultArraySerializers.ByteArraySerializer() },
+            ShortArray::class.java to { DefaultArraySerializers.ShortArraySerializer() },
+            IntArray::class.java to { DefaultArraySerializers.IntArraySerializer() },
+            LongArray::class.java to { DefaultArraySerializers.LongArraySerializer() },
+            FloatArray::class.java to { DefaultArraySerializers.FloatArraySerializer() },
+            DoubleArray::class.java to { DefaultArraySerializers.DoubleArraySerializer() },
+            CharArray::class.java to { DefaultArraySerializers.CharArraySerializer() },
+            BooleanArray::class.java to { BooleanArraySerializer() },
+            BigInteger::class.java to { DefaultSerializers.BigIntegerSerializer() },
+            BigDecimal::class.java to { DefaultSerializers.BigDecimalSerializer() },
+            List::class.java to { ListSerializer() },
+            Set::class.java to { SetSerializer() },
+            Map::class.java to { MapSerializer() },
+            Optional::class.java to { OptionalSerializers.OptionalSerializer() },
+            UUID::class.java to { DefaultSerializers.UUIDSerializer() },
+            Instant::class.java to { TimeSerializers.InstantSerializer() },
+            Duration::class.java to { TimeSerializers.DurationSerializer() },
+            LocalDate::class.java to { TimeSerializers.LocalDateSerializer() },
+            LocalTime::class.java to { TimeSerializers.LocalTimeSerializer() },
+            LocalDateTime::class.java to { TimeSerializers.LocalDateTimeSerializer() },
+            Token::class.java to { DefaultSerializers.EnumSerializer(Token::class.java) },
+            Tuple2::class.java to { RecordSerializer(Tuple2::class.java) },
+            Tuple3::class.java to { RecordSerializer(Tuple3::class.java) },
+            Tuple4::class.java to { RecordSerializer(Tuple4::class.java) },
+            Tuple5::class.java to { RecordSerializer(Tuple5::class.java) },
+            Repeat::class.java to { RepeatSerializer() },
+        )
+
+        private val KRYO_DEFAULTS: Set<Class<*>> = setOf(
+            Int::class.javaPrimitiveType!!, Int::class.javaObjectType,
+            String::class.java,
+            Float::class.javaPrimitiveType!!, Float::class.javaObjectType,
+            Boolean::class.javaPrimitiveType!!, Boolean::class.javaObjectType,
+            Byte::class.javaPrimitiveType!!, Byte::class.javaObjectType,
+            Char::class.javaPrimitiveType!!, Char::class.javaObjectType,
+            Short::class.javaPrimitiveType!!, Short::class.javaObjectType,
+            Long::class.javaPrimitiveType!!, Long::class.javaObjectType,
+            Double::class.javaPrimitiveType!!, Double::class.javaObjectType,
+        )
+
+        /** Whether [type] is covered without registration (so registering it is a mistake). */
+        fun isBuiltIn(type: Class<*>): Boolean =
+            type in KRYO_DEFAULTS ||
+                BUILT_INS.any { it.first == type } ||
+                List::class.java.isAssignableFrom(type) ||
+                Set::class.java.isAssignableFrom(type) ||
+                Map::class.java.isAssignableFrom(type)
+    }
+}
