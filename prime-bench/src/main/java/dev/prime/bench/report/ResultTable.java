@@ -1,6 +1,7 @@
 package dev.prime.bench.report;
 
 import java.util.ArrayList;
+import java.util.Collections;
 import java.util.Comparator;
 import java.util.LinkedHashMap;
 import java.util.List;
@@ -38,7 +39,7 @@ public record ResultTable(String title, List<String> columns, List<Row> rows) {
   public record Row(String label, boolean baseline, List<Cell> cells) {
     /** Copies the cells (which may hold nulls). */
     public Row {
-      cells = java.util.Collections.unmodifiableList(new ArrayList<>(cells));
+      cells = Collections.unmodifiableList(new ArrayList<>(cells));
     }
   }
 

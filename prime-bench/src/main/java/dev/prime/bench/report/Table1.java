@@ -4,6 +4,7 @@ import java.io.IOException;
 import java.nio.charset.StandardCharsets;
 import java.nio.file.Files;
 import java.nio.file.Path;
+import java.util.ArrayList;
 import java.util.List;
 import org.openjdk.jmh.results.RunResult;
 import org.openjdk.jmh.runner.RunnerException;
@@ -77,7 +78,7 @@ public final class Table1 {
     }
     Path md = directory.resolve(MARKDOWN);
     Files.writeString(md, markdown.toString(), StandardCharsets.UTF_8);
-    List<Path> written = new java.util.ArrayList<>();
+    List<Path> written = new ArrayList<>();
     written.add(md);
     written.addAll(charts);
     return written;
