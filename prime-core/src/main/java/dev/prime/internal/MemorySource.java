@@ -4,6 +4,7 @@ import dev.prime.CoreClosedException;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import java.lang.invoke.VarHandle;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
@@ -20,19 +21,33 @@ import java.util.concurrent.locks.ReentrantLock;
  * sequence number. A reader is just a cursor (the sequence number of its next value), so any
  * number of readers cost no memory per value, late readers start at the oldest retained value,
  * and a reader that falls more than {@code retention} behind skips to the oldest retained value
- * and counts what it missed. One lock guards the ring and every cursor; publishing signals the
- * readers blocked in {@code take}. Memory is bounded by the retention whatever the readers do.
+ * and counts what it missed. Memory is bounded by the retention whatever the readers do.
+ *
+ * <p>Threading: publishers serialise on one lock. Readers take no shared lock: a publisher
+ * announces the sequence number it is about to write ({@code claimed}), writes the slot, then
+ * publishes the new {@code count}; a reader reads {@code count}, reads the slot and then checks
+ * {@code claimed} to see whether a publisher lapped it meanwhile (then it retries, counting what
+ * it missed), like an optimistic read of a sequence lock. A reader with nothing to read first
+ * spins briefly (at most {@link #SPINS} rounds of {@link Thread#onSpinWait()}, tens of
+ * microseconds) watching {@code count}, because waking a parked thread costs microseconds, far
+ * more than a transmission; only then it parks on the lock's condition, which a publisher
+ * signals only when someone waits.
  *
  * @param <T> value type
  */
 public final class MemorySource<T> implements Source<T> {
+  /** Rounds a reader spins, watching for a publication, before it parks. */
+  static final int SPINS = 4_096;
+
   private final PrimeCore core;
   private final String name;
   private final Object[] ring;
   private final ReentrantLock lock = new ReentrantLock();
   private final Condition published = lock.newCondition();
-  private long count; // guarded by lock: values published so far
-  private boolean closed; // guarded by lock
+  private volatile long claimed; // written under lock: sequence numbers handed to publishers
+  private volatile long count; // written under lock: values fully published
+  private volatile boolean closed; // written under lock
+  private int waiting; // guarded by lock: readers parked until the next publication
 
   /**
    * @param core the owning core
@@ -71,9 +86,14 @@ public final class MemorySource<T> implements Source<T> {
       if (closed) {
         throw new CoreClosedException(core.name());
       }
-      ring[(int) (count % ring.length)] = value;
-      count++;
-      published.signalAll();
+      long sequence = count;
+      claimed = sequence + 1;
+      VarHandle.storeStoreFence(); // the claim is visible before the slot changes
+      ring[(int) (sequence % ring.length)] = value;
+      count = sequence + 1;
+      if (waiting > 0) {
+        published.signalAll();
+      }
     } finally {
       lock.unlock();
     }
@@ -110,43 +130,75 @@ public final class MemorySource<T> implements Source<T> {
   }
 
   private final class MemoryReader implements Reader<T> {
-    private long cursor; // guarded by lock
-    private long missed; // guarded by lock
+    private volatile long cursor; // written under this reader's monitor; read anywhere as a hint
+    private long missed; // guarded by this reader's monitor
 
     MemoryReader(long cursor) {
       this.cursor = cursor;
     }
 
-    /** Next value if any; caller holds the lock. */
+    /** The next value if one is published, else null; never blocks on publishers. */
     @SuppressWarnings("unchecked")
-    private T next() {
-      if (closed) {
-        throw new CoreClosedException(core.name());
+    private synchronized T next() {
+      while (true) {
+        long available = count;
+        if (closed) {
+          throw new CoreClosedException(core.name());
+        }
+        long position = cursor;
+        if (position >= available) {
+          return null;
+        }
+        long oldest = available - ring.length;
+        if (position < oldest) {
+          missed += oldest - position;
+          position = oldest;
+        }
+        Object value = ring[(int) (position % ring.length)];
+        VarHandle.acquireFence(); // read the slot before checking that nobody overwrote it
+        if (claimed - ring.length > position || value == null) {
+          cursor = position; // lapped while reading (or closing): look again
+          Thread.onSpinWait();
+          continue;
+        }
+        cursor = position + 1;
+        return (T) value;
       }
-      if (cursor == count) {
-        return null;
+    }
+
+    /** Whether {@link #next()} would return a value or throw. */
+    private boolean ready() {
+      return closed || count != cursor;
+    }
+
+    /** Spins while there is nothing to read, for at most {@link #SPINS} rounds. */
+    private void spin() {
+      for (int i = 0; i < SPINS && !ready(); i++) {
+        Thread.onSpinWait();
       }
-      long oldest = count - ring.length;
-      if (cursor < oldest) {
-        missed += oldest - cursor;
-        cursor = oldest;
-      }
-      T value = (T) ring[(int) (cursor % ring.length)];
-      cursor++;
-      return value;
     }
 
     @Override
     public T take() throws InterruptedException {
-      lock.lockInterruptibly();
-      try {
-        T value;
-        while ((value = next()) == null) {
-          published.await();
+      while (true) {
+        spin();
+        T value = next();
+        if (value != null) {
+          return value;
         }
-        return value;
-      } finally {
-        lock.unlock();
+        lock.lockInterruptibly();
+        try {
+          while (!ready()) {
+            waiting++;
+            try {
+              published.await();
+            } finally {
+              waiting--;
+            }
+          }
+        } finally {
+          lock.unlock();
+        }
       }
     }
 
@@ -154,54 +206,50 @@ public final class MemorySource<T> implements Source<T> {
     public Optional<T> take(Duration timeout) throws InterruptedException {
       Objects.requireNonNull(timeout, "timeout must not be null");
       long nanos = timeout.isNegative() ? 0 : saturatedNanos(timeout);
-      lock.lockInterruptibly();
-      try {
-        T value;
-        while ((value = next()) == null) {
-          if (nanos <= 0) {
-            return Optional.empty();
-          }
-          nanos = published.awaitNanos(nanos);
+      long deadline = System.nanoTime() + nanos;
+      while (true) {
+        T value = next();
+        if (value != null) {
+          return Optional.of(value);
         }
-        return Optional.of(value);
-      } finally {
-        lock.unlock();
+        long remaining = deadline - System.nanoTime();
+        if (remaining <= 0) {
+          return Optional.empty();
+        }
+        lock.lockInterruptibly();
+        try {
+          while (!ready() && remaining > 0) {
+            waiting++;
+            try {
+              remaining = published.awaitNanos(remaining);
+            } finally {
+              waiting--;
+            }
+          }
+        } finally {
+          lock.unlock();
+        }
       }
     }
 
     @Override
     public Optional<T> poll() {
-      lock.lock();
-      try {
-        return Optional.ofNullable(next());
-      } finally {
-        lock.unlock();
-      }
+      return Optional.ofNullable(next());
     }
 
     @Override
-    public List<T> drain() {
-      lock.lock();
-      try {
-        List<T> values = new ArrayList<>();
-        T value;
-        while ((value = next()) != null) {
-          values.add(value);
-        }
-        return values;
-      } finally {
-        lock.unlock();
+    public synchronized List<T> drain() {
+      List<T> values = new ArrayList<>();
+      T value;
+      while ((value = next()) != null) {
+        values.add(value);
       }
+      return values;
     }
 
     @Override
-    public long missed() {
-      lock.lock();
-      try {
-        return missed;
-      } finally {
-        lock.unlock();
-      }
+    public synchronized long missed() {
+      return missed;
     }
 
     @Override

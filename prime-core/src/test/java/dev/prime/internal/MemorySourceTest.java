@@ -109,4 +109,52 @@ class MemorySourceTest {
       assertTrue(source.toString().contains("s"));
     }
   }
+
+  /**
+   * Readers do not lock out the publisher, so a publisher racing through a tiny ring laps them
+   * while they read: every reader must still see values in order, never a value from the wrong
+   * lap, and account for every value as either seen or missed.
+   */
+  @Test
+  void readersRacingAFastPublisherThroughATinyRingStayConsistent() throws Exception {
+    int n = 200_000;
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 4);
+      List<Reader<Integer>> readers = List.of(source.reader(), source.reader());
+      java.util.concurrent.ExecutorService pool = java.util.concurrent.Executors.newFixedThreadPool(2);
+      try {
+        List<java.util.concurrent.Future<long[]>> results = new ArrayList<>();
+        for (Reader<Integer> reader : readers) {
+          results.add(
+              pool.submit(
+                  () -> {
+                    long seen = 0;
+                    int last = -1;
+                    while (last < n - 1) {
+                      Optional<Integer> next = reader.take(Duration.ofSeconds(20));
+                      if (next.isEmpty()) {
+                        throw new AssertionError("no value after " + last);
+                      }
+                      int value = next.get();
+                      if (value <= last) {
+                        throw new AssertionError(value + " after " + last);
+                      }
+                      last = value;
+                      seen++;
+                    }
+                    return new long[] {seen, reader.missed()};
+                  }));
+        }
+        for (int i = 0; i < n; i++) {
+          source.publish(i);
+        }
+        for (java.util.concurrent.Future<long[]> result : results) {
+          long[] counts = result.get(60, java.util.concurrent.TimeUnit.SECONDS);
+          assertEquals(n, counts[0] + counts[1], "seen + missed");
+        }
+      } finally {
+        pool.shutdownNow();
+      }
+    }
+  }
 }
