@@ -42,8 +42,10 @@ import java.util.function.Predicate;
  *   <li>Chains are single use ({@link ChainAlreadyUsedException}); values leave chains and sources
  *       in the order they entered.
  *   <li>Sources are broadcast with bounded retention ({@link CoreConfig#sourceRetention()}).
- *   <li>A chain linked to a source runs as one service: linking chains first and then linking the
- *       combined chain to a source makes one service, not one per chain.
+ *   <li>A chain linked to a source runs as one service in the media that fuse chains (linking
+ *       chains first and then linking the combined chain to a source makes one service, not one
+ *       per chain); a distributed media may keep one service per chain, connected without an
+ *       extra hop.
  *   <li>A block that throws reaches a synchronous caller as {@link ChainFailedException}; in a
  *       service it goes to the {@link ErrorHandler} and the service carries on.
  *   <li>{@link #close()} stops every service within {@link CoreConfig#shutdownTimeout()} and

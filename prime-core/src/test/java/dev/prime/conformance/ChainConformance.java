@@ -113,7 +113,7 @@ public interface ChainConformance extends ConformanceBase {
       Chain<Integer, Integer> times10 = core.chain(x -> x * 10);
       Chain<Integer, String> show = core.chain(x -> "v" + x);
       Source<String> out = core.link(source, core.link(core.link(plus1, times10), show));
-      assertEquals(before + servicesPerSourceLink(), core.serviceNames().size(), core.serviceNames().toString());
+      assertEquals(before + servicesOfLinkedChain(3), core.serviceNames().size(), core.serviceNames().toString());
       Reader<String> reader = out.reader();
       core.start();
       events.publish(1);

@@ -36,6 +36,15 @@ public interface ConformanceBase {
     return 1;
   }
 
+  /**
+   * How many in-process services a chain made by linking {@code chains} chains runs as when it
+   * is linked to a source (1 for media that fuse linked chains; Optimus keeps one service per
+   * chain and re-routes their lists).
+   */
+  default int servicesOfLinkedChain(int chains) {
+    return servicesPerSourceLink();
+  }
+
   /** Upper bound for any single wait in the kit; generous because the machine may be busy. */
   default Duration patience() {
     return Duration.ofSeconds(20);

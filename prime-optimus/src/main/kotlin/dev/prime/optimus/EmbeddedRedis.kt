@@ -1,0 +1,239 @@
+package dev.prime.optimus
+
+import dev.prime.PrimeException
+import redis.clients.jedis.DefaultJedisClientConfig
+import redis.clients.jedis.HostAndPort
+import redis.clients.jedis.Jedis
+import java.io.IOException
+import java.net.ServerSocket
+import java.nio.file.Files
+import java.nio.file.Path
+import java.time.Duration
+import java.util.concurrent.TimeUnit
+
+/**
+ * A real `redis-server` process for development and tests, owned by this object.
+ *
+ * [OptimusCore] starts one when it is given no Redis URL, so examples and tests run on a machine
+ * with nothing installed. The server binary is a `redis-server` found on the `PATH` (version 6.2
+ * or newer), else the static binary shipped for Linux and macOS (x86-64 and arm64) by the
+ * `org.signal:embedded-redis` artifact, extracted once into the temporary directory.
+ *
+ * The server listens on 127.0.0.1 only, on a free port unless one is given. By default it keeps
+ * nothing on disk; [Builder.appendOnlyDir] makes every acknowledged write durable
+ * (`appendfsync always`), so the server can be stopped and started again without losing data.
+ *
+ * Design note: no thread is started. The server's log goes to a file in its working directory
+ * (a pipe nobody reads would stall the server once full), and a JVM shutdown hook stops the
+ * process if [close] was never called.
+ */
+public class EmbeddedRedis private constructor(
+    private val executable: Path,
+    private val dir: Path,
+    private val ownsDir: Boolean,
+    private val persistent: Boolean,
+    private val startTimeout: Duration,
+    /** The port the server listens on. */
+    public val port: Int,
+) : AutoCloseable {
+
+    private val lock = Any()
+    @Volatile private var process: Process? = null // written under lock
+    private var closed = false // guarded by lock
+    private val hook = Thread({ process?.destroyForcibly() }, "prime-embedded-redis-stop")
+
+    /** The URL that reaches this server, `redis://127.0.0.1:<port>`. */
+    public val uri: String get() = "redis://127.0.0.1:$port"
+
+    /** Whether the server process is running. */
+    public val isRunning: Boolean get() = synchronized(lock) { process?.isAlive == true }
+
+    /**
+     * Stops the server (and deletes its files unless they were asked to persist). Idempotent.
+     */
+    override fun close() {
+        synchronized(lock) {
+            if (closed) return
+            closed = true
+            stopProcess(graceful = true)
+        }
+        try {
+            Runtime.getRuntime().removeShutdownHook(hook)
+        } catch (_: IllegalStateException) {
+            // the JVM is shutting down already; the hook runs anyway
+        }
+        if (ownsDir) deleteTree(dir)
+    }
+
+    /** Kills the server without letting it save anything: a crash, for tests of recovery. */
+    internal fun kill() {
+        synchronized(lock) { stopProcess(graceful = false) }
+    }
+
+    /** Starts the server again on the same port and directory after [kill]. */
+    internal fun restart() {
+        synchronized(lock) {
+            check(!closed) { "embedded Redis on port $port is closed" }
+            stopProcess(graceful = false)
+            launch()
+        }
+    }
+
+    override fun toString(): String = "EmbeddedRedis[$uri, ${if (isRunning) "running" else "stopped"}]"
+
+    private fun launch() {
+        val log = dir.resolve("redis.log")
+        val command = mutableListOf(
+            executable.toString(),
+            "--port", port.toString(),
+            "--bind", "127.0.0.1",
+            "--protected-mode", "no",
+            "--daemonize", "no",
+            "--dir", dir.toString(),
+            "--save", "",
+        )
+        if (persistent) {
+            command += listOf("--appendonly", "yes", "--appendfsync", "always")
+        } else {
+            command += listOf("--appendonly", "no")
+        }
+        val started = ProcessBuilder(command)
+            .redirectErrorStream(true)
+            .redirectOutput(ProcessBuilder.Redirect.appendTo(log.toFile()))
+            .start()
+        process = started
+        val deadline = System.nanoTime() + startTimeout.toNanos()
+        while (true) {
+            if (!started.isAlive) {
+                throw PrimeException(
+                    "redis-server ($executable) exited with code ${started.exitValue()} while starting on " +
+                        "port $port; its log ends with:\n${tail(log)}",
+                )
+            }
+            if (answers(started.pid())) return
+            if (System.nanoTime() > deadline) {
+                started.destroyForcibly()
+                throw PrimeException(
+                    "redis-server did not answer on port $port within $startTimeout; its log ends with:\n${tail(log)}",
+                )
+            }
+            Thread.sleep(PING_INTERVAL_MS)
+        }
+    }
+
+    /**
+     * Whether the server on [port] is the process [pid] (another server may hold the port) and has
+     * finished loading its data.
+     */
+    private fun answers(pid: Long): Boolean = try {
+        Jedis(HostAndPort("127.0.0.1", port), DefaultJedisClientConfig.builder().resp2().autoNegotiateProtocol(false).timeoutMillis(500).build())
+            .use { jedis ->
+                val info = jedis.info().lineSequence().map { it.trim() }.toSet()
+                "process_id:$pid" in info && "loading:0" in info
+            }
+    } catch (_: Exception) {
+        false
+    }
+
+    private fun stopProcess(graceful: Boolean) {
+        val running = process ?: return
+        process = null
+        if (graceful) running.destroy() else running.destroyForcibly()
+        if (!running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)) {
+            running.destroyForcibly()
+            running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
+        }
+    }
+
+    /** Settings of an [EmbeddedRedis]; [start] launches it. */
+    public class Builder internal constructor() {
+        private var port = 0
+        private var appendOnlyDir: Path? = null
+        private var executable: Path? = null
+        private var startTimeout = Duration.ofSeconds(20)
+
+        /** Listens on [port] (1–65535); by default a free port is picked. */
+        public fun port(port: Int): Builder = apply {
+            require(port in 1..65535) { "port must be within 1..65535, was $port" }
+            this.port = port
+        }
+
+        /**
+         * Keeps the data in [dir] with an append-only file synced on every write, so a restarted
+         * server has every acknowledged value. The directory is created if needed and kept.
+         */
+        public fun appendOnlyDir(dir: Path): Builder = apply { this.appendOnlyDir = dir }
+
+        /** Uses this `redis-server` binary instead of looking for one. */
+        public fun executable(executable: Path): Builder = apply {
+            require(Files.isExecutable(executable)) { "'$executable' is not an executable file" }
+            this.executable = executable
+        }
+
+        /** How long to wait for the server to answer after launching it (default 20 s). */
+        public fun startTimeout(timeout: Duration): Builder = apply {
+            require(!timeout.isNegative && !timeout.isZero) { "start timeout must be positive, was $timeout" }
+            this.startTimeout = timeout
+        }
+
+        /**
+         * Launches the server and waits until it answers.
+         *
+         * @throws PrimeException if no binary fits this machine or the server does not start
+         */
+        public fun start(): EmbeddedRedis {
+            val binary = executable ?: RedisServerBinary.locate()
+            val persistentDir = appendOnlyDir
+            val dir = persistentDir?.also { Files.createDirectories(it) } ?: Files.createTempDirectory("prime-redis-")
+            var attempt = 0
+            while (true) {
+                val chosen = if (port != 0) port else freePort()
+                val redis = EmbeddedRedis(binary, dir, persistentDir == null, persistentDir != null, startTimeout, chosen)
+                try {
+                    synchronized(redis.lock) { redis.launch() }
+                    Runtime.getRuntime().addShutdownHook(redis.hook)
+                    return redis
+                } catch (e: PrimeException) {
+                    attempt++
+                    // a free port can be taken between picking it and binding it: try another
+                    if (port != 0 || attempt >= PORT_ATTEMPTS) {
+                        if (persistentDir == null) deleteTree(dir)
+                        throw e
+                    }
+                }
+            }
+        }
+    }
+
+    public companion object {
+        private const val PING_INTERVAL_MS = 10L
+        private const val STOP_TIMEOUT_S = 10L
+        private const val PORT_ATTEMPTS = 3
+
+        /** Starts a server on a free port, with nothing kept on disk. */
+        @JvmStatic
+        public fun start(): EmbeddedRedis = builder().start()
+
+        /** Settings for a server; call [Builder.start]. */
+        @JvmStatic
+        public fun builder(): Builder = Builder()
+
+        private fun freePort(): Int = ServerSocket(0).use { it.localPort }
+
+        private fun tail(log: Path): String = try {
+            Files.readAllLines(log).takeLast(10).joinToString("\n")
+        } catch (e: IOException) {
+            "(no log: ${e.message})"
+        }
+
+        private fun deleteTree(dir: Path) {
+            try {
+                Files.walk(dir).use { paths ->
+                    paths.sorted(Comparator.reverseOrder()).forEach { Files.deleteIfExists(it) }
+                }
+            } catch (_: IOException) {
+                // a temporary directory left behind is harmless
+            }
+        }
+    }
+}

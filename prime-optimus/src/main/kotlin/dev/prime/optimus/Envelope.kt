@@ -1,0 +1,117 @@
+package dev.prime.optimus
+
+import java.nio.BufferUnderflowException
+import java.nio.ByteBuffer
+import java.nio.charset.StandardCharsets.UTF_8
+
+/**
+ * What travels in the Redis lists: a value with its id and, for a synchronous call, the list to
+ * reply to. Layout: magic byte, kind, 8-byte id, then per kind: the reply key (2-byte length and
+ * bytes), the failure (chain name and message), and last the payload (1 byte "present", then the
+ * codec's bytes).
+ *
+ * Every value has an id so that a value pushed twice (a retry after a lost reply) is recognised
+ * and processed once; a service keeps the id of its input on what it outputs.
+ */
+internal class Envelope private constructor(
+    val kind: Kind,
+    val id: Long,
+    val replyTo: ByteArray?,
+    private val bytes: ByteArray,
+    private val payloadAt: Int,
+    val failedChain: String?,
+    val failure: String?,
+) {
+    enum class Kind { VALUE, REQUEST, REPLY_OK, REPLY_ERROR }
+
+    /** The codec bytes of the value, or `null` for a `null` value. */
+    fun payload(): ByteArray? =
+        if (payloadAt >= bytes.size || bytes[payloadAt] == ABSENT) null
+        else bytes.copyOfRange(payloadAt + 1, bytes.size)
+
+    companion object {
+        private const val MAGIC: Byte = 0x50 // 'P'
+        private const val ABSENT: Byte = 0
+        private const val PRESENT: Byte = 1
+        private const val HEADER = 10
+
+        fun value(id: Long, payload: ByteArray?): ByteArray = build(Kind.VALUE, id, payload) { }
+
+        fun request(id: Long, replyTo: ByteArray, payload: ByteArray?): ByteArray =
+            build(Kind.REQUEST, id, payload, 2 + replyTo.size) { putBytes16(it, replyTo) }
+
+        fun replyOk(id: Long, payload: ByteArray?): ByteArray = build(Kind.REPLY_OK, id, payload) { }
+
+        fun replyError(id: Long, chain: String, message: String): ByteArray {
+            val c = chain.toByteArray(UTF_8).let { if (it.size > 0xFFFF) it.copyOf(0xFFFF) else it }
+            val m = message.toByteArray(UTF_8)
+            return build(Kind.REPLY_ERROR, id, null, 2 + c.size + 4 + m.size) {
+                putBytes16(it, c)
+                it.putInt(m.size).put(m)
+            }
+        }
+
+        /** Same value, new kind or id: what a service forwards. */
+        fun forward(envelope: Envelope, nextKind: Kind, id: Long, payload: ByteArray?): ByteArray = when (nextKind) {
+            Kind.REQUEST -> request(id, envelope.replyTo!!, payload)
+            Kind.VALUE -> value(id, payload)
+            Kind.REPLY_OK -> replyOk(id, payload)
+            Kind.REPLY_ERROR -> throw IllegalArgumentException("an error reply carries no payload")
+        }
+
+        /** Reads an envelope; bytes that are not one give a [CodecException]. */
+        fun parse(bytes: ByteArray): Envelope {
+            try {
+                val buffer = ByteBuffer.wrap(bytes)
+                if (bytes.size < HEADER || buffer.get() != MAGIC) {
+                    throw CodecException("not a Prime envelope (${bytes.size} bytes, wrong header)")
+                }
+                val kindIndex = buffer.get().toInt()
+                val kind = Kind.entries.getOrNull(kindIndex)
+                    ?: throw CodecException("unknown envelope kind $kindIndex")
+                val id = buffer.long
+                var replyTo: ByteArray? = null
+                var chain: String? = null
+                var message: String? = null
+                when (kind) {
+                    Kind.REQUEST -> replyTo = bytes16(buffer)
+                    Kind.REPLY_ERROR -> {
+                        chain = String(bytes16(buffer), UTF_8)
+                        val length = buffer.int
+                        if (length < 0 || length > buffer.remaining()) throw CodecException("bad failure length $length")
+                        message = String(ByteArray(length).also { buffer.get(it) }, UTF_8)
+                    }
+                    else -> {}
+                }
+                return Envelope(kind, id, replyTo, bytes, buffer.position(), chain, message)
+            } catch (e: BufferUnderflowException) {
+                throw CodecException("truncated envelope (${bytes.size} bytes)", e)
+            }
+        }
+
+        private inline fun build(
+            kind: Kind,
+            id: Long,
+            payload: ByteArray?,
+            extra: Int = 0,
+            fill: (ByteBuffer) -> Unit,
+        ): ByteArray {
+            val buffer = ByteBuffer.allocate(HEADER + extra + 1 + (payload?.size ?: 0))
+            buffer.put(MAGIC).put(kind.ordinal.toByte()).putLong(id)
+            fill(buffer)
+            if (payload == null) buffer.put(ABSENT) else buffer.put(PRESENT).put(payload)
+            return buffer.array()
+        }
+
+        private fun putBytes16(buffer: ByteBuffer, bytes: ByteArray) {
+            require(bytes.size <= 0xFFFF) { "key of ${bytes.size} bytes is too long" }
+            buffer.putShort(bytes.size.toShort()).put(bytes)
+        }
+
+        private fun bytes16(buffer: ByteBuffer): ByteArray {
+            val length = buffer.short.toInt() and 0xFFFF
+            if (length > buffer.remaining()) throw CodecException("bad key length $length")
+            return ByteArray(length).also { buffer.get(it) }
+        }
+    }
+}

@@ -1,0 +1,46 @@
+package dev.prime.optimus
+
+import java.nio.charset.StandardCharsets.UTF_8
+
+/**
+ * The Redis keys of one topology. Every key carries the topology in a hash tag (`{topology}`),
+ * so all keys of a topology live in one hash slot: the atomic steps (a script that stores a
+ * result, publishes it and acknowledges the input) then also run on Redis Cluster. Names are
+ * derived only from service and source names, so every process that declares the same topology
+ * computes the same keys.
+ */
+internal class Keys(topology: String) {
+    private val prefix = "prime:{$topology}:"
+
+    /** The list a service takes its input from. */
+    fun serviceInput(service: String): ByteArray = key("svc:$service:in")
+
+    /** The list holding what a service took and has not yet acknowledged. */
+    fun serviceProcessing(service: String): ByteArray = key("svc:$service:proc")
+
+    /** The list of values a service could not process. */
+    fun deadLetters(service: String): ByteArray = key("svc:$service:dead")
+
+    /** The retained values of a source (its newest `retention` values). */
+    fun sourceLog(source: String): ByteArray = key("src:$source:log")
+
+    /** The set of reader lists a source publishes to. */
+    fun sourceReaders(source: String): ByteArray = key("src:$source:readers")
+
+    /** The list of one reader that is not a service. */
+    fun reader(id: String): ByteArray = key("rdr:$id")
+
+    /** The processing list that goes with an input or reader list. */
+    fun processingOf(list: ByteArray): ByteArray = list + ":proc".toByteArray(UTF_8)
+
+    /** The counter of values a reader list lost to retention (maintained by the scripts). */
+    fun missedOf(list: ByteArray): ByteArray = list + ":missed".toByteArray(UTF_8)
+
+    /** The list a synchronous caller receives its replies on. */
+    fun reply(id: String): ByteArray = key("reply:$id")
+
+    /** The fingerprint of the codec the topology's processes use. */
+    val codec: ByteArray = key("codec")
+
+    private fun key(suffix: String) = (prefix + suffix).toByteArray(UTF_8)
+}

@@ -1,0 +1,31 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+
+/** Processes of one topology must agree on the codec; a disagreeing one is refused at start. */
+class CodecAgreementTest {
+
+    /** The standard codec under another fingerprint: stands for a process with other registrations. */
+    private class Renamed(private val fingerprint: String) : OptimusCodec by KryoCodec.standard() {
+        override fun fingerprint(): String = fingerprint
+    }
+
+    @Test
+    fun aProcessWithAnotherCodecIsRefusedAtStart() {
+        val config = CoreConfig.builder().name("codec-agreement").build()
+        OptimusCore.builder().config(config).redis(TestRedis.url).codec(Renamed("alpha")).build().use { first ->
+            first.start()
+            OptimusCore.builder().config(config).redis(TestRedis.url).codec(Renamed("alpha")).build().use { same ->
+                same.start() // agrees
+            }
+            OptimusCore.builder().config(config).redis(TestRedis.url).codec(Renamed("beta")).build().use { other ->
+                val e = assertThrows(IllegalStateException::class.java) { other.start() }
+                assertTrue(e.message!!.contains("alpha") && e.message!!.contains("beta"), e.message)
+                assertTrue(e.message!!.contains("same types in the same order"), e.message)
+            }
+        }
+    }
+}

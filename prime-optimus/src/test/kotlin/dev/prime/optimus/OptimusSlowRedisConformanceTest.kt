@@ -1,0 +1,21 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.PrimeCore
+import dev.prime.conformance.MediaConformance
+
+/**
+ * The awkward variant: the whole conformance kit again, through a proxy that delays every reply
+ * of Redis by half a millisecond, so that values are in flight while services batch, readers
+ * poll and cores close.
+ */
+class OptimusSlowRedisConformanceTest : MediaConformance {
+    override fun newCore(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(proxy.url).build()
+
+    override fun servicesOfLinkedChain(chains: Int): Int = chains
+
+    private companion object {
+        val proxy: SlowProxy by lazy { SlowProxy(TestRedis.url, 500_000) }
+    }
+}

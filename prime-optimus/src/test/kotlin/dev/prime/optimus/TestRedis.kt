@@ -1,0 +1,18 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+
+/**
+ * One embedded Redis for the tests of this JVM (each core is its own namespace on it), or the
+ * Redis at the `PRIME_TEST_REDIS` URL when set. Its shutdown hook stops it when the JVM exits.
+ */
+internal object TestRedis {
+    private val embedded: EmbeddedRedis? by lazy {
+        if (System.getenv("PRIME_TEST_REDIS") != null) null else EmbeddedRedis.start()
+    }
+
+    val url: String get() = System.getenv("PRIME_TEST_REDIS") ?: embedded!!.uri
+
+    fun core(config: CoreConfig = CoreConfig.defaults()): OptimusCore =
+        OptimusCore.builder().config(config).redis(url).build()
+}
