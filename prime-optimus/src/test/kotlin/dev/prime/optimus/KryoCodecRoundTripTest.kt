@@ -33,7 +33,7 @@ internal class KryoCodecRoundTripTest {
     private val app = KryoCodec.builder()
         .register(Pose::class.java)
         .register(Route::class.java)
-        .register(Envelope::class.java)
+        .register(Carrier::class.java)
         .register(Packet::class.java)
         .register(Counter::class.java)
         .register(Label::class.java)
@@ -124,8 +124,8 @@ internal class KryoCodecRoundTripTest {
         assertEquals(Counter("laps", 42, listOf(1, 2, 3)), roundTrip(app, Counter("laps", 42, listOf(1, 2, 3))))
         assertEquals(Label("hello", -3), roundTrip(app, Label("hello", -3)))
         assertSame(Colour.BLUE, roundTrip(app, Colour.BLUE))
-        assertEquals(Envelope(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED)), roundTrip(app, Envelope(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED))))
-        assertEquals(Envelope(2, null), roundTrip(app, Envelope(2, null)))
+        assertEquals(Carrier(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED)), roundTrip(app, Carrier(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED))))
+        assertEquals(Carrier(2, null), roundTrip(app, Carrier(2, null)))
     }
 
     @Test
@@ -138,7 +138,7 @@ internal class KryoCodecRoundTripTest {
     @Test
     fun `codecs built alike read each other's bytes`() {
         val other = KryoCodec.builder()
-            .register(Pose::class.java).register(Route::class.java).register(Envelope::class.java)
+            .register(Pose::class.java).register(Route::class.java).register(Carrier::class.java)
             .register(Packet::class.java).register(Counter::class.java).register(Label::class.java)
             .register(Colour::class.java).register(Tripwire::class.java)
             .build()
