@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import dev.prime.CoreConfig
+import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
@@ -26,6 +27,20 @@ class CodecAgreementTest {
                 assertTrue(e.message!!.contains("alpha") && e.message!!.contains("beta"), e.message)
                 assertTrue(e.message!!.contains("same types in the same order"), e.message)
             }
+        }
+    }
+
+    /** A type nobody registered. */
+    private data class Unregistered(val x: Int)
+
+    @Test
+    fun aValueOfATypeTheCodecRefusesFailsTheCallerWithHowToRegisterIt() {
+        TestRedis.core().use { core ->
+            val echo = core.chain("echo") { x: Any -> x }.toBlock()
+            core.start()
+            val e = assertThrows(IllegalArgumentException::class.java) { echo.process(Unregistered(1)) }
+            assertTrue(e.message!!.contains("Unregistered") && e.message!!.contains("register"), e.message)
+            assertEquals("fine", echo.process("fine"), "the service is untouched")
         }
     }
 }

@@ -23,7 +23,7 @@ internal data class Route(
 
 /** A record with an open component, to carry anything (registered or not) inside. */
 @JvmRecord
-internal data class Carrier(val id: Long, val body: Any?)
+internal data class Parcel(val id: Long, val body: Any?)
 
 /** A record with a byte[] payload (equality by content written by hand). */
 @JvmRecord

@@ -7,7 +7,7 @@ import org.junit.jupiter.api.Test
 
 internal class KryoCodecEncodeErrorTest {
 
-    private val codec = KryoCodec.builder().register(Pose::class.java).register(Carrier::class.java).build()
+    private val codec = KryoCodec.builder().register(Pose::class.java).register(Parcel::class.java).build()
 
     private fun assertUnregistered(value: Any, missing: Class<*>) {
         val e = assertThrows(IllegalArgumentException::class.java) { codec.encode(value) }
@@ -32,8 +32,8 @@ internal class KryoCodecEncodeErrorTest {
 
     @Test
     fun `an unregistered value inside a registered record is refused the same way`() {
-        assertUnregistered(Carrier(1, Stranger("s")), Stranger::class.java)
-        assertUnregistered(Carrier(1, listOf(Carrier(2, Stranger("s")))), Stranger::class.java)
+        assertUnregistered(Parcel(1, Stranger("s")), Stranger::class.java)
+        assertUnregistered(Parcel(1, listOf(Parcel(2, Stranger("s")))), Stranger::class.java)
     }
 
     @Test

@@ -33,7 +33,7 @@ internal class KryoCodecRoundTripTest {
     private val app = KryoCodec.builder()
         .register(Pose::class.java)
         .register(Route::class.java)
-        .register(Carrier::class.java)
+        .register(Parcel::class.java)
         .register(Packet::class.java)
         .register(Counter::class.java)
         .register(Label::class.java)
@@ -130,8 +130,8 @@ internal class KryoCodecRoundTripTest {
         assertEquals(Counter("laps", 42, listOf(1, 2, 3)), roundTrip(app, Counter("laps", 42, listOf(1, 2, 3))))
         assertEquals(Label("hello", -3), roundTrip(app, Label("hello", -3)))
         assertSame(Colour.BLUE, roundTrip(app, Colour.BLUE))
-        assertEquals(Carrier(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED)), roundTrip(app, Carrier(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED))))
-        assertEquals(Carrier(2, null), roundTrip(app, Carrier(2, null)))
+        assertEquals(Parcel(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED)), roundTrip(app, Parcel(1, Tuple2(Pose(1.0, 1.0, 1.0), Colour.RED))))
+        assertEquals(Parcel(2, null), roundTrip(app, Parcel(2, null)))
     }
 
     @Test
@@ -144,7 +144,7 @@ internal class KryoCodecRoundTripTest {
     @Test
     fun `codecs built alike read each other's bytes`() {
         val other = KryoCodec.builder()
-            .register(Pose::class.java).register(Route::class.java).register(Carrier::class.java)
+            .register(Pose::class.java).register(Route::class.java).register(Parcel::class.java)
             .register(Packet::class.java).register(Counter::class.java).register(Label::class.java)
             .register(Colour::class.java).register(Tripwire::class.java)
             .build()

@@ -3,8 +3,10 @@ package dev.prime.examples.robot;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.optimus.OptimusCore;
 import dev.prime.radiant.RadiantCore;
 import java.util.Arrays;
+import java.util.Collection;
 import java.util.Locale;
 import java.util.function.Function;
 import java.util.stream.Collectors;
@@ -18,8 +20,11 @@ public enum Media {
   LIBERTY("liberty", LibertyCore::new),
   /** Each linked chain fused into one generated class, in-memory sources. */
   RADIANT("radiant", RadiantCore::new),
-  // A new media plugs in here with one line (and its module as a dependency in examples/pom.xml):
-  //   OPTIMUS("optimus", OptimusCore::new),
+  /**
+   * Every chain a service over Redis lists, on an embedded Redis of the core's own (see {@link
+   * #optimus} for a shared Redis and services in other processes).
+   */
+  OPTIMUS("optimus", config -> optimus(config, null, null)),
   ;
 
   private final String cliName;
@@ -43,6 +48,28 @@ public enum Media {
    */
   public PrimeCore create(CoreConfig config) {
     return factory.apply(config);
+  }
+
+  /**
+   * An Optimus core for the robot, its codec knowing {@link RobotTypes}.
+   *
+   * @param config the core's settings; processes that share a topology use the same name
+   * @param redisUrl the Redis to use, or {@code null} for an embedded one owned by the core
+   * @param hosts the services this process runs, or {@code null} for all of them
+   * @return a new core, not started
+   * @throws IllegalArgumentException if the URL is malformed
+   * @throws dev.prime.PrimeException if the Redis cannot be reached
+   */
+  public static OptimusCore optimus(
+      CoreConfig config, String redisUrl, Collection<String> hosts) {
+    OptimusCore.Builder builder = OptimusCore.builder().config(config).codec(RobotTypes.codec());
+    if (redisUrl != null) {
+      builder.redis(redisUrl);
+    }
+    if (hosts != null) {
+      builder.hosts(hosts);
+    }
+    return builder.build();
   }
 
   /**

@@ -5,6 +5,7 @@ import dev.prime.Chain;
 import dev.prime.PrimeCore;
 import dev.prime.Source;
 import dev.prime.Token;
+import java.util.List;
 import java.util.Objects;
 
 /**
@@ -22,6 +23,14 @@ public final class RobotController {
 
   /** How close to the goal counts as arrived, metres. */
   public static final double TOLERANCE = 0.03;
+
+  /**
+   * The asynchronous services of this topology on a media that runs each chain as a service
+   * (Optimus): the names a process is told to host, or to leave to another process. They are
+   * deterministic because every chain is named.
+   */
+  public static final List<String> SERVICES =
+      List.of("odometry", "planner", "pid", "guard(planner>pid)", "collect(encoders>odometry)");
 
   private RobotController() {}
 

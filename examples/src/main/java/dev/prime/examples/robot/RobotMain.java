@@ -1,15 +1,18 @@
 package dev.prime.examples.robot;
 
-import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
+import dev.prime.PrimeException;
 import java.io.PrintStream;
 import java.util.Locale;
 
 /**
- * Runs the differential-drive robot example: {@code robot [--media liberty] [--goal X,Y]}.
+ * Runs the differential-drive robot example: {@code robot [--media liberty] [--goal X,Y]}. On
+ * {@code --media optimus --redis URL --remote planner} the planner runs in another process, a
+ * {@link RobotWorker} on the same Redis.
  *
  * <p>Exit codes: 0 the goal was reached (or help was printed), 1 it was not reached in the
- * allowed steps, 2 the command line is wrong.
+ * allowed steps, 2 the command line is wrong, 3 the Redis given by {@code --redis} cannot be
+ * reached.
  */
 public final class RobotMain {
 
@@ -57,12 +60,37 @@ public final class RobotMain {
         mission.goal(),
         Mission.DT * 1000,
         mission.maxSteps());
+    PrimeCore created;
+    try {
+      created = createCore(options);
+    } catch (PrimeException e) {
+      err.println("error: " + e.getMessage());
+      return 3;
+    }
+    if (options.redisUrl() != null) {
+      out.println(
+          "  on Redis "
+              + options.redisUrl()
+              + " as core '"
+              + options.name()
+              + "'"
+              + (options.remote().isEmpty()
+                  ? ""
+                  : ", leaving " + options.remote() + " to a robot worker"));
+    }
     SimulationResult result;
-    try (PrimeCore core = options.media().create(CoreConfig.builder().name("robot").build())) {
+    try (PrimeCore core = created) {
       result = new RobotSimulation(RobotSpec.SMALL_INDOOR).run(core, mission, out);
     }
     out.println(summary(result, mission));
     return result.reached() ? 0 : 1;
+  }
+
+  private static PrimeCore createCore(RobotOptions options) {
+    if (options.media() == Media.OPTIMUS) {
+      return Media.optimus(options.coreConfig(), options.redisUrl(), options.hosted());
+    }
+    return options.media().create(options.coreConfig());
   }
 
   static String summary(SimulationResult result, Mission mission) {

@@ -1,5 +1,12 @@
 package dev.prime.examples.robot;
 
+import dev.prime.CoreConfig;
+import dev.prime.optimus.OptimusCore;
+import java.util.ArrayList;
+import java.util.LinkedHashSet;
+import java.util.List;
+import java.util.Set;
+
 /**
  * The robot example's command line.
  *
@@ -8,28 +15,67 @@ package dev.prime.examples.robot;
  * @param maxSteps give up after this many steps
  * @param traceEvery print a trace line every this many steps
  * @param help whether only the usage was asked for
+ * @param redisUrl the Redis the Optimus media uses, or {@code null} for an embedded one
+ * @param remote the services another process runs (see {@link RobotWorker}); empty: none
+ * @param name the core's name; processes that share a topology on one Redis use the same one
  */
-public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery, boolean help) {
+public record RobotOptions(
+    Media media,
+    Goal goal,
+    int maxSteps,
+    int traceEvery,
+    boolean help,
+    String redisUrl,
+    List<String> remote,
+    String name) {
 
   /** The usage text. */
   public static final String USAGE =
       String.join(
           System.lineSeparator(),
-          "usage: robot [--media NAME] [--goal X,Y] [--steps N] [--trace-every N] [--help]",
+          "usage: robot [--media NAME] [--goal X,Y] [--steps N] [--trace-every N]"
+              + " [--redis URL [--remote SERVICE,...]] [--name NAME] [--help]",
           "  --media NAME      the media to run on: " + Media.knownNames() + " (default liberty)",
           "  --goal X,Y        where to drive, in metres from the start (default 2,1)",
           "  --steps N         give up after N steps of 10 ms simulated time (default 3000)",
           "  --trace-every N   print a trace line every N steps (default 100)",
+          "  --redis URL       optimus only: use the Redis at URL, like redis://localhost:6379"
+              + " (default: an embedded Redis of its own)",
+          "  --remote S,...    optimus with --redis only: leave these services to a robot worker"
+              + " process; services: " + String.join(", ", RobotController.SERVICES),
+          "  --name NAME       the core's name, shared with the worker (default robot)",
           "with Maven: ./mvnw -q -pl examples -am test-compile exec:java"
               + " -Dexec.args=\"--goal 1.5,-0.5\"");
 
   /** The defaults: Liberty, goal (2, 1), at most 3000 steps, a trace line every 100. */
   public static final RobotOptions DEFAULTS =
-      new RobotOptions(Media.LIBERTY, new Goal(2, 1), 3000, 100, false);
+      new RobotOptions(Media.LIBERTY, new Goal(2, 1), 3000, 100, false, null, List.of(), "robot");
+
+  /** Copies {@code remote}. */
+  public RobotOptions {
+    remote = List.copyOf(remote);
+  }
 
   /** The mission these options describe. */
   public Mission mission() {
     return new Mission(goal, maxSteps, traceEvery);
+  }
+
+  /** The core's settings: its name. */
+  public CoreConfig coreConfig() {
+    return CoreConfig.builder().name(name).build();
+  }
+
+  /**
+   * The services this process hosts: {@code null} (all of them) unless some are {@link #remote}.
+   */
+  public List<String> hosted() {
+    if (remote.isEmpty()) {
+      return null;
+    }
+    List<String> hosted = new ArrayList<>(RobotController.SERVICES);
+    hosted.removeAll(remote);
+    return hosted;
   }
 
   /**
@@ -37,44 +83,63 @@ public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery,
    *
    * @param args the arguments
    * @return the options
-   * @throws UsageException if an argument is unknown, lacks its value or has a bad value
+   * @throws UsageException if an argument is unknown, lacks its value, has a bad value, or does
+   *     not apply to the chosen media
    */
   public static RobotOptions parse(String... args) {
     Media media = DEFAULTS.media;
     Goal goal = DEFAULTS.goal;
     int maxSteps = DEFAULTS.maxSteps;
     int traceEvery = DEFAULTS.traceEvery;
+    String redisUrl = null;
+    List<String> remote = List.of();
+    String name = DEFAULTS.name;
     for (int i = 0; i < args.length; i++) {
       String arg = args[i];
       if (arg.equals("--help") || arg.equals("-h")) {
-        return new RobotOptions(media, goal, maxSteps, traceEvery, true);
+        return DEFAULTS.withHelp();
       }
-      String name = arg;
+      String option = arg;
       String value = null;
       int eq = arg.indexOf('=');
       if (arg.startsWith("--") && eq > 0) {
-        name = arg.substring(0, eq);
+        option = arg.substring(0, eq);
         value = arg.substring(eq + 1);
       }
-      switch (name) {
-        case "--media", "--goal", "--steps", "--trace-every" -> {
+      switch (option) {
+        case "--media", "--goal", "--steps", "--trace-every", "--redis", "--remote", "--name" -> {
           if (value == null) {
             if (i + 1 >= args.length) {
-              throw new UsageException(name + " needs a value");
+              throw new UsageException(option + " needs a value");
             }
             value = args[++i];
           }
         }
         default -> throw new UsageException("unknown argument '" + arg + "'");
       }
-      switch (name) {
+      switch (option) {
         case "--media" -> media = media(value);
         case "--goal" -> goal = goal(value);
-        case "--steps" -> maxSteps = positive(name, value);
-        default -> traceEvery = positive(name, value);
+        case "--steps" -> maxSteps = positive(option, value);
+        case "--redis" -> redisUrl = redisUrl(value);
+        case "--remote" -> remote = services(option, value);
+        case "--name" -> name = coreName(value);
+        default -> traceEvery = positive(option, value);
       }
     }
-    return new RobotOptions(media, goal, maxSteps, traceEvery, false);
+    if (redisUrl != null && media != Media.OPTIMUS) {
+      throw new UsageException("--redis only applies to --media optimus");
+    }
+    if (!remote.isEmpty() && redisUrl == null) {
+      throw new UsageException(
+          "--remote needs --redis URL (and --media optimus): the worker that runs those services"
+              + " must reach the same Redis");
+    }
+    return new RobotOptions(media, goal, maxSteps, traceEvery, false, redisUrl, remote, name);
+  }
+
+  private RobotOptions withHelp() {
+    return new RobotOptions(media, goal, maxSteps, traceEvery, true, redisUrl, remote, name);
   }
 
   private static Media media(String value) {
@@ -85,7 +150,7 @@ public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery,
     }
   }
 
-  private static Goal goal(String value) {
+  static Goal goal(String value) {
     String[] parts = value.split(",", -1);
     if (parts.length != 2) {
       throw new UsageException(
@@ -96,6 +161,37 @@ public record RobotOptions(Media media, Goal goal, int maxSteps, int traceEvery,
     } catch (IllegalArgumentException e) {
       throw new UsageException(
           "--goal wants two finite numbers X,Y in metres, like 2,1; got '" + value + "'");
+    }
+  }
+
+  static String redisUrl(String value) {
+    try {
+      OptimusCore.builder().redis(value);
+      return value;
+    } catch (IllegalArgumentException e) {
+      throw new UsageException("--redis: " + e.getMessage());
+    }
+  }
+
+  static List<String> services(String option, String value) {
+    Set<String> names = new LinkedHashSet<>();
+    for (String part : value.split(",", -1)) {
+      String service = part.trim();
+      if (!RobotController.SERVICES.contains(service)) {
+        throw new UsageException(
+            option + ": unknown service '" + service + "'; the robot's services: "
+                + String.join(", ", RobotController.SERVICES));
+      }
+      names.add(service);
+    }
+    return List.copyOf(names);
+  }
+
+  static String coreName(String value) {
+    try {
+      return CoreConfig.builder().name(value).build().name();
+    } catch (IllegalArgumentException e) {
+      throw new UsageException("--name: " + e.getMessage());
     }
   }
 

@@ -8,6 +8,8 @@ import static org.junit.jupiter.api.Assertions.assertThrows;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.optimus.OptimusCore;
+import java.util.Set;
 import org.junit.jupiter.api.Test;
 
 class MediaTest {
@@ -27,6 +29,22 @@ class MediaTest {
   void libertyIsLibertyCore() {
     try (PrimeCore core = Media.byName("liberty").create(CoreConfig.defaults())) {
       assertInstanceOf(LibertyCore.class, core);
+    }
+  }
+
+  @Test
+  void optimusIsAnOptimusCoreHostingTheRobotsServices() {
+    try (PrimeCore core = Media.byName("optimus").create(CoreConfig.defaults())) {
+      assertInstanceOf(OptimusCore.class, core);
+      RobotController.wire(
+          core,
+          new WheelEncoders(RobotSpec.SMALL_INDOOR),
+          RobotSpec.SMALL_INDOOR,
+          new Goal(1, 1),
+          Mission.DT);
+      core.start();
+      // the names a --remote option and a RobotWorker's --hosts choose from
+      assertEquals(Set.copyOf(RobotController.SERVICES), core.serviceNames());
     }
   }
 

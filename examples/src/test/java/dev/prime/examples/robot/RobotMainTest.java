@@ -55,4 +55,26 @@ class RobotMainTest {
     assertTrue(text.contains("reached goal (x=2.000, y=1.000) after "), text);
     assertTrue(text.contains("distance error to goal: "), text);
   }
+
+  @Test
+  void malformedRedisUrlExitsWithTwoAndSaysSo() {
+    assertEquals(2, run("--media", "optimus", "--redis", "localhost:6379"));
+    assertTrue(err().startsWith("error: --redis: "), err());
+    assertTrue(err().contains("usage: robot"), err());
+    assertEquals("", out());
+  }
+
+  @Test
+  void unreachableRedisExitsWithThreeAndSaysSo() {
+    // port 1 is reserved (tcpmux) and closed on any ordinary machine
+    assertEquals(3, run("--media", "optimus", "--redis", "redis://127.0.0.1:1", "--steps", "5"));
+    assertTrue(err().startsWith("error: cannot reach Redis at "), err());
+  }
+
+  @Test
+  void optimusRunsOnAnEmbeddedRedisByDefault() {
+    assertEquals(0, run("--media", "optimus", "--goal", "0.5,0.2"));
+    assertTrue(out().startsWith("robot on media optimus: driving from"), out());
+    assertTrue(out().contains("reached goal (x=0.500, y=0.200) after "), out());
+  }
 }

@@ -1,9 +1,11 @@
 package dev.prime.examples.robot;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import java.util.List;
 import org.junit.jupiter.api.Test;
 
 class RobotOptionsTest {
@@ -20,7 +22,53 @@ class RobotOptionsTest {
         RobotOptions.parse(
             "--media", "LIBERTY", "--goal=1.5,-0.5", "--steps", "40", "--trace-every=7");
 
-    assertEquals(new RobotOptions(Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false), options);
+    assertEquals(
+        new RobotOptions(
+            Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false, null, List.of(), "robot"),
+        options);
+  }
+
+  @Test
+  void optimusTakesARedisUrlAndServicesLeftToAWorker() {
+    RobotOptions options =
+        RobotOptions.parse(
+            "--media", "optimus", "--redis=redis://localhost:6379", "--remote", "planner,pid",
+            "--name", "robot-2");
+
+    assertEquals(Media.OPTIMUS, options.media());
+    assertEquals("redis://localhost:6379", options.redisUrl());
+    assertEquals(List.of("planner", "pid"), options.remote());
+    assertEquals("robot-2", options.coreConfig().name());
+    assertEquals(
+        List.of("odometry", "guard(planner>pid)", "collect(encoders>odometry)"),
+        options.hosted());
+    assertNull(RobotOptions.parse("--media", "optimus").hosted(), "no --remote: hosts all");
+  }
+
+  @Test
+  void redisAndRemoteOptionsSayWhatIsWrong() {
+    assertEquals(
+        "--redis only applies to --media optimus",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--redis", "redis://h:1"))
+            .getMessage());
+    assertTrue(
+        assertThrows(
+                UsageException.class,
+                () -> RobotOptions.parse("--media", "optimus", "--redis", "http://h:1"))
+            .getMessage()
+            .startsWith("--redis: "));
+    assertEquals(
+        "--remote needs --redis URL (and --media optimus): the worker that runs those services"
+            + " must reach the same Redis",
+        assertThrows(
+                UsageException.class,
+                () -> RobotOptions.parse("--media", "optimus", "--remote", "planner"))
+            .getMessage());
+    assertEquals(
+        "--remote: unknown service 'brakes'; the robot's services: odometry, planner, pid,"
+            + " guard(planner>pid), collect(encoders>odometry)",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--remote", "planner,brakes"))
+            .getMessage());
   }
 
   @Test
@@ -32,7 +80,7 @@ class RobotOptionsTest {
   void unknownMediaNamesTheKnownOnes() {
     UsageException e =
         assertThrows(UsageException.class, () -> RobotOptions.parse("--media", "warp"));
-    assertEquals("unknown media 'warp'; known media: liberty, radiant", e.getMessage());
+    assertEquals("unknown media 'warp'; known media: liberty, radiant, optimus", e.getMessage());
   }
 
   @Test

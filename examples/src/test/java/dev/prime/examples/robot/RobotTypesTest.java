@@ -1,0 +1,38 @@
+package dev.prime.examples.robot;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+
+import dev.prime.optimus.KryoCodec;
+import java.util.List;
+import org.junit.jupiter.api.Test;
+
+class RobotTypesTest {
+
+  @Test
+  void codecRegistersTheRobotsTypesInTheirFixedOrder() {
+    KryoCodec codec = RobotTypes.codec();
+
+    // registrations are "id class-name", the built-in types first
+    List<String> registered = codec.registeredTypes();
+    List<String> application =
+        registered.subList(registered.size() - RobotTypes.ALL.size(), registered.size()).stream()
+            .map(entry -> entry.substring(entry.indexOf(' ') + 1))
+            .toList();
+    assertEquals(RobotTypes.ALL.stream().map(Class::getName).toList(), application);
+    assertEquals(codec.fingerprint(), RobotTypes.codec().fingerprint(), "same in every process");
+  }
+
+  @Test
+  void aDriveCommandCrossesTheCodecWithEverythingInsideIt() {
+    KryoCodec codec = RobotTypes.codec();
+    DriveCommand command =
+        new DriveCommand(
+            new Estimate(7, new Pose(1.5, -0.25, 0.3), new WheelSpeeds(0.1, 0.2)),
+            new WheelSpeeds(0.3, 0.4),
+            1.25,
+            -2.5,
+            false);
+
+    assertEquals(command, codec.decode(codec.encode(command)));
+  }
+}

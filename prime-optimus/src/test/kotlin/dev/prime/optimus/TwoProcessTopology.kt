@@ -1,0 +1,24 @@
+package dev.prime.optimus
+
+import dev.prime.Block
+import dev.prime.EventBlock
+import dev.prime.Source
+
+/**
+ * The topology [TwoProcessTest] and [RemoteWorkerMain] both declare, in this one order: a source
+ * of numbers through the linked chains "double" and "inc", and a chain "square" called
+ * synchronously. The worker process hosts [WORKER_SERVICES], the test's process the rest.
+ */
+internal object TwoProcessTopology {
+    val WORKER_SERVICES = listOf("double", "square")
+    val TEST_SERVICES = listOf("inc")
+
+    class Declared(val output: Source<Int>, val square: Block<Int, Int>)
+
+    fun declare(core: OptimusCore, numbers: EventBlock<Int>): Declared {
+        val output = core.source("numbers", numbers)
+            .then(core.chain("double") { x: Int -> x * 2 }.then(core.chain("inc") { x: Int -> x + 1 }))
+        val square = core.chain("square") { x: Int -> x * x }.toBlock()
+        return Declared(output, square)
+    }
+}
