@@ -27,11 +27,37 @@ public final class ChainShapes {
    * @return the chain's block
    */
   public static Block<Packet, Packet> adders(PrimeCore core, int length) {
+    return adderChain(core, length).toBlock();
+  }
+
+  /**
+   * The measured chain, not yet turned into a block (to link it to a source).
+   *
+   * @param core the media
+   * @param length number of blocks
+   * @return the chain
+   */
+  public static Chain<Packet, Packet> adderChain(PrimeCore core, int length) {
     Chain<Packet, Packet> chain = core.chain(new Add(1));
     for (int i = 2; i <= length; i++) {
       chain = chain.then(new Add(i));
     }
-    return chain.toBlock();
+    return chain;
+  }
+
+  /**
+   * Runs the FOR blocks on a packet: what a peer (Flow, Reactor, Disruptor) runs per value.
+   *
+   * @param adders the blocks
+   * @param packet the packet
+   * @return the packet after every block
+   */
+  public static Packet runDirect(Add[] adders, Packet packet) {
+    Packet result = packet;
+    for (Add adder : adders) {
+      result = adder.process(result);
+    }
+    return result;
   }
 
   /**

@@ -25,6 +25,10 @@ public class Shape {
   @Param({"4"})
   public int length;
 
+  /** Bytes of data each packet carries: the paper's small, medium and big data. */
+  @Param({"100", "1024", "10240"})
+  public int payload;
+
   /** {@code monomorphic}: only the measured chain exists; {@code polluted}: see the class docs. */
   @Param({"monomorphic", "polluted"})
   public String scenario;

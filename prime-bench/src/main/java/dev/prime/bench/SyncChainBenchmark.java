@@ -36,8 +36,16 @@ public class SyncChainBenchmark {
   /** The value sent along the chain; it keeps changing, so no result is a constant. */
   @State(Scope.Thread)
   public static class Input {
-    /** The packet. */
-    public Packet packet = new Packet(0);
+    /** The packet, carrying {@link Shape#payload} bytes. */
+    public Packet packet;
+
+    /**
+     * @param shape the parameters
+     */
+    @Setup(Level.Trial)
+    public void build(Shape shape) {
+      packet = Packet.ofSize(shape.payload);
+    }
   }
 
   /** FOR: the same blocks, held and called directly. */
