@@ -24,8 +24,10 @@ import dev.prime.optimus.kryo.UnregisteredTypeException
  *
  * ## Design note
  * - **Why Kryo.** Fast and compact: class ids instead of names, variable-length integers, records
- *   through their canonical constructor, buffers reused from a pool (cost measured by
- *   `CodecBenchmark` in prime-bench; figures in its README, "Codec cost"). Well kept: 5.6.2 is
+ *   through their canonical constructor, buffers reused from a pool. Measured (`CodecBenchmark`
+ *   in prime-bench, README "Codec cost"; 2-vCPU EPYC, JDK 17): a 100 B record encodes and
+ *   decodes in about 0.2 µs each, a 10 KB one in 1.3-2.3 µs and 1-1.4 µs, allocating the result
+ *   plus about 230 B. Well kept: 5.6.2 is
  *   from 2024, the project has been maintained for over a decade and is used by Flink, Spark and
  *   Storm; its dependencies are small (Objenesis, ReflectASM, MinLog). Registration-required is
  *   its default in version 5, so the safe mode is the ordinary mode, not a bolt-on.
