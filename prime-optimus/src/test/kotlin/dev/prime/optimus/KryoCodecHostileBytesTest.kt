@@ -54,7 +54,7 @@ internal class KryoCodecHostileBytesTest {
         assertRefusedCheaply(craft(ShortArray(1)) { writeVarInt(huge, true) }, "short[]")
         assertRefusedCheaply(craft(CharArray(1)) { writeVarInt(huge, true) }, "char[]")
         assertRefusedCheaply(craft(BooleanArray(1)) { writeVarInt(huge, true) }, "boolean[]")
-        assertRefusedCheaply(craft("") { writeVarIntFlag(true, huge, true) }, "String")
+        assertRefusedCheaply(craft("") { writeVarInt(huge, true) }, "String")
         assertRefusedCheaply(craft(BigInteger.ONE) { writeVarInt(huge, true) }, "BigInteger")
         assertRefusedCheaply(craft(listOf(1)) { writeVarInt(huge, true) }, "List")
         assertRefusedCheaply(craft(setOf(1)) { writeVarInt(huge, true) }, "Set")
@@ -62,7 +62,7 @@ internal class KryoCodecHostileBytesTest {
         assertRefusedCheaply(craft(listOf(1)) { writeVarInt(-5, true) }, "negative List size")
         // the same inside a registered record: name, then a String claiming 2^31 chars
         assertRefusedCheaply(
-            craft(Route("", Pose(0.0, 0.0, 0.0), listOf(), mapOf(), null)) { writeVarIntFlag(true, huge, true) },
+            craft(Route("", Pose(0.0, 0.0, 0.0), listOf(), mapOf(), null)) { writeVarInt(huge, true) },
             "String field",
         )
     }

@@ -92,6 +92,12 @@ internal class KryoCodecRoundTripTest {
     }
 
     @Test
+    fun `a String is written as its class id, its UTF-8 length and its UTF-8 bytes`() {
+        val bytes = standard.encode("aé")
+        assertEquals(listOf(3, 3, 'a'.code, 0xC3, 0xA9), bytes.map { it.toInt() and 0xFF })
+    }
+
+    @Test
     fun `Token decodes as the one instance`() {
         assertSame(Token.INSTANCE, roundTrip(standard, Token.INSTANCE))
         assertSame(Token.INSTANCE, (roundTrip(standard, listOf(Token.INSTANCE)) as List<*>)[0])
