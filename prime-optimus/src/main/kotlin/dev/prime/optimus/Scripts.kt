@@ -15,7 +15,8 @@ import java.security.MessageDigest
  * processing list, returning them. A crash between any two steps therefore neither loses a value
  * (it stays in the processing list until its results are stored) nor duplicates one. Values for
  * the same list go in one `RPUSH` (up to 1000 at a time), not one call each: a command called
- * from Lua costs about as much as storing a small value.
+ * from Lua costs about as much as storing a small value. Entries are taken with `LMOVE`, one at a
+ * time, which moves the stored string itself (`LRANGE` + `RPUSH` copied each one into Lua and back).
  *
  * [REGISTER] adds a reader list to a source; a reader that is new gets a copy of the retained
  * values (a reader starts at the oldest retained value).
@@ -72,12 +73,13 @@ internal class Script private constructor(private val source: ByteArray) {
               redis.call('LTRIM', proc, ack, -1)
             end
             if take > 0 then
-              local taken = redis.call('LRANGE', input, 0, take - 1)
-              if #taken > 0 then
-                redis.call('LTRIM', input, #taken, -1)
-                for start = 1, #taken, 1000 do
-                  redis.call('RPUSH', proc, unpack(taken, start, math.min(start + 999, #taken)))
+              local taken = {}
+              for k = 1, take do
+                local value = redis.call('LMOVE', input, proc, 'LEFT', 'RIGHT')
+                if not value then
+                  break
                 end
+                taken[k] = value
               end
               return taken
             end
