@@ -1,0 +1,310 @@
+package dev.prime.bench;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.Reader;
+import dev.prime.Source;
+import dev.prime.optimus.KryoCodec;
+import dev.prime.optimus.OptimusCore;
+import java.time.Duration;
+import java.util.Arrays;
+import java.util.Collections;
+import java.util.List;
+import java.util.Optional;
+import java.util.concurrent.TimeUnit;
+import org.openjdk.jmh.annotations.Benchmark;
+import org.openjdk.jmh.annotations.BenchmarkMode;
+import org.openjdk.jmh.annotations.Fork;
+import org.openjdk.jmh.annotations.Level;
+import org.openjdk.jmh.annotations.Measurement;
+import org.openjdk.jmh.annotations.Mode;
+import org.openjdk.jmh.annotations.OperationsPerInvocation;
+import org.openjdk.jmh.annotations.OutputTimeUnit;
+import org.openjdk.jmh.annotations.Param;
+import org.openjdk.jmh.annotations.Scope;
+import org.openjdk.jmh.annotations.Setup;
+import org.openjdk.jmh.annotations.State;
+import org.openjdk.jmh.annotations.TearDown;
+import org.openjdk.jmh.annotations.Warmup;
+
+/**
+ * Optimus against raw Jedis on the same embedded Redis: a linked chain of {@code hops} identity
+ * services, for {@code byte[]} values of {@code payloadBytes}.
+ *
+ * <ul>
+ *   <li>{@link #optimusCall} / {@link #rawCall}: latency of one synchronous call through the chain
+ *       (µs per call; per hop = call / hops), against an echo loop of {@code hops} threads that
+ *       {@code BLPOP} and {@code RPUSH} one value at a time.
+ *   <li>{@link #optimusFlow} / {@link #rawFlow}: throughput in values/s of the chain linked to a
+ *       source, fed by {@code publishAll} in batches of {@link #BATCH} while the same thread
+ *       drains the output with a reader, against echo threads that pop and push in pipelined
+ *       batches. One batch is kept in flight ahead of the one being drained, so every stage
+ *       always has work.
+ * </ul>
+ *
+ * <p>Every state starts its own Redis per trial (so no scenario inherits another's lists) and, at
+ * the end of the trial, prints Redis's commands and CPU per value ({@link RedisRig#report}).
+ * Inputs are non-final state fields and change on every call; every result goes back to JMH.
+ * See README.md for the commands and the figures.
+ */
+@BenchmarkMode(Mode.AverageTime)
+@OutputTimeUnit(TimeUnit.MICROSECONDS)
+@Warmup(iterations = 3, time = 2)
+@Measurement(iterations = 5, time = 2)
+@Fork(1)
+public class OptimusBenchmark {
+  /** Values per {@code publishAll} (and per raw pipelined push) in the throughput benchmarks. */
+  public static final int BATCH = 1000;
+
+  private static final Duration TAKE_TIMEOUT = Duration.ofSeconds(30);
+
+  /** One synchronous call through the Optimus chain. */
+  @Benchmark
+  public byte[] optimusCall(OptimusCall state) {
+    return state.call();
+  }
+
+  /** One value through the raw echo loop. */
+  @Benchmark
+  public byte[] rawCall(RawCall state) {
+    return state.call();
+  }
+
+  /** One batch through the Optimus chain linked to a source; JMH reports values/s. */
+  @Benchmark
+  @BenchmarkMode(Mode.Throughput)
+  @OutputTimeUnit(TimeUnit.SECONDS)
+  @OperationsPerInvocation(BATCH)
+  public long optimusFlow(OptimusFlow state) throws InterruptedException {
+    return state.passBatch();
+  }
+
+  /** One batch through the batched raw echo chain; JMH reports values/s. */
+  @Benchmark
+  @BenchmarkMode(Mode.Throughput)
+  @OutputTimeUnit(TimeUnit.SECONDS)
+  @OperationsPerInvocation(BATCH)
+  public long rawFlow(RawFlow state) {
+    return state.passBatch();
+  }
+
+  /** A chain of {@code hops} identity services, linked (each service feeds the next directly). */
+  static Chain<byte[], byte[]> identityChain(OptimusCore core, int hops) {
+    Block<byte[], byte[]> identity = value -> value;
+    Chain<byte[], byte[]> chain = core.chain("hop1", identity);
+    for (int i = 2; i <= hops; i++) {
+      chain = core.link(chain, core.chain("hop" + i, identity));
+    }
+    return chain;
+  }
+
+  /** A core on {@code rig}'s Redis whose sources keep enough values for two batches in flight. */
+  static OptimusCore core(RedisRig rig) {
+    return OptimusCore.builder()
+        .redis(rig.uri())
+        .codec(KryoCodec.standard())
+        .config(CoreConfig.builder().name("bench").sourceRetention(4 * BATCH).build())
+        .build();
+  }
+
+  /** Latency, Optimus: the linked chain's block, a remote call. */
+  @State(Scope.Benchmark)
+  public static class OptimusCall {
+    /** Bytes per value. */
+    @Param({"100", "1024", "10240"})
+    public int payloadBytes;
+
+    /** Services in the chain. */
+    @Param({"1", "4"})
+    public int hops;
+
+    /** The value sent; its first byte changes on every call. */
+    public byte[] payload;
+
+    private RedisRig rig;
+    private OptimusCore core;
+    private Block<byte[], byte[]> block;
+    private long calls;
+
+    /** Starts Redis and the chain's services; checks that a call returns its input. */
+    @Setup(Level.Trial)
+    public void setUp() {
+      rig = new RedisRig();
+      core = core(rig);
+      block = identityChain(core, hops).toBlock();
+      core.start();
+      payload = new byte[payloadBytes];
+      if (!Arrays.equals(block.process(payload), payload)) {
+        throw new IllegalStateException("the Optimus chain does not return its input");
+      }
+      rig.resetStats();
+    }
+
+    byte[] call() {
+      payload[0]++;
+      calls++;
+      return block.process(payload);
+    }
+
+    /** Prints the Redis profile, closes the core and Redis. */
+    @TearDown(Level.Trial)
+    public void tearDown() {
+      rig.report("optimusCall hops=" + hops + " payload=" + payloadBytes, calls, 1);
+      core.close();
+      rig.close();
+    }
+  }
+
+  /** Latency, raw: an echo loop of {@code hops} threads, one value at a time. */
+  @State(Scope.Benchmark)
+  public static class RawCall {
+    /** Bytes per value. */
+    @Param({"100", "1024", "10240"})
+    public int payloadBytes;
+
+    /** Echo threads in the loop. */
+    @Param({"1", "4"})
+    public int hops;
+
+    /** The value sent; its first byte changes on every call. */
+    public byte[] payload;
+
+    private RedisRig rig;
+    private RawEchoChain echo;
+    private long calls;
+
+    /** Starts Redis and the echo threads; checks that a call returns its input. */
+    @Setup(Level.Trial)
+    public void setUp() {
+      rig = new RedisRig();
+      echo = new RawEchoChain(rig, hops, RawEchoChain.Mode.ONE_BY_ONE);
+      payload = new byte[payloadBytes];
+      if (!Arrays.equals(echo.call(payload), payload)) {
+        throw new IllegalStateException("the raw echo loop does not return its input");
+      }
+      rig.resetStats();
+    }
+
+    byte[] call() {
+      payload[0]++;
+      calls++;
+      return echo.call(payload);
+    }
+
+    /** Prints the Redis profile, stops the echo threads and Redis. */
+    @TearDown(Level.Trial)
+    public void tearDown() {
+      rig.report("rawCall hops=" + hops + " payload=" + payloadBytes, calls, 1);
+      echo.close();
+      rig.close();
+    }
+  }
+
+  /** Throughput, Optimus: source, linked chain, reader of its output. */
+  @State(Scope.Benchmark)
+  public static class OptimusFlow {
+    /** Bytes per value. */
+    @Param({"100", "1024", "10240"})
+    public int payloadBytes;
+
+    /** Services in the chain. */
+    @Param({"1", "4"})
+    public int hops;
+
+    /** The batch published by every operation (the same value {@link #BATCH} times). */
+    public List<byte[]> batch;
+
+    private RedisRig rig;
+    private OptimusCore core;
+    private Source<byte[]> input;
+    private Reader<byte[]> output;
+    private long batches;
+
+    /** Starts Redis, the services and the reader, and puts the first batch in flight. */
+    @Setup(Level.Trial)
+    public void setUp() throws InterruptedException {
+      rig = new RedisRig();
+      core = core(rig);
+      input = core.source("input", new EventBlock<byte[]>());
+      output = core.link(input, identityChain(core, hops)).reader();
+      core.start();
+      batch = Collections.nCopies(BATCH, new byte[payloadBytes]);
+      core.publishAll(input, batch);
+      rig.resetStats();
+    }
+
+    /** Publishes one batch, then takes one batch's worth of values (the one published before). */
+    long passBatch() throws InterruptedException {
+      core.publishAll(input, batch);
+      batches++;
+      long bytes = 0;
+      for (int i = 0; i < BATCH; i++) {
+        Optional<byte[]> value = output.take(TAKE_TIMEOUT);
+        if (value.isEmpty()) {
+          throw new IllegalStateException("a value did not come through the Optimus chain within " + TAKE_TIMEOUT);
+        }
+        bytes += value.get().length;
+      }
+      return bytes;
+    }
+
+    /** Checks that no value was lost to retention, prints the Redis profile, closes everything. */
+    @TearDown(Level.Trial)
+    public void tearDown() {
+      long missed = output.missed();
+      rig.report("optimusFlow hops=" + hops + " payload=" + payloadBytes, batches, BATCH);
+      core.close();
+      rig.close();
+      if (missed != 0) {
+        throw new IllegalStateException(missed + " values were trimmed from the reader: raise the retention");
+      }
+    }
+  }
+
+  /** Throughput, raw: pipelined pushes of whole batches, echo threads that pop and push in batches. */
+  @State(Scope.Benchmark)
+  public static class RawFlow {
+    /** Bytes per value. */
+    @Param({"100", "1024", "10240"})
+    public int payloadBytes;
+
+    /** Echo threads in the chain. */
+    @Param({"1", "4"})
+    public int hops;
+
+    /** The batch pushed by every operation (the same value {@link #BATCH} times). */
+    public byte[][] batch;
+
+    private RedisRig rig;
+    private RawEchoChain echo;
+    private long batches;
+
+    /** Starts Redis and the echo threads, and puts the first batch in flight. */
+    @Setup(Level.Trial)
+    public void setUp() {
+      rig = new RedisRig();
+      echo = new RawEchoChain(rig, hops, RawEchoChain.Mode.BATCHED);
+      batch = new byte[BATCH][];
+      Arrays.fill(batch, new byte[payloadBytes]);
+      echo.send(batch);
+      rig.resetStats();
+    }
+
+    /** Pushes one batch, then pops one batch's worth of values (the one pushed before). */
+    long passBatch() {
+      echo.send(batch);
+      batches++;
+      return echo.receive(BATCH);
+    }
+
+    /** Prints the Redis profile, stops the echo threads and Redis. */
+    @TearDown(Level.Trial)
+    public void tearDown() {
+      rig.report("rawFlow hops=" + hops + " payload=" + payloadBytes, batches, BATCH);
+      echo.close();
+      rig.close();
+    }
+  }
+}
