@@ -31,7 +31,7 @@ import org.openjdk.jmh.annotations.Warmup;
 
 /**
  * Optimus against raw Jedis on the same embedded Redis: a linked chain of {@code hops} identity
- * services, for {@code byte[]} values of {@code payloadBytes}.
+ * services, for {@code byte[]} values of {@code payload}.
  *
  * <ul>
  *   <li>{@link #optimusCall} / {@link #rawCall}: latency of one synchronous call through the chain
@@ -90,6 +90,11 @@ public class OptimusBenchmark {
     return state.passBatch();
   }
 
+  /** The number of services in a scenario such as {@code 4hops}. */
+  static int hops(String scenario) {
+    return Integer.parseInt(scenario.substring(0, scenario.indexOf('h')));
+  }
+
   /** A chain of {@code hops} identity services, linked (each service feeds the next directly). */
   static Chain<byte[], byte[]> identityChain(OptimusCore core, int hops) {
     Block<byte[], byte[]> identity = value -> value;
@@ -114,14 +119,14 @@ public class OptimusBenchmark {
   public static class OptimusCall {
     /** Bytes per value. */
     @Param({"100", "1024", "10240"})
-    public int payloadBytes;
+    public int payload;
 
-    /** Services in the chain. */
-    @Param({"1", "4"})
-    public int hops;
+    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
+    @Param({"1hop", "4hops"})
+    public String scenario;
 
     /** The value sent; its first byte changes on every call. */
-    public byte[] payload;
+    public byte[] value;
 
     private RedisRig rig;
     private OptimusCore core;
@@ -133,25 +138,25 @@ public class OptimusBenchmark {
     public void setUp() {
       rig = new RedisRig();
       core = core(rig);
-      block = identityChain(core, hops).toBlock();
+      block = identityChain(core, hops(scenario)).toBlock();
       core.start();
-      payload = new byte[payloadBytes];
-      if (!Arrays.equals(block.process(payload), payload)) {
+      value = new byte[payload];
+      if (!Arrays.equals(block.process(value), value)) {
         throw new IllegalStateException("the Optimus chain does not return its input");
       }
       rig.resetStats();
     }
 
     byte[] call() {
-      payload[0]++;
+      value[0]++;
       calls++;
-      return block.process(payload);
+      return block.process(value);
     }
 
     /** Prints the Redis profile, closes the core and Redis. */
     @TearDown(Level.Trial)
     public void tearDown() {
-      rig.report("optimusCall hops=" + hops + " payload=" + payloadBytes, calls, 1);
+      rig.report("optimusCall " + scenario + " payload=" + payload, calls, 1);
       core.close();
       rig.close();
     }
@@ -162,14 +167,14 @@ public class OptimusBenchmark {
   public static class RawCall {
     /** Bytes per value. */
     @Param({"100", "1024", "10240"})
-    public int payloadBytes;
+    public int payload;
 
-    /** Echo threads in the loop. */
-    @Param({"1", "4"})
-    public int hops;
+    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
+    @Param({"1hop", "4hops"})
+    public String scenario;
 
     /** The value sent; its first byte changes on every call. */
-    public byte[] payload;
+    public byte[] value;
 
     private RedisRig rig;
     private RawEchoChain echo;
@@ -179,24 +184,24 @@ public class OptimusBenchmark {
     @Setup(Level.Trial)
     public void setUp() {
       rig = new RedisRig();
-      echo = new RawEchoChain(rig, hops, RawEchoChain.Mode.ONE_BY_ONE);
-      payload = new byte[payloadBytes];
-      if (!Arrays.equals(echo.call(payload), payload)) {
+      echo = new RawEchoChain(rig, hops(scenario), RawEchoChain.Mode.ONE_BY_ONE);
+      value = new byte[payload];
+      if (!Arrays.equals(echo.call(value), value)) {
         throw new IllegalStateException("the raw echo loop does not return its input");
       }
       rig.resetStats();
     }
 
     byte[] call() {
-      payload[0]++;
+      value[0]++;
       calls++;
-      return echo.call(payload);
+      return echo.call(value);
     }
 
     /** Prints the Redis profile, stops the echo threads and Redis. */
     @TearDown(Level.Trial)
     public void tearDown() {
-      rig.report("rawCall hops=" + hops + " payload=" + payloadBytes, calls, 1);
+      rig.report("rawCall " + scenario + " payload=" + payload, calls, 1);
       echo.close();
       rig.close();
     }
@@ -207,11 +212,11 @@ public class OptimusBenchmark {
   public static class OptimusFlow {
     /** Bytes per value. */
     @Param({"100", "1024", "10240"})
-    public int payloadBytes;
+    public int payload;
 
-    /** Services in the chain. */
-    @Param({"1", "4"})
-    public int hops;
+    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
+    @Param({"1hop", "4hops"})
+    public String scenario;
 
     /** The batch published by every operation (the same value {@link #BATCH} times). */
     public List<byte[]> batch;
@@ -228,9 +233,9 @@ public class OptimusBenchmark {
       rig = new RedisRig();
       core = core(rig);
       input = core.source("input", new EventBlock<byte[]>());
-      output = core.link(input, identityChain(core, hops)).reader();
+      output = core.link(input, identityChain(core, hops(scenario))).reader();
       core.start();
-      batch = Collections.nCopies(BATCH, new byte[payloadBytes]);
+      batch = Collections.nCopies(BATCH, new byte[payload]);
       core.publishAll(input, batch);
       rig.resetStats();
     }
@@ -254,7 +259,7 @@ public class OptimusBenchmark {
     @TearDown(Level.Trial)
     public void tearDown() {
       long missed = output.missed();
-      rig.report("optimusFlow hops=" + hops + " payload=" + payloadBytes, batches, BATCH);
+      rig.report("optimusFlow " + scenario + " payload=" + payload, batches, BATCH);
       core.close();
       rig.close();
       if (missed != 0) {
@@ -268,11 +273,11 @@ public class OptimusBenchmark {
   public static class RawFlow {
     /** Bytes per value. */
     @Param({"100", "1024", "10240"})
-    public int payloadBytes;
+    public int payload;
 
-    /** Echo threads in the chain. */
-    @Param({"1", "4"})
-    public int hops;
+    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
+    @Param({"1hop", "4hops"})
+    public String scenario;
 
     /** The batch pushed by every operation (the same value {@link #BATCH} times). */
     public byte[][] batch;
@@ -285,9 +290,9 @@ public class OptimusBenchmark {
     @Setup(Level.Trial)
     public void setUp() {
       rig = new RedisRig();
-      echo = new RawEchoChain(rig, hops, RawEchoChain.Mode.BATCHED);
+      echo = new RawEchoChain(rig, hops(scenario), RawEchoChain.Mode.BATCHED);
       batch = new byte[BATCH][];
-      Arrays.fill(batch, new byte[payloadBytes]);
+      Arrays.fill(batch, new byte[payload]);
       echo.send(batch);
       rig.resetStats();
     }
@@ -302,7 +307,7 @@ public class OptimusBenchmark {
     /** Prints the Redis profile, stops the echo threads and Redis. */
     @TearDown(Level.Trial)
     public void tearDown() {
-      rig.report("rawFlow hops=" + hops + " payload=" + payloadBytes, batches, BATCH);
+      rig.report("rawFlow " + scenario + " payload=" + payload, batches, BATCH);
       echo.close();
       rig.close();
     }

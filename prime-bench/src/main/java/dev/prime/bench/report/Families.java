@@ -2,6 +2,7 @@ package dev.prime.bench.report;
 
 import dev.prime.bench.AsyncChainBenchmark;
 import dev.prime.bench.AsyncHandOffBenchmark;
+import dev.prime.bench.OptimusBenchmark;
 import dev.prime.bench.SyncChainBenchmark;
 import dev.prime.bench.SyncPeerBenchmark;
 import dev.prime.bench.SyncSourceBenchmark;
@@ -19,6 +20,10 @@ public final class Families {
   /** The asynchronous table's title. */
   public static final String ASYNC = "Asynchronous mode";
 
+  /** The Optimus table's title: one synchronous call through a linked chain, against raw Jedis. */
+  public static final String OPTIMUS = "Optimus against a raw Jedis echo loop, same Redis (per call)";
+
+  private static final List<String> HOPS = List.of("1hop", "4hops");
   private static final List<String> BOTH = List.of("monomorphic", "polluted");
   private static final List<String> MONO = List.of("monomorphic");
 
@@ -42,7 +47,10 @@ public final class Families {
           new Family(ASYNC, "Reactor publishOn", AsyncHandOffBenchmark.class, "reactorPublishOn",
               false, MONO),
           new Family(ASYNC, "LMAX Disruptor", AsyncHandOffBenchmark.class, "disruptor", false,
-              MONO));
+              MONO),
+          new Family(OPTIMUS, "raw Jedis echo loop", OptimusBenchmark.class, "rawCall", true, HOPS),
+          new Family(OPTIMUS, "Optimus linked chain", OptimusBenchmark.class, "optimusCall", false,
+              HOPS));
 
   private Families() {}
 }
