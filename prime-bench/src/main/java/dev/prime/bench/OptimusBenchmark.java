@@ -90,11 +90,6 @@ public class OptimusBenchmark {
     return state.passBatch();
   }
 
-  /** The number of services in a scenario such as {@code 4hops}. */
-  static int hops(String scenario) {
-    return Integer.parseInt(scenario.substring(0, scenario.indexOf('h')));
-  }
-
   /** A chain of {@code hops} identity services, linked (each service feeds the next directly). */
   static Chain<byte[], byte[]> identityChain(OptimusCore core, int hops) {
     Block<byte[], byte[]> identity = value -> value;
@@ -114,49 +109,92 @@ public class OptimusBenchmark {
         .build();
   }
 
-  /** Latency, Optimus: the linked chain's block, a remote call. */
+  /** The parameters every state of this benchmark shares (named as the Table 1 suite names them). */
   @State(Scope.Benchmark)
-  public static class OptimusCall {
+  public static class Scenario {
     /** Bytes per value. */
     @Param({"100", "1024", "10240"})
     public int payload;
 
-    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
+    /** Services in the chain: {@code 1hop} or {@code 4hops}. */
     @Param({"1hop", "4hops"})
     public String scenario;
 
+    /** The number of services in the chain. */
+    int hops() {
+      return Integer.parseInt(scenario.substring(0, scenario.indexOf('h')));
+    }
+
+    /** How the Redis profile of {@code method} in this scenario is labelled. */
+    String label(String method) {
+      return method + " " + scenario + " payload=" + payload;
+    }
+  }
+
+  /** What the two latency states share: the value sent, the call, the Redis profile. */
+  abstract static class Calls {
     /** The value sent; its first byte changes on every call. */
     public byte[] value;
 
-    private RedisRig rig;
-    private OptimusCore core;
-    private Block<byte[], byte[]> block;
+    RedisRig rig;
+    private String label;
     private long calls;
 
-    /** Starts Redis and the chain's services; checks that a call returns its input. */
-    @Setup(Level.Trial)
-    public void setUp() {
+    /** Starts Redis and makes the value; the subclass then builds what it calls. */
+    final void open(Scenario scenario, String method) {
       rig = new RedisRig();
-      core = core(rig);
-      block = identityChain(core, hops(scenario)).toBlock();
-      core.start();
-      value = new byte[payload];
-      if (!Arrays.equals(block.process(value), value)) {
-        throw new IllegalStateException("the Optimus chain does not return its input");
+      label = scenario.label(method);
+      value = new byte[scenario.payload];
+    }
+
+    /** Checks that a call returns its input, then starts the Redis profile afresh. */
+    final void check() {
+      if (!Arrays.equals(send(value), value)) {
+        throw new IllegalStateException(label + " does not return its input");
       }
       rig.resetStats();
     }
 
-    byte[] call() {
+    /** One round trip of {@code value}. */
+    abstract byte[] send(byte[] value);
+
+    final byte[] call() {
       value[0]++;
       calls++;
+      return send(value);
+    }
+
+    /** Prints the Redis profile per call. */
+    final void report() {
+      rig.report(label, calls, 1);
+    }
+  }
+
+  /** Latency, Optimus: the linked chain's block, a remote call. */
+  @State(Scope.Benchmark)
+  public static class OptimusCall extends Calls {
+    private OptimusCore core;
+    private Block<byte[], byte[]> block;
+
+    /** Starts Redis and the chain's services; checks that a call returns its input. */
+    @Setup(Level.Trial)
+    public void setUp(Scenario scenario) {
+      open(scenario, "optimusCall");
+      core = core(rig);
+      block = identityChain(core, scenario.hops()).toBlock();
+      core.start();
+      check();
+    }
+
+    @Override
+    byte[] send(byte[] value) {
       return block.process(value);
     }
 
     /** Prints the Redis profile, closes the core and Redis. */
     @TearDown(Level.Trial)
     public void tearDown() {
-      rig.report("optimusCall " + scenario + " payload=" + payload, calls, 1);
+      report();
       core.close();
       rig.close();
     }
@@ -164,44 +202,26 @@ public class OptimusBenchmark {
 
   /** Latency, raw: an echo loop of {@code hops} threads, one value at a time. */
   @State(Scope.Benchmark)
-  public static class RawCall {
-    /** Bytes per value. */
-    @Param({"100", "1024", "10240"})
-    public int payload;
-
-    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
-    @Param({"1hop", "4hops"})
-    public String scenario;
-
-    /** The value sent; its first byte changes on every call. */
-    public byte[] value;
-
-    private RedisRig rig;
+  public static class RawCall extends Calls {
     private RawEchoChain echo;
-    private long calls;
 
     /** Starts Redis and the echo threads; checks that a call returns its input. */
     @Setup(Level.Trial)
-    public void setUp() {
-      rig = new RedisRig();
-      echo = new RawEchoChain(rig, hops(scenario), RawEchoChain.Mode.ONE_BY_ONE);
-      value = new byte[payload];
-      if (!Arrays.equals(echo.call(value), value)) {
-        throw new IllegalStateException("the raw echo loop does not return its input");
-      }
-      rig.resetStats();
+    public void setUp(Scenario scenario) {
+      open(scenario, "rawCall");
+      echo = new RawEchoChain(rig, scenario.hops(), RawEchoChain.Mode.ONE_BY_ONE);
+      check();
     }
 
-    byte[] call() {
-      value[0]++;
-      calls++;
+    @Override
+    byte[] send(byte[] value) {
       return echo.call(value);
     }
 
     /** Prints the Redis profile, stops the echo threads and Redis. */
     @TearDown(Level.Trial)
     public void tearDown() {
-      rig.report("rawCall " + scenario + " payload=" + payload, calls, 1);
+      report();
       echo.close();
       rig.close();
     }
@@ -210,18 +230,11 @@ public class OptimusBenchmark {
   /** Throughput, Optimus: source, linked chain, reader of its output. */
   @State(Scope.Benchmark)
   public static class OptimusFlow {
-    /** Bytes per value. */
-    @Param({"100", "1024", "10240"})
-    public int payload;
-
-    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
-    @Param({"1hop", "4hops"})
-    public String scenario;
-
     /** The batch published by every operation (the same value {@link #BATCH} times). */
     public List<byte[]> batch;
 
     private RedisRig rig;
+    private String label;
     private OptimusCore core;
     private Source<byte[]> input;
     private Reader<byte[]> output;
@@ -229,13 +242,14 @@ public class OptimusBenchmark {
 
     /** Starts Redis, the services and the reader, and puts the first batch in flight. */
     @Setup(Level.Trial)
-    public void setUp() throws InterruptedException {
+    public void setUp(Scenario scenario) throws InterruptedException {
       rig = new RedisRig();
+      label = scenario.label("optimusFlow");
       core = core(rig);
       input = core.source("input", new EventBlock<byte[]>());
-      output = core.link(input, identityChain(core, hops(scenario))).reader();
+      output = core.link(input, identityChain(core, scenario.hops())).reader();
       core.start();
-      batch = Collections.nCopies(BATCH, new byte[payload]);
+      batch = Collections.nCopies(BATCH, new byte[scenario.payload]);
       core.publishAll(input, batch);
       rig.resetStats();
     }
@@ -259,7 +273,7 @@ public class OptimusBenchmark {
     @TearDown(Level.Trial)
     public void tearDown() {
       long missed = output.missed();
-      rig.report("optimusFlow " + scenario + " payload=" + payload, batches, BATCH);
+      rig.report(label, batches, BATCH);
       core.close();
       rig.close();
       if (missed != 0) {
@@ -271,28 +285,22 @@ public class OptimusBenchmark {
   /** Throughput, raw: pipelined pushes of whole batches, echo threads that pop and push in batches. */
   @State(Scope.Benchmark)
   public static class RawFlow {
-    /** Bytes per value. */
-    @Param({"100", "1024", "10240"})
-    public int payload;
-
-    /** Services in the chain: {@code 1hop} or {@code 4hops} (the suite's scenario parameter). */
-    @Param({"1hop", "4hops"})
-    public String scenario;
-
     /** The batch pushed by every operation (the same value {@link #BATCH} times). */
     public byte[][] batch;
 
     private RedisRig rig;
+    private String label;
     private RawEchoChain echo;
     private long batches;
 
     /** Starts Redis and the echo threads, and puts the first batch in flight. */
     @Setup(Level.Trial)
-    public void setUp() {
+    public void setUp(Scenario scenario) {
       rig = new RedisRig();
-      echo = new RawEchoChain(rig, hops(scenario), RawEchoChain.Mode.BATCHED);
+      label = scenario.label("rawFlow");
+      echo = new RawEchoChain(rig, scenario.hops(), RawEchoChain.Mode.BATCHED);
       batch = new byte[BATCH][];
-      Arrays.fill(batch, new byte[payload]);
+      Arrays.fill(batch, new byte[scenario.payload]);
       echo.send(batch);
       rig.resetStats();
     }
@@ -307,7 +315,7 @@ public class OptimusBenchmark {
     /** Prints the Redis profile, stops the echo threads and Redis. */
     @TearDown(Level.Trial)
     public void tearDown() {
-      rig.report("rawFlow " + scenario + " payload=" + payload, batches, BATCH);
+      rig.report(label, batches, BATCH);
       echo.close();
       rig.close();
     }

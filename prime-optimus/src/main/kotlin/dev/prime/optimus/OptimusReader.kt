@@ -29,6 +29,7 @@ internal class OptimusReader<T>(
     private var delivered = 0 // at the head of the processing list, handed out, not yet acknowledged
     private var recovering = false
     private val recent = RecentIds()
+    private val backoff = Backoff()
 
     override fun take(): T = synchronized(this) { next(Long.MAX_VALUE)!! }
 
@@ -61,7 +62,6 @@ internal class OptimusReader<T>(
     /** The next value; waits until [deadline] (a nanoTime; null: do not wait). */
     @Suppress("UNCHECKED_CAST")
     private fun next(deadline: Long?): T? {
-        var backoff = RedisSession.FIRST_BACKOFF_MS
         while (true) {
             core.checkOpen()
             deliver()?.let { return it as T }
@@ -82,13 +82,12 @@ internal class OptimusReader<T>(
                 val seconds = (remaining / 1e9).coerceIn(MIN_WAIT_SECONDS, RedisConnections.POLL_SECONDS)
                 session.once { it.blmove(list, processing, ListDirection.LEFT, ListDirection.RIGHT, seconds) }
                     ?.let(buffer::add)
-                backoff = RedisSession.FIRST_BACKOFF_MS
+                backoff.reset()
             } catch (e: Exception) {
                 if (core.connections.isClosed) throw CoreClosedException(core.name()).apply { initCause(e) }
                 if (!RedisConnections.isTransient(e)) throw e
                 recovering = true
-                core.connections.pause(backoff)
-                backoff = (backoff * 2).coerceAtMost(RedisSession.MAX_BACKOFF_MS)
+                core.connections.pause(backoff.next())
             }
         }
     }

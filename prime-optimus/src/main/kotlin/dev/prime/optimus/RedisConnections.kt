@@ -107,7 +107,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * @throws CoreClosedException once the core is closed
      */
     fun <T> retrying(op: (Jedis) -> T): T {
-        var backoff = FIRST_BACKOFF_MS
+        var backoff: Backoff? = null // made on the first failure only: this is on every call's path
         while (true) {
             connections.ensureOpen()
             try {
@@ -115,8 +115,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
             } catch (e: Exception) {
                 if (connections.isClosed) throw CoreClosedException(connections.coreName).apply { initCause(e) }
                 if (!RedisConnections.isTransient(e)) throw e
-                connections.pause(backoff)
-                backoff = (backoff * 2).coerceAtMost(MAX_BACKOFF_MS)
+                connections.pause((backoff ?: Backoff().also { backoff = it }).next())
             }
         }
     }
@@ -125,9 +124,22 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         jedis?.let(connections::release)
         jedis = null
     }
+}
 
-    companion object {
-        const val FIRST_BACKOFF_MS = 20L
-        const val MAX_BACKOFF_MS = 1000L
+/** The waits between attempts to reach Redis: 20 ms, doubling up to 1 s, until [reset]. */
+internal class Backoff {
+    private var wait = FIRST_MS
+
+    /** The wait before the next attempt; the one after it is twice as long. */
+    fun next(): Long = wait.also { wait = (wait * 2).coerceAtMost(MAX_MS) }
+
+    /** Back to the shortest wait, after a success. */
+    fun reset() {
+        wait = FIRST_MS
+    }
+
+    private companion object {
+        const val FIRST_MS = 20L
+        const val MAX_MS = 1000L
     }
 }

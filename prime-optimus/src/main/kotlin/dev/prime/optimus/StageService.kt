@@ -47,7 +47,7 @@ internal class StageService(
 
     private suspend fun loop(session: RedisSession) {
         var pending: List<ByteArray>? = null // null: read the processing list first
-        var backoff = RedisSession.FIRST_BACKOFF_MS
+        val backoff = Backoff()
         var outage = false
         while (true) {
             currentCoroutineContext().ensureActive()
@@ -65,14 +65,13 @@ internal class StageService(
                 }
                 if (outage) LOG.info("service '{}' reconnected to Redis", name)
                 outage = false
-                backoff = RedisSession.FIRST_BACKOFF_MS
+                backoff.reset()
             } catch (e: Exception) {
                 if (core.connections.isClosed) return
                 if (!outage) LOG.warn("service '{}' lost Redis ({}); retrying", name, e.toString())
                 outage = true
                 pending = null
-                delay(backoff)
-                backoff = (backoff * 2).coerceAtMost(RedisSession.MAX_BACKOFF_MS)
+                delay(backoff.next())
             }
         }
     }

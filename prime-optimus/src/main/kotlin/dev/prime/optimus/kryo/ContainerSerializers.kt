@@ -17,35 +17,33 @@ import com.esotericsoftware.kryo.io.Output
 /** Pre-size at most this many slots; larger collections grow as elements actually arrive. */
 private const val MAX_PRESIZE = 1024
 
-/** Writes any `java.util.List`; reads an [ArrayList]. */
-internal class ListSerializer : Serializer<List<*>>(false, false) {
-    override fun write(kryo: Kryo, output: Output, list: List<*>) {
-        output.writeVarInt(list.size, true)
-        for (element in list) kryo.writeClassAndObject(output, element)
+/**
+ * Writes any collection as its size and elements; reads the collection [create] makes of a
+ * (capped) expected size: an [ArrayList] for lists, a [LinkedHashSet] for sets.
+ */
+internal class CollectionSerializer(
+    private val what: String,
+    private val create: (Int) -> MutableCollection<Any?>,
+) : Serializer<Collection<*>>(false, false) {
+    override fun write(kryo: Kryo, output: Output, collection: Collection<*>) {
+        output.writeVarInt(collection.size, true)
+        for (element in collection) kryo.writeClassAndObject(output, element)
     }
 
-    override fun read(kryo: Kryo, input: Input, type: Class<out List<*>>): List<*> {
+    override fun read(kryo: Kryo, input: Input, type: Class<out Collection<*>>): Collection<*> {
         val size = input.readVarInt(true)
-        input.requireAvailable(size, 1, "a list")
-        val list = ArrayList<Any?>(minOf(size, MAX_PRESIZE))
-        repeat(size) { list.add(kryo.readClassAndObject(input)) }
-        return list
-    }
-}
-
-/** Writes any `java.util.Set`; reads a [LinkedHashSet]. */
-internal class SetSerializer : Serializer<Set<*>>(false, false) {
-    override fun write(kryo: Kryo, output: Output, set: Set<*>) {
-        output.writeVarInt(set.size, true)
-        for (element in set) kryo.writeClassAndObject(output, element)
+        input.requireAvailable(size, 1, what)
+        val collection = create(minOf(size, MAX_PRESIZE))
+        repeat(size) { collection.add(kryo.readClassAndObject(input)) }
+        return collection
     }
 
-    override fun read(kryo: Kryo, input: Input, type: Class<out Set<*>>): Set<*> {
-        val size = input.readVarInt(true)
-        input.requireAvailable(size, 1, "a set")
-        val set = LinkedHashSet<Any?>(minOf(size, MAX_PRESIZE))
-        repeat(size) { set.add(kryo.readClassAndObject(input)) }
-        return set
+    companion object {
+        /** Any `java.util.List`, read as an [ArrayList]. */
+        fun ofLists() = CollectionSerializer("a list") { ArrayList(it) }
+
+        /** Any `java.util.Set`, read as a [LinkedHashSet]. */
+        fun ofSets() = CollectionSerializer("a set") { LinkedHashSet(it) }
     }
 }
 
