@@ -120,6 +120,40 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         }
     }
 
+    /**
+     * Like [retrying], but gives up at [deadline] (a [System.nanoTime]; `null`: never) with a
+     * [RedisUnavailableException] that names [what] (e.g. "publish to source 'imu'") and the last
+     * error. The wait between attempts never overshoots the deadline.
+     *
+     * @throws CoreClosedException once the core is closed
+     * @throws RedisUnavailableException when the deadline passes while Redis is unreachable
+     */
+    fun <T> retryingUntil(deadline: Long?, what: String, op: (Jedis) -> T): T {
+        if (deadline == null) return retrying(op)
+        val started = System.nanoTime()
+        var backoff: Backoff? = null
+        while (true) {
+            connections.ensureOpen()
+            try {
+                return once(op)
+            } catch (e: Exception) {
+                if (connections.isClosed) throw CoreClosedException(connections.coreName).apply { initCause(e) }
+                if (!RedisConnections.isTransient(e)) throw e
+                val left = deadline - System.nanoTime()
+                if (left <= 0) {
+                    val waited = Duration.ofNanos(System.nanoTime() - started)
+                    throw RedisUnavailableException(
+                        "$what gave up after ${waited.toMillis()} ms: Redis is unreachable ($e); check that Redis " +
+                            "runs and is reachable from this process",
+                        e,
+                    )
+                }
+                val wait = (backoff ?: Backoff().also { backoff = it }).next()
+                connections.pause(minOf(wait, ceilMillis(left)))
+            }
+        }
+    }
+
     override fun close() {
         jedis?.let(connections::release)
         jedis = null
@@ -143,3 +177,6 @@ internal class Backoff {
         const val MAX_MS = 1000L
     }
 }
+
+/** Nanoseconds to whole milliseconds, rounded up (at least 1). */
+private fun ceilMillis(nanos: Long): Long = ((nanos + 999_999) / 1_000_000).coerceAtLeast(1)
