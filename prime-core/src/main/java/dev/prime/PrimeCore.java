@@ -11,10 +11,14 @@ import dev.prime.blocks.RepeaterLoopBlock;
 import dev.prime.blocks.SyncCollectorBlock;
 import dev.prime.blocks.UnionBlock;
 import dev.prime.internal.MemorySource;
-import dev.prime.internal.Names;
 import dev.prime.internal.ServiceThreads;
 import dev.prime.internal.SourceService;
+import dev.prime.spi.MediaSource;
+import dev.prime.spi.TopologyRecorder;
+import dev.prime.topology.Topology;
 import java.util.ArrayList;
+import java.util.Collections;
+import java.util.LinkedHashSet;
 import java.util.List;
 import java.util.Objects;
 import java.util.Set;
@@ -74,7 +78,7 @@ public abstract class PrimeCore implements AutoCloseable {
 
   private final CoreConfig config;
   private final String name;
-  private final Names names = new Names();
+  private volatile TopologyRecorder recorder; // made on first use: it refers to this core
   private final ServiceThreads services;
   private final List<MemorySource<?>> memorySources = new ArrayList<>(); // guarded by itself
   private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by memorySources
@@ -128,7 +132,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, O> Chain<I, O> chain(Block<I, O> block) {
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return newChain(names.fresh("chain"), block);
+    return newChain(topologyRecorder().blockChain(null), block);
   }
 
   /**
@@ -145,7 +149,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return newChain(names.claim(name), block);
+    return newChain(topologyRecorder().blockChain(name), block);
   }
 
   /**
@@ -173,8 +177,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
     return newChain(
-        derivedName(first.name() + ">" + second.name(), "link"),
-        new LinkBlock<>(first.toBlock(), second.toBlock()));
+        topologyRecorder().link(first, second), new LinkBlock<>(first.toBlock(), second.toBlock()));
   }
 
   // ---------------------------------------------------------------- templates
@@ -195,7 +198,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
     return newChain(
-        derivedName("if(" + then.name() + "|" + otherwise.name() + ")", "if"),
+        topologyRecorder().ifElse(then, otherwise),
         new IfThenElseBlock<>(condition, then.toBlock(), otherwise.toBlock()));
   }
 
@@ -210,7 +213,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
     requireChains(body);
     return newChain(
-        derivedName("forEach(" + body.name() + ")", "forEach"), new ForEachBlock<>(body.toBlock()));
+        topologyRecorder().forEach(body), new ForEachBlock<>(body.toBlock()));
   }
 
   /**
@@ -225,7 +228,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
     requireChains(a, b);
-    return newChain(unionName(a, b), UnionBlock.of(a.toBlock(), b.toBlock()));
+    return newChain(topologyRecorder().union(a, b), UnionBlock.of(a.toBlock(), b.toBlock()));
   }
 
   /**
@@ -243,7 +246,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
     requireChains(a, b, c);
-    return newChain(unionName(a, b, c), UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock()));
+    return newChain(topologyRecorder().union(a, b, c), UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock()));
   }
 
   /**
@@ -264,7 +267,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
     requireChains(a, b, c, d);
     return newChain(
-        unionName(a, b, c, d),
+        topologyRecorder().union(a, b, c, d),
         UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock()));
   }
 
@@ -288,7 +291,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
     requireChains(a, b, c, d, e);
     return newChain(
-        unionName(a, b, c, d, e),
+        topologyRecorder().union(a, b, c, d, e),
         UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock(), e.toBlock()));
   }
 
@@ -306,7 +309,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(events, "events must not be null");
     requireChains(chain);
     return newChain(
-        derivedName("fork(" + chain.name() + ")", "fork"), new ForkBlock<>(chain.toBlock(), events));
+        topologyRecorder().fork(chain), new ForkBlock<>(chain.toBlock(), events));
   }
 
   /**
@@ -326,7 +329,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
     return newChain(
-        derivedName("guard(" + chain.name() + ")", "guard"),
+        topologyRecorder().guard(chain),
         new GuardBlock<>(pass, chain.toBlock(), substitute));
   }
 
@@ -341,6 +344,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
     requireChains(chain);
     String sharedName = chain.name();
+    String sharedNode = topologyRecorder().isolate(chain);
     Block<I, O> shared = new IsolateBlock<>(chain.toBlock());
     AtomicInteger users = new AtomicInteger();
     return new Isolated<>() {
@@ -352,7 +356,9 @@ public abstract class PrimeCore implements AutoCloseable {
       @Override
       public Chain<I, O> newUser() {
         ensureOpen();
-        return newChain(derivedName(sharedName + "@" + users.incrementAndGet(), "isolated"), shared);
+        return newChain(
+            topologyRecorder().isolatedUser(sharedNode, sharedName, users.incrementAndGet()),
+            shared);
       }
     };
   }
@@ -368,8 +374,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <T> Chain<Token, T> syncCollector(Source<T> source) {
     requireSource(source);
     return newChain(
-        derivedName("collect(" + source.name() + ")", "collect"),
-        new SyncCollectorBlock<>(source.reader()));
+        topologyRecorder().syncCollector(source), new SyncCollectorBlock<>(serviceReader(source)));
   }
 
   /**
@@ -384,8 +389,8 @@ public abstract class PrimeCore implements AutoCloseable {
   public <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
     requireSource(source);
     return newChain(
-        derivedName("collectAll(" + source.name() + ")", "collectAll"),
-        new AsyncCollectorBlock<>(source.reader()));
+        topologyRecorder().asyncCollector(source),
+        new AsyncCollectorBlock<>(serviceReader(source)));
   }
 
   /**
@@ -404,7 +409,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(repeater, "repeater block must not be null");
     requireChains(inner);
     return newChain(
-        derivedName("repeat(" + inner.name() + ")", "repeat"),
+        topologyRecorder().repeater(inner, null),
         new RepeaterLoopBlock<>(inner.toBlock(), null, repeater));
   }
 
@@ -429,7 +434,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     Chain<Token, List<E>> collector = asyncCollector(source);
     return newChain(
-        derivedName("repeat(" + inner.name() + ")", "repeat"),
+        topologyRecorder().repeater(inner, collector.name()),
         new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater));
   }
 
@@ -445,7 +450,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <T> Source<T> source(EventBlock<T> events) {
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(names.fresh("source"), events);
+    return newSource(topologyRecorder().eventSource(null), events);
   }
 
   /**
@@ -460,7 +465,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(names.claim(name), events);
+    return newSource(topologyRecorder().eventSource(name), events);
   }
 
   /**
@@ -503,11 +508,11 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     requireChains(chain);
     Block<I, O> block = chain.toBlock();
-    String name = derivedName(source.name() + ">" + chain.name(), "link");
+    String name = topologyRecorder().sourceLink(source, chain);
     MemorySource<O> out = newMemorySource(name);
     runService(
         name,
-        source.reader(),
+        serviceReader(source),
         value -> {
           O output = block.process(value);
           if (output != null) {
@@ -528,11 +533,11 @@ public abstract class PrimeCore implements AutoCloseable {
   protected <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
-    String name = derivedName("filter(" + source.name() + ")", "filter");
+    String name = topologyRecorder().filter(source);
     MemorySource<T> out = newMemorySource(name);
     runService(
         name,
-        source.reader(),
+        serviceReader(source),
         value -> {
           if (predicate.test(value)) {
             out.publish(value);
@@ -554,11 +559,11 @@ public abstract class PrimeCore implements AutoCloseable {
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
-    String name = derivedName("flatMap(" + source.name() + ")", "flatMap");
+    String name = topologyRecorder().flatMap(source);
     MemorySource<R> out = newMemorySource(name);
     runService(
         name,
-        source.reader(),
+        serviceReader(source),
         value -> {
           Iterable<? extends R> outputs = block.process(value);
           if (outputs != null) {
@@ -582,16 +587,69 @@ public abstract class PrimeCore implements AutoCloseable {
   protected <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
-    runService(derivedName("listen(" + source.name() + ")", "listen"), source.reader(), listener);
+    runService(topologyRecorder().listener(source), serviceReader(source), listener);
   }
 
   /**
-   * The names of the asynchronous services this core runs in this process.
+   * The services of this core's diagram that this process runs, in declaration order: every
+   * chain made of a block, every template chain and every filter, flat-map and listener (see
+   * {@link dev.prime.topology.TopologyNode}); linked chains and sources are not services. The
+   * same declarations give the same names on every media; a media that spreads services over
+   * processes (Optimus) leaves out those hosted elsewhere.
    *
    * @return a snapshot
    */
-  public Set<String> serviceNames() {
-    return services.names();
+  public final Set<String> serviceNames() {
+    Topology topology = topology();
+    Set<String> hosted = new LinkedHashSet<>();
+    for (String service : topology.services()) {
+      if (topology.isHostedHere(service)) {
+        hosted.add(service);
+      }
+    }
+    return Collections.unmodifiableSet(hosted);
+  }
+
+  /**
+   * The diagram declared on this core so far, as data: chains, sources, links, templates,
+   * services, readers and where each service is hosted. The same declarations give an equal
+   * topology, and the same Mermaid and DOT drawings, on every media.
+   *
+   * @return an immutable snapshot
+   */
+  public final Topology topology() {
+    return topologyRecorder().snapshot(this::isHostedHere);
+  }
+
+  /**
+   * Whether this process runs a service of the diagram. Every media that runs in one process
+   * hosts all of them; a media that spreads services over processes overrides this.
+   *
+   * @param service a service's name
+   * @return true by default
+   */
+  protected boolean isHostedHere(String service) {
+    return true;
+  }
+
+  /**
+   * Where this core's diagram is recorded and every name is made; a media names what it builds
+   * through it (see {@link TopologyRecorder}).
+   *
+   * @return the recorder of this core
+   */
+  protected final TopologyRecorder topologyRecorder() {
+    TopologyRecorder r = recorder;
+    if (r == null) {
+      synchronized (lifecycle) {
+        r = recorder;
+        if (r == null) {
+          r = new TopologyRecorder(this);
+          recorder = r;
+        }
+      }
+    }
+    return r;
   }
 
   // ---------------------------------------------------------------- lifecycle
@@ -673,7 +731,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a unique name
    */
   protected final String derivedName(String preferred, String kind) {
-    return names.derived(preferred, kind);
+    return topologyRecorder().derived(preferred, kind);
   }
 
   /**
@@ -726,7 +784,9 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   private <T> MemorySource<T> newMemorySource(String name) {
-    MemorySource<T> source = new MemorySource<>(this, name, config.sourceRetention());
+    MemorySource<T> source =
+        new MemorySource<>(
+            this, name, config.sourceRetention(), () -> topologyRecorder().reader(name));
     synchronized (memorySources) {
       ensureOpen();
       memorySources.add(source);
@@ -734,11 +794,8 @@ public abstract class PrimeCore implements AutoCloseable {
     return source;
   }
 
-  private String unionName(Chain<?, ?>... parts) {
-    StringBuilder b = new StringBuilder("union(");
-    for (int i = 0; i < parts.length; i++) {
-      b.append(i == 0 ? "" : "|").append(parts[i].name());
-    }
-    return derivedName(b.append(')').toString(), "union");
+  /** A reader for one of this core's services: not one of the program's, so not recorded. */
+  private static <T> Reader<T> serviceReader(Source<T> source) {
+    return source instanceof MediaSource<T> media ? media.serviceReader() : source.reader();
   }
 }

@@ -3,7 +3,7 @@ package dev.prime.internal;
 import dev.prime.CoreClosedException;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
-import dev.prime.Source;
+import dev.prime.spi.MediaSource;
 import java.lang.invoke.VarHandle;
 import java.time.Duration;
 import java.util.ArrayList;
@@ -35,12 +35,13 @@ import java.util.concurrent.locks.ReentrantLock;
  *
  * @param <T> value type
  */
-public final class MemorySource<T> implements Source<T> {
+public final class MemorySource<T> implements MediaSource<T> {
   /** Rounds a reader spins, watching for a publication, before it parks. */
   static final int SPINS = 4_096;
 
   private final PrimeCore core;
   private final String name;
+  private final Runnable onReader;
   private final Object[] ring;
   private final ReentrantLock lock = new ReentrantLock();
   private final Condition published = lock.newCondition();
@@ -55,8 +56,20 @@ public final class MemorySource<T> implements Source<T> {
    * @param retention how many latest values to keep
    */
   public MemorySource(PrimeCore core, String name, int retention) {
+    this(core, name, retention, () -> {});
+  }
+
+  /**
+   * @param core the owning core
+   * @param name the source's name
+   * @param retention how many latest values to keep
+   * @param onReader called when the program opens a reader ({@link #reader()}, not {@link
+   *     #serviceReader()}), before it is made: the core records it in its topology
+   */
+  public MemorySource(PrimeCore core, String name, int retention, Runnable onReader) {
     this.core = Objects.requireNonNull(core, "core");
     this.name = Objects.requireNonNull(name, "name");
+    this.onReader = Objects.requireNonNull(onReader, "onReader");
     if (retention < 1) {
       throw new IllegalArgumentException("retention must be at least 1, was " + retention);
     }
@@ -113,6 +126,13 @@ public final class MemorySource<T> implements Source<T> {
 
   @Override
   public Reader<T> reader() {
+    Reader<T> reader = serviceReader();
+    onReader.run();
+    return reader;
+  }
+
+  @Override
+  public Reader<T> serviceReader() {
     lock.lock();
     try {
       if (closed) {

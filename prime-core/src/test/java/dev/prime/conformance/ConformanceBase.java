@@ -28,22 +28,6 @@ public interface ConformanceBase {
     return newCore(CoreConfig.defaults());
   }
 
-  /**
-   * How many in-process services linking one chain to a source adds (1 for media that run each
-   * source-linked chain as a service thread in this process).
-   */
-  default int servicesPerSourceLink() {
-    return 1;
-  }
-
-  /**
-   * How many in-process services a chain made by linking {@code chains} chains runs as when it
-   * is linked to a source (1 for media that fuse linked chains; Optimus keeps one service per
-   * chain and re-routes their lists).
-   */
-  default int servicesOfLinkedChain(int chains) {
-    return servicesPerSourceLink();
-  }
 
   /** Upper bound for any single wait in the kit; generous because the machine may be busy. */
   default Duration patience() {

@@ -11,4 +11,5 @@ public interface MediaConformance
         TemplateConformance,
         ErrorConformance,
         LifecycleConformance,
-        AwkwardConformance {}
+        AwkwardConformance,
+        TopologyConformance {}

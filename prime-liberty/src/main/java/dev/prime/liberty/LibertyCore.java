@@ -49,9 +49,9 @@ public final class LibertyCore extends PrimeCore {
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
+    String name = topologyRecorder().link(first, second);
     Block<I, M> a = LibertyChain.take(this, first);
     Block<M, O> b = LibertyChain.take(this, second);
-    return LibertyChain.composite(
-        this, derivedName(first.name() + ">" + second.name(), "link"), new LinkBlock<>(a, b));
+    return LibertyChain.composite(this, name, new LinkBlock<>(a, b));
   }
 }

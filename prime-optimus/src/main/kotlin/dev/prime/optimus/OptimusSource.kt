@@ -2,21 +2,23 @@ package dev.prime.optimus
 
 import dev.prime.PrimeCore
 import dev.prime.Reader
-import dev.prime.Source
+import dev.prime.spi.MediaSource
 
 /**
  * A source kept in Redis: its newest values in a log list (for readers that come late) and a set
  * of reader lists it publishes to. Every process that declares the same topology has an equal
  * object for it; any of them can publish and read.
  */
-internal class OptimusSource<T>(private val core: OptimusCore, private val name: String) : Source<T> {
+internal class OptimusSource<T>(private val core: OptimusCore, private val name: String) : MediaSource<T> {
     val keys = SourceKeys(core.keys.sourceLog(name), core.keys.sourceReaders(name), core.config().sourceRetention())
 
     override fun core(): PrimeCore = core
 
     override fun name(): String = name
 
-    override fun reader(): Reader<T> = core.newReader(this)
+    override fun reader(): Reader<T> = core.newReader(this).also { core.recordReader(this) }
+
+    override fun serviceReader(): Reader<T> = core.newReader(this)
 
     override fun toString(): String = "OptimusSource[$name]"
 }

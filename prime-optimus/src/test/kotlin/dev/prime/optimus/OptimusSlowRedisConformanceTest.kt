@@ -13,8 +13,6 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     override fun newCore(config: CoreConfig): PrimeCore =
         OptimusCore.builder().config(config).redis(proxy.url).build()
 
-    override fun servicesOfLinkedChain(chains: Int): Int = chains
-
     private companion object {
         val proxy: SlowProxy by lazy { SlowProxy(TestRedis.url, 500_000) }
     }

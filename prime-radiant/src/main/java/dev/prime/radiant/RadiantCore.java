@@ -64,10 +64,10 @@ public final class RadiantCore extends PrimeCore {
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
+    String name = topologyRecorder().link(first, second);
     Node a = RadiantChain.take(this, first);
     Node b = RadiantChain.take(this, second);
-    return new RadiantChain<>(
-        this, derivedName(first.name() + ">" + second.name(), "link"), new Node.Link(a, b));
+    return new RadiantChain<>(this, name, new Node.Link(a, b));
   }
 
   @Override
@@ -75,17 +75,17 @@ public final class RadiantCore extends PrimeCore {
       Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
+    String name = topologyRecorder().ifElse(then, otherwise);
     Node a = RadiantChain.take(this, then);
     Node b = RadiantChain.take(this, otherwise);
-    String name = derivedName("if(" + then.name() + "|" + otherwise.name() + ")", "if");
     return new RadiantChain<>(this, name, new Node.IfElse(name, condition, a, b));
   }
 
   @Override
   public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
     requireChains(body);
+    String name = topologyRecorder().forEach(body);
     Node node = RadiantChain.take(this, body);
-    String name = derivedName("forEach(" + body.name() + ")", "forEach");
     return new RadiantChain<>(this, name, new Node.ForEach(name, node));
   }
 
@@ -116,8 +116,8 @@ public final class RadiantCore extends PrimeCore {
   public <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
     requireChains(chain);
+    String name = topologyRecorder().fork(chain);
     Node node = RadiantChain.take(this, chain);
-    String name = derivedName("fork(" + chain.name() + ")", "fork");
     return new RadiantChain<>(this, name, new Node.Fork(name, node, events));
   }
 
@@ -127,21 +127,19 @@ public final class RadiantCore extends PrimeCore {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
+    String name = topologyRecorder().guard(chain);
     Node node = RadiantChain.take(this, chain);
-    String name = derivedName("guard(" + chain.name() + ")", "guard");
     return new RadiantChain<>(this, name, new Node.Guard(name, pass, node, substitute));
   }
 
   /** The tuple type is chosen by the number of parts, in the generated code. */
   private <I, T> Chain<I, T> fusedUnion(Chain<?, ?>... parts) {
     requireChains(parts);
+    String name = topologyRecorder().union(parts);
     Node[] nodes = new Node[parts.length];
-    StringBuilder preferred = new StringBuilder("union(");
     for (int i = 0; i < parts.length; i++) {
       nodes[i] = RadiantChain.take(this, parts[i]);
-      preferred.append(i == 0 ? "" : "|").append(parts[i].name());
     }
-    String name = derivedName(preferred.append(')').toString(), "union");
     return new RadiantChain<>(this, name, new Node.Union(name, List.of(nodes)));
   }
 }
