@@ -38,40 +38,42 @@ public final class CoreConfig {
     this.shutdownTimeout = b.shutdownTimeout;
   }
 
-  /** The default settings. */
+  /** {@return the default settings} */
   public static CoreConfig defaults() {
     return DEFAULTS;
   }
 
-  /** A builder starting from the defaults. */
+  /** {@return A builder starting from the defaults} */
   public static Builder builder() {
     return new Builder();
   }
 
   /**
-   * The core's name, used in thread names and log lines, or {@code null} for a generated one
-   * ({@code liberty-1}, ...).
+   * {@return the core's name, used in thread names and log lines, or {@code null} for a
+   * generated one ({@code liberty-1}, ...)}
    */
   public String name() {
     return name;
   }
 
-  /** How many of its latest values each source keeps for readers that have not read them yet. */
+  /**
+   * {@return how many of its latest values each source keeps for readers that have not read them yet}
+   */
   public int sourceRetention() {
     return sourceRetention;
   }
 
-  /** Where the failures of asynchronous services go. */
+  /** {@return where the failures of asynchronous services go} */
   public ErrorHandler errorHandler() {
     return errorHandler;
   }
 
-  /** How long {@link PrimeCore#close()} waits for each group of services to stop. */
+  /** {@return how long {@link PrimeCore#close()} waits for each group of services to stop} */
   public Duration shutdownTimeout() {
     return shutdownTimeout;
   }
 
-  /** A builder starting from these settings. */
+  /** {@return A builder starting from these settings} */
   public Builder toBuilder() {
     Builder b = new Builder();
     b.name = name;
@@ -144,7 +146,7 @@ public final class CoreConfig {
       return this;
     }
 
-    /** The settings. */
+    /** {@return the settings} */
     public CoreConfig build() {
       return new CoreConfig(this);
     }

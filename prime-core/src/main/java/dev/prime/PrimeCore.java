@@ -99,22 +99,22 @@ public abstract class PrimeCore implements AutoCloseable {
     this.services = new ServiceThreads(name);
   }
 
-  /** The core's name (from {@link CoreConfig#name()} or generated). */
+  /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
   public final String name() {
     return name;
   }
 
-  /** The core's settings. */
+  /** {@return the core's settings} */
   public final CoreConfig config() {
     return config;
   }
 
-  /** Whether {@link #start()} was called. */
+  /** {@return whether {@link #start()} was called} */
   public final boolean isStarted() {
     return state != State.NEW;
   }
 
-  /** Whether {@link #close()} was called. */
+  /** {@return whether {@link #close()} was called} */
   public final boolean isClosed() {
     return state == State.CLOSED;
   }

@@ -55,6 +55,6 @@ public interface Reader<T> {
    */
   List<T> drain();
 
-  /** How many values this reader lost because it fell behind the source's retention. */
+  /** {@return how many values this reader lost because it fell behind the source's retention} */
   long missed();
 }

@@ -60,7 +60,7 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
     }
   }
 
-  /** Whether this chain was consumed. */
+  /** {@return whether this chain was consumed} */
   public final boolean isUsed() {
     return used.get();
   }

@@ -75,7 +75,7 @@ public final class Topology {
     return new Topology(nodes, new LinkedHashSet<>(hostedElsewhere));
   }
 
-  /** Every node, in declaration order. */
+  /** {@return every node, in declaration order} */
   public List<TopologyNode> nodes() {
     return nodes;
   }
@@ -90,12 +90,12 @@ public final class Topology {
     return Optional.ofNullable(byName.get(name));
   }
 
-  /** The names of the services, in declaration order (see {@link TopologyNode}). */
+  /** {@return the names of the services, in declaration order (see {@link TopologyNode})} */
   public Set<String> services() {
     return services;
   }
 
-  /** The services this process does not run, sorted; empty when it runs all of them. */
+  /** {@return the services this process does not run, sorted; empty when it runs all of them} */
   public Set<String> hostedElsewhere() {
     return hostedElsewhere;
   }

@@ -36,16 +36,16 @@ public sealed interface TopologyNode
         TopologyNode.Listener,
         TopologyNode.ReaderNode {
 
-  /** The node's name: unique among the nodes of a topology. */
+  /** {@return the node's name: unique among the nodes of a topology} */
   String name();
 
-  /** The nodes this node is made of or reads, in a fixed order. */
+  /** {@return the nodes this node is made of or reads, in a fixed order} */
   List<Part> parts();
 
-  /** Whether this node is a service (see the interface's docs). */
+  /** {@return whether this node is a service (see the interface's docs)} */
   boolean isService();
 
-  /** Whether this node is a chain (values go in and come out), as opposed to a source. */
+  /** {@return whether this node is a chain (values go in and come out), as opposed to a source} */
   boolean isChain();
 
   /**
@@ -56,7 +56,13 @@ public sealed interface TopologyNode
    * @param flow how the node uses it
    */
   record Part(String role, String node, Flow flow) {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param role what the part is to the node that uses it ({@code then}, {@code body}, ...)
+     * @param node the part's name
+     * @param flow how the node uses it
+     */
     public Part {
       Objects.requireNonNull(role, "role");
       Objects.requireNonNull(node, "node");
@@ -78,7 +84,11 @@ public sealed interface TopologyNode
    * @param name the chain's name
    */
   record BlockChain(String name) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the chain's name
+     */
     public BlockChain {
       Objects.requireNonNull(name, "name");
     }
@@ -107,7 +117,13 @@ public sealed interface TopologyNode
    * @param chain its name in that core
    */
   record ForeignChain(String name, String core, String chain) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name its name in this topology
+     * @param core the core it belongs to
+     * @param chain its name in that core
+     */
     public ForeignChain {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(core, "core");
@@ -138,7 +154,13 @@ public sealed interface TopologyNode
    * @param second runs on the first's outputs
    */
   record Link(String name, String first, String second) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the linked chain's name ({@code first>second})
+     * @param first runs first
+     * @param second runs on the first's outputs
+     */
     public Link {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(first, "first");
@@ -169,7 +191,13 @@ public sealed interface TopologyNode
    * @param otherwise the chain for the others
    */
   record IfElse(String name, String then, String otherwise) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the template chain's name
+     * @param then the chain for inputs that satisfy the condition
+     * @param otherwise the chain for the others
+     */
     public IfElse {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(then, "then");
@@ -199,7 +227,12 @@ public sealed interface TopologyNode
    * @param body the chain for one element
    */
   record ForEach(String name, String body) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the template chain's name
+     * @param body the chain for one element
+     */
     public ForEach {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(body, "body");
@@ -228,7 +261,12 @@ public sealed interface TopologyNode
    * @param chains the chains, in tuple order
    */
   record Union(String name, List<String> chains) implements TopologyNode {
-    /** Checks the components and copies the list. */
+    /**
+     * Checks the components and copies the list.
+     *
+     * @param name the template chain's name
+     * @param chains the chains, in tuple order
+     */
     public Union {
       Objects.requireNonNull(name, "name");
       chains = List.copyOf(chains);
@@ -264,7 +302,12 @@ public sealed interface TopologyNode
    * @param chain the forked chain
    */
   record Fork(String name, String chain) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the template chain's name
+     * @param chain the forked chain
+     */
     public Fork {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(chain, "chain");
@@ -293,7 +336,12 @@ public sealed interface TopologyNode
    * @param chain the guarded chain
    */
   record Guard(String name, String chain) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the template chain's name
+     * @param chain the guarded chain
+     */
     public Guard {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(chain, "chain");
@@ -323,7 +371,12 @@ public sealed interface TopologyNode
    * @param shared the shared chain
    */
   record IsolatedUser(String name, String shared) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the user chain's name ({@code shared@n})
+     * @param shared the shared chain
+     */
     public IsolatedUser {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(shared, "shared");
@@ -352,7 +405,12 @@ public sealed interface TopologyNode
    * @param source the source it reads
    */
   record SyncCollector(String name, String source) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the collector chain's name
+     * @param source the source it reads
+     */
     public SyncCollector {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(source, "source");
@@ -381,7 +439,12 @@ public sealed interface TopologyNode
    * @param source the source it reads
    */
   record AsyncCollector(String name, String source) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the collector chain's name
+     * @param source the source it reads
+     */
     public AsyncCollector {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(source, "source");
@@ -412,7 +475,13 @@ public sealed interface TopologyNode
    *     null}
    */
   record Repeater(String name, String inner, String collector) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the repeater chain's name
+     * @param inner the chain run each round
+     * @param collector the async collector of the source it watches between rounds, or {@code null}
+     */
     public Repeater {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(inner, "inner");
@@ -443,7 +512,11 @@ public sealed interface TopologyNode
    * @param name the source's name
    */
   record EventSource(String name) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the source's name
+     */
     public EventSource {
       Objects.requireNonNull(name, "name");
     }
@@ -472,7 +545,13 @@ public sealed interface TopologyNode
    * @param source its name in that core
    */
   record ForeignSource(String name, String core, String source) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name its name in this topology
+     * @param core the core it belongs to
+     * @param source its name in that core
+     */
     public ForeignSource {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(core, "core");
@@ -504,7 +583,13 @@ public sealed interface TopologyNode
    * @param chain the chain that runs on it
    */
   record SourceLink(String name, String source, String chain) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the output source's name ({@code source>chain})
+     * @param source the input source
+     * @param chain the chain that runs on it
+     */
     public SourceLink {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(source, "source");
@@ -534,7 +619,12 @@ public sealed interface TopologyNode
    * @param source the input source
    */
   record Filter(String name, String source) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the filtered source's name
+     * @param source the input source
+     */
     public Filter {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(source, "source");
@@ -563,7 +653,12 @@ public sealed interface TopologyNode
    * @param source the input source
    */
   record FlatMap(String name, String source) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the flattened source's name
+     * @param source the input source
+     */
     public FlatMap {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(source, "source");
@@ -592,7 +687,12 @@ public sealed interface TopologyNode
    * @param source the source it listens to
    */
   record Listener(String name, String source) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param name the listener's name
+     * @param source the source it listens to
+     */
     public Listener {
       Objects.requireNonNull(name, "name");
       Objects.requireNonNull(source, "source");
@@ -623,7 +723,12 @@ public sealed interface TopologyNode
    * @param number 1 for the first reader the program opened on that source, 2 for the next, ...
    */
   record ReaderNode(String source, int number) implements TopologyNode {
-    /** Checks the components. */
+    /**
+     * Checks the components.
+     *
+     * @param source the source it reads
+     * @param number 1 for the first reader the program opened on that source, 2 for the next, ...
+     */
     public ReaderNode {
       Objects.requireNonNull(source, "source");
       if (number < 1) {

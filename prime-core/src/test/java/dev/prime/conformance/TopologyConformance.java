@@ -131,8 +131,9 @@ public interface TopologyConformance extends ConformanceBase {
 
   @Test
   default void chainsAndSourcesOfAnotherCoreAreForeignNodes() throws InterruptedException {
-    try (PrimeCore core = newCore();
-        PrimeCore other = newCore(CoreConfig.builder().name("topology-other").build())) {
+    // declared first, closed last: the local service never sees its foreign source closed
+    try (PrimeCore other = newCore(CoreConfig.builder().name("topology-other").build());
+        PrimeCore core = newCore()) {
       EventBlock<Integer> readings = new EventBlock<>();
       Source<Integer> theirs = other.source("readings", readings);
       Source<Integer> mine = core.link(theirs, core.chain("local", (Integer x) -> -x));
