@@ -14,6 +14,7 @@ import dev.prime.internal.MemorySource;
 import dev.prime.internal.Names;
 import dev.prime.internal.ServiceThreads;
 import dev.prime.internal.SourceService;
+import dev.prime.spi.AbstractChain;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
@@ -405,7 +406,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireChains(inner);
     return newChain(
         derivedName("repeat(" + inner.name() + ")", "repeat"),
-        new RepeaterLoopBlock<>(inner.toBlock(), null, repeater));
+        new RepeaterLoopBlock<>(inner.toBlock(), null, repeater, this::ensureOpen));
   }
 
   /**
@@ -430,7 +431,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Chain<Token, List<E>> collector = asyncCollector(source);
     return newChain(
         derivedName("repeat(" + inner.name() + ")", "repeat"),
-        new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater));
+        new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater, this::ensureOpen));
   }
 
   // ---------------------------------------------------------------- sources
@@ -677,9 +678,13 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Checks that chains given to a link or template are usable.
+   * Checks that chains given to a link or template are usable, before anything is consumed: a
+   * link or template that fails changes nothing (every chain given to it stays usable). Call it
+   * first, then consume the chains.
    *
    * @param chains the chains
+   * @throws ChainAlreadyUsedException if a chain was consumed before or is given twice
+   * @throws CoreClosedException if this core or a chain's core is closed
    */
   protected final void requireChains(Chain<?, ?>... chains) {
     ensureOpen();
@@ -695,6 +700,9 @@ public abstract class PrimeCore implements AutoCloseable {
       }
       if (chain.core().isClosed()) {
         throw new CoreClosedException(chain.core().name());
+      }
+      if (chain instanceof AbstractChain<?, ?> known && known.isUsed()) {
+        throw new ChainAlreadyUsedException(chain.name());
       }
     }
   }
@@ -726,7 +734,8 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   private <T> MemorySource<T> newMemorySource(String name) {
-    MemorySource<T> source = new MemorySource<>(this, name, config.sourceRetention());
+    MemorySource<T> source =
+        new MemorySource<>(this, name, config.sourceRetention(), config.valueCopies());
     synchronized (memorySources) {
       ensureOpen();
       memorySources.add(source);

@@ -45,6 +45,26 @@ public interface ConformanceBase {
     return servicesPerSourceLink();
   }
 
+  /**
+   * Whether a synchronous call runs the chain's blocks on the caller's thread (true for the
+   * in-memory media). Then a {@link VirtualMachineError} a block throws reaches the caller
+   * unchanged. A media whose chains are services (Optimus) runs the block on a service's thread:
+   * a {@code VirtualMachineError} ends that service, as it ends any thread, and the caller gets no
+   * reply; the kit's test of that case is skipped there.
+   */
+  default boolean blocksRunOnTheCallersThread() {
+    return true;
+  }
+
+  /**
+   * The codec the kit gives to {@link CoreConfig.Builder#copyValues}: by default
+   * {@link SerializingCodec}, which copies any {@link java.io.Serializable} value. A media with a
+   * codec of its own may return it; Optimus copies through its own codec whatever this is.
+   */
+  default dev.prime.spi.ValueCodec copyCodec() {
+    return SerializingCodec.INSTANCE;
+  }
+
   /** Upper bound for any single wait in the kit; generous because the machine may be busy. */
   default Duration patience() {
     return Duration.ofSeconds(20);
