@@ -213,6 +213,11 @@ public interface InterruptConformance extends ConformanceBase {
     CoreConfig config = CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
     PrimeCore core = newCore(config);
     EventBlock<Integer> events = new EventBlock<>();
+    // What the core logs meanwhile, with a binding that writes to System.err (slf4j-simple, as in
+    // the project's tests): a close that could not stop its own thread says so there.
+    java.io.PrintStream stderr = System.err;
+    java.io.ByteArrayOutputStream logged = new java.io.ByteArrayOutputStream();
+    System.setErr(new java.io.PrintStream(new TeeStream(stderr, logged), true));
     CountDownLatch closeReturned = new CountDownLatch(1);
     AtomicReference<Thread> closer = new AtomicReference<>();
     AtomicReference<Throwable> closeFailed = new AtomicReference<>();
@@ -235,6 +240,8 @@ public interface InterruptConformance extends ConformanceBase {
       assertTrue(
           closeReturned.await(patience().toMillis(), TimeUnit.MILLISECONDS),
           "close() called from a service's thread did not return within " + patience());
+    } finally {
+      System.setErr(stderr);
     }
     if (closeFailed.get() != null) {
       throw new AssertionError("close() from a service thread threw", closeFailed.get());
@@ -242,5 +249,32 @@ public interface InterruptConformance extends ConformanceBase {
     closer.get().join(patience().toMillis());
     assertFalse(closer.get().isAlive(), "the service that closed its core ended");
     assertNoThreadsLeft(core);
+    String log = logged.toString(java.nio.charset.StandardCharsets.UTF_8);
+    for (String complaint : List.of("abandoned", "still running")) {
+      assertFalse(log.contains(complaint), "the core complained while closing itself:\n" + log);
+    }
+  }
+
+  /** Writes to two streams. */
+  final class TeeStream extends java.io.OutputStream {
+    private final java.io.OutputStream first;
+    private final java.io.OutputStream second;
+
+    TeeStream(java.io.OutputStream first, java.io.OutputStream second) {
+      this.first = first;
+      this.second = second;
+    }
+
+    @Override
+    public synchronized void write(int b) throws java.io.IOException {
+      first.write(b);
+      second.write(b);
+    }
+
+    @Override
+    public synchronized void write(byte[] b, int off, int len) throws java.io.IOException {
+      first.write(b, off, len);
+      second.write(b, off, len);
+    }
   }
 }
