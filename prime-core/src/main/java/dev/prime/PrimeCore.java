@@ -48,7 +48,12 @@ import java.util.function.Predicate;
  *       per chain); a distributed media may keep one service per chain, connected without an
  *       extra hop.
  *   <li>A block that throws reaches a synchronous caller as {@link ChainFailedException}; in a
- *       service it goes to the {@link ErrorHandler} and the service carries on.
+ *       service it goes to the {@link ErrorHandler} and the service carries on (see {@link Block}
+ *       for every kind of throwable).
+ *   <li>A link or template that throws consumes nothing: every chain given to it stays usable.
+ *   <li>Every blocking wait (a reader's {@code take}, a sync collector, a caller waiting for an
+ *       isolated chain, a repeater between rounds) ends when its thread is interrupted or the core
+ *       closes. {@link #close()} may be called from a service's own thread (a listener).
  *   <li>{@link #close()} stops every service within {@link CoreConfig#shutdownTimeout()} and
  *       releases every thread and connection; a closed core throws {@link CoreClosedException}.
  * </ul>
