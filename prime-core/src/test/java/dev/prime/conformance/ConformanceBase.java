@@ -39,7 +39,9 @@ public interface ConformanceBase {
   /**
    * How many in-process services a chain made by linking {@code chains} chains runs as when it
    * is linked to a source (1 for media that fuse linked chains; Optimus keeps one service per
-   * chain and re-routes their lists).
+   * chain and re-routes their lists). It also says what the error handler gets as the input when
+   * the second of two linked chains fails: a fused media (1 service for 2 chains) gives the value
+   * that entered the linked chain, the others the value that entered the failing chain.
    */
   default int servicesOfLinkedChain(int chains) {
     return servicesPerSourceLink();
