@@ -298,8 +298,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         val timeout = config().shutdownTimeout()
-        runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
-            ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
+        // A service closing its own core (a listener) cannot wait for itself: it waits for the
+        // other services' threads only, in shutdownResources.
+        if (Thread.currentThread() !in threads) {
+            runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
+                ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
+        }
         shutdownResources()
     }
 
@@ -307,11 +311,19 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         dispatcher.close()
         executor.shutdownNow()
         val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
+        // A service closing its own core was interrupted by shutdownNow: it still waits for the others.
+        var interrupted = Thread.interrupted()
         for (thread in threads) {
-            thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
+            if (thread === Thread.currentThread()) continue // a service closing its own core
+            try {
+                thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
+            } catch (_: InterruptedException) {
+                interrupted = true
+            }
             if (thread.isAlive) LOG.warn("core '{}': thread {} still running after {}", name(), thread.name, config().shutdownTimeout())
         }
         embedded?.close()
+        if (interrupted) Thread.currentThread().interrupt()
     }
 
     // ------------------------------------------------------------------ for the media's classes
@@ -354,10 +366,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     internal fun takeFailure(id: Long): ChainFailedException? = failures.remove(id)
 
-    internal fun reportFailure(service: String, input: Any, error: Exception) {
+    /**
+     * Gives a failure to the error handler as the user knows it: a [ChainFailedException] (a chain
+     * called from this service failed) under the failing chain's name, with its block's own throwable.
+     */
+    internal fun reportFailure(service: String, input: Any, error: Throwable) {
+        val failed = error as? ChainFailedException
         try {
-            config().errorHandler().handle(service, input, error)
-        } catch (e: Exception) {
+            if (failed?.cause != null) {
+                config().errorHandler().handle(failed.chainName(), input, failed.cause)
+            } else {
+                config().errorHandler().handle(service, input, error)
+            }
+        } catch (e: VirtualMachineError) {
+            throw e
+        } catch (e: Throwable) {
             LOG.warn("the error handler of core '{}' failed on service '{}': {}", name(), service, e.toString())
         }
     }

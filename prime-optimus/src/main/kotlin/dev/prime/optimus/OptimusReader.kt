@@ -64,6 +64,7 @@ internal class OptimusReader<T>(
     private fun next(deadline: Long?): T? {
         while (true) {
             core.checkOpen()
+            if (deadline != null && Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value")
             deliver()?.let { return it as T }
             try {
                 if (recovering) {

@@ -54,6 +54,9 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         }
         val deadline = core.callTimeout?.let { System.nanoTime() + it.toNanos() }
         while (true) {
+            if (Thread.currentThread().isInterrupted) {
+                throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
+            }
             val reply = session.retrying {
                 it.blmove(replyKey, replyKey, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
             }

@@ -7,4 +7,10 @@ import dev.prime.conformance.MediaConformance
 /** The whole conformance kit on Optimus, every core a namespace of one embedded Redis. */
 class OptimusConformanceTest : MediaConformance {
     override fun newCore(config: CoreConfig): PrimeCore = TestRedis.core(config)
+
+    /** Optimus keeps one service per linked chain (their lists are re-routed, no extra hop). */
+    override fun servicesOfLinkedChain(chains: Int): Int = chains
+
+    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    override fun blocksRunOnTheCallersThread(): Boolean = false
 }

@@ -13,6 +13,11 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     override fun newCore(config: CoreConfig): PrimeCore =
         OptimusCore.builder().config(config).redis(proxy.url).build()
 
+    override fun servicesOfLinkedChain(chains: Int): Int = chains
+
+    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    override fun blocksRunOnTheCallersThread(): Boolean = false
+
     private companion object {
         val proxy: SlowProxy by lazy { SlowProxy(TestRedis.url, 500_000) }
     }
