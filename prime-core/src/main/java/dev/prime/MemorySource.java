@@ -1,8 +1,5 @@
-package dev.prime.internal;
+package dev.prime;
 
-import dev.prime.CoreClosedException;
-import dev.prime.PrimeCore;
-import dev.prime.Reader;
 import dev.prime.spi.MediaSource;
 import dev.prime.spi.ValueCodec;
 import java.lang.invoke.VarHandle;
@@ -17,6 +14,8 @@ import java.util.concurrent.locks.ReentrantLock;
 
 /**
  * An in-memory, broadcast source: the default source of every media that runs in one process.
+ * Package-private next to {@link PrimeCore}, whose default it is: the API package never depends on
+ * {@code dev.prime.internal}, which depends on nothing else of Prime (see PackageCyclesTest).
  *
  * <p>Design: values go into a ring buffer of {@code retention} slots, indexed by a global
  * sequence number. A reader is just a cursor (the sequence number of its next value), so any
@@ -41,7 +40,7 @@ import java.util.concurrent.locks.ReentrantLock;
  *
  * @param <T> value type
  */
-public final class MemorySource<T> implements MediaSource<T> {
+final class MemorySource<T> implements MediaSource<T> {
   /** Rounds a reader spins, watching for a publication, before it parks. */
   static final int SPINS = 4_096;
 
@@ -62,7 +61,7 @@ public final class MemorySource<T> implements MediaSource<T> {
    * @param name the source's name
    * @param retention how many latest values to keep
    */
-  public MemorySource(PrimeCore core, String name, int retention) {
+  MemorySource(PrimeCore core, String name, int retention) {
     this(core, name, retention, null, () -> {});
   }
 
@@ -75,7 +74,7 @@ public final class MemorySource<T> implements MediaSource<T> {
    * @param onReader called when the program opens a reader ({@link #reader()}, not {@link
    *     #serviceReader()}), before it is made: the core records it in its topology
    */
-  public MemorySource(
+  MemorySource(
       PrimeCore core, String name, int retention, ValueCodec copies, Runnable onReader) {
     this.copies = copies;
     this.core = Objects.requireNonNull(core, "core");
