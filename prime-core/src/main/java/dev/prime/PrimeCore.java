@@ -11,10 +11,10 @@ import dev.prime.blocks.RepeaterLoopBlock;
 import dev.prime.blocks.SyncCollectorBlock;
 import dev.prime.blocks.UnionBlock;
 import dev.prime.internal.ServiceThreads;
+import dev.prime.spi.AbstractChain;
 import dev.prime.spi.MediaSource;
 import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.Topology;
-import dev.prime.spi.AbstractChain;
 import java.util.ArrayList;
 import java.util.Collections;
 import java.util.LinkedHashSet;
@@ -24,6 +24,7 @@ import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.function.Consumer;
+import java.util.function.Function;
 import java.util.function.Predicate;
 
 /**
@@ -623,6 +624,31 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final Topology topology() {
     return topologyRecorder().snapshot(this::isHostedHere);
+  }
+
+  /**
+   * Consumes a chain given to a link or template and returns it in this media's compiled form.
+   * Which chains are this media's own is the topology's rule: a chain of this core gives the form
+   * its media compiled it to ({@link AbstractChain#compiledForm()}); any other chain (of another
+   * core, or of another media: a {@link dev.prime.topology.TopologyNode.ForeignChain} of the
+   * topology) is consumed through its {@link Chain#toBlock()}, and {@code foreign} turns that block
+   * into the form. A media never needs to recognise chains by their class.
+   *
+   * @param chain the chain, already checked by {@link #requireChains}
+   * @param form the type of this media's compiled form
+   * @param foreign makes the form of another core's chain from its block
+   * @param <F> the form
+   * @return the chain's form
+   */
+  protected final <F> F part(
+      Chain<?, ?> chain, Class<F> form, Function<Block<?, ?>, ? extends F> foreign) {
+    if (chain.core() == this && chain instanceof AbstractChain<?, ?> own) {
+      F compiled = own.consumeAsPart(form);
+      if (compiled != null) {
+        return compiled;
+      }
+    }
+    return foreign.apply(chain.toBlock());
   }
 
   /**

@@ -151,11 +151,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * becomes one service, named as the topology names it ([node], `hosted(name)`), running its block.
      */
     private fun stagesOf(chain: Chain<*, *>, node: String): List<StageSpec> =
-        if (chain is OptimusChain<*, *> && chain.core() === this) {
-            chain.take()
-        } else {
-            listOf(StageSpec(node, chainLogic(chain.toBlock())))
-        }
+        part(chain, Stages::class.java) { block -> Stages(listOf(StageSpec(node, chainLogic(block)))) }.specs
 
     // ------------------------------------------------------------------ sources
 

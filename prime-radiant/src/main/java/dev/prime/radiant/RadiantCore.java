@@ -60,13 +60,16 @@ public final class RadiantCore extends PrimeCore {
     return new RadiantChain<>(this, name, new Node.Leaf(name, block));
   }
 
-  /** Links two chains into one tree; chains of another core become opaque nodes. */
+  /**
+   * Links two chains into one tree; chains of another core become opaque nodes (see {@link
+   * PrimeCore#part}).
+   */
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
     String name = topologyRecorder().link(first, second);
-    Node a = RadiantChain.take(this, first);
-    Node b = RadiantChain.take(this, second);
+    Node a = part(first, Node.class, Node.Opaque::new);
+    Node b = part(second, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.Link(a, b));
   }
 
@@ -76,8 +79,8 @@ public final class RadiantCore extends PrimeCore {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
     String name = topologyRecorder().ifElse(then, otherwise);
-    Node a = RadiantChain.take(this, then);
-    Node b = RadiantChain.take(this, otherwise);
+    Node a = part(then, Node.class, Node.Opaque::new);
+    Node b = part(otherwise, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.IfElse(name, condition, a, b));
   }
 
@@ -85,7 +88,7 @@ public final class RadiantCore extends PrimeCore {
   public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
     requireChains(body);
     String name = topologyRecorder().forEach(body);
-    Node node = RadiantChain.take(this, body);
+    Node node = part(body, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.ForEach(name, node));
   }
 
@@ -117,7 +120,7 @@ public final class RadiantCore extends PrimeCore {
     Objects.requireNonNull(events, "events must not be null");
     requireChains(chain);
     String name = topologyRecorder().fork(chain);
-    Node node = RadiantChain.take(this, chain);
+    Node node = part(chain, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.Fork(name, node, events));
   }
 
@@ -128,7 +131,7 @@ public final class RadiantCore extends PrimeCore {
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
     String name = topologyRecorder().guard(chain);
-    Node node = RadiantChain.take(this, chain);
+    Node node = part(chain, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.Guard(name, pass, node, substitute));
   }
 
@@ -138,7 +141,7 @@ public final class RadiantCore extends PrimeCore {
     String name = topologyRecorder().union(parts);
     Node[] nodes = new Node[parts.length];
     for (int i = 0; i < parts.length; i++) {
-      nodes[i] = RadiantChain.take(this, parts[i]);
+      nodes[i] = part(parts[i], Node.class, Node.Opaque::new);
     }
     return new RadiantChain<>(this, name, new Node.Union(name, List.of(nodes)));
   }
