@@ -272,6 +272,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     override fun onClose() {
+        // close() from a service's or listener's own thread must not wait for that thread
+        val ownThread = Thread.currentThread() in threads
         subscriptions.forEach { it.close() }
         subscriptions.clear()
         scope.cancel()
@@ -295,26 +297,45 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         val timeout = config().shutdownTimeout()
-        runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
-            ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
+        if (!ownThread) {
+            runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
+                ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
+        }
         shutdownResources()
     }
 
+    /** Stops the threads (all but the calling one, which ends when its service returns) and the embedded Redis. */
     private fun shutdownResources() {
-        dispatcher.close()
-        executor.shutdownNow()
-        val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
-        for (thread in threads) {
-            thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
-            if (thread.isAlive) LOG.warn("core '{}': thread {} still running after {}", name(), thread.name, config().shutdownTimeout())
+        val current = Thread.currentThread()
+        try {
+            dispatcher.close()
+            executor.shutdown()
+            threads.filter { it !== current }.forEach(Thread::interrupt)
+            val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
+            for (thread in threads) {
+                if (thread === current) continue
+                thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
+                if (thread.isAlive) LOG.warn("core '{}': thread {} still running after {}", name(), thread.name, config().shutdownTimeout())
+            }
+        } catch (_: InterruptedException) {
+            Thread.currentThread().interrupt() // stop waiting; the threads end on their own
+        } finally {
+            embedded?.close()
         }
-        embedded?.close()
     }
 
     // ------------------------------------------------------------------ for the media's classes
 
     internal fun checkOpen() {
         ensureOpen()
+    }
+
+    /** Fails at once if [start] was not called: before it, no service of this process runs. */
+    internal fun checkStarted(what: String) {
+        check(isStarted) {
+            "$what of core '${name()}' before start(): start() was not called; declare the topology, then call " +
+                "core.start(), then call chains and read sources"
+        }
     }
 
     internal fun encode(value: Any?): ByteArray? = value?.let(codec::encode)
@@ -329,7 +350,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val list = keys.reader(UUID.randomUUID().toString())
         register(source.keys, list)
         readers += source.keys to list
-        return OptimusReader(this, list)
+        return OptimusReader(this, source.keys, list)
+    }
+
+    /** A closed reader: the core's close need not remove its lists. */
+    internal fun forgetReader(list: ByteArray) {
+        readers.removeIf { it.second === list }
     }
 
     internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: CallerSlot(this, replyKey(slotNumbers.incrementAndGet())).also {
@@ -466,7 +492,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
         /**
          * How long a synchronous call waits for its reply (default 60 s); `Duration.ZERO` waits
-         * as long as it takes.
+         * as long as it takes. The bound holds while Redis is unreachable too (within about a
+         * second): the call then fails with [RedisUnavailableException], or with a
+         * [dev.prime.PrimeException] saying the service did not reply.
          */
         public fun callTimeout(timeout: Duration): Builder = apply {
             require(!timeout.isNegative) { "call timeout must not be negative, was $timeout" }
