@@ -216,6 +216,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      *
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or a
      *     value is `null` or of a type the codec does not allow
+     * @throws IllegalStateException if the core is not started yet
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
@@ -416,6 +417,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
+        checkStarted("publishing to an Optimus source")
         withSession { session ->
             session.retrying { StepBatch(source.log, source.log, source).apply { envelopes.forEach(::publish) }.run(it, 0, 0) }
         }

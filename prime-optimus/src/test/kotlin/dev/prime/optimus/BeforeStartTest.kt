@@ -25,6 +25,22 @@ class BeforeStartTest {
     }
 
     @Test
+    fun publishingBeforeStartFailsAtOnceAndPublishesNothing() {
+        TestRedis.core().use { core ->
+            val events = EventBlock<Int>()
+            val source = core.source("early-publish", events)
+            val reader = source.reader()
+            for (publish in listOf({ events.publish(1) }, { core.publishAll(source, listOf(2, 3)) })) {
+                val e = assertThrows(IllegalStateException::class.java) { publish() }
+                assertTrue(e.message!!.contains("start()") && e.message!!.contains(core.name()), e.message)
+            }
+            core.start()
+            events.publish(4)
+            assertEquals(listOf(4), listOf(reader.take(Duration.ofSeconds(20)).orElseThrow()) + reader.drain())
+        }
+    }
+
+    @Test
     fun readingAnOptimusSourceBeforeStartFailsAtOnce() {
         TestRedis.core().use { core ->
             val events = EventBlock<Int>()

@@ -11,8 +11,9 @@ import java.util.concurrent.atomic.AtomicInteger
 /**
  * A TCP proxy in front of a Redis that injects network faults on command:
  * - [cutAfterWritesContaining]: after forwarding a client write that contains a marker to Redis,
- *   it closes that connection before Redis's answer can come back (every other such write, so a
- *   retry gets through): a connection that broke after the request reached Redis.
+ *   it waits for Redis's answer (so the request surely ran), drops it and closes the connection
+ *   (every other such write, so a retry gets through): a connection that broke after the request
+ *   reached Redis.
  * - [freeze]: stops forwarding in both directions and leaves every socket open (new connections
  *   are accepted and then left silent): a network that drops everything, as a pulled cable.
  *
@@ -50,8 +51,9 @@ internal class FaultProxy(target: String) : AutoCloseable {
                         return@daemon
                     }
                     sockets += upstream
-                    daemon("fault-proxy-up") { pump(client, upstream, upward = true) }
-                    pump(upstream, client, upward = false)
+                    val link = Link()
+                    daemon("fault-proxy-up") { pump(client, upstream, link, upward = true) }
+                    pump(upstream, client, link, upward = false)
                 }
             }
         }
@@ -75,20 +77,30 @@ internal class FaultProxy(target: String) : AutoCloseable {
         while (frozen && !server.isClosed) lock.wait(100)
     }
 
-    private fun pump(from: Socket, to: Socket, upward: Boolean) {
+    /** One proxied connection: whether its next answer from Redis is dropped and the connection cut. */
+    private class Link {
+        @Volatile var doomed = false
+    }
+
+    private fun pump(from: Socket, to: Socket, link: Link, upward: Boolean) {
         val buffer = ByteArray(64 * 1024)
+        var tail = ByteArray(0) // the end of the previous chunk: a marker may span two reads
         try {
             while (true) {
                 val n = from.getInputStream().read(buffer)
                 if (n < 0) break
                 awaitThaw()
-                to.getOutputStream().write(buffer, 0, n)
-                val wanted = marker
-                if (upward && wanted != null && contains(buffer, n, wanted) && markedWrites.incrementAndGet() % 2 == 1) {
-                    to.getOutputStream().flush()
-                    cuts.incrementAndGet()
+                if (!upward && link.doomed) {
+                    cuts.incrementAndGet() // Redis answered the marked write: it ran; the client never learns
                     break
                 }
+                val wanted = marker
+                if (upward && wanted != null) {
+                    val window = tail + buffer.copyOf(n)
+                    tail = window.copyOfRange(maxOf(0, window.size - wanted.size + 1), window.size)
+                    if (contains(window, window.size, wanted) && markedWrites.incrementAndGet() % 2 == 1) link.doomed = true
+                }
+                to.getOutputStream().write(buffer, 0, n)
             }
         } catch (_: IOException) {
             // one side closed
