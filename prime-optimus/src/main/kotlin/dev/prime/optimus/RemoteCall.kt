@@ -43,7 +43,8 @@ internal class RemoteCall<I, O>(
  * removing it (`BLMOVE reply reply`, a rotation), so it is not lost either when the connection
  * breaks while it travels; it stays until the next call's first attempt clears the list. A reply
  * of an earlier call that gave up is recognised by its id and removed (so the wait does not spin
- * on it). Calls cost two round trips, like a bare push and pop.
+ * on it); a call that gives up also takes its request back if no service took it yet. Calls cost
+ * two round trips, like a bare push and pop.
  *
  * With a call timeout every Redis operation of the call, connecting included, ends by the
  * deadline ([RedisSession.retryingUntil]): the call fails with [RedisUnavailableException] if
@@ -72,6 +73,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         }
         while (true) {
             if (deadline != null && deadline - System.nanoTime() <= 0) {
+                withdraw(input, request)
                 throw PrimeException(
                     "service '$chainName' did not reply within $timeout; is a process that hosts it " +
                         "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
@@ -93,7 +95,24 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         }
     }
 
+    /**
+     * Takes back the request of a call that gave up, if no service took it yet (every copy a
+     * retry pushed), so an abandoned request is neither run nor answered later. One quick
+     * attempt: if Redis does not answer at once, the request stays and its late reply is skipped.
+     */
+    private fun withdraw(input: ByteArray, request: ByteArray) {
+        try {
+            session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { it.lrem(input, 0, request) }
+        } catch (_: RuntimeException) {
+            // best effort: Redis is unreachable, or the core closed
+        }
+    }
+
     override fun close() = session.close()
+
+    private companion object {
+        const val WITHDRAW_BOUND_NANOS = 200_000_000L
+    }
 }
 
 /** What a service in another process threw, as far as its reply tells: the exception's text. */
