@@ -17,7 +17,8 @@ import java.util.concurrent.atomic.AtomicBoolean
  * again and skips, by id, what it had already handed out. All reads synchronise on the reader
  * (the [Reader] contract allows concurrent calls); a blocked [take] is woken by closing the
  * core or the reader, which close its connection, and notices an interrupt within a second (it
- * asks Redis for at most one second at a time). A value taken from Redis but not handed out
+ * asks Redis for at most one second at a time; on a network that stopped answering, only when
+ * the socket times out, after at most ten seconds). A value taken from Redis but not handed out
  * when an interrupt ends a take stays buffered for the next one.
  *
  * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
@@ -101,9 +102,18 @@ internal class OptimusReader<T>(
     }
 
     private fun checkUsable() {
-        check(!closed.get()) { "reader closed: this reader of an Optimus source was closed by Reader.close(); take a new reader" }
+        failIfClosed("")
         core.checkOpen()
         core.checkStarted("reading an Optimus source")
+    }
+
+    /** After [close]: releases the connection (a read may have opened one meanwhile) and throws. */
+    private fun failIfClosed(moment: String) {
+        if (!closed.get()) return
+        session.close()
+        throw IllegalStateException(
+            "reader closed: this reader of an Optimus source was closed by Reader.close()$moment; take a new reader",
+        )
     }
 
     /**
@@ -138,7 +148,7 @@ internal class OptimusReader<T>(
             } catch (e: InterruptedException) {
                 throw e
             } catch (e: Exception) {
-                check(!closed.get()) { "reader closed: this reader of an Optimus source was closed by Reader.close() while it waited" }
+                failIfClosed(" while it waited")
                 if (core.connections.isClosed) throw CoreClosedException(core.name()).apply { initCause(e) }
                 if (!RedisConnections.isTransient(e)) throw e
                 recovering = true
