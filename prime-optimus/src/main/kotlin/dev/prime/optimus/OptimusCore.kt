@@ -298,6 +298,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         val timeout = config().shutdownTimeout()
+        // A service closing its own core (a listener) cannot wait for itself: it waits for the
+        // other services' threads only, in shutdownResources.
         if (!ownThread) {
             runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
                 ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
@@ -308,20 +310,25 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** Stops the threads (all but the calling one, which ends when its service returns) and the embedded Redis. */
     private fun shutdownResources() {
         val current = Thread.currentThread()
+        var interrupted = false
         try {
             dispatcher.close()
             executor.shutdown()
+            // every service but the calling one: a service closing its own core goes on until it returns
             threads.filter { it !== current }.forEach(Thread::interrupt)
             val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
             for (thread in threads) {
                 if (thread === current) continue
-                thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
+                try {
+                    thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
+                } catch (_: InterruptedException) {
+                    interrupted = true
+                }
                 if (thread.isAlive) LOG.warn("core '{}': thread {} still running after {}", name(), thread.name, config().shutdownTimeout())
             }
-        } catch (_: InterruptedException) {
-            Thread.currentThread().interrupt() // stop waiting; the threads end on their own
         } finally {
             embedded?.close()
+            if (interrupted) current.interrupt()
         }
     }
 
@@ -373,10 +380,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     internal fun takeFailure(id: Long): ChainFailedException? = failures.remove(id)
 
-    internal fun reportFailure(service: String, input: Any, error: Exception) {
+    /**
+     * Gives a failure to the error handler as the user knows it: a [ChainFailedException] (a chain
+     * called from this service failed) under the failing chain's name, with its block's own throwable.
+     */
+    internal fun reportFailure(service: String, input: Any, error: Throwable) {
+        val failed = error as? ChainFailedException
         try {
-            config().errorHandler().handle(service, input, error)
-        } catch (e: Exception) {
+            if (failed?.cause != null) {
+                config().errorHandler().handle(failed.chainName(), input, failed.cause)
+            } else {
+                config().errorHandler().handle(service, input, error)
+            }
+        } catch (e: VirtualMachineError) {
+            throw e
+        } catch (e: Throwable) {
             LOG.warn("the error handler of core '{}' failed on service '{}': {}", name(), service, e.toString())
         }
     }

@@ -128,6 +128,8 @@ internal class OptimusReader<T>(
         var failures = 0
         while (true) {
             checkUsable()
+            // a value already taken stays buffered for the next take
+            if (wait && Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
             deliver()?.let { return it as T }
             try {
                 if (recovering) {

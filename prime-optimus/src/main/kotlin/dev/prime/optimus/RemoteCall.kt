@@ -72,6 +72,10 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
             }
         }
         while (true) {
+            if (Thread.currentThread().isInterrupted) {
+                withdraw(input, request)
+                throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
+            }
             if (deadline != null && deadline - System.nanoTime() <= 0) {
                 withdraw(input, request)
                 throw PrimeException(
