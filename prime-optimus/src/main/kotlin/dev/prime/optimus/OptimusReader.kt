@@ -28,7 +28,8 @@ import java.util.concurrent.atomic.AtomicBoolean
  * [RedisUnavailableException].
  *
  * [close] leaves the source's reader set and deletes the reader's lists; it does not wait for a
- * blocked read (it closes that read's connection instead).
+ * blocked read (it closes that read's connection instead), and waits at most [CLOSE_BOUND_MS]
+ * for an unreachable Redis (then the lists stay, with a WARN, until the core closes).
  */
 internal class OptimusReader<T>(
     private val core: OptimusCore,
