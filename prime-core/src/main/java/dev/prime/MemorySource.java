@@ -163,6 +163,7 @@ final class MemorySource<T> implements MediaSource<T> {
   private final class MemoryReader implements Reader<T> {
     private volatile long cursor; // written under this reader's monitor; read anywhere as a hint
     private long missed; // guarded by this reader's monitor
+    private volatile boolean readerClosed;
 
     MemoryReader(long cursor) {
       this.cursor = cursor;
@@ -173,6 +174,7 @@ final class MemorySource<T> implements MediaSource<T> {
     private synchronized T next() {
       while (true) {
         long available = count;
+        ensureReaderOpen();
         if (closed) {
           throw new CoreClosedException(core.name());
         }
@@ -199,7 +201,16 @@ final class MemorySource<T> implements MediaSource<T> {
 
     /** Whether {@link #next()} would return a value or throw. */
     private boolean ready() {
-      return closed || count != cursor;
+      return closed || readerClosed || count != cursor;
+    }
+
+    private void ensureReaderOpen() {
+      if (readerClosed) {
+        throw new IllegalStateException(
+            "reader closed: this reader of source '"
+                + name
+                + "' was closed by Reader.close(); take a new reader from the source");
+      }
     }
 
     /** Spins while there is nothing to read, for at most {@link #SPINS} rounds. */
@@ -280,7 +291,26 @@ final class MemorySource<T> implements MediaSource<T> {
 
     @Override
     public synchronized long missed() {
+      ensureReaderOpen();
       return missed;
+    }
+
+    /**
+     * A reader is only a cursor, so closing it releases nothing but itself: later calls fail, and
+     * readers waiting in {@code take} wake up to fail.
+     */
+    @Override
+    public void close() {
+      if (readerClosed) {
+        return;
+      }
+      readerClosed = true;
+      lock.lock();
+      try {
+        published.signalAll();
+      } finally {
+        lock.unlock();
+      }
     }
 
     @Override

@@ -218,6 +218,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      *
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or a
      *     value is `null` or of a type the codec does not allow
+     * @throws IllegalStateException if the core is not started yet
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
@@ -271,6 +272,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     override fun onClose() {
+        // close() from a service's or listener's own thread must not wait for that thread
+        val ownThread = Thread.currentThread() in threads
         subscriptions.forEach { it.close() }
         subscriptions.clear()
         scope.cancel()
@@ -296,36 +299,50 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val timeout = config().shutdownTimeout()
         // A service closing its own core (a listener) cannot wait for itself: it waits for the
         // other services' threads only, in shutdownResources.
-        if (Thread.currentThread() !in threads) {
+        if (!ownThread) {
             runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
                 ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
         }
         shutdownResources()
     }
 
+    /** Stops the threads (all but the calling one, which ends when its service returns) and the embedded Redis. */
     private fun shutdownResources() {
-        dispatcher.close()
-        executor.shutdownNow()
-        val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
-        // A service closing its own core was interrupted by shutdownNow: it still waits for the others.
-        var interrupted = Thread.interrupted()
-        for (thread in threads) {
-            if (thread === Thread.currentThread()) continue // a service closing its own core
-            try {
-                thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
-            } catch (_: InterruptedException) {
-                interrupted = true
+        val current = Thread.currentThread()
+        var interrupted = false
+        try {
+            dispatcher.close()
+            executor.shutdown()
+            // every service but the calling one: a service closing its own core goes on until it returns
+            threads.filter { it !== current }.forEach(Thread::interrupt)
+            val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
+            for (thread in threads) {
+                if (thread === current) continue
+                try {
+                    thread.join(((deadline - System.nanoTime()) / 1_000_000).coerceAtLeast(1))
+                } catch (_: InterruptedException) {
+                    interrupted = true
+                }
+                if (thread.isAlive) LOG.warn("core '{}': thread {} still running after {}", name(), thread.name, config().shutdownTimeout())
             }
-            if (thread.isAlive) LOG.warn("core '{}': thread {} still running after {}", name(), thread.name, config().shutdownTimeout())
+        } finally {
+            embedded?.close()
+            if (interrupted) current.interrupt()
         }
-        embedded?.close()
-        if (interrupted) Thread.currentThread().interrupt()
     }
 
     // ------------------------------------------------------------------ for the media's classes
 
     internal fun checkOpen() {
         ensureOpen()
+    }
+
+    /** Fails at once if [start] was not called: before it, no service of this process runs. */
+    internal fun checkStarted(what: String) {
+        check(isStarted) {
+            "$what of core '${name()}' before start(): start() was not called; declare the topology, then call " +
+                "core.start(), then call chains and read sources"
+        }
     }
 
     internal fun encode(value: Any?): ByteArray? = value?.let(codec::encode)
@@ -345,7 +362,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val list = keys.reader(UUID.randomUUID().toString())
         register(source.keys, list)
         readers += source.keys to list
-        return OptimusReader(this, list)
+        return OptimusReader(this, source.keys, list)
+    }
+
+    /** A closed reader: the core's close need not remove its lists. */
+    internal fun forgetReader(list: ByteArray) {
+        readers.removeIf { it.second === list }
     }
 
     internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: CallerSlot(this, replyKey(slotNumbers.incrementAndGet())).also {
@@ -417,6 +439,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
+        checkStarted("publishing to an Optimus source")
         withSession { session ->
             session.retrying { StepBatch(source.log, source.log, source).apply { envelopes.forEach(::publish) }.run(it, 0, 0) }
         }
@@ -493,7 +516,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
         /**
          * How long a synchronous call waits for its reply (default 60 s); `Duration.ZERO` waits
-         * as long as it takes.
+         * as long as it takes. The bound holds while Redis is unreachable too (within about a
+         * second): the call then fails with [RedisUnavailableException], or with a
+         * [dev.prime.PrimeException] saying the service did not reply.
          */
         public fun callTimeout(timeout: Duration): Builder = apply {
             require(!timeout.isNegative) { "call timeout must not be negative, was $timeout" }
