@@ -12,10 +12,8 @@ import dev.prime.blocks.SyncCollectorBlock;
 import dev.prime.blocks.UnionBlock;
 import dev.prime.internal.ServiceThreads;
 import dev.prime.spi.AbstractChain;
-import dev.prime.spi.MediaSource;
 import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.Topology;
-import java.util.ArrayList;
 import java.util.Collections;
 import java.util.LinkedHashSet;
 import java.util.List;
@@ -85,8 +83,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private final String name;
   private volatile TopologyRecorder recorder; // made on first use: it refers to this core
   private final ServiceThreads services;
-  private final List<MemorySource<?>> memorySources = new ArrayList<>(); // guarded by itself
-  private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by memorySources
+  private final InProcessServices inProcess;
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
 
@@ -102,6 +99,7 @@ public abstract class PrimeCore implements AutoCloseable {
             ? config.name()
             : media + "-" + CORE_COUNTERS.computeIfAbsent(media, k -> new AtomicInteger()).incrementAndGet();
     this.services = new ServiceThreads(name);
+    this.inProcess = new InProcessServices(this, services);
   }
 
   /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
@@ -379,7 +377,8 @@ public abstract class PrimeCore implements AutoCloseable {
   public <T> Chain<Token, T> syncCollector(Source<T> source) {
     requireSource(source);
     return newChain(
-        topologyRecorder().syncCollector(source), new SyncCollectorBlock<>(serviceReader(source)));
+        topologyRecorder().syncCollector(source),
+        new SyncCollectorBlock<>(InProcessServices.serviceReader(source)));
   }
 
   /**
@@ -395,7 +394,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     return newChain(
         topologyRecorder().asyncCollector(source),
-        new AsyncCollectorBlock<>(serviceReader(source)));
+        new AsyncCollectorBlock<>(InProcessServices.serviceReader(source)));
   }
 
   /**
@@ -483,20 +482,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the source
    */
   protected <T> Source<T> newSource(String name, EventBlock<T> events) {
-    MemorySource<T> source = newMemorySource(name);
-    synchronized (memorySources) {
-      subscriptions.add(
-          events.subscribe(
-              value -> {
-                try {
-                  source.publish(value);
-                } catch (CoreClosedException closing) {
-                  // the core closed while this value was on its way: nobody can read it any more
-                }
-              }));
-    }
-    return source;
+    return inProcess.eventSource(name, events);
   }
+
 
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
@@ -513,18 +501,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     requireChains(chain);
     Block<I, O> block = chain.toBlock();
-    String name = topologyRecorder().sourceLink(source, chain);
-    MemorySource<O> out = newMemorySource(name);
-    runService(
-        name,
-        serviceReader(source),
-        value -> {
-          O output = block.process(value);
-          if (output != null) {
-            out.publish(output);
-          }
-        });
-    return out;
+    return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
   }
 
   /**
@@ -538,17 +515,7 @@ public abstract class PrimeCore implements AutoCloseable {
   protected <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
-    String name = topologyRecorder().filter(source);
-    MemorySource<T> out = newMemorySource(name);
-    runService(
-        name,
-        serviceReader(source),
-        value -> {
-          if (predicate.test(value)) {
-            out.publish(value);
-          }
-        });
-    return out;
+    return inProcess.filter(topologyRecorder().filter(source), source, predicate);
   }
 
   /**
@@ -564,22 +531,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
-    String name = topologyRecorder().flatMap(source);
-    MemorySource<R> out = newMemorySource(name);
-    runService(
-        name,
-        serviceReader(source),
-        value -> {
-          Iterable<? extends R> outputs = block.process(value);
-          if (outputs != null) {
-            for (R output : outputs) {
-              if (output != null) {
-                out.publish(output);
-              }
-            }
-          }
-        });
-    return out;
+    return inProcess.flatMap(topologyRecorder().flatMap(source), source, block);
   }
 
   /**
@@ -592,7 +544,7 @@ public abstract class PrimeCore implements AutoCloseable {
   protected <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
-    runService(topologyRecorder().listener(source), serviceReader(source), listener);
+    inProcess.listen(topologyRecorder().listener(source), source, listener);
   }
 
   /**
@@ -717,14 +669,7 @@ public abstract class PrimeCore implements AutoCloseable {
       }
       state = State.CLOSED;
     }
-    List<MemorySource<?>> sources;
-    synchronized (memorySources) {
-      subscriptions.forEach(EventBlock.Subscription::close);
-      subscriptions.clear();
-      sources = new ArrayList<>(memorySources);
-      memorySources.clear();
-    }
-    sources.forEach(MemorySource::close);
+    inProcess.close();
     services.stopAll(config.shutdownTimeout());
     onClose();
   }
@@ -817,26 +762,6 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    */
   protected final <T> void runService(String name, Reader<T> reader, Consumer<? super T> step) {
-    services.add(name, new SourceService<>(name, reader, step, config.errorHandler(), this::isClosed));
-  }
-
-  private <T> MemorySource<T> newMemorySource(String name) {
-    MemorySource<T> source =
-        new MemorySource<>(
-            this,
-            name,
-            config.sourceRetention(),
-            config.valueCopies(),
-            () -> topologyRecorder().reader(name));
-    synchronized (memorySources) {
-      ensureOpen();
-      memorySources.add(source);
-    }
-    return source;
-  }
-
-  /** A reader for one of this core's services: not one of the program's, so not recorded. */
-  private static <T> Reader<T> serviceReader(Source<T> source) {
-    return source instanceof MediaSource<T> media ? media.serviceReader() : source.reader();
+    inProcess.run(name, reader, step);
   }
 }
