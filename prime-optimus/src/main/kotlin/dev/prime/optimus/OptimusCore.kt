@@ -53,8 +53,9 @@ import java.util.function.Predicate
  * - [Chain.toBlock] is a remote call: it pushes the input with a reply address and waits for that
  *   call's own result; many threads may call at once.
  * - A source is a log of its newest values plus one list per reader; publishing pushes to all of
- *   them atomically and trims each to [CoreConfig.sourceRetention]. A chain linked to a source is
- *   one of its readers.
+ *   them atomically. The log and plain readers' lists are trimmed to
+ *   [CoreConfig.sourceRetention]; the input of a chain linked to the source is a queue, never
+ *   trimmed (see "Delivery").
  * - Templates are the generic ones of [PrimeCore]: a template chain is one service whose block
  *   calls the services of the chains it was made of.
  *
@@ -63,13 +64,35 @@ import java.util.function.Predicate
  * name is the Redis namespace) and an agreeing codec; each one is told which services it hosts
  * ([Builder.hosts]); the others are remote. Values wait in Redis until a host takes them.
  *
- * ## Guarantees beyond every media's
- * - A value taken by a service stays in Redis until its result is stored, in the same atomic step
- *   (a Lua script, all keys of a topology in one hash slot); after a crash or a lost connection a
- *   service first finishes what it had taken. With a durable Redis, nothing accepted is lost.
- * - Values have ids; one pushed twice by a retry is processed once.
- * - Bytes that cannot be decoded, and values whose block failed (after [Builder.retries]), go to
- *   the service's dead-letter list ([deadLetters]); the service goes on.
+ * ## Delivery
+ * - A service's input is a queue, not a retention window: nothing a service's queue accepted is
+ *   dropped. Every value is processed at least once (a value pushed twice, e.g. by a retried
+ *   publish, is recognised by its id and processed once, within the last 4096 ids a service
+ *   handled) or dead-lettered with the reason. A value taken by a service stays in Redis until its
+ *   result is stored, in the same atomic step (a Lua script, all keys of a topology in one hash
+ *   slot); after a crash or a lost connection a service first finishes what it had taken. What
+ *   survives a crash of Redis itself is what its persistence keeps (see docs/architecture.md).
+ * - Queues are bounded ([Builder.queueLimit], per service or for all): a publish that would put a
+ *   service's queue over its limit waits for room up to [Builder.publishTimeout], then throws
+ *   [QueueFullException] and publishes nothing (a publish is all or nothing). A service whose
+ *   next service's queue (a linked chain's internal hop, or a source feeding other services) is
+ *   full holds its results and waits: internal hops never drop. A publish while Redis is
+ *   unreachable gives up at the same timeout with [RedisUnavailableException].
+ * - A plain [Reader] is a retention window ([CoreConfig.sourceRetention]): when it falls further
+ *   behind, the oldest values it has not read are dropped; [Reader.missed] counts them, and the
+ *   publishing process logs a WARN with the count, at most once per reader every 10 s.
+ * - Dead letters ([deadLetters]): bytes that cannot be decoded, values whose block failed (after
+ *   [Builder.retries]), entries above [Builder.maxValueBytes] (only their first KiB is kept),
+ *   requests whose reply key is not one of this topology's reply lists, and entries whose results
+ *   Redis refused to store (WRONGTYPE, OOM, a script error: the step is redone one entry at a
+ *   time to find the one at fault). The service goes on. At most [Builder.deadLetterLimit] are
+ *   kept per service; older ones are dropped and counted ([trimmedDeadLetters]).
+ * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
+ *   handler receives the service's name, the input and the block's own throwable.
+ * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
+ *   ([ValueTooLargeException]); a service takes at most 256 entries or 8 MiB per step.
+ * - Reply lists expire (10 minutes or twice the call timeout, whichever is longer) after each
+ *   reply pushed to them, so replies to callers that died do not stay.
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
  *
  * Threading: like every core, declaring is thread-safe; blocks of hosted services run on the
