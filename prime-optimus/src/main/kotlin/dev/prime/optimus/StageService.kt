@@ -90,7 +90,13 @@ internal class StageService(
                 throw e
             } catch (e: Throwable) {
                 if (core.connections.isClosed) return
-                if (!outage) LOG.warn("service '{}' {}; retrying", name, describeFailure(e))
+                if (!outage) {
+                    if (e is JedisDataException && RedisPermissions.isRefusal(e)) {
+                        LOG.error("service '{}' {}; retrying", name, describeFailure(e))
+                    } else {
+                        LOG.warn("service '{}' {}; retrying", name, describeFailure(e))
+                    }
+                }
                 outage = true
                 pending = null
                 delay(backoff.next())
