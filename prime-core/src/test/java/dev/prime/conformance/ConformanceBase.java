@@ -45,6 +45,15 @@ public interface ConformanceBase {
     return servicesPerSourceLink();
   }
 
+  /**
+   * Whether a chain linked to a source reads a queue (every value published while it is busy is
+   * processed: Optimus) rather than a retention window (it skips to the newest retained values).
+   * The design asks for queues on every media; media still on the window return {@code false}.
+   */
+  default boolean serviceInputIsAQueue() {
+    return false;
+  }
+
   /** Upper bound for any single wait in the kit; generous because the machine may be busy. */
   default Duration patience() {
     return Duration.ofSeconds(20);

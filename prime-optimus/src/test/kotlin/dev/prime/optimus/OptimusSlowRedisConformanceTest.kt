@@ -15,6 +15,9 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
 
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
+    /** A service's input is a queue on Optimus, never trimmed to the retention. */
+    override fun serviceInputIsAQueue(): Boolean = true
+
     private companion object {
         val proxy: SlowProxy by lazy { SlowProxy(TestRedis.url, 500_000) }
     }
