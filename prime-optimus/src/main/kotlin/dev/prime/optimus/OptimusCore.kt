@@ -84,9 +84,11 @@ import java.util.function.Predicate
  * - Dead letters ([deadLetters]): bytes that cannot be decoded, values whose block failed (after
  *   [Builder.retries]), entries above [Builder.maxValueBytes] (only their first KiB is kept),
  *   requests whose reply key is not one of this topology's reply lists, and entries whose results
- *   Redis refused to store (WRONGTYPE, OOM, a script error: the step is redone one entry at a
+ *   Redis refused to store (WRONGTYPE, a script error: the step is redone one entry at a
  *   time to find the one at fault). The service goes on. At most [Builder.deadLetterLimit] are
- *   kept per service; older ones are dropped and counted ([trimmedDeadLetters]).
+ *   kept per service; older ones are dropped and counted ([trimmedDeadLetters]). A Redis out of
+ *   memory (`maxmemory` reached) or a missing permission is waited out like an outage, with a
+ *   log line: nothing is dropped for it.
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
@@ -522,6 +524,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             return action(session)
         } catch (e: JedisDataException) {
             if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, endpoint.user, name(), what)
+            if (e.message?.startsWith("OOM") == true) {
+                throw dev.prime.PrimeException(
+                    "$what refused, nothing was stored: Redis is out of memory (its maxmemory is reached; free memory " +
+                        "or raise maxmemory). Redis said: ${e.message}",
+                    e,
+                )
+            }
             throw e
         } finally {
             publishers += session

@@ -34,7 +34,8 @@ internal fun interface StageLogic {
  * dead letters, a request's to its caller); an entry above the size limit is dead-lettered with
  * its first KiB; a step Redis refuses for a reason other than the connection (WRONGTYPE, OOM, a
  * script error) is stored again one entry at a time, and an entry Redis still refuses is
- * dead-lettered with Redis' answer. Only connection failures are retried as an outage. When the
+ * dead-lettered with Redis' answer. Connection failures, a Redis out of memory and a missing
+ * permission are waited out as an outage (nothing could be stored, not even a dead letter). When the
  * queue this service feeds is full, the service holds its results and waits for room: an
  * internal hop never drops a value (the wait shows at the publisher as [QueueFullException]).
  *
@@ -106,6 +107,8 @@ internal class StageService(
 
     private fun describeFailure(e: Throwable): String = when {
         e is Exception && RedisConnections.isTransient(e) -> "lost Redis ($e)"
+        e is JedisDataException && isOutOfMemory(e) ->
+            "cannot store anything: Redis is out of memory (its maxmemory is reached: ${e.message})"
         e is JedisDataException && RedisPermissions.isRefusal(e) ->
             RedisPermissions.explain(e, null, core.name(), "service '$name'").message!!
         else -> "cannot read its input ($e)"
@@ -145,8 +148,13 @@ internal class StageService(
         return stored.taken
     }
 
-    /** A refusal caused by what a step stores (not the connection, not the user's permissions). */
-    private fun isEntryFault(e: JedisDataException) = !RedisConnections.isTransient(e) && !RedisPermissions.isRefusal(e)
+    /**
+     * A refusal caused by what a step stores: not the connection, not the user's permissions, and
+     * not a Redis out of memory (then nothing can be stored, not even a dead letter: the service
+     * waits as in an outage rather than drop what it holds).
+     */
+    private fun isEntryFault(e: JedisDataException) =
+        !RedisConnections.isTransient(e) && !RedisPermissions.isRefusal(e) && !isOutOfMemory(e)
 
     private suspend fun storeOneByOne(session: RedisSession, parts: List<Part>, cause: JedisDataException) {
         LOG.warn("service '{}': Redis refused a step of {} entries ({}); storing them one at a time", name, parts.size, cause.message)
@@ -308,6 +316,9 @@ internal class StageService(
         /** The most values one step takes. */
         const val BATCH = 256
         private val LOG = LoggerFactory.getLogger(StageService::class.java)
+
+        private fun isOutOfMemory(e: JedisDataException): Boolean =
+            e.message?.let { it.startsWith("OOM") || " OOM " in it } == true
 
         private fun startsWith(bytes: ByteArray, prefix: ByteArray): Boolean =
             bytes.size >= prefix.size && (prefix.indices).all { bytes[it] == prefix[it] }
