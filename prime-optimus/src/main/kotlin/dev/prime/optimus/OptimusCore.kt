@@ -172,6 +172,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** The URL of the Redis this core uses (password hidden). */
     public val redisUrl: String get() = endpoint.toString()
 
+    /** The Redis user this core logs in as (`null`: the default user), for messages. */
+    internal val redisUser: String? get() = endpoint.user
+
     // ------------------------------------------------------------------ chains
 
     override fun <I, O> newChain(name: String, block: Block<I, O>): Chain<I, O> =
@@ -523,7 +526,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         try {
             return action(session)
         } catch (e: JedisDataException) {
-            if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, endpoint.user, name(), what)
+            if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
             if (e.message?.startsWith("OOM") == true) {
                 throw dev.prime.PrimeException(
                     "$what refused, nothing was stored: Redis is out of memory (its maxmemory is reached; free memory " +

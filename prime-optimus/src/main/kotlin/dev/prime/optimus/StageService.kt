@@ -110,7 +110,7 @@ internal class StageService(
         e is JedisDataException && isOutOfMemory(e) ->
             "cannot store anything: Redis is out of memory (its maxmemory is reached: ${e.message})"
         e is JedisDataException && RedisPermissions.isRefusal(e) ->
-            RedisPermissions.explain(e, null, core.name(), "service '$name'").message!!
+            RedisPermissions.explain(e, core.redisUser, core.name(), "service '$name'").message!!
         else -> "cannot read its input ($e)"
     }
 
