@@ -13,4 +13,7 @@ class OptimusConformanceTest : MediaConformance {
 
     /** A service's input is a queue on Optimus, never trimmed to the retention. */
     override fun serviceInputIsAQueue(): Boolean = true
+
+    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    override fun blocksRunOnTheCallersThread(): Boolean = false
 }
