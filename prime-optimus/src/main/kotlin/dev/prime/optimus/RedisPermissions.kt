@@ -10,7 +10,7 @@ import redis.clients.jedis.exceptions.JedisDataException
 internal object RedisPermissions {
     /** The ACL commands Optimus needs; kept equal to the list in docs/architecture.md. */
     const val NEEDED: String = "blmove, client|setname, del, eval, evalsha, exec, get, hello, incrby, lindex, llen, " +
-        "lmove, lpop, lrange, ltrim, multi, pexpire, ping, rpush, sadd, scard, select (with a database other than 0), " +
+        "lmove, lpop, lrange, lrem, ltrim, multi, pexpire, ping, rpush, sadd, scard, select (with a database other than 0), " +
         "set, sismember, smembers, srem and type"
 
     private val COMMAND = Regex("run the '([^']+)' command")
