@@ -2,6 +2,7 @@ package dev.prime.liberty;
 
 import dev.prime.Block;
 import dev.prime.Chain;
+import dev.prime.blocks.LinkBlock;
 import dev.prime.spi.AbstractChain;
 import dev.prime.spi.FailureNamingBlock;
 
@@ -28,13 +29,23 @@ final class LibertyChain<I, O> extends AbstractChain<I, O> {
     return new LibertyChain<>(core, name, block);
   }
 
-  /** Consumes a chain and returns its block; a chain of this core gives its block directly. */
-  static <I, O> Block<I, O> take(LibertyCore core, Chain<I, O> chain) {
-    if (chain instanceof LibertyChain<I, O> own && own.core() == core) {
-      own.consume();
-      return own.block;
-    }
-    return chain.toBlock();
+  /**
+   * A chain's block as a link of the same core composes it: its own block for a chain of this
+   * core, its {@link Chain#toBlock()} for any other ({@link dev.prime.PrimeCore}'s {@code part}).
+   *
+   * @param block the block
+   */
+  record Composed(Block<?, ?> block) {}
+
+  /** The composition of two blocks whose types the link has checked. */
+  @SuppressWarnings("unchecked")
+  static <I, O> Block<I, O> linked(Composed first, Composed second) {
+    return new LinkBlock<>((Block<I, Object>) first.block(), (Block<Object, O>) second.block());
+  }
+
+  @Override
+  protected Object compiledForm() {
+    return new Composed(block);
   }
 
   @Override

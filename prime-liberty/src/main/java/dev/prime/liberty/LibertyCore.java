@@ -4,7 +4,6 @@ import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
-import dev.prime.blocks.LinkBlock;
 
 /**
  * The Liberty media: a chain is a function, and linking chains composes their functions, so a
@@ -50,8 +49,8 @@ public final class LibertyCore extends PrimeCore {
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
     String name = topologyRecorder().link(first, second);
-    Block<I, M> a = LibertyChain.take(this, first);
-    Block<M, O> b = LibertyChain.take(this, second);
-    return LibertyChain.composite(this, name, new LinkBlock<>(a, b));
+    LibertyChain.Composed a = part(first, LibertyChain.Composed.class, LibertyChain.Composed::new);
+    LibertyChain.Composed b = part(second, LibertyChain.Composed.class, LibertyChain.Composed::new);
+    return LibertyChain.composite(this, name, LibertyChain.linked(a, b));
   }
 }
