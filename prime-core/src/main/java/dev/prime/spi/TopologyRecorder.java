@@ -317,10 +317,21 @@ public final class TopologyRecorder {
     return node.name();
   }
 
+  /** A chain or source of the owning core: recorded when it was made, or a media's mistake. */
+  private String own(String name) {
+    if (!byName.containsKey(name)) {
+      throw new IllegalStateException(
+          "'" + name + "' belongs to core '" + owner.name() + "' but was never recorded in its"
+              + " topology: a media must name every chain and source it makes through"
+              + " PrimeCore.topologyRecorder()");
+    }
+    return name;
+  }
+
   /** The node name of a chain used as a part: its own, or a new foreign node's. */
   private String part(Chain<?, ?> chain) {
-    if (chain.core() == owner && byName.containsKey(chain.name())) {
-      return chain.name();
+    if (chain.core() == owner) {
+      return own(chain.name());
     }
     String known = foreign.get(chain);
     if (known != null) {
@@ -333,8 +344,8 @@ public final class TopologyRecorder {
 
   /** The node name of a source used as a part: its own, or a new foreign node's. */
   private String sourcePart(Source<?> source) {
-    if (source.core() == owner && byName.containsKey(source.name())) {
-      return source.name();
+    if (source.core() == owner) {
+      return own(source.name());
     }
     String known = foreign.get(source);
     if (known != null) {
