@@ -4,6 +4,7 @@ import dev.prime.Block;
 import dev.prime.bench.PacketBlocks.Add;
 import dev.prime.liberty.LibertyCore;
 import dev.prime.radiant.RadiantCore;
+import java.util.List;
 import java.util.concurrent.TimeUnit;
 import org.openjdk.jmh.annotations.Benchmark;
 import org.openjdk.jmh.annotations.BenchmarkMode;
@@ -78,6 +79,35 @@ public class SyncChainBenchmark {
         a3 = adders[2];
         a4 = adders[3];
       }
+    }
+  }
+
+  /**
+   * The baseline of a polluted profile: the same blocks as {@link Direct}, called through
+   * {@link MegamorphicSite}'s one call site, polluted with six block classes before warm-up and
+   * again before every iteration, in both scenarios.
+   */
+  @State(Scope.Thread)
+  public static class Megamorphic {
+    /** The blocks, typed as blocks. */
+    public Block<Packet, Packet>[] blocks;
+
+    /** Keeps the polluting runs' results alive. */
+    public long sink;
+
+    /**
+     * @param shape the parameters
+     */
+    @Setup(Level.Trial)
+    public void build(Shape shape) {
+      blocks = MegamorphicSite.typed(List.of(ChainShapes.directAdders(shape.length)));
+      pollute();
+    }
+
+    /** Pollutes the call site again, so the measured blocks never dominate its profile. */
+    @Setup(Level.Iteration)
+    public void pollute() {
+      sink += MegamorphicSite.pollute();
     }
   }
 
@@ -157,6 +187,19 @@ public class SyncChainBenchmark {
   public long forHandWritten(Input input, Direct blocks) {
     return blocks.a4.process(blocks.a3.process(blocks.a2.process(blocks.a1.process(input.packet))))
         .value;
+  }
+
+  /**
+   * The unavoidable cost of a polluted profile: the same blocks through one megamorphic call site
+   * (compare polluted Liberty with it).
+   *
+   * @param input the value
+   * @param blocks the blocks
+   * @return the result
+   */
+  @Benchmark
+  public long megamorphic(Input input, Megamorphic blocks) {
+    return MegamorphicSite.run(blocks.blocks, input.packet).value;
   }
 
   /**
