@@ -164,10 +164,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long forLoop(Input input, Direct blocks) {
+  public long forLoop(Input input, Direct blocks, WorkerCpuTime.Clock clock) {
     Packet packet = input.packet;
     for (Add adder : blocks.adders) {
       packet = adder.process(packet);
@@ -181,10 +182,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long forHandWritten(Input input, Direct blocks) {
+  public long forHandWritten(Input input, Direct blocks, WorkerCpuTime.Clock clock) {
     return blocks.a4.process(blocks.a3.process(blocks.a2.process(blocks.a1.process(input.packet))))
         .value;
   }
@@ -195,10 +197,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long megamorphic(Input input, Megamorphic blocks) {
+  public long megamorphic(Input input, Megamorphic blocks, WorkerCpuTime.Clock clock) {
     return MegamorphicSite.run(blocks.blocks, input.packet).value;
   }
 
@@ -207,10 +210,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param chain the chain
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long liberty(Input input, Liberty chain) {
+  public long liberty(Input input, Liberty chain, WorkerCpuTime.Clock clock) {
     return chain.chain.process(input.packet).value;
   }
 
@@ -219,10 +223,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param chain the chain
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long radiant(Input input, Radiant chain) {
+  public long radiant(Input input, Radiant chain, WorkerCpuTime.Clock clock) {
     return chain.chain.process(input.packet).value;
   }
 }
