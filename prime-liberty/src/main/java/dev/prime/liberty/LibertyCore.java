@@ -42,15 +42,17 @@ public final class LibertyCore extends PrimeCore {
   }
 
   /**
-   * Links two chains by composing their functions. Chains of another core are taken through
-   * their {@link Chain#toBlock()}.
+   * Links two chains by joining their steps: the linked chain's block is one flat composition of
+   * every block of both (no layer per link, no recursion, so chains of any length build and run
+   * on a default thread stack). Chains of another core are one step each, taken through their
+   * {@link Chain#toBlock()}.
    */
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
     String name = topologyRecorder().link(first, second);
-    LibertyChain.Composed a = part(first, LibertyChain.Composed.class, LibertyChain.Composed::new);
-    LibertyChain.Composed b = part(second, LibertyChain.Composed.class, LibertyChain.Composed::new);
-    return LibertyChain.composite(this, name, LibertyChain.linked(a, b));
+    StepSequence a = part(first, StepSequence.class, block -> new Step(null, block));
+    StepSequence b = part(second, StepSequence.class, block -> new Step(null, block));
+    return LibertyChain.linked(this, name, StepSequence.join(a, b));
   }
 }
