@@ -12,6 +12,7 @@ import dev.prime.Source
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
+import kotlinx.coroutines.Job
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.cancel
@@ -19,6 +20,7 @@ import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeoutOrNull
 import org.slf4j.LoggerFactory
+import redis.clients.jedis.Jedis
 import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
@@ -129,6 +131,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             throw dev.prime.PrimeException("cannot reach Redis at $endpoint: $e", e)
         }
     }
+
+    private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime)
+    private val hostedJobs = ConcurrentHashMap<String, Job>()
+    private val lostHosting: MutableSet<String> = ConcurrentHashMap.newKeySet()
+    private val declarations = Redeclaration(
+        keys, name(), instance, codec.fingerprint(), hostLeases,
+        readers = { readers },
+        replyLists = { (1..slotNumbers.get()).map(::replyKey) },
+        register = ::registerOnce,
+        lostHosting = ::stopLostService,
+    )
+    private val liveness = Liveness(keys, connections, instance, settings.leaseTime, executor::execute, declarations)
 
     /** The URL of the Redis this core uses (password hidden). */
     public val redisUrl: String get() = endpoint.toString()
@@ -255,12 +269,23 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * in-process services of links to sources of other cores.
      */
     override fun serviceNames(): Set<String> =
-        super.serviceNames() + services.keys.filter(::isHosted)
+        super.serviceNames() + services.keys.filter { isHosted(it) && it !in lostHosting }
+
+    // ------------------------------------------------------------------ liveness
+
+    /**
+     * How many times this core found that Redis lost the topology's data (it restarted without
+     * persistence, or failed over to a replica that was behind). Each time the core logged a
+     * WARN and declared again what it hosts and reads; values that were only in Redis are gone.
+     */
+    public fun redisResets(): Long = liveness.resets
 
     // ------------------------------------------------------------------ lifecycle
 
     override fun onStart() {
+        liveness.begin()
         checkCodecAgreement()
+        declarations.codecDeclared = true
         hosts?.let { wanted ->
             val unknown = wanted - services.keys
             require(unknown.isEmpty()) {
@@ -268,6 +293,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${services.keys.sorted()}"
             }
         }
+        hostLeases.claim(services.keys.filter(::isHosted), name())
         services.values.forEach(::launchIfHosted)
     }
 
@@ -289,6 +315,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
                 }
                 for (slot in 1..slotNumbers.get()) pipeline.del(replyKey(slot))
+                hostLeases.releaseAll(pipeline)
+                liveness.releaseAll(pipeline)
                 pipeline.sync()
             } catch (e: Exception) {
                 LOG.debug("core '{}' could not remove its readers and reply lists: {}", name(), e.toString())
@@ -327,13 +355,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {
         checkOpen()
         val list = keys.reader(UUID.randomUUID().toString())
-        register(source.keys, list)
+        withSession { liveness.own(it, list, source.keys.readers) }
         readers += source.keys to list
+        register(source.keys, list)
         return OptimusReader(this, list)
     }
 
-    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: CallerSlot(this, replyKey(slotNumbers.incrementAndGet())).also {
-        allSlots += it
+    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: newSlot()
+
+    private fun newSlot(): CallerSlot {
+        val reply = replyKey(slotNumbers.incrementAndGet())
+        withSession { liveness.own(it, reply, null) }
+        return CallerSlot(this, reply).also { allSlots += it }
     }
 
     internal fun returnSlot(slot: CallerSlot) {
@@ -359,7 +392,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private fun replyKey(slot: Int) = keys.reply("$instance:$slot")
 
     private fun bindToSource(source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
-        register(source.keys, keys.serviceInput(stages.first().name))
+        val input = keys.serviceInput(stages.first().name)
+        liveness.begin()
+        declarations.bindings += source.keys to input
+        register(source.keys, input)
         bind(stages, output?.keys)
     }
 
@@ -382,11 +418,34 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun launchIfHosted(service: StageService) {
         if (!isHosted(service.name) || !launched.add(service.name) || isClosed) return
-        scope.launch(CoroutineName(service.name)) { service.run() }
+        if (service.name !in hostLeases.services) {
+            try {
+                hostLeases.claim(listOf(service.name), name())
+            } catch (e: RuntimeException) {
+                launched -= service.name
+                throw e
+            }
+        }
+        hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { service.run() }
+    }
+
+    /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
+    private fun stopLostService(service: String, holder: String) {
+        lostHosting += service
+        hostedJobs.remove(service)?.cancel()
+        val message = "core '${name()}' stopped service '$service': its host lease is now held by $holder (this process " +
+            "was frozen or cut off from Redis longer than the lease time, and another took over). Restart this " +
+            "process to host it again once the other stops"
+        LOG.warn(message)
+        reportFailure(service, holder, IllegalStateException(message))
     }
 
     private fun register(source: SourceKeys, list: ByteArray) {
-        withSession { session -> session.retrying { Script.REGISTER.run(it, listOf(source.readers, source.log, list), emptyList()) } }
+        withSession { session -> session.retrying { registerOnce(it, source, list) } }
+    }
+
+    private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray) {
+        Script.REGISTER.run(jedis, listOf(source.readers, source.log, list), emptyList())
     }
 
     private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
@@ -473,6 +532,20 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(callTimeout = timeout.takeUnless { it.isZero })
         }
 
+        /**
+         * How long a process counts as alive after its last heartbeat (default 5 s, at least
+         * 300 ms; the heartbeat runs every third of it). It bounds how long readers and reply
+         * lists of a killed process stay in Redis, and how long a successor waits in `start()` to
+         * take over the services of a killed host.
+         */
+        public fun leaseTime(leaseTime: Duration): Builder = apply {
+            require(leaseTime >= MIN_LEASE_TIME) {
+                "lease time must be at least ${MIN_LEASE_TIME.toMillis()} ms (shorter leases lapse on ordinary GC pauses), " +
+                    "was $leaseTime"
+            }
+            settings = settings.copy(leaseTime = leaseTime)
+        }
+
         /** Makes the core: starts an embedded Redis unless [redis] was given, and checks that Redis answers. */
         public fun build(): OptimusCore = OptimusCore(config, settings)
     }
@@ -483,12 +556,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val hosts: Set<String>? = null,
         val retries: Int = 0,
         val callTimeout: Duration? = Duration.ofSeconds(60),
+        val leaseTime: Duration = Duration.ofSeconds(5),
     )
 
     public companion object {
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
+        private val MIN_LEASE_TIME = Duration.ofMillis(300)
 
         /** Settings for a core; call [Builder.build]. */
         @JvmStatic

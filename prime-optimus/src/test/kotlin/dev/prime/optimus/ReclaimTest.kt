@@ -1,0 +1,100 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.params.ScanParams
+import java.net.URI
+import java.nio.charset.StandardCharsets.UTF_8
+import java.time.Duration
+
+/**
+ * Readers of a process that died (a worker JVM killed with SIGKILL) are reclaimed by a live
+ * process of the topology once the dead one's lease expired: they leave the source's reader set,
+ * their lists are deleted, and publishing writes to the live readers only again.
+ */
+class ReclaimTest {
+
+    @Test
+    fun readersOfAKilledProcessAreReclaimedWithinTheLeaseAndAHeartbeat() {
+        val name = "reclaim"
+        val lease = Duration.ofSeconds(1)
+        val keys = Keys(name)
+        EmbeddedRedis.start().use { redis ->
+            Jedis(URI(redis.uri)).use { jedis ->
+                val events = EventBlock<Int>()
+                OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(redis.uri).leaseTime(lease).build().use { core ->
+                    val own = core.source("numbers", events).reader()
+                    core.start()
+                    val readerSet = keys.sourceReaders("numbers")
+
+                    WorkerProcess.start(LeaseWorkerMain::class.java, redis.uri, name, lease.toMillis().toString(), "readers", "$READERS").use { worker ->
+                        worker.awaitLine("READY")
+                        assertEquals(READERS + 1L, jedis.scard(readerSet), "the worker's readers and this one")
+                        (0 until 10).forEach(events::publish)
+                        assertEquals((0 until 10).toList(), (0 until 10).map { own.take(PATIENCE).orElseThrow() })
+                        val ownList = readerOf(jedis, readerSet, own)
+                        val workerLists = readerLists(jedis, name).filter { it != ownList }
+                        assertEquals(READERS, workerLists.size, worker.output())
+                        assertEquals(10L, jedis.llen(workerLists.first()), "each of the worker's readers got every value")
+
+                        val killed = System.nanoTime()
+                        worker.kill()
+                        val deadline = killed + (lease + lease.dividedBy(3) + SLACK).toNanos()
+                        while (jedis.scard(readerSet) > 1 && System.nanoTime() < deadline) {
+                            Thread.onSpinWait()
+                            jedis.ping() // paces the loop on Redis round trips
+                        }
+                        val took = Duration.ofNanos(System.nanoTime() - killed)
+                        println("ReclaimTest: $READERS readers of a killed process reclaimed ${took.toMillis()} ms after the kill")
+                        assertEquals(1L, jedis.scard(readerSet), "reader set ${took.toMillis()} ms after the kill")
+                        assertEquals(setOf(ownList), jedis.smembers(readerSet.toString(UTF_8)), "the live reader stays")
+                        assertEquals(listOf<String>(), workerLists.filter { jedis.exists(it) }, "the dead readers' lists are deleted")
+                        assertEquals(listOf<String>(), scan(jedis, "prime:{$name}:rdr:*").filter { !it.startsWith(ownList) }, "and their processing lists and counters")
+                    }
+                    assertEquals(setOf(instanceOf(jedis, keys)), jedis.smembers(keys.instances.toString(UTF_8)), "the dead instance is forgotten")
+                    assertEquals(0, scan(jedis, "prime:{$name}:inst:*").count { !it.contains(instanceOf(jedis, keys)) }, "its records are gone")
+
+                    (10 until 20).forEach(events::publish)
+                    assertEquals((10 until 20).toList(), (10 until 20).map { own.take(PATIENCE).orElseThrow() }, "the live reader goes on")
+                }
+                assertFalse(jedis.exists(keys.instances), "a closed core leaves no instance behind")
+                assertTrue(scan(jedis, "prime:{$name}:inst:*").isEmpty(), "nor lease or records")
+            }
+        }
+    }
+
+    private fun readerLists(jedis: Jedis, name: String): List<String> =
+        scan(jedis, "prime:{$name}:rdr:*").filter { !it.endsWith(":proc") && !it.endsWith(":missed") }
+
+    private fun readerOf(jedis: Jedis, readerSet: ByteArray, own: dev.prime.Reader<Int>): String =
+        (own as OptimusReader<*>).list.toString(UTF_8).also { assertTrue(jedis.sismember(readerSet, it.toByteArray(UTF_8))) }
+
+    private fun instanceOf(jedis: Jedis, keys: Keys): String =
+        jedis.smembers(keys.instances.toString(UTF_8)).single { jedis.exists(keys.instanceLease(it)) }
+
+    private fun scan(jedis: Jedis, pattern: String): List<String> {
+        val found = ArrayList<String>()
+        var cursor = ScanParams.SCAN_POINTER_START
+        var rounds = 0
+        do {
+            val page = jedis.scan(cursor, ScanParams().match(pattern).count(1000))
+            found += page.result
+            cursor = page.cursor
+            check(++rounds < 10_000) { "SCAN did not finish" }
+        } while (cursor != ScanParams.SCAN_POINTER_START)
+        return found
+    }
+
+    private companion object {
+        const val READERS = 500
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+
+        /** Scheduling slack on a loaded machine over the lease time and one heartbeat. */
+        val SLACK: Duration = Duration.ofSeconds(2)
+    }
+}
