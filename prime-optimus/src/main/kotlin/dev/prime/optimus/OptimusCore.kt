@@ -134,7 +134,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime)
     private val hostedJobs = ConcurrentHashMap<String, Job>()
-    private val lostHosting: MutableSet<String> = ConcurrentHashMap.newKeySet()
+    private val notRunning: MutableSet<String> = ConcurrentHashMap.newKeySet() // hosted, but refused or taken over
     private val declarations = Redeclaration(
         keys, name(), instance, codec.fingerprint(), hostLeases,
         readers = { readers },
@@ -269,7 +269,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * in-process services of links to sources of other cores.
      */
     override fun serviceNames(): Set<String> =
-        super.serviceNames() + services.keys.filter { isHosted(it) && it !in lostHosting }
+        super.serviceNames() + services.keys.filter { isHosted(it) && it !in notRunning }
 
     // ------------------------------------------------------------------ liveness
 
@@ -293,7 +293,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${services.keys.sorted()}"
             }
         }
-        hostLeases.claim(services.keys.filter(::isHosted), name())
+        val hosted = services.keys.filter(::isHosted)
+        try {
+            hostLeases.claim(hosted, name())
+        } catch (e: IllegalStateException) {
+            notRunning += hosted
+            throw e
+        }
         services.values.forEach(::launchIfHosted)
     }
 
@@ -423,6 +429,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 hostLeases.claim(listOf(service.name), name())
             } catch (e: RuntimeException) {
                 launched -= service.name
+                if (e is IllegalStateException) notRunning += service.name
                 throw e
             }
         }
@@ -431,7 +438,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
     private fun stopLostService(service: String, holder: String) {
-        lostHosting += service
+        notRunning += service
         hostedJobs.remove(service)?.cancel()
         val message = "core '${name()}' stopped service '$service': its host lease is now held by $holder (this process " +
             "was frozen or cut off from Redis longer than the lease time, and another took over). Restart this " +
