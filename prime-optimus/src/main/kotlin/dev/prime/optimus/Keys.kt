@@ -51,6 +51,12 @@ internal class Keys(topology: String) {
     /** What one core instance owns: a hash from each of its reader and reply lists to the reader set it is in (or empty). */
     fun instanceLists(instance: String): ByteArray = key("inst:$instance:lists")
 
+    /**
+     * How many declarations (registrations, ownership records) one core instance has made: the
+     * instance counts them too, and a smaller number in Redis means Redis lost some of its writes.
+     */
+    fun instanceDeclared(instance: String): ByteArray = key("inst:$instance:declared")
+
     /** The host lease of a service: the id of the one instance that runs it; expires unless renewed. */
     fun hostLease(service: String): ByteArray = key("svc:$service:host")
 

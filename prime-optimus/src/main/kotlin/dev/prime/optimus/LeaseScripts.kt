@@ -30,9 +30,10 @@ internal class LeaseScript(text: String) {
 /** The scripts of instance leases, reclaiming and host leases (see [Liveness] and [HostLeases]). */
 internal object LeaseScripts {
     /**
-     * Renews an instance's lease and reads the topology's epoch, writing [ARGV 4] as the epoch if
-     * there is none. KEYS: instance lease, instance set, epoch. ARGV: instance id, lease value,
-     * lease ms, fresh epoch. Returns {epoch, 1 if the lease was still there else 0}.
+     * Renews an instance's lease and reads the topology's epoch, writing ARGV 4 as the epoch if
+     * there is none. KEYS: instance lease, instance set, epoch, the instance's declaration count.
+     * ARGV: instance id, lease value, lease ms, fresh epoch. Returns {epoch, 1 if the lease was
+     * still there else 0, the declaration count or -1 if there is none}.
      */
     val HEARTBEAT = LeaseScript(
         """
@@ -44,23 +45,35 @@ internal object LeaseScripts {
         local alive = redis.call('EXISTS', KEYS[1])
         redis.call('SET', KEYS[1], ARGV[2], 'PX', ARGV[3])
         redis.call('SADD', KEYS[2], ARGV[1])
-        return {epoch, alive}
+        local declared = redis.call('GET', KEYS[4])
+        return {epoch, alive, declared and tonumber(declared) or -1}
+        """,
+    )
+
+    /** Raises a count to at least ARGV 1. KEYS: the count. */
+    val RAISE = LeaseScript(
+        """
+        local current = tonumber(redis.call('GET', KEYS[1]) or '0')
+        if current < tonumber(ARGV[1]) then
+          redis.call('SET', KEYS[1], ARGV[1])
+        end
+        return 0
         """,
     )
 
     /**
      * Removes what a dead instance owned, unless its lease is back (it was only frozen and renewed
-     * it). KEYS: its lease, the instance set, its lists hash, then per owned list either 4 keys
-     * (reader list, its processing list, its missed counter, the source's reader set) or 1 (a
-     * reply list). ARGV: the instance id, then the key count of each owned list. Returns -1 if
-     * the lease is back, 1 if the instance is gone entirely, 0 if it still owns lists.
+     * it). KEYS: its lease, the instance set, its lists hash, its declaration count, then per owned
+     * list either 4 keys (reader list, its processing list, its missed counter, the source's reader
+     * set) or 1 (a reply list). ARGV: the instance id, then the key count of each owned list.
+     * Returns -1 if the lease is back, 1 if the instance is gone entirely, 0 if it still owns lists.
      */
     val RECLAIM = LeaseScript(
         """
         if redis.call('EXISTS', KEYS[1]) == 1 then
           return -1
         end
-        local k = 4
+        local k = 5
         for a = 2, #ARGV do
           local n = tonumber(ARGV[a])
           if n == 4 then
@@ -73,7 +86,7 @@ internal object LeaseScripts {
           k = k + n
         end
         if redis.call('HLEN', KEYS[3]) == 0 then
-          redis.call('DEL', KEYS[3])
+          redis.call('DEL', KEYS[3], KEYS[4])
           redis.call('SREM', KEYS[2], ARGV[1])
           return 1
         end

@@ -59,6 +59,8 @@ internal class Liveness(
 ) {
     private val lease = keys.instanceLease(instance)
     private val lists = keys.instanceLists(instance)
+    private val declared = keys.instanceDeclared(instance)
+    private val declarations = AtomicLong() // how many this instance made: Redis must hold at least that
     private val instanceId = instance.toByteArray(UTF_8)
     private val leaseValue = describeProcess().toByteArray(UTF_8)
     private val leaseMillis = leaseTime.toMillis().toString().toByteArray(UTF_8)
@@ -100,7 +102,23 @@ internal class Liveness(
     /** Records that this instance owns [list], a reader list in [readerSet] or (if `null`) a reply list. */
     fun own(session: RedisSession, list: ByteArray, readerSet: ByteArray?) {
         begin()
-        session.retrying { it.hset(lists, list, readerSet ?: EMPTY) }
+        session.retrying { jedis ->
+            val pipeline = jedis.pipelined()
+            pipeline.hset(lists, list, readerSet ?: EMPTY)
+            val count = pipeline.incr(declared)
+            pipeline.sync()
+            declarations.accumulateAndGet(count.get(), ::maxOf)
+        }
+    }
+
+    /**
+     * Counts a declaration this instance just made (a registration with a source), so the
+     * heartbeat notices if Redis loses it (a crash with `appendfsync everysec`, a replica that was
+     * behind): Redis writes in order, so a lost declaration takes the later count with it.
+     */
+    fun declared(session: RedisSession) {
+        begin()
+        session.retrying { declarations.accumulateAndGet(it.incr(declared), ::maxOf) }
     }
 
     /** Forgets [list] (a reader that unregistered itself). */
@@ -111,7 +129,7 @@ internal class Liveness(
     /** Queues the removal of the lease and the ownership records (the lists themselves are the caller's). */
     fun releaseAll(pipeline: Pipeline) {
         if (!begun) return
-        pipeline.del(lease, lists)
+        pipeline.del(lease, lists, declared)
         pipeline.srem(keys.instances, instanceId)
     }
 
@@ -147,7 +165,10 @@ internal class Liveness(
         session.once(::beatOnce)
         pending?.let { loss ->
             reclaimNotBefore = System.nanoTime() + leaseTime.toNanos()
+            val count = declarations.get()
             hooks.redeclare(session, loss)
+            // what was declared again is counted anew; declarations made meanwhile raise it further
+            session.once { LeaseScripts.RAISE.run(it, listOf(declared), listOf(count.toString().toByteArray(UTF_8))) }
             pending = null
         }
         hooks.renew(session)
@@ -157,18 +178,22 @@ internal class Liveness(
     /** Renews the lease; notes a loss of data or of the lease. */
     private fun beatOnce(jedis: Jedis) {
         val fresh = UUID.randomUUID().toString().toByteArray(UTF_8)
+        val expected = declarations.get()
         val reply = LeaseScripts.HEARTBEAT.run(
             jedis,
-            listOf(lease, keys.instances, keys.epoch),
+            listOf(lease, keys.instances, keys.epoch, declared),
             listOf(instanceId, leaseValue, leaseMillis, fresh),
         ) as List<*>
         val epoch = (reply[0] as ByteArray).toString(UTF_8)
         val leaseWasAlive = reply[1] == 1L
+        val stored = reply[2] as Long
         val known = knownEpoch
         knownEpoch = epoch
         if (known == null) return
-        if (epoch != known) {
-            resetCount.incrementAndGet()
+        // no count at all with a lapsed lease: reclaimed as dead; a smaller count: Redis lost writes
+        val writesLost = expected > 0 && if (stored < 0) leaseWasAlive else stored < expected
+        if (epoch != known || writesLost) {
+            if (pending != Loss.DATA_LOST) resetCount.incrementAndGet()
             pending = Loss.DATA_LOST
         } else if (!leaseWasAlive) {
             lapseCount.incrementAndGet()
@@ -195,7 +220,7 @@ internal class Liveness(
         var start = 0
         do {
             val chunk = owned.subList(start, minOf(start + RECLAIM_CHUNK, owned.size))
-            val scriptKeys = arrayListOf(keys.instanceLease(dead), keys.instances, keys.instanceLists(dead))
+            val scriptKeys = arrayListOf(keys.instanceLease(dead), keys.instances, keys.instanceLists(dead), keys.instanceDeclared(dead))
             val args = arrayListOf(dead.toByteArray(UTF_8))
             for ((list, readerSet) in chunk) {
                 if (readerSet.isNotEmpty()) {

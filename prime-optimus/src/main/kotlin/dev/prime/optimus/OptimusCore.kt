@@ -448,7 +448,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private fun register(source: SourceKeys, list: ByteArray) {
-        withSession { session -> session.retrying { registerOnce(it, source, list) } }
+        withSession { session ->
+            session.retrying { registerOnce(it, source, list) }
+            liveness.declared(session)
+        }
     }
 
     private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray) {

@@ -5,9 +5,12 @@ import dev.prime.EventBlock
 import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.io.TempDir
 import redis.clients.jedis.Jedis
 import java.net.URI
 import java.nio.charset.StandardCharsets.UTF_8
+import java.nio.file.Files
+import java.nio.file.Path
 import java.time.Duration
 import java.util.Optional
 
@@ -67,6 +70,52 @@ class RedisResetTest {
                 }
             }
         }
+    }
+
+    /**
+     * Redis comes back behind this process (as after a failover to a replica that lagged, or a
+     * crash with `appendfsync everysec`): it has the topology's data, but not a reader registered
+     * last. The process notices that Redis holds fewer of its declarations than it made.
+     */
+    @Test
+    fun redisThatComesBackBehindIsNoticedAndTheMissingRegistrationDeclaredAgain(@TempDir dir: Path) {
+        val config = CoreConfig.builder().name("redis-behind").build()
+        EmbeddedRedis.builder().appendOnlyDir(dir).start().use { redis ->
+            // a lease long enough to outlive the stale copy: only the declaration count can tell
+            OptimusCore.builder().config(config).redis(redis.uri).leaseTime(Duration.ofSeconds(6)).build().use { core ->
+                val events = EventBlock<Int>()
+                val numbers = core.source("numbers", events)
+                val early = numbers.reader()
+                core.start()
+                events.publish(0)
+                assertEquals(listOf(0), takeAll(early, 1))
+
+                val aof = dir.resolve("appendonlydir")
+                val stale = dir.resolve("stale")
+                copyTree(aof, stale) // what a lagging replica would have
+                val late = numbers.reader() // registered after the copy
+
+                redis.kill()
+                deleteTree(aof)
+                Files.move(stale, aof)
+                redis.restart()
+
+                (1 until 101).forEach(events::publish)
+                assertEquals((1 until 101).toList(), takeAll(early, 100), "the reader Redis still knew")
+                assertEquals((0 until 101).toList(), takeAll(late, 101), "the reader Redis had lost, declared again")
+                assertEquals(1L, core.redisResets())
+            }
+        }
+    }
+
+    private fun copyTree(from: Path, to: Path) {
+        Files.createDirectories(to)
+        Files.list(from).use { files -> files.forEach { Files.copy(it, to.resolve(it.fileName)) } }
+    }
+
+    private fun deleteTree(dir: Path) {
+        Files.list(dir).use { files -> files.forEach(Files::delete) }
+        Files.delete(dir)
     }
 
     private fun <T> takeAll(reader: Reader<T>, n: Int): List<T> = (0 until n).map { i ->
