@@ -64,6 +64,26 @@ import java.util.function.Predicate
  * name is the Redis namespace) and an agreeing codec; each one is told which services it hosts
  * ([Builder.hosts]); the others are remote. Values wait in Redis until a host takes them.
  *
+ * ## Liveness, lost Redis data and one host per service
+ * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
+ *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
+ *   are recorded as its own. When a process dies, any live process of the topology reclaims them
+ *   within the lease time plus a heartbeat: its readers leave their sources and their lists are
+ *   deleted. [close] removes them at once.
+ * - [start] claims a host lease for every service the core hosts: a service has one host at a
+ *   time. If another live process holds it, [start] waits up to one lease time for it to lapse
+ *   (so a worker restarted after a crash takes over within the lease time), then fails with
+ *   [IllegalStateException] ("already hosted by", naming the service and the holder). A process
+ *   that finds its host lease taken (it was frozen longer than the lease) stops the service, logs
+ *   a WARN and tells the error handler.
+ * - If Redis loses the topology's data (a restart without persistence, a failover to a replica
+ *   that was behind), every live core notices within about one heartbeat, logs a WARN, counts it
+ *   ([redisResets]) and declares again what it hosts and reads: the codec fingerprint, the
+ *   registrations of its readers and of the services fed by sources (a list registered again
+ *   gets the values the source retains), its ownership records and host leases. Values published
+ *   after that arrive; values that were only in Redis (queued, unread, calls in flight, dead
+ *   letters) are lost. What each Redis persistence mode keeps is tabled in the architecture docs.
+ *
  * ## Guarantees beyond every media's
  * - A value taken by a service stays in Redis until its result is stored, in the same atomic step
  *   (a Lua script, all keys of a topology in one hash slot); after a crash or a lost connection a
@@ -74,7 +94,8 @@ import java.util.function.Predicate
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
  *
  * Threading: like every core, declaring is thread-safe; blocks of hosted services run on the
- * core's threads (`prime-<core>-optimus-<n>`), one value at a time per service.
+ * core's threads (`prime-<core>-optimus-<n>`), one value at a time per service; one of those
+ * threads is the heartbeat, from the first registration or [start] until [close].
  */
 public class OptimusCore private constructor(config: CoreConfig, settings: Settings) : PrimeCore("optimus", config) {
 
