@@ -460,12 +460,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
     private fun stopLostService(service: String, holder: String) {
         notRunning += service
-        hostedJobs.remove(service)?.cancel()
-        val message = "core '${name()}' stopped service '$service': its host lease is now held by $holder (this process " +
+        val job = hostedJobs.remove(service)
+        job?.cancel()
+        val message = "core '${name()}' stops service '$service': its host lease is now held by $holder (this process " +
             "was frozen or cut off from Redis longer than the lease time, and another took over). Restart this " +
             "process to host it again once the other stops"
         LOG.warn(message)
         reportFailure(service, holder, IllegalStateException(message))
+        job?.invokeOnCompletion { LOG.warn("core '{}' stopped service '{}' (its host lease is held by {})", name(), service, holder) }
     }
 
     private fun register(source: SourceKeys, list: ByteArray) {

@@ -4,6 +4,7 @@ import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
@@ -66,6 +67,12 @@ class ReclaimTest {
                 assertTrue(scan(jedis, "prime:{$name}:inst:*").isEmpty(), "nor lease or records")
             }
         }
+    }
+
+    @Test
+    fun aLeaseTooShortToSurviveAGcPauseIsRefusedWithTheMinimum() {
+        val e = assertThrows(IllegalArgumentException::class.java) { OptimusCore.builder().leaseTime(Duration.ofMillis(100)) }
+        assertTrue(e.message!!.contains("at least 300 ms") && e.message!!.contains("PT0.1S"), e.message)
     }
 
     private fun readerLists(jedis: Jedis, name: String): List<String> =

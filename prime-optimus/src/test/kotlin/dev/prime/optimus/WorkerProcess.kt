@@ -33,14 +33,19 @@ internal class WorkerProcess private constructor(private val process: Process) :
     fun output(): String = synchronized(lines) { lines.joinToString("\n") }
 
     /** The next line starting with [prefix], waiting at most [seconds]. */
-    fun awaitLine(prefix: String, seconds: Long = PATIENCE_S): String {
+    fun awaitLine(prefix: String, seconds: Long = PATIENCE_S): String = awaitLine(prefix, seconds) { it.startsWith(prefix) }
+
+    /** The next line containing [text], waiting at most [seconds]. */
+    fun awaitLineContaining(text: String, seconds: Long = PATIENCE_S): String = awaitLine(text, seconds) { it.contains(text) }
+
+    private fun awaitLine(what: String, seconds: Long, wanted: (String) -> Boolean): String {
         val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(seconds)
         while (true) {
             val left = deadline - System.nanoTime()
             val line = fresh.poll(left.coerceAtLeast(0), TimeUnit.NANOSECONDS)
-                ?: throw AssertionError("no line '$prefix…' from the worker within $seconds s; its output:\n${output()}")
-            if (line === END) throw AssertionError("the worker ended before '$prefix…'; its output:\n${output()}")
-            if (line.startsWith(prefix)) return line
+                ?: throw AssertionError("no line '$what' from the worker within $seconds s; its output:\n${output()}")
+            if (line === END) throw AssertionError("the worker ended before '$what'; its output:\n${output()}")
+            if (wanted(line)) return line
         }
     }
 
