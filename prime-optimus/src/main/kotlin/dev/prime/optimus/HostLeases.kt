@@ -41,14 +41,15 @@ internal class HostLeases(
         if (services.isEmpty()) return
         val started = System.nanoTime()
         val deadline = started + leaseTime.toNanos() + CLAIM_MARGIN.toNanos()
-        val claimed = ArrayList<String>()
+        val all = services.toList()
         RedisSession(connections).use { session ->
-            var pending = services.toList()
             while (true) {
-                val holders = session.retrying { claimOnce(it, pending) }
+                // all of them each time: this renews the leases already claimed while others are awaited
+                val holders = session.retrying { claimOnce(it, all) }
+                val claimed = ArrayList<String>()
                 val refused = LinkedHashMap<String, String>()
                 var soonest = Long.MAX_VALUE
-                pending.forEachIndexed { i, service ->
+                all.forEachIndexed { i, service ->
                     val (holder, remaining) = holders[i]
                     if (holder == instance) {
                         claimed += service
@@ -77,7 +78,6 @@ internal class HostLeases(
                 }
                 val wait = (soonest + 1).coerceIn(MIN_WAIT_MS, ceilMillis(left))
                 connections.pause(wait)
-                pending = refused.keys.toList()
             }
         }
     }
