@@ -14,6 +14,9 @@ internal enum class Loss {
     /** Redis lost the topology's data: restarted without persistence, or failed over to a replica that was behind. */
     DATA_LOST,
 
+    /** Redis came back behind: it lacks this instance's last declarations (a replica that lagged, an everysec AOF). */
+    WRITES_LOST,
+
     /** This instance's lease lapsed (frozen or cut off longer than the lease): others may have reclaimed its lists. */
     LEASE_LAPSED,
 }
@@ -193,8 +196,8 @@ internal class Liveness(
         // no count at all with a lapsed lease: reclaimed as dead; a smaller count: Redis lost writes
         val writesLost = expected > 0 && if (stored < 0) leaseWasAlive else stored < expected
         if (epoch != known || writesLost) {
-            if (pending != Loss.DATA_LOST) resetCount.incrementAndGet()
-            pending = Loss.DATA_LOST
+            if (pending != Loss.DATA_LOST && pending != Loss.WRITES_LOST) resetCount.incrementAndGet()
+            pending = if (epoch != known) Loss.DATA_LOST else Loss.WRITES_LOST
         } else if (!leaseWasAlive) {
             lapseCount.incrementAndGet()
             if (pending == null) pending = Loss.LEASE_LAPSED
@@ -220,7 +223,8 @@ internal class Liveness(
         var start = 0
         do {
             val chunk = owned.subList(start, minOf(start + RECLAIM_CHUNK, owned.size))
-            val scriptKeys = arrayListOf(keys.instanceLease(dead), keys.instances, keys.instanceLists(dead), keys.instanceDeclared(dead))
+            val scriptKeys =
+                arrayListOf(keys.instanceLease(dead), keys.instances, keys.instanceLists(dead), keys.instanceDeclared(dead))
             val args = arrayListOf(dead.toByteArray(UTF_8))
             for ((list, readerSet) in chunk) {
                 if (readerSet.isNotEmpty()) {

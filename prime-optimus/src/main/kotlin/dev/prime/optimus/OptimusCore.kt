@@ -467,7 +467,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "process to host it again once the other stops"
         LOG.warn(message)
         reportFailure(service, holder, IllegalStateException(message))
-        job?.invokeOnCompletion { LOG.warn("core '{}' stopped service '{}' (its host lease is held by {})", name(), service, holder) }
+        job?.invokeOnCompletion {
+            LOG.warn("core '{}' stopped service '{}' (its host lease is held by {})", name(), service, holder)
+        }
     }
 
     private fun register(source: SourceKeys, list: ByteArray) {

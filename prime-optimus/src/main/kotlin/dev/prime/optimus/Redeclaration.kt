@@ -58,6 +58,12 @@ internal class Redeclaration(
                     "values, calls waiting for replies, dead letters). Instance {} re-declares {}",
                 coreName, instance, what,
             )
+            Loss.WRITES_LOST -> LOG.warn(
+                "Redis came back behind for topology '{}': it lacks the last declarations of instance {} (a failover to " +
+                    "a replica that lagged, or a crash with an append-only file synced every second); the last writes " +
+                    "before that are gone (values published, steps stored, registrations made). It re-declares {}",
+                coreName, instance, what,
+            )
             Loss.LEASE_LAPSED -> LOG.warn(
                 "the lease of instance {} of topology '{}' lapsed: this process was frozen or cut off from Redis longer " +
                     "than its lease time, so other processes may have reclaimed its readers and reply lists (values unread " +
