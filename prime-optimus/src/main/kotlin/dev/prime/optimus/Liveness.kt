@@ -124,9 +124,9 @@ internal class Liveness(
         session.retrying { declarations.accumulateAndGet(it.incr(declared), ::maxOf) }
     }
 
-    /** Forgets [list] (a reader that unregistered itself). */
-    fun disown(session: RedisSession, list: ByteArray) {
-        if (begun) session.retrying { it.hdel(lists, list) }
+    /** Queues forgetting [list] (a reader that unregistered itself). */
+    fun disown(pipeline: Pipeline, list: ByteArray) {
+        if (begun) pipeline.hdel(lists, list)
     }
 
     /** Queues the removal of the lease and the ownership records (the lists themselves are the caller's). */
