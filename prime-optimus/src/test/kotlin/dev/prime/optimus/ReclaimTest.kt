@@ -73,6 +73,24 @@ class ReclaimTest {
     }
 
     @Test
+    fun aClosedReaderLeavesItsProcessRecordsSoNothingIsLeftToReclaim() {
+        val name = "reclaim-closed-reader"
+        val keys = Keys(name)
+        Jedis(URI(TestRedis.url)).use { jedis ->
+            OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(TestRedis.url).build().use { core ->
+                val numbers = core.source("numbers", EventBlock<Int>())
+                val kept = numbers.reader()
+                val closed = numbers.reader()
+                core.start()
+                val records = keys.instanceLists(instanceOf(jedis, keys))
+                assertEquals(2L, jedis.hlen(records), "both readers are recorded as this process's")
+                closed.close()
+                assertEquals(listOf((kept as OptimusReader<*>).list.toString(UTF_8)), jedis.hkeys(records.toString(UTF_8)).toList())
+            }
+        }
+    }
+
+    @Test
     fun aLeaseTooShortToSurviveAGcPauseIsRefusedWithTheMinimum() {
         val e = assertThrows(IllegalArgumentException::class.java) { OptimusCore.builder().leaseTime(Duration.ofMillis(100)) }
         assertTrue(e.message!!.contains("at least 300 ms") && e.message!!.contains("PT0.1S"), e.message)
