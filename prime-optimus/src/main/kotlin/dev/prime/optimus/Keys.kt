@@ -24,8 +24,21 @@ internal class Keys(topology: String) {
     /** The retained values of a source (its newest `retention` values). */
     fun sourceLog(source: String): ByteArray = key("src:$source:log")
 
-    /** The set of reader lists a source publishes to. */
+    /** The set of plain reader lists a source publishes to (trimmed to its retention). */
     fun sourceReaders(source: String): ByteArray = key("src:$source:readers")
+
+    /** The set of service input lists a source publishes to (queues: never trimmed). */
+    fun sourceServices(source: String): ByteArray = key("src:$source:services")
+
+    /** The count of dead letters trimmed from a service's dead-letter list by its cap. */
+    fun deadLettersTrimmed(service: String): ByteArray = key("svc:$service:dead:trimmed")
+
+    /** The service whose input list is [input], if it is one of this topology's. */
+    fun serviceOf(input: ByteArray): String? {
+        val text = input.toString(UTF_8)
+        val start = prefix + "svc:"
+        return if (text.startsWith(start) && text.endsWith(":in")) text.substring(start.length, text.length - 3) else null
+    }
 
     /** The list of one reader that is not a service. */
     fun reader(id: String): ByteArray = key("rdr:$id")
@@ -38,6 +51,9 @@ internal class Keys(topology: String) {
 
     /** The list a synchronous caller receives its replies on. */
     fun reply(id: String): ByteArray = key("reply:$id")
+
+    /** What every reply list's key starts with; a request naming another key is refused. */
+    val replyPrefix: ByteArray = key("reply:")
 
     /** The fingerprint of the codec the topology's processes use. */
     val codec: ByteArray = key("codec")

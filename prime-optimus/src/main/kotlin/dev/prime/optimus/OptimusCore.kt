@@ -22,6 +22,7 @@ import kotlinx.coroutines.withTimeoutOrNull
 import org.slf4j.LoggerFactory
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Pipeline
+import redis.clients.jedis.exceptions.JedisDataException
 import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
@@ -55,8 +56,9 @@ import java.util.function.Predicate
  * - [Chain.toBlock] is a remote call: it pushes the input with a reply address and waits for that
  *   call's own result; many threads may call at once.
  * - A source is a log of its newest values plus one list per reader; publishing pushes to all of
- *   them atomically and trims each to [CoreConfig.sourceRetention]. A chain linked to a source is
- *   one of its readers.
+ *   them atomically. The log and plain readers' lists are trimmed to
+ *   [CoreConfig.sourceRetention]; the input of a chain linked to the source is a queue, never
+ *   trimmed (see "Delivery").
  * - Templates are the generic ones of [PrimeCore]: a template chain is one service whose block
  *   calls the services of the chains it was made of.
  *
@@ -85,13 +87,37 @@ import java.util.function.Predicate
  *   after that arrive; values that were only in Redis (queued, unread, calls in flight, dead
  *   letters) are lost. What each Redis persistence mode keeps is tabled in the architecture docs.
  *
- * ## Guarantees beyond every media's
- * - A value taken by a service stays in Redis until its result is stored, in the same atomic step
- *   (a Lua script, all keys of a topology in one hash slot); after a crash or a lost connection a
- *   service first finishes what it had taken. With a durable Redis, nothing accepted is lost.
- * - Values have ids; one pushed twice by a retry is processed once.
- * - Bytes that cannot be decoded, and values whose block failed (after [Builder.retries]), go to
- *   the service's dead-letter list ([deadLetters]); the service goes on.
+ * ## Delivery
+ * - A service's input is a queue, not a retention window: nothing a service's queue accepted is
+ *   dropped. Every value is processed at least once (a value pushed twice, e.g. by a retried
+ *   publish, is recognised by its id and processed once, within the last 4096 ids a service
+ *   handled) or dead-lettered with the reason. A value taken by a service stays in Redis until its
+ *   result is stored, in the same atomic step (a Lua script, all keys of a topology in one hash
+ *   slot); after a crash or a lost connection a service first finishes what it had taken. What
+ *   survives a crash of Redis itself is what its persistence keeps (see docs/architecture.md).
+ * - Queues are bounded ([Builder.queueLimit], per service or for all): a publish that would put a
+ *   service's queue over its limit waits for room up to [Builder.publishTimeout], then throws
+ *   [QueueFullException] and publishes nothing (a publish is all or nothing). A service whose
+ *   next service's queue (a linked chain's internal hop, or a source feeding other services) is
+ *   full holds its results and waits: internal hops never drop. A publish while Redis is
+ *   unreachable gives up at the same timeout with [RedisUnavailableException].
+ * - A plain [Reader] is a retention window ([CoreConfig.sourceRetention]): when it falls further
+ *   behind, the oldest values it has not read are dropped; [Reader.missed] counts them, and the
+ *   publishing process logs a WARN with the count, at most once per reader every 10 s.
+ * - Dead letters ([deadLetters]): bytes that cannot be decoded, values whose block failed (after
+ *   [Builder.retries]), entries above [Builder.maxValueBytes] (only their first KiB is kept),
+ *   requests whose reply key is not one of this topology's reply lists, and entries whose results
+ *   Redis refused to store (WRONGTYPE, a script error: the step is redone one entry at a
+ *   time to find the one at fault). The service goes on. At most [Builder.deadLetterLimit] are
+ *   kept per service; older ones are dropped and counted ([trimmedDeadLetters]). A Redis out of
+ *   memory (`maxmemory` reached) or a missing permission is waited out like an outage, with a
+ *   log line: nothing is dropped for it.
+ * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
+ *   handler receives the service's name, the input and the block's own throwable.
+ * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
+ *   ([ValueTooLargeException]); a service takes at most 256 entries or 8 MiB per step.
+ * - Reply lists expire (10 minutes or twice the call timeout, whichever is longer) after each
+ *   reply pushed to them, so replies to callers that died do not stay.
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
  *
  * Threading: like every core, declaring is thread-safe; blocks of hosted services run on the
@@ -114,6 +140,19 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal val ids: ValueIds = ValueIds()
     internal val retries: Int = settings.retries
     internal val callTimeout: Duration? = settings.callTimeout
+    private val publishTimeout: Duration = settings.publishTimeout
+    private val maxValueBytes: Int = settings.maxValueBytes
+    private val queueLimit: Int = settings.queueLimit
+    private val queueLimits: Map<String, Int> = settings.queueLimits
+    internal val stepRules: StepRules = StepRules(
+        keys.replyPrefix,
+        maxOf(MIN_REPLY_TTL, (callTimeout ?: MIN_REPLY_TTL).multipliedBy(2)).toMillis(),
+        settings.deadLetterLimit,
+        // a value at the limit, in an envelope with the longest reply key
+        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
+        settings.batchBytes,
+    ) { input -> queueLimitOf(keys.serviceOf(input)) }
+    internal val readerMisses: ReaderMisses = ReaderMisses(name())
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
 
@@ -168,6 +207,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /** The URL of the Redis this core uses (password hidden). */
     public val redisUrl: String get() = endpoint.toString()
+
+    /** The Redis user this core logs in as (`null`: the default user), for messages. */
+    internal val redisUser: String? get() = endpoint.user
 
     // ------------------------------------------------------------------ chains
 
@@ -249,9 +291,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /**
      * Publishes [values] to [source] in one atomic step (one round trip), in order: the fast way
      * to feed a source at high rates, where [EventBlock.publish] costs a round trip per value.
+     * All or nothing: if a service queue fed by the source has no room for all of them within
+     * [Builder.publishTimeout], none is published.
      *
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or a
      *     value is `null` or of a type the codec does not allow
+     * @throws ValueTooLargeException if a value encodes to more than [Builder.maxValueBytes]
+     * @throws QueueFullException if a service queue stays too full for the values until the publish timeout
+     * @throws RedisUnavailableException if Redis stays unreachable until the publish timeout
      * @throws IllegalStateException if the core is not started yet
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
@@ -271,6 +318,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         checkOpen()
         return withSession { session -> session.retrying { it.lrange(keys.deadLetters(service), 0, -1) } }
             .map { DeadLetter.decode(service, it) }
+    }
+
+    /**
+     * How many dead letters of [service] were dropped, oldest first, to keep its list within
+     * [Builder.deadLetterLimit] (since the topology's Redis data was created; [clearDeadLetters]
+     * does not reset it).
+     */
+    public fun trimmedDeadLetters(service: String): Long {
+        checkOpen()
+        return withSession("read the dead-letter count of service '$service'") { session ->
+            session.retrying { it.get(keys.deadLettersTrimmed(service)) }
+        }?.toString(UTF_8)?.toLong() ?: 0L
     }
 
     /** Deletes the dead letters of [service]; returns how many there were. */
@@ -306,7 +365,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     // ------------------------------------------------------------------ lifecycle
 
     override fun onStart() {
-        liveness.begin()
+        beginLiveness()
         checkCodecAgreement()
         declarations.codecDeclared = true
         hosts?.let { wanted ->
@@ -318,7 +377,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
         val hosted = services.keys.filter(::isHosted)
         try {
-            hostLeases.claim(hosted, name())
+            claimHostLeases(hosted)
         } catch (e: IllegalStateException) {
             notRunning += hosted
             throw e
@@ -402,7 +461,27 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    internal fun encode(value: Any?): ByteArray? = value?.let(codec::encode)
+
+    /**
+     * The codec's bytes of [value]: the one place every publish, call and service output is
+     * encoded, so the size limit holds on every path.
+     *
+     * @throws ValueTooLargeException above [Builder.maxValueBytes]
+     */
+    internal fun encode(value: Any?): ByteArray? {
+        val bytes = value?.let(codec::encode) ?: return null
+        if (bytes.size > maxValueBytes) {
+            throw ValueTooLargeException(
+                "a ${value.javaClass.name} encodes to ${bytes.size} bytes, over this core's limit of $maxValueBytes " +
+                    "bytes: send a reference instead (a file or object-store key), split the value, or raise " +
+                    "OptimusCore.Builder.maxValueBytes (every process of the topology should agree)",
+            )
+        }
+        return bytes
+    }
+
+    /** The queue limit of [service] (`null`: not a service of this topology). */
+    internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
         bind(stages, null)
@@ -412,7 +491,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {
         checkOpen()
         val list = keys.reader(UUID.randomUUID().toString())
-        withSession { liveness.own(it, list, source.keys.readers) }
+        withSession("register a reader of source '${source.name()}'") { liveness.own(it, list, source.keys.readers) }
         readers += source.keys to list
         register(source.keys, list)
         return OptimusReader(this, source.keys, list)
@@ -432,7 +511,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun newSlot(): CallerSlot {
         val reply = replyKey(slotNumbers.incrementAndGet())
-        withSession { liveness.own(it, reply, null) }
+        withSession("record a reply list") { liveness.own(it, reply, null) }
         return CallerSlot(this, reply).also { allSlots += it }
     }
 
@@ -471,9 +550,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun bindToSource(source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
         val input = keys.serviceInput(stages.first().name)
-        liveness.begin()
+        beginLiveness()
         declarations.bindings += source.keys to input
-        register(source.keys, input)
+        register(source.keys, input, service = true)
         bind(stages, output?.keys)
     }
 
@@ -498,7 +577,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (!isHosted(service.name) || !launched.add(service.name) || isClosed) return
         if (service.name !in hostLeases.services) {
             try {
-                hostLeases.claim(listOf(service.name), name())
+                claimHostLeases(listOf(service.name))
             } catch (e: RuntimeException) {
                 launched -= service.name
                 if (e is IllegalStateException) notRunning += service.name
@@ -506,6 +585,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { service.run() }
+    }
+
+    /** Registers this process's liveness lease and starts its heartbeat, once. */
+    private fun beginLiveness() {
+        withSession("register this process's liveness lease") { liveness.begin() }
+    }
+
+    /** Claims the host leases of [services] (waiting up to one lease time for others' to lapse). */
+    private fun claimHostLeases(services: List<String>) {
+        withSession("claim the host leases of $services") { hostLeases.claim(services, name()) }
     }
 
     /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
@@ -523,28 +612,81 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    private fun register(source: SourceKeys, list: ByteArray) {
-        withSession { session ->
-            session.retrying { registerOnce(it, source, list) }
+    /** Adds [list] to [source]'s plain readers, or to its service inputs if it is a [service]'s (a queue). */
+    private fun register(source: SourceKeys, list: ByteArray, service: Boolean = false) {
+        withSession("register a reader of source '${source.name}'") { session ->
+            session.retrying { registerOnce(it, source, list, service) }
             liveness.declared(session)
         }
     }
 
-    private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray) {
-        Script.REGISTER.run(jedis, listOf(source.readers, source.log, list), emptyList())
+    private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
+        Script.REGISTER.run(jedis, listOf(if (service) source.services else source.readers, source.log, list), emptyList())
     }
 
+    /**
+     * Publishes [envelopes] to [source] in one atomic step, all or nothing. While a service queue
+     * the source feeds has no room, or Redis is unreachable, it waits, up to the publish timeout.
+     */
     private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
         checkStarted("publishing to an Optimus source")
-        withSession { session ->
-            session.retrying { StepBatch(source.log, source.log, source).apply { envelopes.forEach(::publish) }.run(it, 0, 0) }
+        val deadline = System.nanoTime() + publishTimeout.toNanos()
+        val what = "publish to source '${source.name}'"
+        val step = StepBatch(source.log, source.log, source, null, null, null, stepRules)
+        envelopes.forEach(step::publish)
+        withSession(what) { session ->
+            var backoff: Backoff? = null
+            while (true) {
+                val result = session.retryingUntil(deadline, what) { jedis ->
+                    if (source.view == null) source.refreshView(jedis, keys)
+                    step.execute(jedis, ack = 0, take = 0, strict = true)
+                }
+                when (result) {
+                    is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
+                    is StepResult.Stale -> source.view = null
+                    is StepResult.Full -> {
+                        val left = deadline - System.nanoTime()
+                        if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
+                        val wait = (backoff ?: Backoff().also { backoff = it }).next()
+                        connections.pause(minOf(wait, (left + 999_999) / 1_000_000))
+                    }
+                }
+            }
         }
     }
 
-    private fun <T> withSession(action: (RedisSession) -> T): T {
+    private fun queueFull(source: SourceKeys, full: StepResult.Full, count: Int): QueueFullException {
+        val service = keys.serviceOf(full.key) ?: full.key.toString(UTF_8)
+        val limit = full.limit.toInt()
+        val why = if (count > limit) {
+            "$count values in one publish are more than its queue limit of $limit"
+        } else {
+            "its queue holds ${full.length} values of its limit of $limit and no room came within $publishTimeout"
+        }
+        return QueueFullException(
+            service,
+            limit,
+            "publish to source '${source.name}' refused, nothing was published: service '$service' is fed by it and $why. " +
+                "Is a process that hosts '$service' running and keeping up? Raise the limit with " +
+                "OptimusCore.Builder.queueLimit(\"$service\", n), or the wait with publishTimeout.",
+        )
+    }
+
+    /** Runs [action] on a pooled session; an ACL refusal becomes a [dev.prime.PrimeException] saying what to grant. */
+    private fun <T> withSession(what: String = "a Redis command", action: (RedisSession) -> T): T {
         val session = publishers.poll() ?: RedisSession(connections)
         try {
             return action(session)
+        } catch (e: JedisDataException) {
+            if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
+            if (e.message?.startsWith("OOM") == true) {
+                throw dev.prime.PrimeException(
+                    "$what refused, nothing was stored: Redis is out of memory (its maxmemory is reached; free memory " +
+                        "or raise maxmemory). Redis said: ${e.message}",
+                    e,
+                )
+            }
+            throw e
         } finally {
             publishers += session
         }
@@ -635,6 +777,58 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(leaseTime = leaseTime)
         }
 
+        /**
+         * The most values a service's input queue holds (default 100,000), for every service
+         * without a limit of its own. A service's input is a queue, never trimmed: a publish that
+         * would put it over its limit waits for room up to [publishTimeout] and then throws
+         * [QueueFullException], publishing nothing.
+         */
+        public fun queueLimit(limit: Int): Builder = apply {
+            require(limit > 0) { "queue limit must be positive, was $limit" }
+            settings = settings.copy(queueLimit = limit)
+        }
+
+        /** The queue limit of [service] (as the user named it), instead of the default [queueLimit]. */
+        public fun queueLimit(service: String, limit: Int): Builder = apply {
+            require(limit > 0) { "queue limit of service '$service' must be positive, was $limit" }
+            settings = settings.copy(queueLimits = settings.queueLimits + (service to limit))
+        }
+
+        /**
+         * The longest [EventBlock.publish] and [publishAll] wait (default 10 s): for room in a full
+         * service queue, then [QueueFullException]; for an unreachable Redis, then
+         * [RedisUnavailableException].
+         */
+        public fun publishTimeout(timeout: Duration): Builder = apply {
+            require(!timeout.isNegative) { "publish timeout must not be negative, was $timeout" }
+            settings = settings.copy(publishTimeout = timeout)
+        }
+
+        /**
+         * The largest encoded value (default 16 MiB): a bigger one is refused at publish or call
+         * time with [ValueTooLargeException]; a bigger entry found in Redis is dead-lettered
+         * (keeping its first KiB, not the blob). Every process of a topology should agree.
+         */
+        public fun maxValueBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "max value bytes must be positive, was $bytes" }
+            settings = settings.copy(maxValueBytes = bytes)
+        }
+
+        /**
+         * The most dead letters kept per service (default 10,000): older ones are dropped, and
+         * counted ([trimmedDeadLetters]).
+         */
+        public fun deadLetterLimit(limit: Int): Builder = apply {
+            require(limit > 0) { "dead-letter limit must be positive, was $limit" }
+            settings = settings.copy(deadLetterLimit = limit)
+        }
+
+        /** The bytes a service step takes at most (default 8 MiB; always at least one entry). */
+        internal fun batchBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "batch bytes must be positive, was $bytes" }
+            settings = settings.copy(batchBytes = bytes)
+        }
+
         /** Makes the core: starts an embedded Redis unless [redis] was given, and checks that Redis answers. */
         public fun build(): OptimusCore = OptimusCore(config, settings)
     }
@@ -646,6 +840,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val retries: Int = 0,
         val callTimeout: Duration? = Duration.ofSeconds(60),
         val leaseTime: Duration = Duration.ofSeconds(5),
+        val publishTimeout: Duration = Duration.ofSeconds(10),
+        val maxValueBytes: Int = 16 * 1024 * 1024,
+        val queueLimit: Int = 100_000,
+        val queueLimits: Map<String, Int> = emptyMap(),
+        val deadLetterLimit: Int = 10_000,
+        val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
     )
 
     public companion object {
@@ -653,6 +853,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
+        private val MIN_REPLY_TTL = Duration.ofMinutes(10)
+
+        /** An envelope's header, payload marker and longest reply key. */
+        private const val ENVELOPE_OVERHEAD = 16 + 2 + 0xFFFF
 
         /** Settings for a core; call [Builder.build]. */
         @JvmStatic

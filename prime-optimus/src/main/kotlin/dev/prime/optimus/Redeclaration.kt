@@ -32,8 +32,8 @@ internal class Redeclaration(
     private val readers: () -> Collection<Pair<SourceKeys, ByteArray>>,
     /** The instance's reply lists. */
     private val replyLists: () -> List<ByteArray>,
-    /** Registers a list with a source (the core's registration script). */
-    private val register: (Jedis, SourceKeys, ByteArray) -> Unit,
+    /** Registers a list with a source: as a service input (a queue) if the flag says so, else as a plain reader. */
+    private val register: (Jedis, SourceKeys, ByteArray, Boolean) -> Unit,
     /** Stops a service whose host lease another instance holds now (described). */
     private val lostHosting: (service: String, holder: String) -> Unit,
 ) : LivenessHooks {
@@ -78,8 +78,8 @@ internal class Redeclaration(
             for ((source, list) in readers) pipeline.hset(lists, list, source.readers)
             for (reply in replies) pipeline.hset(lists, reply, EMPTY)
             pipeline.sync()
-            for ((source, list) in bound) register(jedis, source, list)
-            for ((source, list) in readers) register(jedis, source, list)
+            for ((source, list) in bound) register(jedis, source, list, true)
+            for ((source, list) in readers) register(jedis, source, list, false)
         }
         renew(session)
         LOG.info("instance {} of topology '{}' re-declared {}", instance, coreName, what)
