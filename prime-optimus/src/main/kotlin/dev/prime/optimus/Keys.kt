@@ -58,5 +58,26 @@ internal class Keys(topology: String) {
     /** The fingerprint of the codec the topology's processes use. */
     val codec: ByteArray = key("codec")
 
+    /** The set of the ids of the topology's core instances (processes) that registered a lease. */
+    val instances: ByteArray = key("instances")
+
+    /** The liveness lease of one core instance: a string (who it is) that expires unless renewed. */
+    fun instanceLease(instance: String): ByteArray = key("inst:$instance:lease")
+
+    /** What one core instance owns: a hash from each of its reader and reply lists to the reader set it is in (or empty). */
+    fun instanceLists(instance: String): ByteArray = key("inst:$instance:lists")
+
+    /**
+     * How many declarations (registrations, ownership records) one core instance has made: the
+     * instance counts them too, and a smaller number in Redis means Redis lost some of its writes.
+     */
+    fun instanceDeclared(instance: String): ByteArray = key("inst:$instance:declared")
+
+    /** The host lease of a service: the id of the one instance that runs it; expires unless renewed. */
+    fun hostLease(service: String): ByteArray = key("svc:$service:host")
+
+    /** A random token written once per life of the topology's data: a new one means Redis lost the data. */
+    val epoch: ByteArray = key("epoch")
+
     private fun key(suffix: String) = (prefix + suffix).toByteArray(UTF_8)
 }

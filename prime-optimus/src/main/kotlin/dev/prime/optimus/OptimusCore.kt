@@ -13,6 +13,7 @@ import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
+import kotlinx.coroutines.Job
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.cancel
@@ -20,6 +21,8 @@ import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeoutOrNull
 import org.slf4j.LoggerFactory
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.Pipeline
 import redis.clients.jedis.exceptions.JedisDataException
 import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
@@ -65,6 +68,26 @@ import java.util.function.Predicate
  * name is the Redis namespace) and an agreeing codec; each one is told which services it hosts
  * ([Builder.hosts]); the others are remote. Values wait in Redis until a host takes them.
  *
+ * ## Liveness, lost Redis data and one host per service
+ * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
+ *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
+ *   are recorded as its own. When a process dies, any live process of the topology reclaims them
+ *   within the lease time plus a heartbeat: its readers leave their sources and their lists are
+ *   deleted. [close] removes them at once.
+ * - [start] claims a host lease for every service the core hosts: a service has one host at a
+ *   time. If another live process holds it, [start] waits up to one lease time for it to lapse
+ *   (so a worker restarted after a crash takes over within the lease time), then fails with
+ *   [IllegalStateException] ("already hosted by", naming the service and the holder). A process
+ *   that finds its host lease taken (it was frozen longer than the lease) stops the service, logs
+ *   a WARN and tells the error handler.
+ * - If Redis loses the topology's data (a restart without persistence, a failover to a replica
+ *   that was behind), every live core notices within about one heartbeat, logs a WARN, counts it
+ *   ([redisResets]) and declares again what it hosts and reads: the codec fingerprint, the
+ *   registrations of its readers and of the services fed by sources (a list registered again
+ *   gets the values the source retains), its ownership records and host leases. Values published
+ *   after that arrive; values that were only in Redis (queued, unread, calls in flight, dead
+ *   letters) are lost. What each Redis persistence mode keeps is tabled in the architecture docs.
+ *
  * ## Delivery
  * - A service's input is a queue, not a retention window: nothing a service's queue accepted is
  *   dropped. Every value is processed at least once (a value pushed twice, e.g. by a retried
@@ -99,7 +122,8 @@ import java.util.function.Predicate
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
  *
  * Threading: like every core, declaring is thread-safe; blocks of hosted services run on the
- * core's threads (`prime-<core>-optimus-<n>`), one value at a time per service.
+ * core's threads (`prime-<core>-optimus-<n>`), one value at a time per service; one of those
+ * threads is the heartbeat, from the first registration or [start] until [close].
  */
 public class OptimusCore private constructor(config: CoreConfig, settings: Settings) : PrimeCore("optimus", config) {
 
@@ -169,6 +193,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             throw dev.prime.PrimeException("cannot reach Redis at $endpoint: $e", e)
         }
     }
+
+    private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime)
+    private val hostedJobs = ConcurrentHashMap<String, Job>()
+    private val notRunning: MutableSet<String> = ConcurrentHashMap.newKeySet() // hosted, but refused or taken over
+    private val declarations = Redeclaration(
+        keys, name(), instance, codec.fingerprint(), hostLeases,
+        readers = { readers },
+        replyLists = { (1..slotNumbers.get()).map(::replyKey) },
+        register = ::registerOnce,
+        lostHosting = ::stopLostService,
+    )
+    private val liveness = Liveness(keys, connections, instance, settings.leaseTime, executor::execute, declarations)
 
     /** The URL of the Redis this core uses (password hidden). */
     public val redisUrl: String get() = endpoint.toString()
@@ -312,13 +348,27 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    /** Whether this process hosts [service] ([Builder.hosts]; all services by default). */
-    override fun isHostedHere(service: String): Boolean = isHosted(service)
+    /**
+     * Whether this process runs [service]: it hosts it ([Builder.hosts]; all services by default)
+     * and was not refused it, or lost it, to another live instance (see [start]).
+     */
+    override fun isHostedHere(service: String): Boolean = isHosted(service) && service !in notRunning
+
+    // ------------------------------------------------------------------ liveness
+
+    /**
+     * How many times this core found that Redis lost the topology's data (it restarted without
+     * persistence, or failed over to a replica that was behind). Each time the core logged a
+     * WARN and declared again what it hosts and reads; values that were only in Redis are gone.
+     */
+    public fun redisResets(): Long = liveness.resets
 
     // ------------------------------------------------------------------ lifecycle
 
     override fun onStart() {
+        beginLiveness()
         checkCodecAgreement()
+        declarations.codecDeclared = true
         hosts?.let { wanted ->
             val declared = topology().services()
             val unknown = wanted - declared
@@ -326,6 +376,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 "core '${name()}' is told to host $unknown, which its topology does not declare (declare the whole " +
                     "topology before start()); its services: ${declared.sorted()}"
             }
+        }
+        val hosted = services.keys.filter(::isHosted)
+        try {
+            claimHostLeases(hosted)
+        } catch (e: IllegalStateException) {
+            notRunning += hosted
+            throw e
         }
         services.values.forEach(::launchIfHosted)
     }
@@ -350,6 +407,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
                 }
                 for (slot in 1..slotNumbers.get()) pipeline.del(replyKey(slot))
+                hostLeases.releaseAll(pipeline)
+                liveness.releaseAll(pipeline)
                 pipeline.sync()
             } catch (e: Exception) {
                 LOG.debug("core '{}' could not remove its readers and reply lists: {}", name(), e.toString())
@@ -439,8 +498,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {
         checkOpen()
         val list = keys.reader(UUID.randomUUID().toString())
-        register(source.keys, list)
+        withSession("register a reader of source '${source.name()}'") { liveness.own(it, list, source.keys.readers) }
         readers += source.keys to list
+        register(source.keys, list)
         return OptimusReader(this, source.keys, list)
     }
 
@@ -449,8 +509,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         readers.removeIf { it.second === list }
     }
 
-    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: CallerSlot(this, replyKey(slotNumbers.incrementAndGet())).also {
-        allSlots += it
+    /** Queues the removal of a closed reader's list from this instance's ownership records. */
+    internal fun disownReader(pipeline: Pipeline, list: ByteArray) {
+        liveness.disown(pipeline, list)
+    }
+
+    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: newSlot()
+
+    private fun newSlot(): CallerSlot {
+        val reply = replyKey(slotNumbers.incrementAndGet())
+        withSession("record a reply list") { liveness.own(it, reply, null) }
+        return CallerSlot(this, reply).also { allSlots += it }
     }
 
     internal fun returnSlot(slot: CallerSlot) {
@@ -487,7 +556,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private fun replyKey(slot: Int) = keys.reply("$instance:$slot")
 
     private fun bindToSource(source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
-        register(source.keys, keys.serviceInput(stages.first().name), service = true)
+        val input = keys.serviceInput(stages.first().name)
+        beginLiveness()
+        declarations.bindings += source.keys to input
+        register(source.keys, input, service = true)
         bind(stages, output?.keys)
     }
 
@@ -510,15 +582,53 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun launchIfHosted(service: StageService) {
         if (!isHosted(service.name) || !launched.add(service.name) || isClosed) return
-        scope.launch(CoroutineName(service.name)) { service.run() }
+        if (service.name !in hostLeases.services) {
+            try {
+                claimHostLeases(listOf(service.name))
+            } catch (e: RuntimeException) {
+                launched -= service.name
+                if (e is IllegalStateException) notRunning += service.name
+                throw e
+            }
+        }
+        hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { service.run() }
+    }
+
+    /** Registers this process's liveness lease and starts its heartbeat, once. */
+    private fun beginLiveness() {
+        withSession("register this process's liveness lease") { liveness.begin() }
+    }
+
+    /** Claims the host leases of [services] (waiting up to one lease time for others' to lapse). */
+    private fun claimHostLeases(services: List<String>) {
+        withSession("claim the host leases of $services") { hostLeases.claim(services, name()) }
+    }
+
+    /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
+    private fun stopLostService(service: String, holder: String) {
+        notRunning += service
+        val job = hostedJobs.remove(service)
+        job?.cancel()
+        val message = "core '${name()}' stops service '$service': its host lease is now held by $holder (this process " +
+            "was frozen or cut off from Redis longer than the lease time, and another took over). Restart this " +
+            "process to host it again once the other stops"
+        LOG.warn(message)
+        reportFailure(service, holder, IllegalStateException(message))
+        job?.invokeOnCompletion {
+            LOG.warn("core '{}' stopped service '{}' (its host lease is held by {})", name(), service, holder)
+        }
     }
 
     /** Adds [list] to [source]'s plain readers, or to its service inputs if it is a [service]'s (a queue). */
     private fun register(source: SourceKeys, list: ByteArray, service: Boolean = false) {
-        val set = if (service) source.services else source.readers
         withSession("register a reader of source '${source.name}'") { session ->
-            session.retrying { Script.REGISTER.run(it, listOf(set, source.log, list), emptyList()) }
+            session.retrying { registerOnce(it, source, list, service) }
+            liveness.declared(session)
         }
+    }
+
+    private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
+        Script.REGISTER.run(jedis, listOf(if (service) source.services else source.readers, source.log, list), emptyList())
     }
 
     /**
@@ -661,6 +771,20 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
 
         /**
+         * How long a process counts as alive after its last heartbeat (default 5 s, at least
+         * 300 ms; the heartbeat runs every third of it). It bounds how long readers and reply
+         * lists of a killed process stay in Redis, and how long a successor waits in `start()` to
+         * take over the services of a killed host.
+         */
+        public fun leaseTime(leaseTime: Duration): Builder = apply {
+            require(leaseTime >= MIN_LEASE_TIME) {
+                "lease time must be at least ${MIN_LEASE_TIME.toMillis()} ms (shorter leases lapse on ordinary GC pauses), " +
+                    "was $leaseTime"
+            }
+            settings = settings.copy(leaseTime = leaseTime)
+        }
+
+        /**
          * The most values a service's input queue holds (default 100,000), for every service
          * without a limit of its own. A service's input is a queue, never trimmed: a publish that
          * would put it over its limit waits for room up to [publishTimeout] and then throws
@@ -722,6 +846,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val hosts: Set<String>? = null,
         val retries: Int = 0,
         val callTimeout: Duration? = Duration.ofSeconds(60),
+        val leaseTime: Duration = Duration.ofSeconds(5),
         val publishTimeout: Duration = Duration.ofSeconds(10),
         val maxValueBytes: Int = 16 * 1024 * 1024,
         val queueLimit: Int = 100_000,
@@ -734,6 +859,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
+        private val MIN_LEASE_TIME = Duration.ofMillis(300)
         private val MIN_REPLY_TTL = Duration.ofMinutes(10)
 
         /** An envelope's header, payload marker and longest reply key. */
