@@ -17,7 +17,8 @@ import java.util.function.Predicate;
  * <p>Linking builds a binary {@link Link} per {@code then}, so a chain of n links is a tree n deep.
  * Nothing walks a tree recursively: the compiler flattens spines of links into {@link Sequence}s
  * and visits nodes with explicit stacks, and {@code toString} of a node shows its kind and its
- * children's kinds only.
+ * children's kinds only. ({@code equals} and {@code hashCode} are the records' own and do
+ * descend: the compiler keys its maps by identity, never by node.)
  */
 public sealed interface Node {
 
@@ -34,7 +35,7 @@ public sealed interface Node {
 
   /**
    * Call sites this node emits itself, children excluded: a measure of method size. (A subtree's
-   * total is summed by {@link FusedCompiler} while it walks the tree, never recursively: trees are
+   * total is summed by {@link TreeSplitter} while it walks the tree, never recursively: trees are
    * as deep as chains are long.)
    */
   int ownSites();
@@ -134,7 +135,7 @@ public sealed interface Node {
    * {@code steps[n-1](...steps[1](steps[0](x)))}: a spine of {@link Link}s flattened, which is
    * how the compiler sees links (the cores build binary links, one per {@code then}).
    *
-   * @param steps two or more nodes, none of them a link or a sequence
+   * @param steps two or more nodes (the compiler flattens links and sequences among them too)
    */
   record Sequence(List<Node> steps) implements Node {
     public Sequence {
