@@ -53,15 +53,17 @@ import net.bytebuddy.jar.asm.Type;
  * are branches, for-each is a loop, a union builds its tuple in place. Between the blocks of a
  * link the value stays on the operand stack (a leaf then costs {@code getstatic; swap; invoke}),
  * which keeps the method small enough for the JIT to inline it into its caller up to about 20
- * blocks. A {@link Node.Sequence} (links flattened) is its steps one after the other, the value
- * on the stack between them. The tree is expanded from a stack of pending steps, not by
- * recursion. Failure naming is in the
+ * blocks. Failure naming is in the
  * exception table: every call the chain makes is covered by a {@code RuntimeException} range whose
  * handler pushes the name of the chain that owns the call and jumps to one shared handler, which
  * rethrows {@link ChainFailedException} and {@link CoreClosedException} unchanged and wraps
  * anything else in a {@code ChainFailedException} naming that chain. Nothing runs on the normal
  * path but the calls. Each local variable slot holds one type only, so frames are simple to
  * compute. Stateless and thread-safe: the generated method keeps its state in locals.
+ *
+ * <p>A {@link Node.Sequence} (links flattened) is its steps one after the other, the value on the
+ * stack between them. The tree is expanded from a stack of pending steps, not by recursion, so
+ * the depth of a tree never becomes the depth of the compiler's stack.
  */
 final class ProcessEmitter implements ByteCodeAppender {
   private static final String OBJECT_TO_OBJECT = "(Ljava/lang/Object;)Ljava/lang/Object;";
