@@ -9,11 +9,9 @@ import net.bytebuddy.ClassFileVersion;
 import net.bytebuddy.asm.AsmVisitorWrapper;
 import net.bytebuddy.description.modifier.TypeManifestation;
 import net.bytebuddy.description.modifier.Visibility;
-import net.bytebuddy.dynamic.DynamicType;
 import net.bytebuddy.implementation.FixedValue;
 import net.bytebuddy.implementation.Implementation;
 import net.bytebuddy.jar.asm.ClassWriter;
-import net.bytebuddy.jar.asm.Opcodes;
 import net.bytebuddy.matcher.ElementMatchers;
 import net.bytebuddy.pool.TypePool;
 
@@ -98,24 +96,16 @@ public final class FusedCompiler {
     String owner = binaryName.replace('.', '/');
     ProcessEmitter emitter = new ProcessEmitter(root, fields, owner);
 
-    DynamicType.Builder<Object> builder =
+    Object[] values = new Object[fields.all().size()];
+    for (int i = 0; i < values.length; i++) {
+      values[i] = fields.all().get(i).value();
+    }
+    byte[] bytes =
         new ByteBuddy(ClassFileVersion.JAVA_V17)
             .subclass(Object.class)
             .name(binaryName)
             .modifiers(Visibility.PUBLIC, TypeManifestation.FINAL)
-            .implement(Block.class);
-    Object[] values = new Object[fields.all().size()];
-    for (int i = 0; i < values.length; i++) {
-      ConstantFields.Field field = fields.all().get(i);
-      builder =
-          builder.defineField(
-              field.name(),
-              field.type(),
-              Opcodes.ACC_PRIVATE | Opcodes.ACC_STATIC | Opcodes.ACC_FINAL);
-      values[i] = field.value();
-    }
-    byte[] bytes =
-        builder
+            .implement(Block.class)
             .initializer(emitter.initializer())
             .defineMethod("process", Object.class, Visibility.PUBLIC)
             .withParameters(Object.class)
@@ -123,6 +113,7 @@ public final class FusedCompiler {
             .method(ElementMatchers.named("toString"))
             .intercept(FixedValue.value(description + chainName + "'"))
             .visit(new AsmVisitorWrapper.ForDeclaredMethods().writerFlags(ClassWriter.COMPUTE_FRAMES))
+            .visit(new StaticFieldsWriter(fields))
             .make(TYPES)
             .getBytes();
 
