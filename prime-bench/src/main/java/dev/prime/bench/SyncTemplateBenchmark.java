@@ -26,8 +26,9 @@ import org.openjdk.jmh.annotations.Warmup;
 
 /**
  * Synchronous chains made of templates, Radiant against the same blocks called by hand (FOR):
- * {@code length} is the number of adders each transmission runs, as in
- * {@link SyncChainBenchmark}.
+ * {@code length} ({@link Shape}'s) is the number of adders each transmission runs, as in
+ * {@link SyncChainBenchmark}; in the polluted scenario the other chains of {@link Shape} run
+ * too.
  *
  * <ul>
  *   <li>{@code if}: {@code length} if/else steps, each choosing one of two adders by the parity
@@ -69,13 +70,12 @@ public class SyncTemplateBenchmark {
   private static final int UNION = 1;
   private static final int FOR_EACH = 2;
 
-  /** The parameters and the blocks, built once per trial. */
+  /**
+   * The shape and the blocks, built once per trial; the length, payload and scenario are
+   * {@link Shape}'s, as in {@link SyncChainBenchmark}.
+   */
   @State(Scope.Thread)
   public static class Template {
-    /** Adders run per transmission (see the class docs). */
-    @Param({"4", "16", "64"})
-    public int length;
-
     /** {@code if}, {@code union} or {@code forEach}. */
     @Param({"if", "union", "forEach"})
     public String shape;
@@ -106,13 +106,22 @@ public class SyncTemplateBenchmark {
 
     private RadiantCore core;
 
-    /** Builds the blocks and the chain. */
+    /**
+     * Builds the blocks and the chain.
+     *
+     * @param parameters the length (adders per transmission) and the payload
+     */
     @Setup(Level.Trial)
     @SuppressWarnings("unchecked")
-    public void build() {
-      packet = Packet.ofSize(100);
-      packets = List.of(Packet.ofSize(100), Packet.ofSize(100), Packet.ofSize(100),
-          Packet.ofSize(100));
+    public void build(Shape parameters) {
+      int length = parameters.length;
+      packet = Packet.ofSize(parameters.payload);
+      packets =
+          List.of(
+              Packet.ofSize(parameters.payload),
+              Packet.ofSize(parameters.payload),
+              Packet.ofSize(parameters.payload),
+              Packet.ofSize(parameters.payload));
       even = new IsEven();
       pick = new Second();
       int steps = shape.equals("union") ? Math.max(1, length / 2) : length;
@@ -178,10 +187,11 @@ public class SyncTemplateBenchmark {
    * FOR: the templates written out by hand.
    *
    * @param t the blocks
+   * @param clock CPU time per operation, for {@code -prof dev.prime.bench.WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long forHandWritten(Template t) {
+  public long forHandWritten(Template t, WorkerCpuTime.Clock clock) {
     switch (t.kind) {
       case IF -> {
         Packet packet = t.packet;
@@ -218,10 +228,11 @@ public class SyncTemplateBenchmark {
    * Radiant: the chain of templates as one generated class.
    *
    * @param t the chain
+   * @param clock CPU time per operation, for {@code -prof dev.prime.bench.WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long radiant(Template t) {
+  public long radiant(Template t, WorkerCpuTime.Clock clock) {
     if (t.kind == FOR_EACH) {
       @SuppressWarnings("unchecked")
       List<Packet> out = (List<Packet>) t.radiant.process(t.packets);
