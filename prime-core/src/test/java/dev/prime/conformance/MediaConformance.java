@@ -16,4 +16,5 @@ public interface MediaConformance
         ThrowableConformance,
         AtomicLinkConformance,
         InterruptConformance,
-        ValueCopyConformance {}
+        ValueCopyConformance,
+        LongChainConformance {}
