@@ -3,6 +3,7 @@ package dev.prime.faults;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.Reader;
+import dev.prime.Source;
 import dev.prime.optimus.EmbeddedRedis;
 import dev.prime.optimus.OptimusCore;
 import java.io.BufferedReader;
@@ -25,7 +26,7 @@ import redis.clients.jedis.Jedis;
  *   <li>{@code large URL CORE}: declares {@link StreamTopology#declareLarge} and hosts
  *       {@code measure} and {@code size} (run it with a small {@code -Xmx});
  *   <li>{@code readers URL CORE COUNT}: declares the stream topology, hosts nothing, and opens
- *       COUNT readers of {@code ids} (which a kill leaves behind);
+ *       COUNT readers of source {@code ids} (which a kill leaves behind);
  *   <li>{@code embedded}: starts an {@link EmbeddedRedis} (the binary the project resolves) and
  *       pings it.
  * </ul>
@@ -56,7 +57,7 @@ public final class FaultWorkerMain {
         int count = Integer.parseInt(args[3]);
         List<Reader<Long>> readers = new ArrayList<>();
         run(args[1], args[2], 1024, "", core -> {
-          var ids = StreamTopology.declareStream(core, new EventBlock<>(), 0, new AtomicReference<>());
+          Source<Long> ids = core.source("ids", new EventBlock<Long>());
           for (int i = 0; i < count; i++) readers.add(ids.reader());
         });
         break;
