@@ -20,7 +20,8 @@ import java.util.concurrent.locks.LockSupport;
  * forward; {@link #delay} every chunk; {@link #freeze()} both directions (connections stay open,
  * nothing moves, as in a partition) until {@link #thaw()}; {@link #cutAll()} connections; and
  * {@link #cutAfterNextClientWrite} (forward one client write that contains given bytes, then close
- * that connection before its reply can come back).
+ * that connection as soon as Redis answers it, so the write took effect and the client never sees
+ * the answer: closing before the answer would race with Redis reading the write).
  *
  * <p>Design note. Two daemon threads per connection pump the bytes (client to server, server to
  * client); each read chunk waits at the freeze gate before it is written, so a frozen proxy holds
@@ -111,7 +112,7 @@ final class FaultProxy implements AutoCloseable {
 
   /**
    * Arms a one-shot cut: the next client write that contains {@code pattern} is forwarded to the
-   * server, and then its connection is closed, so the client never sees the reply.
+   * server, and its connection is closed when the server's answer arrives, which is dropped.
    */
   void cutAfterNextClientWrite(byte[] pattern) {
     cutPattern.set(pattern.clone());
@@ -122,7 +123,7 @@ final class FaultProxy implements AutoCloseable {
     return cutPattern.get() != null;
   }
 
-  /** How many connections were cut after a client write. */
+  /** How many connections were cut after a marked client write was answered. */
   int cutsDone() {
     return cuts.get();
   }
@@ -196,6 +197,7 @@ final class FaultProxy implements AutoCloseable {
   private final class Connection {
     private final Socket client;
     private final Socket upstream;
+    private volatile boolean cutOnAnswer;
 
     Connection(Socket client, Socket upstream) {
       this.client = client;
@@ -215,12 +217,16 @@ final class FaultProxy implements AutoCloseable {
             if (fromClient) clientClosed();
             break;
           }
+          if (!fromClient && cutOnAnswer) {
+            cuts.incrementAndGet(); // the marked write was executed; its answer never arrives
+            break;
+          }
           long delay = delayNanos;
           if (delay > 0) LockSupport.parkNanos(delay);
           if (!passGate()) break;
+          if (fromClient) markIfArmed(buffer, n); // before the write: its answer may come at once
           out.write(buffer, 0, n);
           out.flush();
-          if (fromClient) cutIfArmed(buffer, n);
         }
       } catch (IOException e) {
         if (fromClient && !client.isClosed()) clientClosed();
@@ -229,11 +235,10 @@ final class FaultProxy implements AutoCloseable {
       }
     }
 
-    private void cutIfArmed(byte[] chunk, int length) {
+    private void markIfArmed(byte[] chunk, int length) {
       byte[] pattern = cutPattern.get();
       if (pattern != null && contains(chunk, length, pattern) && cutPattern.compareAndSet(pattern, null)) {
-        cuts.incrementAndGet();
-        close();
+        cutOnAnswer = true;
       }
     }
 
