@@ -1,5 +1,6 @@
 package dev.prime.faults;
 
+import java.io.ByteArrayOutputStream;
 import java.io.IOException;
 import java.io.InputStream;
 import java.io.OutputStream;
@@ -24,15 +25,13 @@ import java.util.concurrent.locks.LockSupport;
  * the answer: closing before the answer would race with Redis reading the write).
  *
  * <p>Design note. Two daemon threads per connection pump the bytes (client to server, server to
- * client); each read chunk waits at the freeze gate before it is written, so a frozen proxy holds
- * what it read and delivers it at thaw, like a healed network. The client side's end of stream is
- * recorded with its time: that is how a test sees when a client noticed a frozen connection and
- * gave up on it. Every wait is bounded ({@link #MAX_FREEZE}); {@link #close()} closes every socket,
- * which ends every thread.
+ * client) and never stop reading: while frozen, what they read is held in the connection (under
+ * its lock) instead of written, and {@link #thaw()} delivers it, like a healed network. Because
+ * the pumps keep reading, a client that gives up on a frozen connection and closes it is seen at
+ * once; that close is recorded with its time, which is how a test sees when a client noticed the
+ * freeze. {@link #close()} closes every socket, which ends every thread.
  */
 final class FaultProxy implements AutoCloseable {
-  private static final Duration MAX_FREEZE = Duration.ofMinutes(10);
-
   private final int targetPort;
   private final ServerSocket server;
   private final Set<Connection> connections = ConcurrentHashMap.newKeySet();
@@ -79,8 +78,8 @@ final class FaultProxy implements AutoCloseable {
   void thaw() {
     synchronized (gate) {
       frozen = false;
-      gate.notifyAll();
     }
+    for (Connection connection : connections) connection.release();
   }
 
   /**
@@ -167,21 +166,9 @@ final class FaultProxy implements AutoCloseable {
     }
   }
 
-  /** Waits while frozen; false if the proxy closed meanwhile. */
-  private boolean passGate() {
+  private boolean isFrozen() {
     synchronized (gate) {
-      long deadline = System.nanoTime() + MAX_FREEZE.toNanos();
-      while (frozen && !server.isClosed()) {
-        long left = deadline - System.nanoTime();
-        if (left <= 0) return true; // a forgotten freeze ends here rather than never
-        try {
-          TimeUnit.NANOSECONDS.timedWait(gate, left);
-        } catch (InterruptedException e) {
-          Thread.currentThread().interrupt();
-          return false;
-        }
-      }
-      return !server.isClosed();
+      return frozen;
     }
   }
 
@@ -198,6 +185,8 @@ final class FaultProxy implements AutoCloseable {
     private final Socket client;
     private final Socket upstream;
     private volatile boolean cutOnAnswer;
+    private final ByteArrayOutputStream heldUp = new ByteArrayOutputStream(); // guarded by this
+    private final ByteArrayOutputStream heldDown = new ByteArrayOutputStream(); // guarded by this
 
     Connection(Socket client, Socket upstream) {
       this.client = client;
@@ -223,15 +212,46 @@ final class FaultProxy implements AutoCloseable {
           }
           long delay = delayNanos;
           if (delay > 0) LockSupport.parkNanos(delay);
-          if (!passGate()) break;
           if (fromClient) markIfArmed(buffer, n); // before the write: its answer may come at once
-          out.write(buffer, 0, n);
-          out.flush();
+          forward(fromClient ? heldUp : heldDown, out, buffer, n);
         }
       } catch (IOException e) {
         if (fromClient && !client.isClosed()) clientClosed();
       } finally {
         close();
+      }
+    }
+
+    /** Writes the chunk to {@code out} after anything held, or holds it while the proxy is frozen. */
+    private synchronized void forward(ByteArrayOutputStream held, OutputStream out, byte[] chunk, int length) throws IOException {
+      if (isFrozen()) {
+        held.write(chunk, 0, length);
+        return;
+      }
+      if (held.size() > 0) {
+        held.writeTo(out);
+        held.reset();
+      }
+      out.write(chunk, 0, length);
+      out.flush();
+    }
+
+    /** After a thaw: delivers what was held in both directions. */
+    synchronized void release() {
+      try {
+        if (heldUp.size() > 0) {
+          heldUp.writeTo(upstream.getOutputStream());
+          upstream.getOutputStream().flush();
+        }
+        if (heldDown.size() > 0) {
+          heldDown.writeTo(client.getOutputStream());
+          client.getOutputStream().flush();
+        }
+      } catch (IOException e) {
+        close(); // a side closed meanwhile: nothing to deliver to
+      } finally {
+        heldUp.reset();
+        heldDown.reset();
       }
     }
 
