@@ -13,10 +13,32 @@ package dev.prime;
  *       backs exactly one service; a block shared by several chains, or the block returned by
  *       {@link Chain#toBlock()}, may be called concurrently. Blocks that keep state and are
  *       shared should be wrapped with {@link PrimeCore#isolate(Chain)}.
- *   <li><b>Exceptions.</b> A block may throw any unchecked exception. Called synchronously, the
- *       caller receives it wrapped in a {@link ChainFailedException} that names the chain; in an
- *       asynchronous service it goes to the core's {@link ErrorHandler} and the service carries
- *       on with the next value.
+ *   <li><b>Exceptions.</b> A block may throw anything; every media treats it the same way:
+ *       <table>
+ *         <caption>What a block's throwable becomes</caption>
+ *         <tr><th>the block throws</th><th>a synchronous caller gets</th>
+ *             <th>in an asynchronous service</th></tr>
+ *         <tr><td>a {@link RuntimeException}, a checked exception (thrown sneakily), an
+ *             {@link Error} such as {@link AssertionError}</td>
+ *             <td>a {@link ChainFailedException} naming the chain as the user named it (the
+ *             innermost chain of a linked chain), whose cause is the block's own throwable (from a
+ *             service in another process: a {@link PrimeException} describing it)</td>
+ *             <td>the core's {@link ErrorHandler} gets the chain's name, the input and the
+ *             block's own throwable; the service carries on with the next value</td></tr>
+ *         <tr><td>a {@link VirtualMachineError} ({@link OutOfMemoryError},
+ *             {@link StackOverflowError}, {@link InternalError})</td>
+ *             <td>the error itself, unwrapped, when the block runs on the caller's thread (the
+ *             in-memory media); a media whose chains are services ends that service instead,
+ *             and the caller gets no reply</td>
+ *             <td>it ends the service's thread: the JVM itself is in trouble</td></tr>
+ *       </table>
+ *       A {@link ChainFailedException} or {@link CoreClosedException} thrown by a block (it called
+ *       another chain) passes unchanged.
+ *   <li><b>Values.</b> Treat inputs and outputs as immutable: a media may hand the same object to
+ *       several readers, or a copy (Optimus always copies, through its codec). Do not change a
+ *       value after publishing or returning it, nor an input you received.
+ *       {@link CoreConfig.Builder#copyValues} makes the in-memory media copy too, so a test
+ *       catches a mutation or a type the codec refuses before deployment.
  *   <li><b>Nulls.</b> Chains pass {@code null} between blocks if a block returns it; sources never
  *       carry {@code null} (see {@link EventBlock#publish(Object)}).
  * </ul>

@@ -1,8 +1,10 @@
 package dev.prime;
 
 /**
- * A block inside a chain threw. The original exception is the {@linkplain #getCause() cause}
- * (for a remote service: a {@link PrimeException} describing the remote failure).
+ * A block inside a chain threw. What it threw, exception or error (all but a
+ * {@link VirtualMachineError}, which reaches the caller unwrapped), is the
+ * {@linkplain #getCause() cause}, the very object (for a service in another process: a
+ * {@link PrimeException} describing the remote failure). See {@link Block} for the whole table.
  *
  * <p>When chains are nested, the innermost chain that failed is named; outer chains pass the
  * exception on unchanged.

@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.spi.ValueCodec;
 import java.time.Duration;
 import java.util.Objects;
 import org.slf4j.Logger;
@@ -30,12 +31,14 @@ public final class CoreConfig {
   private final int sourceRetention;
   private final ErrorHandler errorHandler;
   private final Duration shutdownTimeout;
+  private final ValueCodec valueCopies;
 
   private CoreConfig(Builder b) {
     this.name = b.name;
     this.sourceRetention = b.sourceRetention;
     this.errorHandler = b.errorHandler;
     this.shutdownTimeout = b.shutdownTimeout;
+    this.valueCopies = b.valueCopies;
   }
 
   /** The default settings. */
@@ -71,6 +74,15 @@ public final class CoreConfig {
     return shutdownTimeout;
   }
 
+  /**
+   * The codec through which the in-memory media copy every value that crosses a service
+   * boundary, or {@code null} (the default) if they pass values by reference; see
+   * {@link Builder#copyValues(ValueCodec)}.
+   */
+  public ValueCodec valueCopies() {
+    return valueCopies;
+  }
+
   /** A builder starting from these settings. */
   public Builder toBuilder() {
     Builder b = new Builder();
@@ -78,13 +90,15 @@ public final class CoreConfig {
     b.sourceRetention = sourceRetention;
     b.errorHandler = errorHandler;
     b.shutdownTimeout = shutdownTimeout;
+    b.valueCopies = valueCopies;
     return b;
   }
 
   @Override
   public String toString() {
     return "CoreConfig[name=" + name + ", sourceRetention=" + sourceRetention
-        + ", shutdownTimeout=" + shutdownTimeout + "]";
+        + ", shutdownTimeout=" + shutdownTimeout
+        + (valueCopies == null ? "" : ", copyValues=" + valueCopies) + "]";
   }
 
   /** Builds a {@link CoreConfig}. Not thread-safe. */
@@ -93,6 +107,7 @@ public final class CoreConfig {
     private int sourceRetention = DEFAULT_SOURCE_RETENTION;
     private ErrorHandler errorHandler = LoggingErrorHandler.INSTANCE;
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
+    private ValueCodec valueCopies;
 
     private Builder() {}
 
@@ -141,6 +156,30 @@ public final class CoreConfig {
         throw new IllegalArgumentException("shutdownTimeout must be positive, was " + timeout);
       }
       this.shutdownTimeout = timeout;
+      return this;
+    }
+
+    /**
+     * Makes the in-memory media copy every value that crosses a service boundary through
+     * {@code codec}, as a distributed media must: a value published to a source (each reader
+     * gets a copy of its own), a source-linked service's input and output, and a synchronous
+     * call's input and result. Values are to be treated as immutable; with this option a test on
+     * Liberty or Radiant fails the way Optimus would, when a value is mutated after it was handed
+     * over (the receiver does not see the change) or when its type is one the codec refuses
+     * ({@link IllegalArgumentException} at the publish or the call). Meant for tests: copying costs
+     * an encode and a decode per value. Chains linked together are one service on the in-memory
+     * media, so values between them are not copied. Optimus copies every value through its own
+     * codec whatever this says.
+     *
+     * <pre>{@code
+     * new LibertyCore(CoreConfig.builder().copyValues(KryoCodec.standard()).build())
+     * }</pre>
+     *
+     * @param codec copies the values; {@code null} to pass values by reference (the default)
+     * @return this builder
+     */
+    public Builder copyValues(ValueCodec codec) {
+      this.valueCopies = codec;
       return this;
     }
 

@@ -11,9 +11,16 @@ package dev.prime;
 public interface ErrorHandler {
 
   /**
-   * @param service the name of the failing service
-   * @param input the value being processed (never {@code null})
-   * @param error what was thrown
+   * @param service the name of the chain whose block failed, as the user named it: for a chain
+   *     linked to a source, the chain's name (not the name of the source it makes); for a linked
+   *     chain, the innermost chain that failed; for a filter, flat-map or listener, its service
+   *     name ({@code filter(source)}, ...)
+   * @param input the value being processed (never {@code null}): the value the service took from
+   *     its source. Media that fuse linked chains into one service (Liberty, Radiant) give the value
+   *     that entered the linked chain; Optimus, which runs each chain as a service of its own, the
+   *     value that entered the failing chain
+   * @param error the block's own throwable, never a {@link ChainFailedException} wrapper: any
+   *     {@link Exception} or {@link Error} but a {@link VirtualMachineError}, which ends the service
    */
   void handle(String service, Object input, Throwable error);
 }

@@ -30,7 +30,8 @@ public final class EventBlock<T> {
   public EventBlock() {}
 
   /**
-   * Publishes one value to every subscriber, on the calling thread.
+   * Publishes one value to every subscriber, on the calling thread. Do not change the value
+   * afterwards: readers may see the same object (see {@link CoreConfig.Builder#copyValues}).
    *
    * @param value the value; never {@code null}
    * @throws NullPointerException if {@code value} is {@code null}: sources carry no nulls; publish

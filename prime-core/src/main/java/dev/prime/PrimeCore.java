@@ -14,6 +14,7 @@ import dev.prime.internal.MemorySource;
 import dev.prime.internal.Names;
 import dev.prime.internal.ServiceThreads;
 import dev.prime.internal.SourceService;
+import dev.prime.spi.AbstractChain;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
@@ -47,7 +48,12 @@ import java.util.function.Predicate;
  *       per chain); a distributed media may keep one service per chain, connected without an
  *       extra hop.
  *   <li>A block that throws reaches a synchronous caller as {@link ChainFailedException}; in a
- *       service it goes to the {@link ErrorHandler} and the service carries on.
+ *       service it goes to the {@link ErrorHandler} and the service carries on (see {@link Block}
+ *       for every kind of throwable).
+ *   <li>A link or template that throws consumes nothing: every chain given to it stays usable.
+ *   <li>Every blocking wait (a reader's {@code take}, a sync collector, a caller waiting for an
+ *       isolated chain, a repeater between rounds) ends when its thread is interrupted or the core
+ *       closes. {@link #close()} may be called from a service's own thread (a listener).
  *   <li>{@link #close()} stops every service within {@link CoreConfig#shutdownTimeout()} and
  *       releases every thread and connection; a closed core throws {@link CoreClosedException}.
  * </ul>
@@ -405,7 +411,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireChains(inner);
     return newChain(
         derivedName("repeat(" + inner.name() + ")", "repeat"),
-        new RepeaterLoopBlock<>(inner.toBlock(), null, repeater));
+        new RepeaterLoopBlock<>(inner.toBlock(), null, repeater, this::ensureOpen));
   }
 
   /**
@@ -430,7 +436,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Chain<Token, List<E>> collector = asyncCollector(source);
     return newChain(
         derivedName("repeat(" + inner.name() + ")", "repeat"),
-        new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater));
+        new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater, this::ensureOpen));
   }
 
   // ---------------------------------------------------------------- sources
@@ -677,9 +683,13 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Checks that chains given to a link or template are usable.
+   * Checks that chains given to a link or template are usable, before anything is consumed: a
+   * link or template that fails changes nothing (every chain given to it stays usable). Call it
+   * first, then consume the chains.
    *
    * @param chains the chains
+   * @throws ChainAlreadyUsedException if a chain was consumed before or is given twice
+   * @throws CoreClosedException if this core or a chain's core is closed
    */
   protected final void requireChains(Chain<?, ?>... chains) {
     ensureOpen();
@@ -695,6 +705,9 @@ public abstract class PrimeCore implements AutoCloseable {
       }
       if (chain.core().isClosed()) {
         throw new CoreClosedException(chain.core().name());
+      }
+      if (chain instanceof AbstractChain<?, ?> known && known.isUsed()) {
+        throw new ChainAlreadyUsedException(chain.name());
       }
     }
   }
@@ -726,7 +739,8 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   private <T> MemorySource<T> newMemorySource(String name) {
-    MemorySource<T> source = new MemorySource<>(this, name, config.sourceRetention());
+    MemorySource<T> source =
+        new MemorySource<>(this, name, config.sourceRetention(), config.valueCopies());
     synchronized (memorySources) {
       ensureOpen();
       memorySources.add(source);

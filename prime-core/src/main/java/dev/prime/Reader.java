@@ -16,16 +16,30 @@ import java.util.Optional;
  * exactly one of the callers. When the core is closed, blocked and later calls throw
  * {@link CoreClosedException}.
  *
+ * <p>A reader is a resource: {@link #close()} it when done, so the source stops keeping values
+ * for it (a reader nobody reads falls behind and holds up to the retention of values). After
+ * {@code close()}, every call but {@code close()} throws {@link IllegalStateException}.
+ *
+ * <p>A source that lives outside this process (Optimus: in Redis) may be unreachable for a
+ * while. {@link #take()} then waits for it to come back; {@link #take(Duration)} waits at most
+ * its timeout (plus about a second for a connection that does not answer) and then throws the
+ * media's {@link PrimeException} (Optimus: {@code RedisUnavailableException}) if the source could
+ * not be reached, or returns empty if it could and had no value; {@link #poll()} and {@link
+ * #drain()} never wait for a reconnect: they throw that exception at once.
+ *
  * @param <T> type of the values
  */
-public interface Reader<T> {
+public interface Reader<T> extends AutoCloseable {
 
   /**
    * Returns the next value, waiting until one is published.
    *
    * @return the next value, never {@code null}
-   * @throws InterruptedException if the thread is interrupted while waiting
+   * @throws InterruptedException if the thread is interrupted while waiting (within about a
+   *     second on a media that waits on the network); a value not yet handed out stays for the
+   *     next call
    * @throws CoreClosedException if the core is closed
+   * @throws IllegalStateException if this reader is closed
    */
   T take() throws InterruptedException;
 
@@ -36,6 +50,7 @@ public interface Reader<T> {
    * @return the next value, or empty if none was published in time
    * @throws InterruptedException if the thread is interrupted while waiting
    * @throws CoreClosedException if the core is closed
+   * @throws IllegalStateException if this reader is closed
    */
   Optional<T> take(Duration timeout) throws InterruptedException;
 
@@ -44,6 +59,7 @@ public interface Reader<T> {
    *
    * @return the next value, or empty
    * @throws CoreClosedException if the core is closed
+   * @throws IllegalStateException if this reader is closed
    */
   Optional<T> poll();
 
@@ -52,9 +68,23 @@ public interface Reader<T> {
    *
    * @return a new list
    * @throws CoreClosedException if the core is closed
+   * @throws IllegalStateException if this reader is closed
    */
   List<T> drain();
 
-  /** How many values this reader lost because it fell behind the source's retention. */
+  /**
+   * How many values this reader lost because it fell behind the source's retention.
+   *
+   * @return the count since the reader was made
+   * @throws IllegalStateException if this reader is closed
+   */
   long missed();
+
+  /**
+   * Unregisters this reader: the source keeps no values for it any more, and a call blocked in
+   * {@link #take()} ends with {@link IllegalStateException}. Idempotent; never throws, also on a
+   * closed core.
+   */
+  @Override
+  void close();
 }

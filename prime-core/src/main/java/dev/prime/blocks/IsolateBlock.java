@@ -1,12 +1,16 @@
 package dev.prime.blocks;
 
 import dev.prime.Block;
+import dev.prime.PrimeException;
 import java.util.Objects;
 import java.util.concurrent.locks.ReentrantLock;
 
 /**
  * Lets several callers share one block without ever running it concurrently: calls are
  * serialised by a fair lock, so no caller starves.
+ *
+ * <p>A caller waiting for its turn honours interruption: it stops waiting, keeps its interrupt
+ * flag set and gets a {@link PrimeException}; the block is not run for it.
  *
  * @param <I> input type
  * @param <O> output type
@@ -24,7 +28,12 @@ public final class IsolateBlock<I, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    lock.lock();
+    try {
+      lock.lockInterruptibly();
+    } catch (InterruptedException e) {
+      Thread.currentThread().interrupt();
+      throw new PrimeException("interrupted while waiting for the isolated chain to be free", e);
+    }
     try {
       return block.process(input);
     } finally {

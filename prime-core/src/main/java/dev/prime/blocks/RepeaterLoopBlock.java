@@ -1,6 +1,7 @@
 package dev.prime.blocks;
 
 import dev.prime.Block;
+import dev.prime.PrimeException;
 import dev.prime.Repeat;
 import dev.prime.RepeaterBlock;
 import dev.prime.Token;
@@ -12,6 +13,11 @@ import java.util.Objects;
  * meanwhile and a {@link RepeaterBlock} decides to run again (with a new input) or to stop (with a
  * conclusion, which this block returns).
  *
+ * <p>The loop can always be stopped from outside: before every round after the first it checks
+ * the calling thread's interrupt flag (if set, it stays set and a {@link PrimeException} ends the
+ * call) and runs a check given by its owner (a core passes its open check, so closing the core
+ * ends the loop with {@link dev.prime.CoreClosedException} within one round).
+ *
  * @param <I> input type of the inner block and of this block
  * @param <R> output type of the inner block
  * @param <E> type of the collected values
@@ -21,17 +27,35 @@ public final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
   private final Block<I, R> inner;
   private final Block<Token, List<E>> collector;
   private final RepeaterBlock<I, R, E, O> repeater;
+  private final Runnable betweenRounds;
 
   /**
+   * A loop that stops between rounds only when the calling thread is interrupted.
+   *
    * @param inner the block that runs each round
    * @param collector returns the values gathered since its previous call; {@code null} for none
    * @param repeater decides after each round
    */
   public RepeaterLoopBlock(
       Block<I, R> inner, Block<Token, List<E>> collector, RepeaterBlock<I, R, E, O> repeater) {
+    this(inner, collector, repeater, () -> {});
+  }
+
+  /**
+   * @param inner the block that runs each round
+   * @param collector returns the values gathered since its previous call; {@code null} for none
+   * @param repeater decides after each round
+   * @param betweenRounds runs before every round after the first; throws to end the loop
+   */
+  public RepeaterLoopBlock(
+      Block<I, R> inner,
+      Block<Token, List<E>> collector,
+      RepeaterBlock<I, R, E, O> repeater,
+      Runnable betweenRounds) {
     this.inner = Objects.requireNonNull(inner, "inner block must not be null");
     this.collector = collector;
     this.repeater = Objects.requireNonNull(repeater, "repeater block must not be null");
+    this.betweenRounds = Objects.requireNonNull(betweenRounds, "betweenRounds must not be null");
   }
 
   @Override
@@ -49,6 +73,10 @@ public final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
         return decision.conclusion();
       }
       round = decision.next();
+      if (Thread.currentThread().isInterrupted()) {
+        throw new PrimeException("interrupted between two rounds of a repeater");
+      }
+      betweenRounds.run();
     }
   }
 }

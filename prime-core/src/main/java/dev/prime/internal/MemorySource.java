@@ -4,6 +4,7 @@ import dev.prime.CoreClosedException;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import dev.prime.spi.ValueCodec;
 import java.lang.invoke.VarHandle;
 import java.time.Duration;
 import java.util.ArrayList;
@@ -33,6 +34,11 @@ import java.util.concurrent.locks.ReentrantLock;
  * more than a transmission; only then it parks on the lock's condition, which a publisher
  * signals only when someone waits.
  *
+ * <p>Copies: with a {@link ValueCodec} (the core's {@code copyValues} option) the ring holds each
+ * value encoded at publish time, and every read decodes a copy of its own, as if each reader were
+ * another process: a publisher that mutates a value after publishing it, or a reader that mutates
+ * what it read, changes nothing for the others; a value the codec refuses fails the publish.
+ *
  * @param <T> value type
  */
 public final class MemorySource<T> implements Source<T> {
@@ -42,6 +48,7 @@ public final class MemorySource<T> implements Source<T> {
   private final PrimeCore core;
   private final String name;
   private final Object[] ring;
+  private final ValueCodec copies; // null: values are shared by reference
   private final ReentrantLock lock = new ReentrantLock();
   private final Condition published = lock.newCondition();
   private volatile long claimed; // written under lock: sequence numbers handed to publishers
@@ -55,6 +62,18 @@ public final class MemorySource<T> implements Source<T> {
    * @param retention how many latest values to keep
    */
   public MemorySource(PrimeCore core, String name, int retention) {
+    this(core, name, retention, null);
+  }
+
+  /**
+   * @param core the owning core
+   * @param name the source's name
+   * @param retention how many latest values to keep
+   * @param copies encodes each value at publish and decodes it for each read; {@code null} to
+   *     share values by reference
+   */
+  public MemorySource(PrimeCore core, String name, int retention, ValueCodec copies) {
+    this.copies = copies;
     this.core = Objects.requireNonNull(core, "core");
     this.name = Objects.requireNonNull(name, "name");
     if (retention < 1) {
@@ -81,6 +100,7 @@ public final class MemorySource<T> implements Source<T> {
    */
   public void publish(T value) {
     Objects.requireNonNull(value, () -> "source '" + name + "' carries no nulls");
+    Object stored = copies == null ? value : copies.encode(value);
     lock.lock();
     try {
       if (closed) {
@@ -89,7 +109,7 @@ public final class MemorySource<T> implements Source<T> {
       long sequence = count;
       claimed = sequence + 1;
       VarHandle.storeStoreFence(); // the claim is visible before the slot changes
-      ring[(int) (sequence % ring.length)] = value;
+      ring[(int) (sequence % ring.length)] = stored;
       count = sequence + 1;
       if (waiting > 0) {
         published.signalAll();
@@ -132,6 +152,7 @@ public final class MemorySource<T> implements Source<T> {
   private final class MemoryReader implements Reader<T> {
     private volatile long cursor; // written under this reader's monitor; read anywhere as a hint
     private long missed; // guarded by this reader's monitor
+    private volatile boolean readerClosed;
 
     MemoryReader(long cursor) {
       this.cursor = cursor;
@@ -142,6 +163,7 @@ public final class MemorySource<T> implements Source<T> {
     private synchronized T next() {
       while (true) {
         long available = count;
+        ensureReaderOpen();
         if (closed) {
           throw new CoreClosedException(core.name());
         }
@@ -162,13 +184,22 @@ public final class MemorySource<T> implements Source<T> {
           continue;
         }
         cursor = position + 1;
-        return (T) value;
+        return (T) (copies == null ? value : copies.decode((byte[]) value));
       }
     }
 
     /** Whether {@link #next()} would return a value or throw. */
     private boolean ready() {
-      return closed || count != cursor;
+      return closed || readerClosed || count != cursor;
+    }
+
+    private void ensureReaderOpen() {
+      if (readerClosed) {
+        throw new IllegalStateException(
+            "reader closed: this reader of source '"
+                + name
+                + "' was closed by Reader.close(); take a new reader from the source");
+      }
     }
 
     /** Spins while there is nothing to read, for at most {@link #SPINS} rounds. */
@@ -249,7 +280,26 @@ public final class MemorySource<T> implements Source<T> {
 
     @Override
     public synchronized long missed() {
+      ensureReaderOpen();
       return missed;
+    }
+
+    /**
+     * A reader is only a cursor, so closing it releases nothing but itself: later calls fail, and
+     * readers waiting in {@code take} wake up to fail.
+     */
+    @Override
+    public void close() {
+      if (readerClosed) {
+        return;
+      }
+      readerClosed = true;
+      lock.lock();
+      try {
+        published.signalAll();
+      } finally {
+        lock.unlock();
+      }
     }
 
     @Override

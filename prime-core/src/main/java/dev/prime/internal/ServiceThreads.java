@@ -15,8 +15,10 @@ import org.slf4j.LoggerFactory;
  * <p>Design: services declared before {@link #startAll()} wait; services added after it start at
  * once. Threads are daemons, so a core that was never closed cannot keep the JVM alive. Stopping
  * interrupts every thread and joins them against one shared deadline; a thread that ignores the
- * interrupt (a block stuck in uninterruptible I/O) is reported and abandoned. All methods are
- * synchronized: they run on lifecycle calls, never per value.
+ * interrupt (a block stuck in uninterruptible I/O) is reported and abandoned. A service may stop
+ * the services from its own thread (a listener that closes its core): that thread is neither
+ * interrupted nor joined, since it cannot wait for itself; its loop ends when it returns to read
+ * its closed source. All methods are synchronized: they run on lifecycle calls, never per value.
  */
 public final class ServiceThreads {
   private static final Logger LOG = LoggerFactory.getLogger(ServiceThreads.class);
@@ -94,6 +96,7 @@ public final class ServiceThreads {
       stopped = true;
       toJoin = new ArrayList<>(threads.values());
     }
+    toJoin.remove(Thread.currentThread()); // a service closing its own core
     for (Thread thread : toJoin) {
       thread.interrupt();
     }

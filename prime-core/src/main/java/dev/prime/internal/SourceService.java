@@ -1,5 +1,6 @@
 package dev.prime.internal;
 
+import dev.prime.ChainFailedException;
 import dev.prime.CoreClosedException;
 import dev.prime.ErrorHandler;
 import dev.prime.Reader;
@@ -13,9 +14,11 @@ import org.slf4j.LoggerFactory;
  * The loop of an in-process asynchronous service: take a value from a reader, hand it to a step
  * (a chain's block and a publish, a filter, a listener), repeat until interrupted or closed.
  *
- * <p>A step that throws is reported to the error handler and the loop goes on with the next
- * value: a service never dies silently. Only an interrupt, the closing of the core that runs it, or the closing of its input
- * source ends it.
+ * <p>A step that throws anything but a {@link VirtualMachineError} is reported to the error
+ * handler and the loop goes on with the next value: a service never dies silently. The handler
+ * gets what the user wrote: a {@link ChainFailedException} (a chain's block failed) is reported
+ * under the name of the chain that failed, with the block's own throwable, not the wrapper. Only
+ * an interrupt, the closing of the core that runs it, or the closing of its input source ends it.
  *
  * @param <T> value type
  */
@@ -79,11 +82,19 @@ public final class SourceService<T> implements Runnable {
   }
 
   private void report(T value, Throwable error) {
+    String service = name;
+    Throwable own = error;
+    if (error instanceof ChainFailedException failed && failed.getCause() != null) {
+      service = failed.chainName();
+      own = failed.getCause();
+    }
     try {
-      errors.handle(name, value, error);
-    } catch (RuntimeException handlerFailure) {
-      handlerFailure.addSuppressed(error);
-      LOG.error("the error handler failed for service '{}'", name, handlerFailure);
+      errors.handle(service, value, own);
+    } catch (VirtualMachineError e) {
+      throw e;
+    } catch (Throwable handlerFailure) {
+      handlerFailure.addSuppressed(own);
+      LOG.error("the error handler failed for service '{}'", service, handlerFailure);
     }
   }
 }

@@ -3,6 +3,7 @@ package dev.prime.spi;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.ChainAlreadyUsedException;
+import dev.prime.ChainFailedException;
 import dev.prime.CoreClosedException;
 import dev.prime.PrimeCore;
 import java.util.Objects;
@@ -38,10 +39,28 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
     return name;
   }
 
+  /**
+   * Consumes the chain and returns its block. If the core copies values
+   * ({@link dev.prime.CoreConfig#valueCopies()}) and {@link #copiesValuesItself()} is false, the
+   * block copies each input before the chain sees it and each result before the caller does.
+   */
   @Override
   public final Block<I, O> toBlock() {
     consume();
-    return createBlock();
+    Block<I, O> block = createBlock();
+    ValueCodec copies = core.config().valueCopies();
+    return copies == null || copiesValuesItself() ? block : new CopyingBlock<>(name, block, copies);
+  }
+
+  /**
+   * Whether this media's blocks already copy every input and result (as a media that carries
+   * them between processes does), so that {@link dev.prime.CoreConfig#valueCopies()} adds
+   * nothing. False by default.
+   *
+   * @return true if values never cross this chain by reference
+   */
+  protected boolean copiesValuesItself() {
+    return false;
   }
 
   /**
@@ -73,6 +92,29 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
    * @return the block
    */
   protected abstract Block<I, O> createBlock();
+
+  /** A synchronous call that copies its input and its result, like a call between processes. */
+  private static final class CopyingBlock<I, O> implements Block<I, O> {
+    private final String chainName;
+    private final Block<I, O> block;
+    private final ValueCodec copies;
+
+    CopyingBlock(String chainName, Block<I, O> block, ValueCodec copies) {
+      this.chainName = chainName;
+      this.block = block;
+      this.copies = copies;
+    }
+
+    @Override
+    public O process(I input) {
+      O result = block.process(copies.copy(input));
+      try {
+        return copies.copy(result);
+      } catch (RuntimeException e) {
+        throw new ChainFailedException(chainName, e); // the result could not leave the service
+      }
+    }
+  }
 
   @Override
   public String toString() {

@@ -7,9 +7,11 @@ import java.util.Objects;
 
 /**
  * Wraps a chain's block so that what it throws reaches the caller as a
- * {@link ChainFailedException} naming the chain. Exceptions that already are
- * {@code ChainFailedException} (an inner chain failed) or {@link CoreClosedException} pass
- * unchanged, so the innermost failing chain is the one named.
+ * {@link ChainFailedException} naming the chain, with the block's own throwable as cause: any
+ * exception, checked ones thrown sneakily included, and any {@link Error} but a
+ * {@link VirtualMachineError}, which passes unchanged (the JVM itself is in trouble). Exceptions
+ * that already are {@code ChainFailedException} (an inner chain failed) or
+ * {@link CoreClosedException} pass unchanged too, so the innermost failing chain is the one named.
  *
  * @param <I> input type
  * @param <O> output type
@@ -31,9 +33,9 @@ public final class FailureNamingBlock<I, O> implements Block<I, O> {
   public O process(I input) {
     try {
       return block.process(input);
-    } catch (ChainFailedException | CoreClosedException e) {
+    } catch (ChainFailedException | CoreClosedException | VirtualMachineError e) {
       throw e;
-    } catch (RuntimeException e) {
+    } catch (Throwable e) {
       throw new ChainFailedException(chainName, e);
     }
   }

@@ -8,6 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
 import dev.prime.EventBlock;
+import dev.prime.PrimeException;
 import dev.prime.Repeat;
 import dev.prime.Token;
 import dev.prime.Tuple2;
@@ -158,6 +159,73 @@ class LogicBlocksTest {
         new RepeaterLoopBlock<Integer, Integer, Void, Integer>(x -> x, null, (in, out, c) -> null);
     NullPointerException e = assertThrows(NullPointerException.class, () -> broken.process(1));
     assertTrue(e.getMessage().contains("Repeat.stop"), e.getMessage());
+  }
+
+  @Test
+  void repeaterStopsWhenItsOwnersCheckThrowsOrItsThreadIsInterrupted() {
+    AtomicInteger rounds = new AtomicInteger();
+    Block<Integer, Integer> stoppedByOwner =
+        new RepeaterLoopBlock<Integer, Integer, Void, Integer>(
+            x -> rounds.incrementAndGet(),
+            null,
+            (in, out, c) -> Repeat.again(out),
+            () -> {
+              if (rounds.get() == 5) {
+                throw new IllegalStateException("closed");
+              }
+            });
+    assertEquals("closed", assertThrows(IllegalStateException.class, () -> stoppedByOwner.process(0)).getMessage());
+    assertEquals(5, rounds.get(), "the check runs between every two rounds");
+
+    AtomicInteger more = new AtomicInteger();
+    Block<Integer, Integer> interrupted =
+        new RepeaterLoopBlock<Integer, Integer, Void, Integer>(
+            x -> {
+              if (more.incrementAndGet() == 3) {
+                Thread.currentThread().interrupt();
+              }
+              return x;
+            },
+            null,
+            (in, out, c) -> Repeat.again(out));
+    try {
+      assertThrows(PrimeException.class, () -> interrupted.process(0));
+      assertEquals(3, more.get());
+      assertTrue(Thread.currentThread().isInterrupted(), "the interrupt flag stays set");
+    } finally {
+      Thread.interrupted();
+    }
+  }
+
+  @Test
+  void anInterruptedCallerDoesNotWaitForAnIsolatedBlock() throws InterruptedException {
+    java.util.concurrent.CountDownLatch inside = new java.util.concurrent.CountDownLatch(1);
+    java.util.concurrent.CountDownLatch release = new java.util.concurrent.CountDownLatch(1);
+    AtomicInteger runs = new AtomicInteger();
+    Block<Integer, Integer> isolated =
+        new IsolateBlock<>(
+            x -> {
+              runs.incrementAndGet();
+              inside.countDown();
+              try {
+                release.await(20, java.util.concurrent.TimeUnit.SECONDS);
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+              }
+              return x;
+            });
+    Thread holder = new Thread(() -> isolated.process(1));
+    holder.start();
+    try {
+      assertTrue(inside.await(20, java.util.concurrent.TimeUnit.SECONDS));
+      Thread.currentThread().interrupt();
+      assertThrows(PrimeException.class, () -> isolated.process(2));
+      assertTrue(Thread.interrupted(), "the interrupt flag stays set");
+      assertEquals(1, runs.get(), "the block did not run for the interrupted caller");
+    } finally {
+      release.countDown();
+      holder.join(20_000);
+    }
   }
 
   @Test

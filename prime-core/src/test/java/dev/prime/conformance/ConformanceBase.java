@@ -39,10 +39,32 @@ public interface ConformanceBase {
   /**
    * How many in-process services a chain made by linking {@code chains} chains runs as when it
    * is linked to a source (1 for media that fuse linked chains; Optimus keeps one service per
-   * chain and re-routes their lists).
+   * chain and re-routes their lists). It also says what the error handler gets as the input when
+   * the second of two linked chains fails: a fused media (1 service for 2 chains) gives the value
+   * that entered the linked chain, the others the value that entered the failing chain.
    */
   default int servicesOfLinkedChain(int chains) {
     return servicesPerSourceLink();
+  }
+
+  /**
+   * Whether a synchronous call runs the chain's blocks on the caller's thread (true for the
+   * in-memory media). Then a {@link VirtualMachineError} a block throws reaches the caller
+   * unchanged. A media whose chains are services (Optimus) runs the block on a service's thread:
+   * a {@code VirtualMachineError} ends that service, as it ends any thread, and the caller gets no
+   * reply; the kit's test of that case is skipped there.
+   */
+  default boolean blocksRunOnTheCallersThread() {
+    return true;
+  }
+
+  /**
+   * The codec the kit gives to {@link CoreConfig.Builder#copyValues}: by default
+   * {@link SerializingCodec}, which copies any {@link java.io.Serializable} value. A media with a
+   * codec of its own may return it; Optimus copies through its own codec whatever this is.
+   */
+  default dev.prime.spi.ValueCodec copyCodec() {
+    return SerializingCodec.INSTANCE;
   }
 
   /** Upper bound for any single wait in the kit; generous because the machine may be busy. */

@@ -11,4 +11,8 @@ public interface MediaConformance
         TemplateConformance,
         ErrorConformance,
         LifecycleConformance,
-        AwkwardConformance {}
+        AwkwardConformance,
+        ThrowableConformance,
+        AtomicLinkConformance,
+        InterruptConformance,
+        ValueCopyConformance {}

@@ -15,9 +15,11 @@ import java.util.List;
 import java.util.Optional;
 import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.ExecutionException;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.function.Executable;
 
 /** Sources and readers: broadcast, retention, late readers and the take/poll/drain contract. */
 public interface SourceConformance extends ConformanceBase {
@@ -119,6 +121,62 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(Optional.empty(), reader.poll());
       assertThrows(NullPointerException.class, () -> reader.take(null));
     }
+  }
+
+  @Test
+  default void aClosedReaderFailsEveryLaterCallAndWakesItsWaiters() throws Exception {
+    Reader<Integer> kept;
+    Reader<Integer> closing;
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source(events);
+      kept = source.reader();
+      closing = source.reader();
+      core.start();
+      events.publish(1);
+      assertEquals(1, takeOrFail(closing));
+      CountDownLatch waiting = new CountDownLatch(1);
+      CompletableFuture<Integer> blocked =
+          CompletableFuture.supplyAsync(
+              () -> {
+                waiting.countDown();
+                try {
+                  return closing.take();
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                  throw new IllegalStateException("interrupted", e);
+                }
+              });
+      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      long started = System.nanoTime();
+      closing.close();
+      closing.close(); // idempotent
+      ExecutionException woken =
+          assertThrows(
+              ExecutionException.class,
+              () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertTrue(
+          woken.getCause() instanceof IllegalStateException
+              && woken.getCause().getMessage().contains("reader closed"),
+          "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
+      Duration wakeTook = Duration.ofNanos(System.nanoTime() - started);
+      assertTrue(wakeTook.compareTo(Duration.ofSeconds(3)) < 0, "woken after " + wakeTook);
+      List<Executable> calls =
+          List.of(
+              closing::take,
+              () -> closing.take(Duration.ofMillis(10)),
+              closing::poll,
+              closing::drain,
+              closing::missed);
+      for (Executable call : calls) {
+        IllegalStateException e = assertThrows(IllegalStateException.class, call);
+        assertTrue(e.getMessage().contains("reader closed"), e.getMessage());
+      }
+      events.publish(2);
+      assertEquals(List.of(1, 2), List.of(takeOrFail(kept), takeOrFail(kept)), "others read on");
+    }
+    kept.close(); // on a closed core too: no exception
+    closing.close();
   }
 
   @Test

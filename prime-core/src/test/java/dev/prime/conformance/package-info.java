@@ -3,6 +3,7 @@
  * {@code <type>test-jar</type>} and runs every semantic of DESIGN.md with one class implementing
  * {@link dev.prime.conformance.MediaConformance}. Each theme is one interface of default
  * {@code @Test} methods; the only overridable hooks are in {@link
- * dev.prime.conformance.ConformanceBase} (services per source link, patience).
+ * dev.prime.conformance.ConformanceBase} (services per source link, whether blocks run on the caller's thread, the codec
+ * that copies values, patience), each documented where it is declared.
  */
 package dev.prime.conformance;

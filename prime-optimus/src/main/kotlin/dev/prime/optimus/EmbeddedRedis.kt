@@ -17,7 +17,9 @@ import java.util.concurrent.TimeUnit
  * [OptimusCore] starts one when it is given no Redis URL, so examples and tests run on a machine
  * with nothing installed. The server binary is a `redis-server` found on the `PATH` (version 6.2
  * or newer), else the static binary shipped for Linux and macOS (x86-64 and arm64) by the
- * `org.signal:embedded-redis` artifact, extracted once into the temporary directory.
+ * `org.signal:embedded-redis` artifact, extracted once into a directory of the temporary
+ * directory that only the current user can write, and checked against its pinned SHA-256 before
+ * every start (see [RedisServerBinary]): a planted or changed file is refused, never run.
  *
  * The server listens on 127.0.0.1 only, on a free port unless one is given. By default it keeps
  * nothing on disk; [Builder.appendOnlyDir] makes every acknowledged write durable
@@ -28,7 +30,7 @@ import java.util.concurrent.TimeUnit
  * process if [close] was never called.
  */
 public class EmbeddedRedis private constructor(
-    private val executable: Path,
+    private val executable: RedisServerBinary.Binary,
     private val dir: Path,
     private val ownsDir: Boolean,
     private val persistent: Boolean,
@@ -82,9 +84,10 @@ public class EmbeddedRedis private constructor(
     override fun toString(): String = "EmbeddedRedis[$uri, ${if (isRunning) "running" else "stopped"}]"
 
     private fun launch() {
+        executable.verify()
         val log = dir.resolve("redis.log")
         val command = mutableListOf(
-            executable.toString(),
+            executable.path.toString(),
             "--port", port.toString(),
             "--bind", "127.0.0.1",
             "--protected-mode", "no",
@@ -135,13 +138,19 @@ public class EmbeddedRedis private constructor(
         false
     }
 
+    /** Stops the process; an interrupt of the calling thread cuts the wait short (killing it) and stays set. */
     private fun stopProcess(graceful: Boolean) {
         val running = process ?: return
         process = null
         if (graceful) running.destroy() else running.destroyForcibly()
-        if (!running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)) {
+        try {
+            if (!running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)) {
+                running.destroyForcibly()
+                running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
+            }
+        } catch (_: InterruptedException) {
             running.destroyForcibly()
-            running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
+            Thread.currentThread().interrupt()
         }
     }
 
@@ -149,7 +158,7 @@ public class EmbeddedRedis private constructor(
     public class Builder internal constructor() {
         private var port = 0
         private var appendOnlyDir: Path? = null
-        private var executable: Path? = null
+        private var executable: RedisServerBinary.Binary? = null
         private var startTimeout = Duration.ofSeconds(20)
 
         /** Listens on [port] (1–65535); by default a free port is picked. */
@@ -167,8 +176,11 @@ public class EmbeddedRedis private constructor(
         /** Uses this `redis-server` binary instead of looking for one. */
         public fun executable(executable: Path): Builder = apply {
             require(Files.isExecutable(executable)) { "'$executable' is not an executable file" }
-            this.executable = executable
+            this.executable = RedisServerBinary.Binary(executable, null)
         }
+
+        /** Uses [binary] (checked against its pin before every start). */
+        internal fun binary(binary: RedisServerBinary.Binary): Builder = apply { this.executable = binary }
 
         /** How long to wait for the server to answer after launching it (default 20 s). */
         public fun startTimeout(timeout: Duration): Builder = apply {

@@ -24,4 +24,7 @@ internal class OptimusChain<I, O>(
     }
 
     override fun createBlock(): Block<I, O> = optimus.bindForCalls(name(), stages)
+
+    /** A call already encodes its input and result: [dev.prime.CoreConfig.valueCopies] adds nothing. */
+    override fun copiesValuesItself(): Boolean = true
 }

@@ -1,5 +1,7 @@
 package dev.prime.optimus
 
+import dev.prime.spi.ValueCodec
+
 /**
  * Turns the values that travel between Optimus services into bytes and back.
  *
@@ -17,22 +19,26 @@ package dev.prime.optimus
  * - **Exceptions.** [encode] throws [IllegalArgumentException] for a value it cannot encode,
  *   with a message that says how to allow it; [decode] throws [CodecException] for bytes it
  *   cannot or must not decode. The core sends undecodable input to a dead-letter list.
+ *
+ * Every Optimus codec is a [ValueCodec], so the in-memory media can copy values through it
+ * (`CoreConfig.builder().copyValues(KryoCodec.standard())`) and fail in a test the way Optimus
+ * would on a type the codec refuses.
  */
-public interface OptimusCodec {
+public interface OptimusCodec : ValueCodec {
 
     /**
      * Encodes one value.
      *
      * @throws IllegalArgumentException if the value's type is not allowed
      */
-    public fun encode(value: Any): ByteArray
+    override fun encode(value: Any): ByteArray
 
     /**
      * Decodes one value written by [encode] of an agreeing codec.
      *
      * @throws CodecException if the bytes are malformed or name a type that is not allowed
      */
-    public fun decode(bytes: ByteArray): Any
+    override fun decode(bytes: ByteArray): Any
 
     /**
      * A short text that is equal for two codecs exactly when they read each other's bytes, such

@@ -3,9 +3,9 @@ package dev.prime.optimus
 import dev.prime.CoreClosedException
 import dev.prime.Reader
 import org.slf4j.LoggerFactory
-import redis.clients.jedis.args.ListDirection
 import java.time.Duration
 import java.util.Optional
+import java.util.concurrent.atomic.AtomicBoolean
 
 /**
  * A reader of an [OptimusSource]: its own Redis list, which the source fills and trims to the
@@ -14,12 +14,26 @@ import java.util.Optional
  * Design note. A taken value is first moved to the reader's processing list and removed from it
  * only with the next operation, so a connection lost between Redis sending a value and this
  * reader receiving it loses nothing: after reconnecting the reader reads its processing list
- * again and skips, by id, what it had already handed out. All methods synchronise on the reader
+ * again and skips, by id, what it had already handed out. All reads synchronise on the reader
  * (the [Reader] contract allows concurrent calls); a blocked [take] is woken by closing the
- * core, which closes its connection.
+ * core or the reader, which close its connection, and notices an interrupt within a second (it
+ * asks Redis for at most one second at a time; on a network that stopped answering, only when
+ * the socket times out, after at most ten seconds). A value taken from Redis but not handed out
+ * when an interrupt ends a take stays buffered for the next one.
+ *
+ * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
+ * deadline (connecting and every socket wait are bounded by it) with
+ * [RedisUnavailableException]; [poll] and [drain] never wait for a reconnect: they replace a
+ * broken connection once, at once, and within [NO_WAIT_BOUND_MS] in all throw
+ * [RedisUnavailableException].
+ *
+ * [close] leaves the source's reader set and deletes the reader's lists; it does not wait for a
+ * blocked read (it closes that read's connection instead), and waits at most [CLOSE_BOUND_MS]
+ * for an unreachable Redis (then the lists stay, with a WARN, until the core closes).
  */
 internal class OptimusReader<T>(
     private val core: OptimusCore,
+    private val source: SourceKeys,
     val list: ByteArray,
 ) : Reader<T> {
     private val processing = core.keys.processingOf(list)
@@ -30,18 +44,22 @@ internal class OptimusReader<T>(
     private var recovering = false
     private val recent = RecentIds()
     private val backoff = Backoff()
+    private val closed = AtomicBoolean()
 
-    override fun take(): T = synchronized(this) { next(Long.MAX_VALUE)!! }
+    @Throws(InterruptedException::class)
+    override fun take(): T = synchronized(this) { next(wait = true, deadline = null)!! }
 
+    @Throws(InterruptedException::class)
     override fun take(timeout: Duration?): Optional<T> {
         java.util.Objects.requireNonNull(timeout, "timeout must not be null")
-        val nanos = if (timeout!!.isNegative) 0 else timeout.toNanos()
+        val nanos = if (timeout!!.isNegative) 0 else saturatedNanos(timeout)
         return synchronized(this) {
-            present(next(if (nanos == 0L) null else System.nanoTime() + nanos))
+            if (nanos == 0L) present(next(wait = false, deadline = null))
+            else present(next(wait = true, deadline = System.nanoTime() + nanos))
         }
     }
 
-    override fun poll(): Optional<T> = synchronized(this) { present(next(null)) }
+    override fun poll(): Optional<T> = synchronized(this) { present(next(wait = false, deadline = null)) }
 
     @Suppress("UNCHECKED_CAST")
     private fun present(value: T?): Optional<T> = Optional.ofNullable(value) as Optional<T>
@@ -49,45 +67,101 @@ internal class OptimusReader<T>(
     override fun drain(): List<T> = synchronized(this) {
         val values = ArrayList<T>()
         while (true) {
-            values += next(null) ?: break
+            values += next(wait = false, deadline = null) ?: break
         }
         values
     }
 
     override fun missed(): Long = synchronized(this) {
-        core.checkOpen()
-        session.retrying { it.get(missedKey) }?.let { String(it).toLong() } ?: 0L
+        checkUsable()
+        session.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, "reading the missed count of a reader") {
+            it.get(missedKey)
+        }?.let { String(it).toLong() } ?: 0L
     }
 
-    /** The next value; waits until [deadline] (a nanoTime; null: do not wait). */
+    override fun close() {
+        if (!closed.compareAndSet(false, true)) return
+        session.abort() // wakes a read blocked on it
+        core.forgetReader(list)
+        if (core.connections.isClosed) return // the core's close removed its readers
+        try {
+            RedisSession(core.connections).use { cleanup ->
+                cleanup.retryingUntil(System.nanoTime() + CLOSE_BOUND_MS * 1_000_000, "closing a reader") { jedis ->
+                    val pipeline = jedis.pipelined()
+                    pipeline.srem(source.readers, list) // first: no publish writes to it after this
+                    pipeline.del(list, processing, missedKey)
+                    pipeline.sync()
+                }
+            }
+        } catch (e: RuntimeException) {
+            LOG.warn(
+                "a reader of core '{}' could not remove its Redis lists ({}); they stay until the core closes or its lease lapses",
+                core.name(),
+                e.toString(),
+            )
+        }
+    }
+
+    private fun checkUsable() {
+        failIfClosed("")
+        core.checkOpen()
+        core.checkStarted("reading an Optimus source")
+    }
+
+    /** After [close]: releases the connection (a read may have opened one meanwhile) and throws. */
+    private fun failIfClosed(moment: String) {
+        if (!closed.get()) return
+        session.close()
+        throw IllegalStateException(
+            "reader closed: this reader of an Optimus source was closed by Reader.close()$moment; take a new reader",
+        )
+    }
+
+    /**
+     * The next value. [wait]: block until [deadline] (a nanoTime; `null`: forever) for one;
+     * else return `null` at once if there is none.
+     */
     @Suppress("UNCHECKED_CAST")
-    private fun next(deadline: Long?): T? {
+    private fun next(wait: Boolean, deadline: Long?): T? {
+        val started = System.nanoTime()
+        // how long Redis may be unreachable before this read gives up (null: never)
+        val redisDeadline = if (wait) deadline else started + NO_WAIT_BOUND_MS * 1_000_000
+        var failures = 0
         while (true) {
-            core.checkOpen()
+            checkUsable()
+            // a value already taken stays buffered for the next take
+            if (wait && Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
             deliver()?.let { return it as T }
             try {
                 if (recovering) {
-                    recover()
+                    recover(redisDeadline)
                     continue
                 }
-                val taken = session.once { StepBatch(processing, list, null).run(it, ack = delivered, take = StageService.BATCH) }
+                val taken = session.once(redisDeadline, 0) { StepBatch(processing, list, null).run(it, ack = delivered, take = StageService.BATCH) }
                 delivered = 0
                 if (taken.isNotEmpty()) {
                     buffer.addAll(taken)
                     continue
                 }
-                if (deadline == null) return null
-                val remaining = deadline - System.nanoTime()
-                if (remaining <= 0) return null
-                val seconds = (remaining / 1e9).coerceIn(MIN_WAIT_SECONDS, RedisConnections.POLL_SECONDS)
-                session.once { it.blmove(list, processing, ListDirection.LEFT, ListDirection.RIGHT, seconds) }
-                    ?.let(buffer::add)
+                if (!wait) return null
+                if (deadline != null && deadline - System.nanoTime() <= 0) return null
+                if (Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
+                session.blockingMove(deadline, list, processing)?.let(buffer::add)
                 backoff.reset()
+            } catch (e: InterruptedException) {
+                throw e
             } catch (e: Exception) {
+                failIfClosed(" while it waited")
                 if (core.connections.isClosed) throw CoreClosedException(core.name()).apply { initCause(e) }
                 if (!RedisConnections.isTransient(e)) throw e
                 recovering = true
-                core.connections.pause(backoff.next())
+                failures++
+                val left = redisDeadline?.let { it - System.nanoTime() }
+                // without waiting, a broken connection is replaced once, at once; no waiting for a reconnect
+                if ((left != null && left <= 0) || (!wait && failures > 1)) {
+                    throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, e)
+                }
+                if (wait) core.connections.pauseInterruptibly(backoff.next().let { if (left == null) it else minOf(it, ceilMillis(left)) })
             }
         }
     }
@@ -111,8 +185,8 @@ internal class OptimusReader<T>(
     }
 
     /** After a lost connection: the processing list is the truth; skip what was handed out. */
-    private fun recover() {
-        val entries = session.once { it.lrange(processing, 0, -1) }
+    private fun recover(deadline: Long?) {
+        val entries = session.once(deadline, 0) { it.lrange(processing, 0, -1) }
         buffer.clear()
         delivered = 0
         for (raw in entries) {
@@ -127,7 +201,15 @@ internal class OptimusReader<T>(
     }
 
     private companion object {
-        const val MIN_WAIT_SECONDS = 0.001
+        /** The most [poll], [drain] and [missed] wait for Redis to answer. */
+        const val NO_WAIT_BOUND_MS = 500L
+        const val CLOSE_BOUND_MS = 2000L
         val LOG = LoggerFactory.getLogger(OptimusReader::class.java)
+
+        fun saturatedNanos(timeout: Duration): Long = try {
+            timeout.toNanos()
+        } catch (_: ArithmeticException) {
+            Long.MAX_VALUE / 2
+        }
     }
 }

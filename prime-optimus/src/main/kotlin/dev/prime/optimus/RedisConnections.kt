@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.CoreClosedException
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisConnectionException
 import redis.clients.jedis.exceptions.JedisDataException
 import java.time.Duration
@@ -14,7 +15,8 @@ import java.util.concurrent.TimeUnit
  * connection is the only way to wake a thread blocked in a socket read (neither an interrupt nor
  * a coroutine cancellation does). Blocking commands ask the server for at most [POLL_SECONDS];
  * the socket of a blocking command gives up after [BLOCKING_SOCKET_TIMEOUT], so a half-open
- * connection is noticed instead of waiting forever.
+ * connection is noticed instead of waiting forever. Operations with a deadline (a call, a timed
+ * read) bound connecting and every socket wait by that deadline as well ([RedisSession.once]).
  */
 internal class RedisConnections(
     private val endpoint: RedisEndpoint,
@@ -27,9 +29,10 @@ internal class RedisConnections(
     var isClosed: Boolean = false
         private set
 
-    fun open(): Jedis {
+    /** A new connection; [timeout] bounds connecting, logging in and each later command's reply. */
+    fun open(timeout: Duration = COMMAND_TIMEOUT): Jedis {
         ensureOpen()
-        val jedis = endpoint.connect("prime-$coreName", COMMAND_TIMEOUT, BLOCKING_SOCKET_TIMEOUT)
+        val jedis = endpoint.connect("prime-$coreName", timeout, BLOCKING_SOCKET_TIMEOUT)
         open.add(jedis)
         if (isClosed) {
             release(jedis)
@@ -61,6 +64,12 @@ internal class RedisConnections(
         }
     }
 
+    /** Like [pause], but an interrupt ends it with [InterruptedException] (for waits that honour interrupts). */
+    @Throws(InterruptedException::class)
+    fun pauseInterruptibly(millis: Long) {
+        closedLatch.await(millis, TimeUnit.MILLISECONDS)
+    }
+
     fun closeAll() {
         isClosed = true
         closedLatch.countDown()
@@ -72,6 +81,9 @@ internal class RedisConnections(
         val COMMAND_TIMEOUT: Duration = Duration.ofSeconds(10)
         val BLOCKING_SOCKET_TIMEOUT: Duration = Duration.ofSeconds(6)
 
+        /** How long past a deadline a socket wait may end (the reply of a command sent just before it). */
+        const val DEADLINE_GRACE_MS = 250L
+
         /** Whether [e] means "try again on a new connection": the connection broke or the server is still loading. */
         fun isTransient(e: Exception): Boolean =
             e is JedisConnectionException ||
@@ -81,23 +93,86 @@ internal class RedisConnections(
 
 /**
  * One connection of one user (a service, a reader, a caller), opened lazily and replaced when
- * it breaks. Not thread-safe: its user serialises calls.
+ * it breaks. Not thread-safe: its user serialises calls; only [abort] may come from another
+ * thread.
+ *
+ * Design note. The socket timeout is set per operation, and only when it changes (a system
+ * call): the usual [RedisConnections.COMMAND_TIMEOUT], or for an operation with a deadline the
+ * time left plus [RedisConnections.DEADLINE_GRACE_MS], so that a connection that stopped
+ * answering (a frozen network) cannot hold a caller past its deadline.
  */
 internal class RedisSession(private val connections: RedisConnections) : AutoCloseable {
-    private var jedis: Jedis? = null
+    @Volatile private var jedis: Jedis? = null
+    private var socketMillis = 0 // the socket timeout the connection has now
 
     /** Runs [op] once; if the connection broke, drops it (the next call opens a new one) and rethrows. */
-    fun <T> once(op: (Jedis) -> T): T {
-        val current = jedis ?: connections.open().also { jedis = it }
+    fun <T> once(op: (Jedis) -> T): T = once(null, 0, op)
+
+    /**
+     * Runs [op] once, connecting if needed; every socket wait ends by [deadline] (a
+     * [System.nanoTime]; `null`: the usual timeouts), or [serverWaitMillis] plus a margin after
+     * the command for a command that makes the server wait that long. If the connection broke,
+     * drops it and rethrows.
+     */
+    fun <T> once(deadline: Long?, serverWaitMillis: Long, op: (Jedis) -> T): T {
+        val limit = socketLimit(deadline, serverWaitMillis)
+        val current = jedis ?: connections.open(Duration.ofMillis(limit.toLong())).also {
+            jedis = it
+            socketMillis = limit
+        }
         try {
+            if (socketMillis != limit) {
+                current.connection.setSoTimeout(limit)
+                socketMillis = limit
+            }
             return op(current)
         } catch (e: Exception) {
-            if (RedisConnections.isTransient(e)) {
-                jedis = null
-                connections.release(current)
-            }
+            if (RedisConnections.isTransient(e)) drop(current)
             throw e
+        } finally {
+            // aborted meanwhile: Jedis may have reconnected the closed connection on its own
+            if (jedis !== current) connections.release(current)
         }
+    }
+
+    /**
+     * `BLMOVE from to LEFT RIGHT`, waiting at most [RedisConnections.POLL_SECONDS] and never past
+     * [deadline]; the moved value, or `null` if none came. One attempt, like [once].
+     */
+    fun blockingMove(deadline: Long?, from: ByteArray, to: ByteArray): ByteArray? {
+        val pollMillis = (RedisConnections.POLL_SECONDS * 1000).toLong()
+        val waitMillis = deadline?.let { ceilMillis(it - System.nanoTime()).coerceIn(MIN_WAIT_MS, pollMillis) } ?: pollMillis
+        return once(deadline, waitMillis) { jedis ->
+            // sent as a plain command so that the socket timeout set above applies (Jedis gives
+            // its blocking commands a fixed timeout of their own)
+            jedis.sendCommand(Protocol.Command.BLMOVE, from, to, LEFT, RIGHT, seconds(waitMillis)) as ByteArray?
+        }
+    }
+
+    private fun socketLimit(deadline: Long?, serverWaitMillis: Long): Int {
+        val usual = if (serverWaitMillis > 0) {
+            serverWaitMillis + RedisConnections.BLOCKING_SOCKET_TIMEOUT.toMillis() - (RedisConnections.POLL_SECONDS * 1000).toLong()
+        } else {
+            RedisConnections.COMMAND_TIMEOUT.toMillis()
+        }
+        if (deadline == null) return usual.toInt()
+        val left = ceilMillis(deadline - System.nanoTime()).coerceAtLeast(0) + RedisConnections.DEADLINE_GRACE_MS
+        return minOf(usual, left.coerceAtLeast(serverWaitMillis + RedisConnections.DEADLINE_GRACE_MS)).toInt()
+    }
+
+    private fun drop(current: Jedis) {
+        if (jedis === current) jedis = null
+        connections.release(current)
+    }
+
+    /**
+     * Closes the connection under a user blocked on it (from any thread): its operation fails as
+     * a broken connection would, and the next one opens a new connection.
+     */
+    fun abort() {
+        val current = jedis ?: return
+        jedis = null
+        connections.release(current)
     }
 
     /**
@@ -106,50 +181,42 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      *
      * @throws CoreClosedException once the core is closed
      */
-    fun <T> retrying(op: (Jedis) -> T): T {
-        var backoff: Backoff? = null // made on the first failure only: this is on every call's path
-        while (true) {
-            connections.ensureOpen()
-            try {
-                return once(op)
-            } catch (e: Exception) {
-                if (connections.isClosed) throw CoreClosedException(connections.coreName).apply { initCause(e) }
-                if (!RedisConnections.isTransient(e)) throw e
-                connections.pause((backoff ?: Backoff().also { backoff = it }).next())
-            }
-        }
-    }
+    fun <T> retrying(op: (Jedis) -> T): T = retryUntil(null, "") { once(op) }
 
     /**
      * Like [retrying], but gives up at [deadline] (a [System.nanoTime]; `null`: never) with a
      * [RedisUnavailableException] that names [what] (e.g. "publish to source 'imu'") and the last
-     * error. The wait between attempts never overshoots the deadline.
+     * error. The wait between attempts never overshoots the deadline, and neither do connecting
+     * and socket waits (see [once]): a connection that does not answer ends the attempt in time.
      *
      * @throws CoreClosedException once the core is closed
      * @throws RedisUnavailableException when the deadline passes while Redis is unreachable
      */
-    fun <T> retryingUntil(deadline: Long?, what: String, op: (Jedis) -> T): T {
-        if (deadline == null) return retrying(op)
+    fun <T> retryingUntil(deadline: Long?, what: String, op: (Jedis) -> T): T =
+        retryUntil(deadline, what) { once(deadline, 0, op) }
+
+    /** [blockingMove], retried like [retryingUntil]. */
+    fun blockingMoveUntil(deadline: Long?, what: String, from: ByteArray, to: ByteArray): ByteArray? =
+        retryUntil(deadline, what) { blockingMove(deadline, from, to) }
+
+    private inline fun <T> retryUntil(deadline: Long?, what: String, attempt: () -> T): T {
         val started = System.nanoTime()
-        var backoff: Backoff? = null
+        var backoff: Backoff? = null // made on the first failure only: this is on every call's path
         while (true) {
             connections.ensureOpen()
             try {
-                return once(op)
+                return attempt()
             } catch (e: Exception) {
                 if (connections.isClosed) throw CoreClosedException(connections.coreName).apply { initCause(e) }
                 if (!RedisConnections.isTransient(e)) throw e
-                val left = deadline - System.nanoTime()
-                if (left <= 0) {
-                    val waited = Duration.ofNanos(System.nanoTime() - started)
-                    throw RedisUnavailableException(
-                        "$what gave up after ${waited.toMillis()} ms: Redis is unreachable ($e); check that Redis " +
-                            "runs and is reachable from this process",
-                        e,
-                    )
-                }
                 val wait = (backoff ?: Backoff().also { backoff = it }).next()
-                connections.pause(minOf(wait, ceilMillis(left)))
+                if (deadline == null) {
+                    connections.pause(wait)
+                } else {
+                    val left = deadline - System.nanoTime()
+                    if (left <= 0) throw unavailable(what, started, e)
+                    connections.pause(minOf(wait, ceilMillis(left)))
+                }
             }
         }
     }
@@ -157,6 +224,24 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
     override fun close() {
         jedis?.let(connections::release)
         jedis = null
+    }
+
+    companion object {
+        private const val MIN_WAIT_MS = 10L
+        private val LEFT = "LEFT".toByteArray()
+        private val RIGHT = "RIGHT".toByteArray()
+
+        private fun seconds(millis: Long) = (millis / 1000.0).toString().toByteArray()
+
+        /** The exception for [what] that gave up at its deadline because Redis was unreachable since [started]. */
+        fun unavailable(what: String, started: Long, last: Exception): RedisUnavailableException {
+            val waited = Duration.ofNanos(System.nanoTime() - started)
+            return RedisUnavailableException(
+                "$what gave up after ${waited.toMillis()} ms: Redis is unreachable ($last); check that Redis " +
+                    "runs and is reachable from this process",
+                last,
+            )
+        }
     }
 }
 
@@ -179,4 +264,4 @@ internal class Backoff {
 }
 
 /** Nanoseconds to whole milliseconds, rounded up (at least 1). */
-private fun ceilMillis(nanos: Long): Long = ((nanos + 999_999) / 1_000_000).coerceAtLeast(1)
+internal fun ceilMillis(nanos: Long): Long = ((nanos + 999_999) / 1_000_000).coerceAtLeast(1)

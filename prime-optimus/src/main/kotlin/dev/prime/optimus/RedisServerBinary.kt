@@ -1,26 +1,148 @@
 package dev.prime.optimus
 
 import dev.prime.PrimeException
+import org.slf4j.LoggerFactory
 import java.io.File
 import java.io.IOException
+import java.nio.file.FileAlreadyExistsException
 import java.nio.file.Files
+import java.nio.file.LinkOption
 import java.nio.file.Path
 import java.nio.file.StandardCopyOption
+import java.nio.file.attribute.PosixFileAttributes
+import java.nio.file.attribute.PosixFilePermission
 import java.nio.file.attribute.PosixFilePermissions
+import java.security.MessageDigest
 import java.util.Locale
 import java.util.concurrent.TimeUnit
 
 /**
  * Finds a `redis-server` able to run Optimus (6.2 or newer, for `LMOVE`/`BLMOVE`): the one on the
- * `PATH` if it is new enough, else the binary bundled for this OS and CPU, extracted once into
- * the temporary directory (written to a private file and moved into place, so concurrent JVMs
- * never run a half-written binary).
+ * `PATH` if it is new enough, else the binary bundled for this OS and CPU by the
+ * `org.signal:embedded-redis` artifact.
+ *
+ * Design note (safety). A file in a shared temporary directory can be planted or replaced by any
+ * local user, so the bundled binary is extracted into a directory only the current user can
+ * write: `prime-redis-<version>-<user>` in the temporary directory, created with owner-only
+ * permissions, and reused only if it is still a real directory of this user that nobody else
+ * can write (else a fresh private directory is made). The binary must have the SHA-256 pinned
+ * below: checked on the bytes in the jar, on a file found already extracted (replaced if it
+ * differs), and by [EmbeddedRedis] before every start ([Binary.verify]), which refuses to run
+ * anything else. A binary on the `PATH` or given by the user is the user's choice and runs
+ * unchecked.
  */
 internal object RedisServerBinary {
-    private const val BUNDLED_VERSION = "7.0.15"
+    const val BUNDLED_VERSION: String = "7.0.15"
     private val MINIMUM = listOf(6, 2)
+    private val LOG = LoggerFactory.getLogger(RedisServerBinary::class.java)
+    private val OWNER_ONLY = PosixFilePermissions.fromString("rwx------")
 
-    fun locate(): Path = onPath() ?: bundled()
+    /** SHA-256 of the binaries of `org.signal:embedded-redis` 0.9.1, by resource name. */
+    private val PINS = mapOf(
+        "redis-server-7.0.15-darwin-amd64" to "e22a3d9147802bba0724efb2e446c49e1e514e76ff8031bb6d44b8628400d8f3",
+        "redis-server-7.0.15-darwin-arm64" to "07838a2eb6f5961c89d8e6f1f83482de355dfc6bb04e05bfb00ae1f137dee129",
+        "redis-server-7.0.15-linux-386" to "19106984e15b7e7ce22c9a3296fe6a5f85c43a72894144f98b1fb572b823a936",
+        "redis-server-7.0.15-linux-amd64" to "c0cdeef856b3410fd99d6ec6fc6a20302e69059b00ce5d6abab7b3e5069ea91e",
+        "redis-server-7.0.15-linux-arm64" to "d5c7ff117caf45d7dc2f59c1f956e1830438779947d66aa5647c2cdcc16eca50",
+    )
+
+    /** A `redis-server` to run and the SHA-256 it must have at every start (`null`: the user's, unchecked). */
+    class Binary(val path: Path, private val sha256: String?) {
+        /** Refuses (with [PrimeException]) a pinned binary whose content is not the pinned one. */
+        fun verify() {
+            val pin = sha256 ?: return
+            val actual = try {
+                sha256(path)
+            } catch (e: IOException) {
+                throw PrimeException("cannot read the redis-server binary $path to check it: $e", e)
+            }
+            if (actual != pin) {
+                throw PrimeException(
+                    "refusing to run $path: its SHA-256 is $actual, not the $pin pinned for the bundled redis-server " +
+                        "$BUNDLED_VERSION, so it was changed after extraction. Delete it (it is extracted again), or " +
+                        "install Redis 6.2+ and put redis-server on the PATH",
+                )
+            }
+        }
+
+        override fun toString(): String = path.toString()
+    }
+
+    fun locate(): Binary = onPath()?.let { Binary(it, null) } ?: bundled(Path.of(System.getProperty("java.io.tmpdir")))
+
+    /** The name of the resource bundled for this OS and CPU. */
+    fun bundledResource(): String = "redis-server-$BUNDLED_VERSION-${os()}-${arch()}"
+
+    /** The bundled binary, extracted (if needed) into a private directory under [tmpRoot]. */
+    fun bundled(tmpRoot: Path): Binary {
+        val resource = bundledResource()
+        val pin = PINS[resource] ?: throw noBinary("no pinned SHA-256 for '$resource'")
+        val bytes = RedisServerBinary::class.java.getResourceAsStream("/$resource")?.use { it.readAllBytes() }
+            ?: throw noBinary("no bundled redis-server for this machine (looked for resource '$resource')")
+        if (sha256(bytes) != pin) throw noBinary("the bundled '$resource' does not have its pinned SHA-256 (an altered jar?)")
+        val dir = privateDirectory(tmpRoot)
+        val target = dir.resolve(resource)
+        if (Files.isRegularFile(target, LinkOption.NOFOLLOW_LINKS)) {
+            if (sha256(target) == pin) return Binary(target, pin)
+            LOG.warn("the extracted redis-server {} was changed; extracting it again", target)
+        }
+        val partial = Files.createTempFile(dir, "redis-server-", ".part", PosixFilePermissions.asFileAttribute(OWNER_ONLY))
+        try {
+            Files.write(partial, bytes)
+            Files.move(partial, target, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
+        } finally {
+            Files.deleteIfExists(partial)
+        }
+        return Binary(target, pin)
+    }
+
+    /** `prime-redis-<version>-<user>` under [root] if it is (or can be made) this user's alone, else a fresh private directory. */
+    private fun privateDirectory(root: Path): Path {
+        val user = System.getProperty("user.name").orEmpty().replace(Regex("[^A-Za-z0-9._-]"), "_")
+        val dir = root.resolve("prime-redis-$BUNDLED_VERSION-$user")
+        try {
+            Files.createDirectory(dir, PosixFilePermissions.asFileAttribute(OWNER_ONLY))
+        } catch (_: FileAlreadyExistsException) {
+            // reused below if it is still private
+        }
+        if (isPrivate(dir)) return dir
+        LOG.warn("{} is not a directory only this user can write; extracting redis-server into a fresh one", dir)
+        val fresh = Files.createTempDirectory(root, "prime-redis-", PosixFilePermissions.asFileAttribute(OWNER_ONLY))
+        fresh.toFile().deleteOnExit()
+        fresh.resolve(bundledResource()).toFile().deleteOnExit() // registered later: deleted before its directory
+        return fresh
+    }
+
+    /** A real directory (not a link), owned by this user, that no one else may write. */
+    private fun isPrivate(dir: Path): Boolean {
+        val attributes = Files.readAttributes(dir, PosixFileAttributes::class.java, LinkOption.NOFOLLOW_LINKS)
+        if (!attributes.isDirectory || attributes.isSymbolicLink) return false
+        val me = dir.fileSystem.userPrincipalLookupService.lookupPrincipalByName(System.getProperty("user.name"))
+        val othersMayWrite = PosixFilePermission.GROUP_WRITE in attributes.permissions() ||
+            PosixFilePermission.OTHERS_WRITE in attributes.permissions()
+        return attributes.owner() == me && !othersMayWrite
+    }
+
+    private fun sha256(bytes: ByteArray): String = hex(MessageDigest.getInstance("SHA-256").digest(bytes))
+
+    private fun sha256(file: Path): String {
+        val digest = MessageDigest.getInstance("SHA-256")
+        Files.newInputStream(file, LinkOption.NOFOLLOW_LINKS).use { input ->
+            val buffer = ByteArray(64 * 1024)
+            while (true) {
+                val n = input.read(buffer)
+                if (n < 0) break
+                digest.update(buffer, 0, n)
+            }
+        }
+        return hex(digest.digest())
+    }
+
+    private fun hex(bytes: ByteArray) = bytes.joinToString("") { "%02x".format(it) }
+
+    private fun noBinary(why: String) = PrimeException(
+        "$why; install Redis 6.2+ and put redis-server on the PATH, or give OptimusCore a redis:// URL",
+    )
 
     private fun onPath(): Path? {
         val path = System.getenv("PATH") ?: return null
@@ -46,39 +168,12 @@ internal object RedisServerBinary {
         false
     }
 
-    private fun bundled(): Path {
-        val resource = "redis-server-$BUNDLED_VERSION-${os()}-${arch()}"
-        val target = Path.of(System.getProperty("java.io.tmpdir"), "prime-redis-$BUNDLED_VERSION", resource)
-        val stream = RedisServerBinary::class.java.getResourceAsStream("/$resource")
-            ?: throw PrimeException(
-                "no bundled redis-server for this machine (looked for resource '$resource'); install Redis " +
-                    "6.2+ and put redis-server on the PATH, or give OptimusCore a redis:// URL",
-            )
-        stream.use { input ->
-            Files.createDirectories(target.parent)
-            val bytes = input.readAllBytes()
-            if (Files.isExecutable(target) && Files.size(target) == bytes.size.toLong()) return target
-            val partial = Files.createTempFile(target.parent, "redis-server-", ".part")
-            Files.write(partial, bytes)
-            try {
-                Files.setPosixFilePermissions(partial, PosixFilePermissions.fromString("rwxr-xr-x"))
-            } catch (_: UnsupportedOperationException) {
-                partial.toFile().setExecutable(true)
-            }
-            Files.move(partial, target, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
-        }
-        return target
-    }
-
     private fun os(): String {
         val name = System.getProperty("os.name").lowercase(Locale.ROOT)
         return when {
             name.contains("linux") -> "linux"
             name.contains("mac") || name.contains("darwin") -> "darwin"
-            else -> throw PrimeException(
-                "no bundled redis-server for '$name'; install Redis 6.2+ and put redis-server on the PATH, " +
-                    "or give OptimusCore a redis:// URL",
-            )
+            else -> throw noBinary("no bundled redis-server for '$name'")
         }
     }
 

@@ -3,7 +3,6 @@ package dev.prime.optimus
 import dev.prime.Block
 import dev.prime.ChainFailedException
 import dev.prime.PrimeException
-import redis.clients.jedis.args.ListDirection
 
 /**
  * The block of an Optimus chain: a remote call. Pushes the input, with a fresh id and the
@@ -19,6 +18,7 @@ internal class RemoteCall<I, O>(
 ) : Block<I, O> {
     override fun process(value: I): O {
         core.checkOpen()
+        core.checkStarted("calling chain '$chainName'")
         val payload = core.encode(value)
         val slot = core.borrowSlot()
         try {
@@ -35,10 +35,20 @@ internal class RemoteCall<I, O>(
 /**
  * A reply list and the connection to wait on it, used by one call at a time.
  *
- * Design note. The reply is read without removing it (`BLMOVE reply reply`, a rotation), and the
- * list is emptied when the next call is sent, in the same round trip as the request; so a reply
- * is not lost when the connection breaks while it travels, and calls cost two round trips like a
- * bare push and pop. Replies of earlier calls that gave up are recognised by id and skipped.
+ * Design note. A call is retried when its connection breaks, and a retry must never lose the
+ * reply: the request may have reached Redis before the break, and the service answers it once
+ * (it skips the repeated request as a duplicate). So the reply list is emptied only by the first
+ * attempt to send a request, in the same round trip (`DEL reply; RPUSH request`), when no reply
+ * to this call can exist yet; a retry only pushes the request again. The reply is read without
+ * removing it (`BLMOVE reply reply`, a rotation), so it is not lost either when the connection
+ * breaks while it travels; it stays until the next call's first attempt clears the list. A reply
+ * of an earlier call that gave up is recognised by its id and removed (so the wait does not spin
+ * on it); a call that gives up also takes its request back if no service took it yet. Calls cost
+ * two round trips, like a bare push and pop.
+ *
+ * With a call timeout every Redis operation of the call, connecting included, ends by the
+ * deadline ([RedisSession.retryingUntil]): the call fails with [RedisUnavailableException] if
+ * Redis could not be reached, or with the timeout [PrimeException] if the service did not reply.
  */
 internal class CallerSlot(private val core: OptimusCore, private val replyKey: ByteArray) : AutoCloseable {
     private val session = RedisSession(core.connections)
@@ -46,28 +56,40 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
     fun call(input: ByteArray, payload: ByteArray?, chainName: String): Any? {
         val id = core.ids.next()
         val request = Envelope.request(id, replyKey, payload)
-        session.retrying { jedis ->
-            val pipeline = jedis.pipelined()
-            pipeline.del(replyKey)
-            pipeline.rpush(input, request)
-            pipeline.sync()
-        }
-        val deadline = core.callTimeout?.let { System.nanoTime() + it.toNanos() }
-        while (true) {
-            val reply = session.retrying {
-                it.blmove(replyKey, replyKey, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        val timeout = core.callTimeout
+        val deadline = timeout?.let { System.nanoTime() + it.toNanos() }
+        val what = "the call to service '$chainName'"
+        var firstAttempt = true
+        session.retryingUntil(deadline, what) { jedis ->
+            if (firstAttempt) {
+                firstAttempt = false
+                val pipeline = jedis.pipelined()
+                pipeline.del(replyKey)
+                pipeline.rpush(input, request)
+                pipeline.sync()
+            } else {
+                jedis.rpush(input, request) // the reply may be in the list already: keep it
             }
-            if (reply == null) {
-                if (deadline != null && System.nanoTime() > deadline) {
-                    throw PrimeException(
-                        "service '$chainName' did not reply within ${core.callTimeout}; is a process that hosts it " +
-                            "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
-                    )
-                }
+        }
+        while (true) {
+            if (Thread.currentThread().isInterrupted) {
+                withdraw(input, request)
+                throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
+            }
+            if (deadline != null && deadline - System.nanoTime() <= 0) {
+                withdraw(input, request)
+                throw PrimeException(
+                    "service '$chainName' did not reply within $timeout; is a process that hosts it " +
+                        "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
+                )
+            }
+            val reply = session.blockingMoveUntil(deadline, what, replyKey, replyKey)
+                ?: continue
+            val envelope = Envelope.parse(reply)
+            if (envelope.id != id) {
+                session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call
                 continue
             }
-            val envelope = Envelope.parse(reply)
-            if (envelope.id != id) continue
             return when (envelope.kind) {
                 Envelope.Kind.REPLY_OK -> envelope.payload()?.let(core.codec::decode)
                 Envelope.Kind.REPLY_ERROR -> throw core.takeFailure(id)
@@ -77,7 +99,24 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         }
     }
 
+    /**
+     * Takes back the request of a call that gave up, if no service took it yet (every copy a
+     * retry pushed), so an abandoned request is neither run nor answered later. One quick
+     * attempt: if Redis does not answer at once, the request stays and its late reply is skipped.
+     */
+    private fun withdraw(input: ByteArray, request: ByteArray) {
+        try {
+            session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { it.lrem(input, 0, request) }
+        } catch (_: RuntimeException) {
+            // best effort: Redis is unreachable, or the core closed
+        }
+    }
+
     override fun close() = session.close()
+
+    private companion object {
+        const val WITHDRAW_BOUND_NANOS = 200_000_000L
+    }
 }
 
 /** What a service in another process threw, as far as its reply tells: the exception's text. */

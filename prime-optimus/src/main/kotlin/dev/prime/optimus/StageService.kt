@@ -112,7 +112,9 @@ internal class StageService(
             } else {
                 step.push(replyTo, Envelope.replyOk(envelope.id, payload))
             }
-        } catch (e: Exception) {
+        } catch (e: VirtualMachineError) {
+            throw e
+        } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)
             core.rememberFailure(envelope.id, failure)
             step.push(replyTo, Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString()))
@@ -126,7 +128,9 @@ internal class StageService(
             val payloads = ArrayList<ByteArray>(1)
             try {
                 logic.process(value) { output -> if (output != null) payloads += core.encode(output)!! }
-            } catch (e: Exception) {
+            } catch (e: VirtualMachineError) {
+                throw e
+            } catch (e: Throwable) {
                 if (core.connections.isClosed) return
                 if (attempts <= core.retries) continue
                 core.reportFailure(name, value ?: "null", e)

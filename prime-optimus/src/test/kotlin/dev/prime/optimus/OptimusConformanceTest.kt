@@ -10,4 +10,7 @@ class OptimusConformanceTest : MediaConformance {
 
     /** Optimus keeps one service per linked chain (their lists are re-routed, no extra hop). */
     override fun servicesOfLinkedChain(chains: Int): Int = chains
+
+    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    override fun blocksRunOnTheCallersThread(): Boolean = false
 }

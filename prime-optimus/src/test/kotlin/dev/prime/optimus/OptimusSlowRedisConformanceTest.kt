@@ -15,6 +15,9 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
 
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
+    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    override fun blocksRunOnTheCallersThread(): Boolean = false
+
     private companion object {
         val proxy: SlowProxy by lazy { SlowProxy(TestRedis.url, 500_000) }
     }

@@ -37,6 +37,21 @@ class RemoteCallTest {
     }
 
     @Test
+    fun aCallThatTimedOutLeavesNoRequestBehind() {
+        OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).callTimeout(Duration.ofMillis(500)).build().use { core ->
+            val nobody = core.chain("unhosted") { x: Int -> x }.toBlock() // hosted by no process
+            core.start()
+            val started = System.nanoTime()
+            val e = org.junit.jupiter.api.Assertions.assertThrows(dev.prime.PrimeException::class.java) { nobody.process(1) }
+            val took = Duration.ofNanos(System.nanoTime() - started)
+            org.junit.jupiter.api.Assertions.assertTrue(took < Duration.ofMillis(1500), "gave up after $took: ${e.message}")
+            Jedis(URI(TestRedis.url)).use { raw ->
+                assertEquals(0L, raw.llen(core.keys.serviceInput("unhosted")), "the abandoned request is still queued")
+            }
+        }
+    }
+
+    @Test
     fun aValuePushedTwiceIsProcessedOnce() {
         TestRedis.core().use { core ->
             val events = EventBlock<Int>()

@@ -38,6 +38,28 @@ class RemoteFailureTest {
     }
 
     @Test
+    fun anErrorInAServiceOfAnotherProcessReachesTheCallerAsRemoteFailureAndTheServiceGoesOn() {
+        val config = CoreConfig.builder().name("remote-error-topology").build()
+        fun declare(core: OptimusCore) =
+            core.chain("check") { x: Int -> if (x < 0) throw AssertionError("negative: $x") else x }
+
+        OptimusCore.builder().config(config).redis(TestRedis.url).hosts("check").build().use { host ->
+            declare(host).toBlock()
+            host.start()
+            OptimusCore.builder().config(config).redis(TestRedis.url).hosts().build().use { caller ->
+                val check = declare(caller)
+                caller.start()
+                val block = check.toBlock()
+                val e = assertThrows(ChainFailedException::class.java) { block.process(-1) }
+                assertEquals("check", e.chainName())
+                assertTrue(e.cause is RemoteFailureException, e.cause.toString())
+                assertTrue(e.cause!!.message!!.contains("AssertionError"), e.cause!!.message)
+                assertEquals(2, block.process(2), "the service survived the error")
+            }
+        }
+    }
+
+    @Test
     fun hostingAServiceTheTopologyDoesNotDeclareIsRefusedAtStart() {
         OptimusCore.builder().redis(TestRedis.url).hosts("typo").build().use { core ->
             core.chain("real") { x: Int -> x }.toBlock()

@@ -221,15 +221,28 @@ class RadiantTemplatesTest {
   }
 
   @Test
-  void errorsAndCoreClosedPassUnwrapped() {
+  void errorsAreWrappedButVirtualMachineErrorsAndCoreClosedPassUnwrapped() {
+    AssertionError assertion = new AssertionError("an error is wrapped like an exception");
     Block<Integer, Integer> error =
+        core.chain(
+                "asserting",
+                (Block<Integer, Integer>)
+                    x -> {
+                      throw assertion;
+                    })
+            .toBlock();
+    ChainFailedException wrapped = assertThrows(ChainFailedException.class, () -> error.process(1));
+    assertEquals("asserting", wrapped.chainName());
+    assertSame(assertion, wrapped.getCause());
+    OutOfMemoryError oom = new OutOfMemoryError("a VirtualMachineError is not wrapped");
+    Block<Integer, Integer> vm =
         core.chain(
                 (Block<Integer, Integer>)
                     x -> {
-                      throw new AssertionError("an error is not wrapped");
+                      throw oom;
                     })
             .toBlock();
-    assertThrows(AssertionError.class, () -> error.process(1));
+    assertSame(oom, assertThrows(OutOfMemoryError.class, () -> vm.process(1)));
     Block<Integer, Integer> closed =
         core.chain(RadiantTemplatesTest.<Integer>throwing(new CoreClosedException("elsewhere")))
             .toBlock();

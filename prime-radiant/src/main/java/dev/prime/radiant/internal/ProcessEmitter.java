@@ -52,9 +52,10 @@ import net.bytebuddy.jar.asm.Type;
  * link the value stays on the operand stack (a leaf then costs {@code getstatic; swap; invoke}),
  * which keeps the method small enough for the JIT to inline it into its caller up to about 20
  * blocks. Failure naming is in the
- * exception table: every call the chain makes is covered by a {@code RuntimeException} range whose
+ * exception table: every call the chain makes is covered by a {@code Throwable} range whose
  * handler pushes the name of the chain that owns the call and jumps to one shared handler, which
- * rethrows {@link ChainFailedException} and {@link CoreClosedException} unchanged and wraps
+ * rethrows {@link ChainFailedException}, {@link CoreClosedException} and
+ * {@link VirtualMachineError} unchanged and wraps
  * anything else in a {@code ChainFailedException} naming that chain. Nothing runs on the normal
  * path but the calls. Each local variable slot holds one type only, so frames are simple to
  * compute. Stateless and thread-safe: the generated method keeps its state in locals.
@@ -62,7 +63,8 @@ import net.bytebuddy.jar.asm.Type;
 final class ProcessEmitter implements ByteCodeAppender {
   private static final String OBJECT_TO_OBJECT = "(Ljava/lang/Object;)Ljava/lang/Object;";
   private static final String OBJECT_TO_BOOLEAN = "(Ljava/lang/Object;)Z";
-  private static final String RUNTIME_EXCEPTION = Type.getInternalName(RuntimeException.class);
+  private static final String THROWABLE = Type.getInternalName(Throwable.class);
+  private static final String VM_ERROR = Type.getInternalName(VirtualMachineError.class);
   private static final String CHAIN_FAILED = Type.getInternalName(ChainFailedException.class);
   private static final String CORE_CLOSED = Type.getInternalName(CoreClosedException.class);
   private static final String LIST = Type.getInternalName(List.class);
@@ -328,7 +330,7 @@ final class ProcessEmitter implements ByteCodeAppender {
       Label start = new Label();
       Label end = new Label();
       Label handler = handlers.computeIfAbsent(chain, c -> new Label());
-      mv.visitTryCatchBlock(start, end, handler, RUNTIME_EXCEPTION);
+      mv.visitTryCatchBlock(start, end, handler, THROWABLE);
       mv.visitLabel(start);
       code.run();
       mv.visitLabel(end);
@@ -356,6 +358,9 @@ final class ProcessEmitter implements ByteCodeAppender {
       mv.visitJumpInsn(IFNE, rethrow);
       mv.visitVarInsn(ALOAD, failure);
       mv.visitTypeInsn(INSTANCEOF, CORE_CLOSED);
+      mv.visitJumpInsn(IFNE, rethrow);
+      mv.visitVarInsn(ALOAD, failure);
+      mv.visitTypeInsn(INSTANCEOF, VM_ERROR);
       mv.visitJumpInsn(IFNE, rethrow);
       mv.visitTypeInsn(NEW, CHAIN_FAILED);
       mv.visitInsn(DUP);

@@ -1,0 +1,280 @@
+package dev.prime.conformance;
+
+import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.Isolated;
+import dev.prime.PrimeCore;
+import dev.prime.PrimeException;
+import dev.prime.Reader;
+import dev.prime.Repeat;
+import dev.prime.Token;
+import java.time.Duration;
+import java.util.List;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicReference;
+import org.junit.jupiter.api.Test;
+
+/**
+ * Every blocking wait honours interruption and {@code close()}: a repeater, a caller waiting for
+ * an isolated chain, a sync collector and a reader; and {@code close()} called from a service's
+ * own thread returns at once and leaves no thread.
+ */
+public interface InterruptConformance extends ConformanceBase {
+
+  /** A thread that runs one call and keeps what it threw; bounded by the kit's patience. */
+  final class Caller {
+    final Thread thread;
+    final AtomicReference<Throwable> thrown = new AtomicReference<>();
+    final CountDownLatch ended = new CountDownLatch(1);
+    volatile boolean interruptedAtEnd;
+
+    Caller(String name, Callable call) {
+      thread =
+          new Thread(
+              () -> {
+                try {
+                  call.run();
+                } catch (Throwable t) {
+                  thrown.set(t);
+                } finally {
+                  interruptedAtEnd = Thread.currentThread().isInterrupted();
+                  ended.countDown();
+                }
+              },
+              "kit-caller-" + name);
+      thread.setDaemon(true);
+      thread.start();
+    }
+
+    /** Waits until the call ended, failing the test if it did not within {@code patience}. */
+    Throwable awaitFailure(Duration patience) throws InterruptedException {
+      assertTrue(
+          ended.await(patience.toMillis(), TimeUnit.MILLISECONDS),
+          "the call did not end within " + patience);
+      return thrown.get();
+    }
+  }
+
+  /** A call that may throw anything. */
+  @FunctionalInterface
+  interface Callable {
+    void run() throws Exception;
+  }
+
+  @Test
+  default void closeStopsARepeaterThatNeverSaysStop() throws InterruptedException {
+    CountDownLatch looping = new CountDownLatch(100);
+    PrimeCore core = newCore();
+    Caller caller;
+    try (core) {
+      Chain<Integer, Integer> forever =
+          core.repeater(
+              core.chain(
+                  "round",
+                  x -> {
+                    looping.countDown();
+                    return x + 1;
+                  }),
+              (Integer in, Integer out, List<Void> none) -> Repeat.again(out));
+      core.start();
+      Block<Integer, Integer> block = forever.toBlock();
+      caller = new Caller("repeater", () -> block.process(0));
+      assertTrue(looping.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+    }
+    assertInstanceOf(PrimeException.class, caller.awaitFailure(patience()), "the loop ended");
+    assertNoThreadsLeft(core);
+  }
+
+  @Test
+  default void interruptingItsCallerStopsARepeater() throws InterruptedException {
+    CountDownLatch looping = new CountDownLatch(100);
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> forever =
+          core.repeater(
+              core.chain(
+                  x -> {
+                    looping.countDown();
+                    return x + 1;
+                  }),
+              (Integer in, Integer out, List<Void> none) -> Repeat.again(out));
+      core.start();
+      Block<Integer, Integer> block = forever.toBlock();
+      Caller caller = new Caller("repeater", () -> block.process(0));
+      assertTrue(looping.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      caller.thread.interrupt();
+      assertInstanceOf(PrimeException.class, caller.awaitFailure(patience()));
+      assertTrue(caller.interruptedAtEnd, "the caller's interrupt flag stays set");
+    }
+  }
+
+  @Test
+  default void aCallerWaitingForAnIsolatedChainHonoursInterruption() throws InterruptedException {
+    CountDownLatch entered = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    try (PrimeCore core = newCore()) {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  x -> {
+                    if (x == 1) {
+                      entered.countDown();
+                      try {
+                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                      } catch (InterruptedException e) {
+                        Thread.currentThread().interrupt();
+                      }
+                    }
+                    return x;
+                  }));
+      Block<Integer, Integer> holder = isolated.newUser().toBlock();
+      Block<Integer, Integer> waiter = isolated.newUser().toBlock();
+      core.start();
+      Caller holding = new Caller("holder", () -> holder.process(1));
+      try {
+        assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        Caller waiting = new Caller("waiter", () -> waiter.process(2));
+        waiting.thread.interrupt();
+        assertInstanceOf(PrimeException.class, waiting.awaitFailure(patience()));
+        assertTrue(waiting.interruptedAtEnd, "the waiter's interrupt flag stays set");
+      } finally {
+        release.countDown();
+      }
+      holding.awaitFailure(patience());
+    }
+  }
+
+  @Test
+  default void aSyncCollectorWaitingForAValueHonoursInterruption() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      Chain<Token, Integer> collector = core.syncCollector(core.source(new EventBlock<Integer>()));
+      core.start();
+      Block<Token, Integer> block = collector.toBlock();
+      Caller caller = new Caller("collector", () -> block.process(Token.INSTANCE));
+      caller.thread.interrupt();
+      assertInstanceOf(PrimeException.class, caller.awaitFailure(patience()));
+      assertTrue(caller.interruptedAtEnd, "the caller's interrupt flag stays set");
+    }
+  }
+
+  @Test
+  default void aReaderWaitingInTakeHonoursInterruption() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      Reader<Integer> reader = core.source(new EventBlock<Integer>()).reader();
+      core.start();
+      Caller untimed = new Caller("take", reader::take);
+      untimed.thread.interrupt();
+      assertInstanceOf(InterruptedException.class, untimed.awaitFailure(patience()));
+      Reader<Integer> other = core.source(new EventBlock<Integer>()).reader();
+      Caller timed = new Caller("take-timeout", () -> other.take(Duration.ofHours(1)));
+      timed.thread.interrupt();
+      assertInstanceOf(InterruptedException.class, timed.awaitFailure(patience()));
+    }
+  }
+
+  @Test
+  default void aListenerCanCloseItsOwnCore() throws InterruptedException {
+    closeFromAService((core, events, close) -> core.source(events).listen(x -> close.run()));
+  }
+
+  @Test
+  default void aChainLinkedToASourceCanCloseItsOwnCore() throws InterruptedException {
+    closeFromAService(
+        (core, events, close) ->
+            core.link(
+                core.source(events),
+                core.chain(
+                    "closer",
+                    x -> {
+                      close.run();
+                      return x;
+                    })));
+  }
+
+  /** How a test declares a service that runs {@code close} when it gets a value. */
+  @FunctionalInterface
+  interface ClosingService {
+    void declare(PrimeCore core, EventBlock<Integer> events, Runnable close);
+  }
+
+  /**
+   * Declares a service that closes its own core, next to another service, with a shutdown
+   * timeout far above the kit's patience: a close that waited for its own thread would take that
+   * long. The close must return within the patience and leave no thread.
+   */
+  private void closeFromAService(ClosingService service) throws InterruptedException {
+    CoreConfig config = CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore core = newCore(config);
+    EventBlock<Integer> events = new EventBlock<>();
+    // What the core logs meanwhile, with a binding that writes to System.err (slf4j-simple, as in
+    // the project's tests): a close that could not stop its own thread says so there.
+    java.io.PrintStream stderr = System.err;
+    java.io.ByteArrayOutputStream logged = new java.io.ByteArrayOutputStream();
+    System.setErr(new java.io.PrintStream(new TeeStream(stderr, logged), true));
+    CountDownLatch closeReturned = new CountDownLatch(1);
+    AtomicReference<Thread> closer = new AtomicReference<>();
+    AtomicReference<Throwable> closeFailed = new AtomicReference<>();
+    try (core) {
+      service.declare(
+          core,
+          events,
+          () -> {
+            closer.set(Thread.currentThread());
+            try {
+              core.close();
+            } catch (Throwable t) {
+              closeFailed.set(t);
+            }
+            closeReturned.countDown();
+          });
+      core.source(events).listen(x -> {}); // another service, which the closing one stops
+      core.start();
+      events.publish(1);
+      assertTrue(
+          closeReturned.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "close() called from a service's thread did not return within " + patience());
+    } finally {
+      System.setErr(stderr);
+    }
+    if (closeFailed.get() != null) {
+      throw new AssertionError("close() from a service thread threw", closeFailed.get());
+    }
+    closer.get().join(patience().toMillis());
+    assertFalse(closer.get().isAlive(), "the service that closed its core ended");
+    assertNoThreadsLeft(core);
+    String log = logged.toString(java.nio.charset.StandardCharsets.UTF_8);
+    for (String complaint : List.of("abandoned", "still running")) {
+      assertFalse(log.contains(complaint), "the core complained while closing itself:\n" + log);
+    }
+  }
+
+  /** Writes to two streams. */
+  final class TeeStream extends java.io.OutputStream {
+    private final java.io.OutputStream first;
+    private final java.io.OutputStream second;
+
+    TeeStream(java.io.OutputStream first, java.io.OutputStream second) {
+      this.first = first;
+      this.second = second;
+    }
+
+    @Override
+    public synchronized void write(int b) throws java.io.IOException {
+      first.write(b);
+      second.write(b);
+    }
+
+    @Override
+    public synchronized void write(byte[] b, int off, int len) throws java.io.IOException {
+      first.write(b, off, len);
+      second.write(b, off, len);
+    }
+  }
+}

@@ -1,0 +1,236 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
+import static org.junit.jupiter.api.Assertions.assertSame;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.ChainFailedException;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import java.io.IOException;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.function.Supplier;
+import org.junit.jupiter.api.Assumptions;
+import org.junit.jupiter.api.Test;
+
+/**
+ * What a failure looks like, for every kind of throwable a block throws: a synchronous caller gets
+ * a {@code ChainFailedException} naming the chain as the user named it, with the block's own
+ * throwable as cause, for everything but a {@link VirtualMachineError}; the error handler of an
+ * asynchronous service gets the chain's name, the input and the block's own throwable, and the
+ * service goes on.
+ */
+public interface ThrowableConformance extends ConformanceBase {
+
+  /** The throwables a block may throw that every media wraps (or reports) and survives. */
+  private static List<Supplier<Throwable>> survivableFailures() {
+    return List.of(
+        () -> new IllegalStateException("a runtime exception"),
+        () -> new IOException("a checked exception, thrown sneakily"),
+        () -> new AssertionError("an assertion"),
+        () -> new NoClassDefFoundError("an error that is no VirtualMachineError"));
+  }
+
+  /** Throws any throwable, checked or not, without declaring it. */
+  @SuppressWarnings("unchecked")
+  private static <E extends Throwable> RuntimeException sneaky(Throwable t) throws E {
+    throw (E) t;
+  }
+
+  @Test
+  default void everyThrowableButAVirtualMachineErrorReachesASyncCallerWrappedAndNamed() {
+    for (Supplier<Throwable> failure : survivableFailures()) {
+      Throwable thrown = failure.get();
+      try (PrimeCore core = newCore()) {
+        Chain<Integer, Integer> single =
+            core.chain(
+                "divide",
+                x -> {
+                  if (x == 0) {
+                    throw sneaky(thrown);
+                  }
+                  return 100 / x;
+                });
+        Chain<Integer, Integer> linked =
+            core.chain("scale", (Integer x) -> x - 5)
+                .then(
+                    core.chain(
+                        "inner",
+                        x -> {
+                          if (x == 0) {
+                            throw sneaky(thrown);
+                          }
+                          return x;
+                        }));
+        core.start();
+        Block<Integer, Integer> block = single.toBlock();
+        ChainFailedException e = assertThrows(ChainFailedException.class, () -> block.process(0));
+        assertEquals("divide", e.chainName(), "for " + thrown);
+        assertSame(thrown, e.getCause(), "the cause is the block's own throwable: " + e);
+        assertEquals(50, block.process(2), "the chain works after a " + thrown);
+
+        Block<Integer, Integer> linkedBlock = linked.toBlock();
+        ChainFailedException inner =
+            assertThrows(ChainFailedException.class, () -> linkedBlock.process(5));
+        assertEquals("inner", inner.chainName(), "the innermost chain is named for " + thrown);
+        assertSame(thrown, inner.getCause());
+      }
+    }
+  }
+
+  @Test
+  default void aVirtualMachineErrorReachesASyncCallerUnwrapped() {
+    Assumptions.assumeTrue(
+        blocksRunOnTheCallersThread(),
+        "this media runs blocks in services: a VirtualMachineError ends the service, see the hook");
+    OutOfMemoryError oom = new OutOfMemoryError("thrown by a block on purpose");
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> chain =
+          core.chain(
+              "vm",
+              x -> {
+                if (x == 0) {
+                  throw oom;
+                }
+                return x < 0 ? recurseForever(x) : x;
+              });
+      core.start();
+      Block<Integer, Integer> block = chain.toBlock();
+      assertSame(oom, assertThrows(OutOfMemoryError.class, () -> block.process(0)));
+      assertThrows(StackOverflowError.class, () -> block.process(-1));
+      assertEquals(3, block.process(3), "the chain works after a VirtualMachineError");
+    }
+  }
+
+  /** Overflows the stack. */
+  private static int recurseForever(int depth) {
+    return recurseForever(depth - 1) + 1;
+  }
+
+  @Test
+  default void theErrorHandlerGetsTheChainsNameTheInputAndTheBlocksOwnThrowable()
+      throws InterruptedException {
+    List<Throwable> failures = new ArrayList<>();
+    for (Supplier<Throwable> failure : survivableFailures()) {
+      failures.add(failure.get());
+    }
+    CopyOnWriteArrayList<String> services = new CopyOnWriteArrayList<>();
+    CopyOnWriteArrayList<Object> inputs = new CopyOnWriteArrayList<>();
+    CopyOnWriteArrayList<Throwable> errors = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(failures.size() + 1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  services.add(service);
+                  inputs.add(input);
+                  errors.add(error);
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> imu = new EventBlock<>();
+      EventBlock<Integer> wheels = new EventBlock<>();
+      Reader<Integer> out =
+          core.link(
+                  core.source("imu", imu),
+                  core.chain(
+                      "divide",
+                      x -> {
+                        if (x < 0) {
+                          throw sneaky(failures.get(-x - 1));
+                        }
+                        return x * 10;
+                      }))
+              .reader();
+      Throwable innerFailure = new ArithmeticException("inner fails");
+      Reader<Integer> linkedOut =
+          core.link(
+                  core.source("wheels", wheels),
+                  core.chain("offset", (Integer x) -> x - 5)
+                      .then(
+                          core.chain(
+                              "ratio",
+                              x -> {
+                                if (x == 0) {
+                                  throw sneaky(innerFailure);
+                                }
+                                return x;
+                              })))
+              .reader();
+      core.start();
+      List<Integer> expectedInputs = new ArrayList<>();
+      for (int i = 1; i <= failures.size(); i++) {
+        imu.publish(-i);
+        imu.publish(i);
+        expectedInputs.add(-i);
+      }
+      List<Integer> expectedOut = new ArrayList<>();
+      for (int i = 1; i <= failures.size(); i++) {
+        expectedOut.add(i * 10);
+      }
+      assertEquals(expectedOut, takeOrFail(out, failures.size()), "the service went on");
+      wheels.publish(5);
+      wheels.publish(6);
+      assertEquals(1, takeOrFail(linkedOut), "the linked service went on");
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+
+      for (int i = 0; i < failures.size(); i++) {
+        assertEquals("divide", services.get(i), "the chain's name as the user named it");
+        assertEquals(expectedInputs.get(i), inputs.get(i));
+        assertSame(failures.get(i), errors.get(i), "the block's own throwable, not a wrapper");
+      }
+      int last = failures.size();
+      assertEquals("ratio", services.get(last), "the chain of a linked chain that failed");
+      assertSame(innerFailure, errors.get(last));
+      assertEquals(
+          servicesOfLinkedChain(2) == 1 ? 5 : 0,
+          inputs.get(last),
+          "fused media give the service's input, Optimus the failing chain's own input");
+    }
+  }
+
+  @Test
+  default void anErrorInAListenerIsReportedAndTheListenerGoesOn() throws InterruptedException {
+    AssertionError assertion = new AssertionError("listener fails");
+    CopyOnWriteArrayList<Throwable> errors = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(1);
+    CountDownLatch second = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  errors.add(error);
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .listen(
+              x -> {
+                if (x == 1) {
+                  throw assertion;
+                }
+                second.countDown();
+              });
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertTrue(second.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertInstanceOf(AssertionError.class, errors.get(0));
+      assertSame(assertion, errors.get(0));
+    }
+  }
+}

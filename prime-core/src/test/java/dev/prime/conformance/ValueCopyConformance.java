@@ -1,0 +1,110 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Source;
+import java.util.ArrayList;
+import java.util.List;
+import org.junit.jupiter.api.Test;
+
+/**
+ * Values have one semantics: with {@link CoreConfig.Builder#copyValues} (always, on a media that
+ * carries values between processes) every value that crosses a service boundary is a copy, so a
+ * mutation after the hand-over is never seen by the receiver, and a type the codec refuses fails
+ * the publish or the call. The C#-era "clone" behaviour.
+ */
+public interface ValueCopyConformance extends ConformanceBase {
+
+  /** A mutable type no codec is told about. */
+  final class Unshippable {
+    int count;
+  }
+
+  private PrimeCore copyingCore() {
+    return newCore(CoreConfig.builder().copyValues(copyCodec()).build());
+  }
+
+  @Test
+  default void aValueMutatedAfterPublishIsNotSeenChangedByAReader() throws InterruptedException {
+    try (PrimeCore core = copyingCore()) {
+      EventBlock<List<Integer>> events = new EventBlock<>();
+      Source<List<Integer>> source = core.source(events);
+      Reader<List<Integer>> first = source.reader();
+      Reader<List<Integer>> second = source.reader();
+      core.start();
+      List<Integer> value = new ArrayList<>(List.of(1, 2));
+      events.publish(value);
+      value.add(3);
+      List<Integer> read = takeOrFail(first);
+      assertEquals(List.of(1, 2), read, "the reader saw the publisher's later mutation");
+      read.add(4);
+      assertEquals(List.of(1, 2), takeOrFail(second), "a reader saw another reader's mutation");
+    }
+  }
+
+  @Test
+  default void aServiceGetsAndGivesCopies() throws InterruptedException {
+    try (PrimeCore core = copyingCore()) {
+      EventBlock<List<Integer>> events = new EventBlock<>();
+      Source<List<Integer>> source = core.source(events);
+      Reader<List<Integer>> direct = source.reader();
+      Reader<List<Integer>> grown =
+          core.link(
+                  source,
+                  core.chain(
+                      (List<Integer> list) -> {
+                        list.add(99); // a block that mutates its input
+                        return list;
+                      }))
+              .reader();
+      core.start();
+      events.publish(new ArrayList<>(List.of(1)));
+      assertEquals(List.of(1, 99), takeOrFail(grown));
+      assertEquals(List.of(1), takeOrFail(direct), "the service's mutation reached another reader");
+    }
+  }
+
+  @Test
+  default void aSyncCallCopiesItsInputAndResult() {
+    try (PrimeCore core = copyingCore()) {
+      List<Integer> kept = new ArrayList<>();
+      Chain<List<Integer>, List<Integer>> chain =
+          core.chain(
+              "grow",
+              (List<Integer> list) -> {
+                list.add(99);
+                kept.clear();
+                kept.addAll(list);
+                return kept;
+              });
+      core.start();
+      Block<List<Integer>, List<Integer>> block = chain.toBlock();
+      List<Integer> input = new ArrayList<>(List.of(1));
+      List<Integer> result = block.process(input);
+      assertEquals(List.of(1), input, "the block's mutation reached the caller's input");
+      assertEquals(List.of(1, 99), result);
+      result.add(100);
+      assertEquals(List.of(1, 99), block.process(new ArrayList<>(List.of(1))));
+    }
+  }
+
+  @Test
+  default void aValueTheCodecRefusesFailsThePublishAndTheCall() {
+    try (PrimeCore core = copyingCore()) {
+      EventBlock<Unshippable> events = new EventBlock<>();
+      core.source(events);
+      Chain<Unshippable, Integer> chain = core.chain(u -> u.count);
+      core.start();
+      assertThrows(IllegalArgumentException.class, () -> events.publish(new Unshippable()));
+      Block<Unshippable, Integer> block = chain.toBlock();
+      assertThrows(IllegalArgumentException.class, () -> block.process(new Unshippable()));
+    }
+  }
+}

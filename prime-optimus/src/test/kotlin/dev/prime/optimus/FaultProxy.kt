@@ -1,0 +1,132 @@
+package dev.prime.optimus
+
+import java.io.IOException
+import java.net.InetAddress
+import java.net.ServerSocket
+import java.net.Socket
+import java.net.URI
+import java.util.concurrent.ConcurrentHashMap
+import java.util.concurrent.atomic.AtomicInteger
+
+/**
+ * A TCP proxy in front of a Redis that injects network faults on command:
+ * - [cutAfterWritesContaining]: after forwarding a client write that contains a marker to Redis,
+ *   it waits for Redis's answer (so the request surely ran), drops it and closes the connection
+ *   (every other such write, so a retry gets through): a connection that broke after the request
+ *   reached Redis.
+ * - [freeze]: stops forwarding in both directions and leaves every socket open (new connections
+ *   are accepted and then left silent): a network that drops everything, as a pulled cable.
+ *
+ * Two daemon threads per connection pump the bytes; [close] closes every socket, which ends them.
+ */
+internal class FaultProxy(target: String) : AutoCloseable {
+    private val targetUri = URI(target)
+    private val server = ServerSocket(0, 50, InetAddress.getLoopbackAddress())
+    private val sockets: MutableSet<Socket> = ConcurrentHashMap.newKeySet()
+    private val lock = Object()
+    private var frozen = false // guarded by lock
+    @Volatile private var marker: ByteArray? = null
+    private val markedWrites = AtomicInteger()
+
+    /** How many connections were cut after forwarding a marked write. */
+    val cuts = AtomicInteger()
+
+    val url: String get() = "redis://127.0.0.1:${server.localPort}"
+
+    init {
+        daemon("fault-proxy-accept") {
+            while (!server.isClosed) {
+                val client = try {
+                    server.accept()
+                } catch (_: IOException) {
+                    return@daemon
+                }
+                sockets += client
+                daemon("fault-proxy-connect") {
+                    awaitThaw()
+                    val upstream = try {
+                        Socket(targetUri.host, targetUri.port)
+                    } catch (_: IOException) {
+                        client.close()
+                        return@daemon
+                    }
+                    sockets += upstream
+                    val link = Link()
+                    daemon("fault-proxy-up") { pump(client, upstream, link, upward = true) }
+                    pump(upstream, client, link, upward = false)
+                }
+            }
+        }
+    }
+
+    /** Cuts the connection after forwarding every other client write that contains [text]. */
+    fun cutAfterWritesContaining(text: String) {
+        marker = text.toByteArray()
+    }
+
+    /** Stops forwarding; connections stay open and silent until [thaw]. */
+    fun freeze() = synchronized(lock) { frozen = true }
+
+    /** Forwards again. */
+    fun thaw() = synchronized(lock) {
+        frozen = false
+        lock.notifyAll()
+    }
+
+    private fun awaitThaw() = synchronized(lock) {
+        while (frozen && !server.isClosed) lock.wait(100)
+    }
+
+    /** One proxied connection: whether its next answer from Redis is dropped and the connection cut. */
+    private class Link {
+        @Volatile var doomed = false
+    }
+
+    private fun pump(from: Socket, to: Socket, link: Link, upward: Boolean) {
+        val buffer = ByteArray(64 * 1024)
+        var tail = ByteArray(0) // the end of the previous chunk: a marker may span two reads
+        try {
+            while (true) {
+                val n = from.getInputStream().read(buffer)
+                if (n < 0) break
+                awaitThaw()
+                if (!upward && link.doomed) {
+                    cuts.incrementAndGet() // Redis answered the marked write: it ran; the client never learns
+                    break
+                }
+                val wanted = marker
+                if (upward && wanted != null) {
+                    val window = tail + buffer.copyOf(n)
+                    tail = window.copyOfRange(maxOf(0, window.size - wanted.size + 1), window.size)
+                    if (contains(window, window.size, wanted) && markedWrites.incrementAndGet() % 2 == 1) link.doomed = true
+                }
+                to.getOutputStream().write(buffer, 0, n)
+            }
+        } catch (_: IOException) {
+            // one side closed
+        } finally {
+            from.close()
+            to.close()
+        }
+    }
+
+    override fun close() {
+        server.close()
+        thaw()
+        sockets.forEach { it.close() }
+    }
+
+    private fun daemon(name: String, body: () -> Unit) {
+        Thread(body, name).apply { isDaemon = true }.start()
+    }
+
+    private companion object {
+        fun contains(buffer: ByteArray, length: Int, wanted: ByteArray): Boolean {
+            outer@ for (start in 0..length - wanted.size) {
+                for (i in wanted.indices) if (buffer[start + i] != wanted[i]) continue@outer
+                return true
+            }
+            return false
+        }
+    }
+}

@@ -1,0 +1,88 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import dev.prime.PrimeException
+import dev.prime.Reader
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.function.Executable
+import java.time.Duration
+import java.util.concurrent.CompletableFuture
+import java.util.concurrent.ExecutionException
+import java.util.concurrent.TimeUnit
+
+/**
+ * Every call with a timeout honours it within timeout + 1 s while Redis is unreachable, killed
+ * or behind a frozen network; `poll()` and `drain()` do not wait for a reconnect.
+ */
+class OutageTimeoutTest {
+
+    @Test
+    fun callsAndReadsEndInTimeWhileRedisIsKilled() {
+        EmbeddedRedis.start().use { redis ->
+            outage(redis.uri, cut = { redis.kill() }, mend = { redis.restart() })
+        }
+    }
+
+    @Test
+    fun callsAndReadsEndInTimeWhileTheNetworkIsFrozen() {
+        FaultProxy(TestRedis.url).use { proxy ->
+            outage(proxy.url, cut = { proxy.freeze() }, mend = { proxy.thaw() })
+        }
+    }
+
+    private fun outage(url: String, cut: () -> Unit, mend: () -> Unit) {
+        val config = CoreConfig.builder().name("outage-${System.nanoTime()}").build()
+        val core = OptimusCore.builder().config(config).redis(url).callTimeout(CALL_TIMEOUT).build()
+        try {
+            val call = core.chain("slow") { x: Int -> x }.toBlock()
+            val events = EventBlock<Int>()
+            val reader: Reader<Int> = core.source(events).reader()
+            core.start()
+            assertEquals(3, call.process(3), "works before the outage")
+            events.publish(1)
+            assertEquals(1, reader.take(PATIENCE).orElseThrow())
+            cut()
+
+            val callTook = timed("process", CALL_TIMEOUT) { call.process(4) }
+            val takeTook = timed("take(timeout)", CALL_TIMEOUT) { reader.take(CALL_TIMEOUT) }
+            val pollTook = timed("poll", Duration.ZERO) { reader.poll() }
+            val drainTook = timed("drain", Duration.ZERO) { reader.drain() }
+            println("during the outage: process ${callTook.toMillis()} ms, take ${takeTook.toMillis()} ms, " +
+                "poll ${pollTook.toMillis()} ms, drain ${drainTook.toMillis()} ms")
+
+            mend()
+            assertEquals(5, call.process(5), "works again after the outage")
+        } finally {
+            mend()
+            core.close()
+        }
+    }
+
+    /** Runs [action], which must fail with a PrimeException within [timeout] + 1 s; returns how long it took. */
+    private fun timed(what: String, timeout: Duration, action: Executable): Duration {
+        val started = System.nanoTime()
+        val future = CompletableFuture.runAsync { action.execute() }
+        val bound = timeout.plusSeconds(1)
+        val e = try {
+            future.get(bound.toMillis() + GRACE_MS, TimeUnit.MILLISECONDS)
+            null
+        } catch (e: ExecutionException) {
+            e.cause
+        } catch (_: java.util.concurrent.TimeoutException) {
+            throw AssertionError("$what did not end within $bound during the outage")
+        }
+        val took = Duration.ofNanos(System.nanoTime() - started)
+        assertTrue(e is PrimeException, "$what fails with a PrimeException during the outage, not $e")
+        assertTrue(took <= bound, "$what took $took, more than $bound")
+        return took
+    }
+
+    private companion object {
+        val CALL_TIMEOUT: Duration = Duration.ofSeconds(2)
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+        const val GRACE_MS = 2000L
+    }
+}
