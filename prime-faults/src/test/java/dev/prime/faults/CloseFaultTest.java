@@ -34,13 +34,14 @@ class CloseFaultTest {
     String name = "close-leftovers";
     TopologyKeys keys = new TopologyKeys(name);
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null); Jedis raw = redis.client()) {
-      OptimusCore core = Cores.core(redis.url(), name, 1024, "stamp", "collect", "echo");
+      OptimusCore core = Cores.core(redis.url(), name, 1024, "stamp", "echo");
       AtomicReference<Ledger> sink = new AtomicReference<>();
       EventBlock<Long> ids = new EventBlock<>();
-      var stamped = StreamTopology.declareStream(core, ids, 0, sink);
-      List<Reader<Long>> readers = List.of(stamped.reader(), stamped.reader(), stamped.reader());
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
+      List<Reader<Long>> readers = List.of(stream.output().reader(), stream.output().reader());
       Block<Long, Long> echo = core.<Long, Long>chain("echo", x -> x).toBlock();
       core.start();
+      LedgerFeed.start(stream.observer(), sink, name);
       Ledger ledger = new Ledger(0, 100);
       sink.set(ledger);
       for (long id = 0; id < 100; id++) ids.publish(id);

@@ -13,7 +13,6 @@ import java.nio.charset.StandardCharsets;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Locale;
-import java.util.concurrent.atomic.AtomicReference;
 import redis.clients.jedis.HostAndPort;
 import redis.clients.jedis.Jedis;
 
@@ -45,12 +44,12 @@ public final class FaultWorkerMain {
       case "stream":
         if (args.length != 5) usage();
         run(args[1], args[2], Integer.parseInt(args[3]), "stamp",
-            core -> StreamTopology.declareStream(core, new EventBlock<>(), Integer.parseInt(args[4]), new AtomicReference<>()));
+            core -> StreamTopology.declareStream(core, new EventBlock<>(), Integer.parseInt(args[4]), false));
         break;
       case "large":
         if (args.length != 3) usage();
         run(args[1], args[2], StreamTopology.WIDE_RETENTION, "measure,size",
-            core -> StreamTopology.declareLarge(core, new EventBlock<>(), new AtomicReference<>()));
+            core -> StreamTopology.declareLarge(core, new EventBlock<>(), false));
         break;
       case "readers":
         if (args.length != 4) usage();

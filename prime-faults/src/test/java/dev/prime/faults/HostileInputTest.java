@@ -78,10 +78,11 @@ class HostileInputTest {
     EventBlock<Long> ids = new EventBlock<>();
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
         OptimusCore core = Cores.builder(redis.url(), name, StreamTopology.WIDE_RETENTION, (s, i, e) -> handled.add(e))
-            .hosts("stamp", "collect").build();
+            .hosts("stamp").build();
         Jedis raw = redis.client()) {
-      StreamTopology.declareStream(core, ids, 0, sink);
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
+      LedgerFeed.start(stream.observer(), sink, name);
       Ledger ledger = new Ledger(0, good);
       sink.set(ledger);
       byte[] input = TopologyKeys.bytes(new TopologyKeys(name).serviceInput("stamp"));

@@ -35,10 +35,12 @@ class LargeValueTest {
     Ledger ledger = new Ledger(0, count);
     sink.set(ledger);
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
-        OptimusCore core = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION, "collect");
+        OptimusCore core = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION);
         Jedis raw = redis.client()) {
-      Block<byte[], Integer> size = StreamTopology.declareLarge(core, blobs, sink);
+      var large = StreamTopology.declareLarge(core, blobs, true);
+      Block<byte[], Integer> size = large.size();
       core.start();
+      LedgerFeed.start(large.observer(), sink, name);
       for (int i = 0; i < count / 2; i++) blobs.publish(StreamTopology.blob(i, 2 * MIB));
       byte[] oversizeEntry = EnvelopeBytes.value(424242, KryoCodec.standard().encode(StreamTopology.blob(-1, OVERSIZE)));
       raw.rpush(TopologyKeys.bytes(new TopologyKeys(name).serviceInput("measure")), oversizeEntry);

@@ -66,9 +66,10 @@ class LeaseTest {
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
-        OptimusCore core = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION, "collect")) {
-      StreamTopology.declareStream(core, ids, 0, sink);
+        OptimusCore core = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION)) {
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
+      LedgerFeed.start(stream.observer(), sink, name);
       StreamRun runs = new StreamRun(redis.url(), name, StreamTopology.WIDE_RETENTION, ids, sink);
       WorkerJvm host = runs.startWorker(1);
       try {

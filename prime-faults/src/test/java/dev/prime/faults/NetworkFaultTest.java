@@ -17,7 +17,8 @@ import org.junit.jupiter.api.Test;
 
 /**
  * The network between a process and Redis fails, through the suite's {@link FaultProxy}: frozen in
- * both directions for longer than the blocking-socket timeout (classic: noticed, nothing lost), and
+ * both directions for longer than the blocking-socket timeout (classic: noticed, nothing lost),
+ * every connection of a slow (1 ms) network cut three times mid-stream (classic: nothing lost), and
  * a connection cut right after a call's request reached Redis (issue 9 item 3: every call returns,
  * and the service runs each call once).
  */
@@ -32,9 +33,10 @@ class NetworkFaultTest {
     EventBlock<Long> ids = new EventBlock<>();
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
         FaultProxy proxy = new FaultProxy(redis.port());
-        OptimusCore core = Cores.core(proxy.url(), "frozen", StreamTopology.WIDE_RETENTION, "stamp", "collect")) {
-      StreamTopology.declareStream(core, ids, 0, sink);
+        OptimusCore core = Cores.core(proxy.url(), "frozen", StreamTopology.WIDE_RETENTION, "stamp")) {
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
+      LedgerFeed.start(stream.observer(), sink, "frozen");
       Ledger ledger = new Ledger(0, n);
       sink.set(ledger);
       CountDownLatch frozen = new CountDownLatch(1);
@@ -68,6 +70,45 @@ class NetworkFaultTest {
       assertEquals(0, ledger.duplicated(), ledger.counts());
       assertEquals(0, ledger.reordered(), ledger.counts());
       assertEquals(0, ledger.refusedCount(), ledger.counts());
+    }
+  }
+
+  @Test
+  void connectionsCutMidStreamOnASlowNetworkLoseNothing() throws Exception {
+    int n = FaultMode.current().idsPerRun / 4;
+    int cuts = 3;
+    AtomicReference<Ledger> sink = new AtomicReference<>();
+    EventBlock<Long> ids = new EventBlock<>();
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port());
+        OptimusCore core = Cores.core(proxy.url(), "cut-all", StreamTopology.WIDE_RETENTION, "stamp")) {
+      proxy.delay(Duration.ofMillis(1));
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
+      core.start();
+      LedgerFeed.start(stream.observer(), sink, "cut-all");
+      Ledger ledger = new Ledger(0, n);
+      sink.set(ledger);
+      CountDownLatch go = new CountDownLatch(1);
+      Thread publisher = RedisRestartFaultTest.publisher(ids, ledger, 0, n, 0, go);
+      go.countDown();
+      List<Integer> cut = new java.util.ArrayList<>();
+      try {
+        for (int k = 1; k <= cuts; k++) {
+          assertTrue(ledger.awaitDistinct(k * n / (cuts + 1), FaultMode.PATIENCE), "before cut " + k + ": " + ledger.counts());
+          cut.add(proxy.cutAll());
+        }
+        ledger.awaitAll(FaultMode.PATIENCE);
+        Bounded.hold(Duration.ofMillis(300));
+      } finally {
+        publisher.join(FaultMode.PATIENCE.toMillis());
+      }
+      Figures.report("cut all connections " + cuts + " times mid-stream (" + cut + " connections) on a 1 ms network: "
+          + ledger.counts() + ", " + proxy.acceptedConnections() + " connections made through the proxy");
+      assertEquals(0, ledger.lost(), ledger.counts());
+      assertEquals(0, ledger.duplicated(), ledger.counts());
+      assertEquals(0, ledger.reordered(), ledger.counts());
+      assertEquals(0, ledger.refusedCount(), ledger.counts());
+      assertTrue(cut.stream().allMatch(c -> c > 0), "every cut closed connections: " + cut);
     }
   }
 

@@ -31,9 +31,10 @@ class RedisRestartFaultTest {
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.AOF_ALWAYS, dir);
-        OptimusCore core = Cores.core(redis.url(), "redis-aof", StreamTopology.WIDE_RETENTION, "stamp", "collect")) {
-      StreamTopology.declareStream(core, ids, 0, sink);
+        OptimusCore core = Cores.core(redis.url(), "redis-aof", StreamTopology.WIDE_RETENTION, "stamp")) {
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
+      LedgerFeed.start(stream.observer(), sink, "redis-aof");
       for (int run = 1; run <= mode.redisRuns; run++) {
         long first = (long) (run - 1) * n;
         Ledger ledger = new Ledger(first, n);
@@ -76,11 +77,12 @@ class RedisRestartFaultTest {
     String name = "redis-empty";
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
         OptimusCore worker = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION, "stamp");
-        OptimusCore collector = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION, "collect")) {
-      StreamTopology.declareStream(worker, new EventBlock<>(), 1, new AtomicReference<>());
-      StreamTopology.declareStream(collector, ids, 0, sink);
+        OptimusCore collector = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION)) {
+      StreamTopology.declareStream(worker, new EventBlock<>(), 1, false);
+      var stream = StreamTopology.declareStream(collector, ids, 0, true);
       worker.start();
       collector.start();
+      LedgerFeed.start(stream.observer(), sink, name);
       Ledger warmUp = new Ledger(0, before);
       sink.set(warmUp);
       for (long id = 0; id < before; id++) ids.publish(id);

@@ -25,10 +25,12 @@ class RetentionTest {
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
-        OptimusCore core = Cores.core(redis.url(), name, retention, "collect")) {
-      StreamTopology.declareStream(core, ids, 0, sink);
+        OptimusCore core = Cores.core(redis.url(), name, retention)) {
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
-      StreamRun runs = new StreamRun(redis.url(), name, retention, ids, sink);
+      LedgerFeed.start(stream.observer(), sink, name);
+      // the workers publish stamp's output with a wide retention: only the service input is at stake
+      StreamRun runs = new StreamRun(redis.url(), name, StreamTopology.WIDE_RETENTION, ids, sink);
       WorkerJvm host = runs.startWorker(1);
       try {
         StreamRun.Outcome outcome = runs.killMidStream(host, true, 2, 0, n, first, first, true);

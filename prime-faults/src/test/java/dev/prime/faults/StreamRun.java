@@ -9,8 +9,8 @@ import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicReference;
 
 /**
- * One kill-mid-stream run of the stream topology: this process publishes ids and collects them
- * (it hosts {@code collect}), worker JVMs host {@code stamp}. The publisher sends the first part,
+ * One kill-mid-stream run of the stream topology: this process publishes ids and reads the output
+ * (a {@link LedgerFeed} counts it), worker JVMs host {@code stamp}. The publisher sends the first part,
  * waits until the victim worker has been stopped, and sends the rest; a successor worker of the
  * next generation is started, and the ledger counts what arrived.
  */

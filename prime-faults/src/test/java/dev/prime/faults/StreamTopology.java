@@ -1,23 +1,28 @@
 package dev.prime.faults;
 
+import dev.prime.Block;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.Reader;
 import dev.prime.Source;
 import java.nio.ByteBuffer;
-import java.util.concurrent.atomic.AtomicReference;
 
 /**
- * The topologies the test process and its worker JVMs both declare (same names, same order, so
- * they agree on every Redis key):
+ * The topologies the test process and its worker JVMs both declare (same names, so they agree on
+ * every Redis key):
  *
  * <ul>
  *   <li>{@link #declareStream}: source {@code ids} (ids as {@code Long}) through service
- *       {@code stamp} (a worker marks each id with its generation) into service {@code collect},
- *       which hands every arrival to the current {@link Ledger} of the test process.
+ *       {@code stamp}, which marks each id with the generation of the process that ran it;
  *   <li>{@link #declareLarge}: source {@code blobs} (byte arrays whose first 8 bytes are their
- *       sequence number) through service {@code measure} (returns that number) into
- *       {@code collect}; and chain {@code size}, called synchronously.
+ *       sequence number) through service {@code measure} (returns that number); and chain
+ *       {@code size}, called synchronously.
  * </ul>
+ *
+ * The observing (test) process reads the output with a {@link Reader}, as a user would, and feeds
+ * a {@link Ledger} from it ({@link LedgerFeed}). What is counted is therefore what a reader
+ * receives: a service may run a value again after a crash (at-least-once processing), and only
+ * duplicates that reach readers count.
  */
 final class StreamTopology {
   /** A stamped value is {@code generation * GENERATION + id}. */
@@ -28,18 +33,23 @@ final class StreamTopology {
 
   private StreamTopology() {}
 
-  /** Declares the stream topology; {@code stamp} marks with {@code generation}, {@code collect} feeds {@code ledger}. */
-  static Source<Long> declareStream(PrimeCore core, EventBlock<Long> ids, int generation, AtomicReference<Ledger> ledger) {
+  /** The declared stream topology: its output, and a reader of it if asked for. */
+  record Stream(Source<Long> output, Reader<Long> observer) {}
+
+  /** The declared large-value topology: the {@code size} chain's block, and a reader of {@code measure}'s output if asked for. */
+  record Large(Block<byte[], Integer> size, Reader<Long> observer) {}
+
+  /** Declares the stream topology; {@code stamp} marks with {@code generation}; {@code observe}: make a reader of the output. */
+  static Stream declareStream(PrimeCore core, EventBlock<Long> ids, int generation, boolean observe) {
     Source<Long> stamped = core.source("ids", ids).then(core.<Long, Long>chain("stamp", id -> generation * GENERATION + id));
-    collect(core, stamped, ledger);
-    return stamped;
+    return new Stream(stamped, observe ? stamped.reader() : null);
   }
 
-  /** Declares the large-value topology; returns the synchronous {@code size} chain's block. */
-  static dev.prime.Block<byte[], Integer> declareLarge(PrimeCore core, EventBlock<byte[]> blobs, AtomicReference<Ledger> ledger) {
+  /** Declares the large-value topology; {@code observe}: make a reader of {@code measure}'s output. */
+  static Large declareLarge(PrimeCore core, EventBlock<byte[]> blobs, boolean observe) {
     Source<Long> measured = core.source("blobs", blobs).then(core.<byte[], Long>chain("measure", StreamTopology::sequenceOf));
-    collect(core, measured, ledger);
-    return core.<byte[], Integer>chain("size", blob -> blob.length).toBlock();
+    Reader<Long> observer = observe ? measured.reader() : null;
+    return new Large(core.<byte[], Integer>chain("size", blob -> blob.length).toBlock(), observer);
   }
 
   /** A blob of {@code bytes} bytes carrying {@code sequence} in its first 8 bytes. */
@@ -52,13 +62,5 @@ final class StreamTopology {
 
   private static long sequenceOf(byte[] blob) {
     return ByteBuffer.wrap(blob).getLong();
-  }
-
-  private static void collect(PrimeCore core, Source<Long> values, AtomicReference<Ledger> ledger) {
-    values.then(core.<Long, Long>chain("collect", value -> {
-      Ledger current = ledger.get();
-      if (current != null) current.arrived(value % GENERATION, (int) (value / GENERATION));
-      return null; // publishes nothing
-    }));
   }
 }

@@ -31,9 +31,10 @@ class WorkerKillTest {
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null)) {
       AtomicReference<Ledger> sink = new AtomicReference<>();
       EventBlock<Long> ids = new EventBlock<>();
-      try (OptimusCore core = Cores.core(redis.url(), coreName, StreamTopology.WIDE_RETENTION, "collect")) {
-        StreamTopology.declareStream(core, ids, 0, sink);
+      try (OptimusCore core = Cores.core(redis.url(), coreName, StreamTopology.WIDE_RETENTION)) {
+        var stream = StreamTopology.declareStream(core, ids, 0, true);
         core.start();
+        LedgerFeed.start(stream.observer(), sink, coreName);
         StreamRun runs = new StreamRun(redis.url(), coreName, StreamTopology.WIDE_RETENTION, ids, sink);
         WorkerJvm worker = runs.startWorker(1);
         try {
