@@ -21,7 +21,10 @@ import org.openjdk.jmh.annotations.TearDown;
  */
 @State(Scope.Thread)
 public class Shape {
-  /** Blocks in the measured chain; the paper's experiment has 4. */
+  /**
+   * Blocks in the measured chain; the paper's experiment has 4 (the suite's runner passes it);
+   * {@code SyncChainBenchmark}'s sweep passes {@code -p length=1,4,16,32,64} (see README.md).
+   */
   @Param({"4"})
   public int length;
 

@@ -4,6 +4,7 @@ import dev.prime.Block;
 import dev.prime.bench.PacketBlocks.Add;
 import dev.prime.liberty.LibertyCore;
 import dev.prime.radiant.RadiantCore;
+import java.util.List;
 import java.util.concurrent.TimeUnit;
 import org.openjdk.jmh.annotations.Benchmark;
 import org.openjdk.jmh.annotations.BenchmarkMode;
@@ -81,6 +82,35 @@ public class SyncChainBenchmark {
     }
   }
 
+  /**
+   * The baseline of a polluted profile: the same blocks as {@link Direct}, called through
+   * {@link MegamorphicSite}'s one call site, polluted with six block classes before warm-up and
+   * again before every iteration, in both scenarios.
+   */
+  @State(Scope.Thread)
+  public static class Megamorphic {
+    /** The blocks, typed as blocks. */
+    public Block<Packet, Packet>[] blocks;
+
+    /** Keeps the polluting runs' results alive. */
+    public long sink;
+
+    /**
+     * @param shape the parameters
+     */
+    @Setup(Level.Trial)
+    public void build(Shape shape) {
+      blocks = MegamorphicSite.typed(List.of(ChainShapes.directAdders(shape.length)));
+      pollute();
+    }
+
+    /** Pollutes the call site again, so the measured blocks never dominate its profile. */
+    @Setup(Level.Iteration)
+    public void pollute() {
+      sink += MegamorphicSite.pollute();
+    }
+  }
+
   /** The chain as a Liberty block. */
   @State(Scope.Thread)
   public static class Liberty {
@@ -134,10 +164,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long forLoop(Input input, Direct blocks) {
+  public long forLoop(Input input, Direct blocks, WorkerCpuTime.Clock clock) {
     Packet packet = input.packet;
     for (Add adder : blocks.adders) {
       packet = adder.process(packet);
@@ -151,12 +182,27 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long forHandWritten(Input input, Direct blocks) {
+  public long forHandWritten(Input input, Direct blocks, WorkerCpuTime.Clock clock) {
     return blocks.a4.process(blocks.a3.process(blocks.a2.process(blocks.a1.process(input.packet))))
         .value;
+  }
+
+  /**
+   * The unavoidable cost of a polluted profile: the same blocks through one megamorphic call site
+   * (compare polluted Liberty with it).
+   *
+   * @param input the value
+   * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
+   * @return the result
+   */
+  @Benchmark
+  public long megamorphic(Input input, Megamorphic blocks, WorkerCpuTime.Clock clock) {
+    return MegamorphicSite.run(blocks.blocks, input.packet).value;
   }
 
   /**
@@ -164,10 +210,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param chain the chain
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long liberty(Input input, Liberty chain) {
+  public long liberty(Input input, Liberty chain, WorkerCpuTime.Clock clock) {
     return chain.chain.process(input.packet).value;
   }
 
@@ -176,10 +223,11 @@ public class SyncChainBenchmark {
    *
    * @param input the value
    * @param chain the chain
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long radiant(Input input, Radiant chain) {
+  public long radiant(Input input, Radiant chain, WorkerCpuTime.Clock clock) {
     return chain.chain.process(input.packet).value;
   }
 }

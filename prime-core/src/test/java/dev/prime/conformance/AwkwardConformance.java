@@ -118,7 +118,14 @@ public interface AwkwardConformance extends ConformanceBase {
       }
       release.countDown();
       assertTrue(newestDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-      assertEquals(List.of(0, 50), processed, "the service skips to the newest retained value");
+      if (serviceInputIsAQueue()) {
+        assertEquals(
+            java.util.stream.IntStream.rangeClosed(0, 50).boxed().toList(),
+            processed,
+            "a service's input is a queue: nothing is skipped");
+      } else {
+        assertEquals(List.of(0, 50), processed, "the service skips to the newest retained value");
+      }
     }
   }
 

@@ -48,6 +48,15 @@ public interface ConformanceBase {
   }
 
   /**
+   * Whether a chain linked to a source reads a queue (every value published while it is busy is
+   * processed: Optimus) rather than a retention window (it skips to the newest retained values).
+   * The design asks for queues on every media; media still on the window return {@code false}.
+   */
+  default boolean serviceInputIsAQueue() {
+    return false;
+  }
+
+  /**
    * Whether a synchronous call runs the chain's blocks on the caller's thread (true for the
    * in-memory media). Then a {@link VirtualMachineError} a block throws reaches the caller
    * unchanged. A media whose chains are services (Optimus) runs the block on a service's thread:

@@ -3,42 +3,46 @@ package dev.prime.liberty;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.spi.AbstractChain;
-import dev.prime.spi.FailureNamingBlock;
 
 /**
- * A Liberty chain: a name and the block that runs it.
+ * A Liberty chain: a name and the steps that run it.
  *
- * <p>A leaf chain's block is the user's block wrapped once so that a failure names the chain; a
- * composite (linked) chain's block is the composition of its parts' blocks, with no wrapper of its
- * own, so a linked call costs one invocation per block and one per link.
+ * <p>A leaf chain is one step (its block, named after the chain on failure); linking joins the
+ * steps of both chains, so a linked chain of any shape is, once it becomes a block, one flat
+ * composition of all its steps ({@link FlatComposition}): one invocation per block, no layer per
+ * link, no recursion.
  */
 final class LibertyChain<I, O> extends AbstractChain<I, O> {
-  private final Block<I, O> block;
+  private final StepSequence steps;
 
-  private LibertyChain(LibertyCore core, String name, Block<I, O> block) {
+  private LibertyChain(LibertyCore core, String name, StepSequence steps) {
     super(core, name);
-    this.block = block;
+    this.steps = steps;
   }
 
   static <I, O> LibertyChain<I, O> leaf(LibertyCore core, String name, Block<I, O> block) {
-    return new LibertyChain<>(core, name, new FailureNamingBlock<>(name, block));
+    return new LibertyChain<>(core, name, new Step(name, block));
   }
 
-  static <I, O> LibertyChain<I, O> composite(LibertyCore core, String name, Block<I, O> block) {
-    return new LibertyChain<>(core, name, block);
+  static <I, O> LibertyChain<I, O> linked(LibertyCore core, String name, StepSequence steps) {
+    return new LibertyChain<>(core, name, steps);
   }
 
-  /** Consumes a chain and returns its block; a chain of this core gives its block directly. */
-  static <I, O> Block<I, O> take(LibertyCore core, Chain<I, O> chain) {
-    if (chain instanceof LibertyChain<I, O> own && own.core() == core) {
+  /**
+   * Consumes a chain and returns its steps: a chain of this core gives its own, another chain is
+   * one unnamed step, its {@link Chain#toBlock()} (which names its own failures).
+   */
+  static StepSequence take(LibertyCore core, Chain<?, ?> chain) {
+    if (chain instanceof LibertyChain<?, ?> own && own.core() == core) {
       own.consume();
-      return own.block;
+      return own.steps;
     }
-    return chain.toBlock();
+    return new Step(null, chain.toBlock());
   }
 
   @Override
+  @SuppressWarnings("unchecked")
   protected Block<I, O> createBlock() {
-    return block;
+    return (Block<I, O>) (Block<?, ?>) FlatComposition.of(steps.flatten());
   }
 }

@@ -4,7 +4,6 @@ import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
-import dev.prime.blocks.LinkBlock;
 
 /**
  * The Liberty media: a chain is a function, and linking chains composes their functions, so a
@@ -43,15 +42,17 @@ public final class LibertyCore extends PrimeCore {
   }
 
   /**
-   * Links two chains by composing their functions. Chains of another core are taken through
-   * their {@link Chain#toBlock()}.
+   * Links two chains by joining their steps: the linked chain's block is one flat composition of
+   * every block of both (no layer per link, no recursion, so chains of any length build and run
+   * on a default thread stack). Chains of another core are one step each, taken through their
+   * {@link Chain#toBlock()}.
    */
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
-    Block<I, M> a = LibertyChain.take(this, first);
-    Block<M, O> b = LibertyChain.take(this, second);
-    return LibertyChain.composite(
-        this, derivedName(first.name() + ">" + second.name(), "link"), new LinkBlock<>(a, b));
+    StepSequence a = LibertyChain.take(this, first);
+    StepSequence b = LibertyChain.take(this, second);
+    return LibertyChain.linked(
+        this, derivedName(first.name() + ">" + second.name(), "link"), StepSequence.join(a, b));
   }
 }

@@ -4,8 +4,11 @@ import java.nio.ByteBuffer
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
- * A value a service could not process: bytes that do not decode, or an input its block failed on
- * (after the configured retries). The service stored it in its dead-letter list, with the
+ * A value a service could not process: bytes that do not decode, an entry above the size limit
+ * (only its first KiB is kept), a request whose reply key is not one of the topology's reply
+ * lists, an entry whose results Redis refused to store, or an input its block failed on (after
+ * the configured retries). A service keeps at most [OptimusCore.Builder.deadLetterLimit] of them;
+ * older ones are dropped and counted ([OptimusCore.trimmedDeadLetters]). The service stored it in its dead-letter list, with the
  * reason, and went on with the next value. Read them with [OptimusCore.deadLetters].
  *
  * @property service the service that gave up on the value
@@ -22,6 +25,23 @@ public class DeadLetter internal constructor(
     override fun toString(): String = "DeadLetter[$service: $reason (${bytes.size} bytes)]"
 
     internal companion object {
+        /** The most bytes of an entry a dead letter keeps when the entry was too large to read whole. */
+        const val PREFIX_KEPT = 1024
+
+        /** A dead letter of [entry]: the whole entry, or its first bytes when it was too large to read. */
+        fun encode(reason: String, entry: TakenEntry): ByteArray =
+            if (entry.isWhole) encode(reason, entry.bytes) else encodePrefix(reason, entry)
+
+        /** A dead letter keeping only the first [PREFIX_KEPT] bytes of [entry] (an entry too large to keep). */
+        fun encodePrefix(reason: String, entry: TakenEntry): ByteArray {
+            val prefix = entry.bytes.copyOf(minOf(entry.bytes.size, PREFIX_KEPT))
+            return encode("$reason (only its first ${prefix.size} of ${entry.size} bytes are kept)", prefix)
+        }
+
+        /** An entry in words, for a log line: its size and first bytes. */
+        fun describe(entry: TakenEntry): String =
+            "${entry.size} bytes, starting ${entry.bytes.copyOf(minOf(entry.bytes.size, 32)).joinToString("") { "%02x".format(it) }}"
+
         fun encode(reason: String, raw: ByteArray): ByteArray {
             val text = reason.toByteArray(UTF_8)
             return ByteBuffer.allocate(4 + text.size + raw.size).putInt(text.size).put(text).put(raw).array()

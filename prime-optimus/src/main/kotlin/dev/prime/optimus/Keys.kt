@@ -24,8 +24,21 @@ internal class Keys(topology: String) {
     /** The retained values of a source (its newest `retention` values). */
     fun sourceLog(source: String): ByteArray = key("src:$source:log")
 
-    /** The set of reader lists a source publishes to. */
+    /** The set of plain reader lists a source publishes to (trimmed to its retention). */
     fun sourceReaders(source: String): ByteArray = key("src:$source:readers")
+
+    /** The set of service input lists a source publishes to (queues: never trimmed). */
+    fun sourceServices(source: String): ByteArray = key("src:$source:services")
+
+    /** The count of dead letters trimmed from a service's dead-letter list by its cap. */
+    fun deadLettersTrimmed(service: String): ByteArray = key("svc:$service:dead:trimmed")
+
+    /** The service whose input list is [input], if it is one of this topology's. */
+    fun serviceOf(input: ByteArray): String? {
+        val text = input.toString(UTF_8)
+        val start = prefix + "svc:"
+        return if (text.startsWith(start) && text.endsWith(":in")) text.substring(start.length, text.length - 3) else null
+    }
 
     /** The list of one reader that is not a service. */
     fun reader(id: String): ByteArray = key("rdr:$id")
@@ -39,8 +52,32 @@ internal class Keys(topology: String) {
     /** The list a synchronous caller receives its replies on. */
     fun reply(id: String): ByteArray = key("reply:$id")
 
+    /** What every reply list's key starts with; a request naming another key is refused. */
+    val replyPrefix: ByteArray = key("reply:")
+
     /** The fingerprint of the codec the topology's processes use. */
     val codec: ByteArray = key("codec")
+
+    /** The set of the ids of the topology's core instances (processes) that registered a lease. */
+    val instances: ByteArray = key("instances")
+
+    /** The liveness lease of one core instance: a string (who it is) that expires unless renewed. */
+    fun instanceLease(instance: String): ByteArray = key("inst:$instance:lease")
+
+    /** What one core instance owns: a hash from each of its reader and reply lists to the reader set it is in (or empty). */
+    fun instanceLists(instance: String): ByteArray = key("inst:$instance:lists")
+
+    /**
+     * How many declarations (registrations, ownership records) one core instance has made: the
+     * instance counts them too, and a smaller number in Redis means Redis lost some of its writes.
+     */
+    fun instanceDeclared(instance: String): ByteArray = key("inst:$instance:declared")
+
+    /** The host lease of a service: the id of the one instance that runs it; expires unless renewed. */
+    fun hostLease(service: String): ByteArray = key("svc:$service:host")
+
+    /** A random token written once per life of the topology's data: a new one means Redis lost the data. */
+    val epoch: ByteArray = key("epoch")
 
     private fun key(suffix: String) = (prefix + suffix).toByteArray(UTF_8)
 }

@@ -12,6 +12,7 @@ import dev.prime.Source
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
+import kotlinx.coroutines.Job
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.cancel
@@ -19,6 +20,9 @@ import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeoutOrNull
 import org.slf4j.LoggerFactory
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.Pipeline
+import redis.clients.jedis.exceptions.JedisDataException
 import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
@@ -52,8 +56,9 @@ import java.util.function.Predicate
  * - [Chain.toBlock] is a remote call: it pushes the input with a reply address and waits for that
  *   call's own result; many threads may call at once.
  * - A source is a log of its newest values plus one list per reader; publishing pushes to all of
- *   them atomically and trims each to [CoreConfig.sourceRetention]. A chain linked to a source is
- *   one of its readers.
+ *   them atomically. The log and plain readers' lists are trimmed to
+ *   [CoreConfig.sourceRetention]; the input of a chain linked to the source is a queue, never
+ *   trimmed (see "Delivery").
  * - Templates are the generic ones of [PrimeCore]: a template chain is one service whose block
  *   calls the services of the chains it was made of.
  *
@@ -62,17 +67,62 @@ import java.util.function.Predicate
  * name is the Redis namespace) and an agreeing codec; each one is told which services it hosts
  * ([Builder.hosts]); the others are remote. Values wait in Redis until a host takes them.
  *
- * ## Guarantees beyond every media's
- * - A value taken by a service stays in Redis until its result is stored, in the same atomic step
- *   (a Lua script, all keys of a topology in one hash slot); after a crash or a lost connection a
- *   service first finishes what it had taken. With a durable Redis, nothing accepted is lost.
- * - Values have ids; one pushed twice by a retry is processed once.
- * - Bytes that cannot be decoded, and values whose block failed (after [Builder.retries]), go to
- *   the service's dead-letter list ([deadLetters]); the service goes on.
+ * ## Liveness, lost Redis data and one host per service
+ * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
+ *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
+ *   are recorded as its own. When a process dies, any live process of the topology reclaims them
+ *   within the lease time plus a heartbeat: its readers leave their sources and their lists are
+ *   deleted. [close] removes them at once.
+ * - [start] claims a host lease for every service the core hosts: a service has one host at a
+ *   time. If another live process holds it, [start] waits up to one lease time for it to lapse
+ *   (so a worker restarted after a crash takes over within the lease time), then fails with
+ *   [IllegalStateException] ("already hosted by", naming the service and the holder). A process
+ *   that finds its host lease taken (it was frozen longer than the lease) stops the service, logs
+ *   a WARN and tells the error handler.
+ * - If Redis loses the topology's data (a restart without persistence, a failover to a replica
+ *   that was behind), every live core notices within about one heartbeat, logs a WARN, counts it
+ *   ([redisResets]) and declares again what it hosts and reads: the codec fingerprint, the
+ *   registrations of its readers and of the services fed by sources (a list registered again
+ *   gets the values the source retains), its ownership records and host leases. Values published
+ *   after that arrive; values that were only in Redis (queued, unread, calls in flight, dead
+ *   letters) are lost. What each Redis persistence mode keeps is tabled in the architecture docs.
+ *
+ * ## Delivery
+ * - A service's input is a queue, not a retention window: nothing a service's queue accepted is
+ *   dropped. Every value is processed at least once (a value pushed twice, e.g. by a retried
+ *   publish, is recognised by its id and processed once, within the last 4096 ids a service
+ *   handled) or dead-lettered with the reason. A value taken by a service stays in Redis until its
+ *   result is stored, in the same atomic step (a Lua script, all keys of a topology in one hash
+ *   slot); after a crash or a lost connection a service first finishes what it had taken. What
+ *   survives a crash of Redis itself is what its persistence keeps (see docs/architecture.md).
+ * - Queues are bounded ([Builder.queueLimit], per service or for all): a publish that would put a
+ *   service's queue over its limit waits for room up to [Builder.publishTimeout], then throws
+ *   [QueueFullException] and publishes nothing (a publish is all or nothing). A service whose
+ *   next service's queue (a linked chain's internal hop, or a source feeding other services) is
+ *   full holds its results and waits: internal hops never drop. A publish while Redis is
+ *   unreachable gives up at the same timeout with [RedisUnavailableException].
+ * - A plain [Reader] is a retention window ([CoreConfig.sourceRetention]): when it falls further
+ *   behind, the oldest values it has not read are dropped; [Reader.missed] counts them, and the
+ *   publishing process logs a WARN with the count, at most once per reader every 10 s.
+ * - Dead letters ([deadLetters]): bytes that cannot be decoded, values whose block failed (after
+ *   [Builder.retries]), entries above [Builder.maxValueBytes] (only their first KiB is kept),
+ *   requests whose reply key is not one of this topology's reply lists, and entries whose results
+ *   Redis refused to store (WRONGTYPE, a script error: the step is redone one entry at a
+ *   time to find the one at fault). The service goes on. At most [Builder.deadLetterLimit] are
+ *   kept per service; older ones are dropped and counted ([trimmedDeadLetters]). A Redis out of
+ *   memory (`maxmemory` reached) or a missing permission is waited out like an outage, with a
+ *   log line: nothing is dropped for it.
+ * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
+ *   handler receives the service's name, the input and the block's own throwable.
+ * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
+ *   ([ValueTooLargeException]); a service takes at most 256 entries or 8 MiB per step.
+ * - Reply lists expire (10 minutes or twice the call timeout, whichever is longer) after each
+ *   reply pushed to them, so replies to callers that died do not stay.
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
  *
  * Threading: like every core, declaring is thread-safe; blocks of hosted services run on the
- * core's threads (`prime-<core>-optimus-<n>`), one value at a time per service.
+ * core's threads (`prime-<core>-optimus-<n>`), one value at a time per service; one of those
+ * threads is the heartbeat, from the first registration or [start] until [close].
  */
 public class OptimusCore private constructor(config: CoreConfig, settings: Settings) : PrimeCore("optimus", config) {
 
@@ -90,6 +140,19 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal val ids: ValueIds = ValueIds()
     internal val retries: Int = settings.retries
     internal val callTimeout: Duration? = settings.callTimeout
+    private val publishTimeout: Duration = settings.publishTimeout
+    private val maxValueBytes: Int = settings.maxValueBytes
+    private val queueLimit: Int = settings.queueLimit
+    private val queueLimits: Map<String, Int> = settings.queueLimits
+    internal val stepRules: StepRules = StepRules(
+        keys.replyPrefix,
+        maxOf(MIN_REPLY_TTL, (callTimeout ?: MIN_REPLY_TTL).multipliedBy(2)).toMillis(),
+        settings.deadLetterLimit,
+        // a value at the limit, in an envelope with the longest reply key
+        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
+        settings.batchBytes,
+    ) { input -> queueLimitOf(keys.serviceOf(input)) }
+    internal val readerMisses: ReaderMisses = ReaderMisses(name())
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
 
@@ -130,8 +193,23 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
+    private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime)
+    private val hostedJobs = ConcurrentHashMap<String, Job>()
+    private val notRunning: MutableSet<String> = ConcurrentHashMap.newKeySet() // hosted, but refused or taken over
+    private val declarations = Redeclaration(
+        keys, name(), instance, codec.fingerprint(), hostLeases,
+        readers = { readers },
+        replyLists = { (1..slotNumbers.get()).map(::replyKey) },
+        register = ::registerOnce,
+        lostHosting = ::stopLostService,
+    )
+    private val liveness = Liveness(keys, connections, instance, settings.leaseTime, executor::execute, declarations)
+
     /** The URL of the Redis this core uses (password hidden). */
     public val redisUrl: String get() = endpoint.toString()
+
+    /** The Redis user this core logs in as (`null`: the default user), for messages. */
+    internal val redisUser: String? get() = endpoint.user
 
     // ------------------------------------------------------------------ chains
 
@@ -213,9 +291,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /**
      * Publishes [values] to [source] in one atomic step (one round trip), in order: the fast way
      * to feed a source at high rates, where [EventBlock.publish] costs a round trip per value.
+     * All or nothing: if a service queue fed by the source has no room for all of them within
+     * [Builder.publishTimeout], none is published.
      *
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or a
      *     value is `null` or of a type the codec does not allow
+     * @throws ValueTooLargeException if a value encodes to more than [Builder.maxValueBytes]
+     * @throws QueueFullException if a service queue stays too full for the values until the publish timeout
+     * @throws RedisUnavailableException if Redis stays unreachable until the publish timeout
      * @throws IllegalStateException if the core is not started yet
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
@@ -237,6 +320,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             .map { DeadLetter.decode(service, it) }
     }
 
+    /**
+     * How many dead letters of [service] were dropped, oldest first, to keep its list within
+     * [Builder.deadLetterLimit] (since the topology's Redis data was created; [clearDeadLetters]
+     * does not reset it).
+     */
+    public fun trimmedDeadLetters(service: String): Long {
+        checkOpen()
+        return withSession("read the dead-letter count of service '$service'") { session ->
+            session.retrying { it.get(keys.deadLettersTrimmed(service)) }
+        }?.toString(UTF_8)?.toLong() ?: 0L
+    }
+
     /** Deletes the dead letters of [service]; returns how many there were. */
     public fun clearDeadLetters(service: String): Int {
         checkOpen()
@@ -256,18 +351,36 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * in-process services of links to sources of other cores.
      */
     override fun serviceNames(): Set<String> =
-        super.serviceNames() + services.keys.filter(::isHosted)
+        super.serviceNames() + services.keys.filter { isHosted(it) && it !in notRunning }
+
+    // ------------------------------------------------------------------ liveness
+
+    /**
+     * How many times this core found that Redis lost the topology's data (it restarted without
+     * persistence, or failed over to a replica that was behind). Each time the core logged a
+     * WARN and declared again what it hosts and reads; values that were only in Redis are gone.
+     */
+    public fun redisResets(): Long = liveness.resets
 
     // ------------------------------------------------------------------ lifecycle
 
     override fun onStart() {
+        beginLiveness()
         checkCodecAgreement()
+        declarations.codecDeclared = true
         hosts?.let { wanted ->
             val unknown = wanted - services.keys
             require(unknown.isEmpty()) {
                 "core '${name()}' is told to host $unknown, which its topology does not declare (declare the whole " +
                     "topology before start()); its services: ${services.keys.sorted()}"
             }
+        }
+        val hosted = services.keys.filter(::isHosted)
+        try {
+            claimHostLeases(hosted)
+        } catch (e: IllegalStateException) {
+            notRunning += hosted
+            throw e
         }
         services.values.forEach(::launchIfHosted)
     }
@@ -292,6 +405,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
                 }
                 for (slot in 1..slotNumbers.get()) pipeline.del(replyKey(slot))
+                hostLeases.releaseAll(pipeline)
+                liveness.releaseAll(pipeline)
                 pipeline.sync()
             } catch (e: Exception) {
                 LOG.debug("core '{}' could not remove its readers and reply lists: {}", name(), e.toString())
@@ -346,7 +461,27 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    internal fun encode(value: Any?): ByteArray? = value?.let(codec::encode)
+
+    /**
+     * The codec's bytes of [value]: the one place every publish, call and service output is
+     * encoded, so the size limit holds on every path.
+     *
+     * @throws ValueTooLargeException above [Builder.maxValueBytes]
+     */
+    internal fun encode(value: Any?): ByteArray? {
+        val bytes = value?.let(codec::encode) ?: return null
+        if (bytes.size > maxValueBytes) {
+            throw ValueTooLargeException(
+                "a ${value.javaClass.name} encodes to ${bytes.size} bytes, over this core's limit of $maxValueBytes " +
+                    "bytes: send a reference instead (a file or object-store key), split the value, or raise " +
+                    "OptimusCore.Builder.maxValueBytes (every process of the topology should agree)",
+            )
+        }
+        return bytes
+    }
+
+    /** The queue limit of [service] (`null`: not a service of this topology). */
+    internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
         bind(stages, null)
@@ -356,8 +491,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {
         checkOpen()
         val list = keys.reader(UUID.randomUUID().toString())
-        register(source.keys, list)
+        withSession("register a reader of source '${source.name()}'") { liveness.own(it, list, source.keys.readers) }
         readers += source.keys to list
+        register(source.keys, list)
         return OptimusReader(this, source.keys, list)
     }
 
@@ -366,8 +502,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         readers.removeIf { it.second === list }
     }
 
-    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: CallerSlot(this, replyKey(slotNumbers.incrementAndGet())).also {
-        allSlots += it
+    /** Queues the removal of a closed reader's list from this instance's ownership records. */
+    internal fun disownReader(pipeline: Pipeline, list: ByteArray) {
+        liveness.disown(pipeline, list)
+    }
+
+    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: newSlot()
+
+    private fun newSlot(): CallerSlot {
+        val reply = replyKey(slotNumbers.incrementAndGet())
+        withSession("record a reply list") { liveness.own(it, reply, null) }
+        return CallerSlot(this, reply).also { allSlots += it }
     }
 
     internal fun returnSlot(slot: CallerSlot) {
@@ -404,7 +549,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private fun replyKey(slot: Int) = keys.reply("$instance:$slot")
 
     private fun bindToSource(source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
-        register(source.keys, keys.serviceInput(stages.first().name))
+        val input = keys.serviceInput(stages.first().name)
+        beginLiveness()
+        declarations.bindings += source.keys to input
+        register(source.keys, input, service = true)
         bind(stages, output?.keys)
     }
 
@@ -427,24 +575,118 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun launchIfHosted(service: StageService) {
         if (!isHosted(service.name) || !launched.add(service.name) || isClosed) return
-        scope.launch(CoroutineName(service.name)) { service.run() }
+        if (service.name !in hostLeases.services) {
+            try {
+                claimHostLeases(listOf(service.name))
+            } catch (e: RuntimeException) {
+                launched -= service.name
+                if (e is IllegalStateException) notRunning += service.name
+                throw e
+            }
+        }
+        hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { service.run() }
     }
 
-    private fun register(source: SourceKeys, list: ByteArray) {
-        withSession { session -> session.retrying { Script.REGISTER.run(it, listOf(source.readers, source.log, list), emptyList()) } }
+    /** Registers this process's liveness lease and starts its heartbeat, once. */
+    private fun beginLiveness() {
+        withSession("register this process's liveness lease") { liveness.begin() }
     }
 
-    private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
-        checkStarted("publishing to an Optimus source")
-        withSession { session ->
-            session.retrying { StepBatch(source.log, source.log, source).apply { envelopes.forEach(::publish) }.run(it, 0, 0) }
+    /** Claims the host leases of [services] (waiting up to one lease time for others' to lapse). */
+    private fun claimHostLeases(services: List<String>) {
+        withSession("claim the host leases of $services") { hostLeases.claim(services, name()) }
+    }
+
+    /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
+    private fun stopLostService(service: String, holder: String) {
+        notRunning += service
+        val job = hostedJobs.remove(service)
+        job?.cancel()
+        val message = "core '${name()}' stops service '$service': its host lease is now held by $holder (this process " +
+            "was frozen or cut off from Redis longer than the lease time, and another took over). Restart this " +
+            "process to host it again once the other stops"
+        LOG.warn(message)
+        reportFailure(service, holder, IllegalStateException(message))
+        job?.invokeOnCompletion {
+            LOG.warn("core '{}' stopped service '{}' (its host lease is held by {})", name(), service, holder)
         }
     }
 
-    private fun <T> withSession(action: (RedisSession) -> T): T {
+    /** Adds [list] to [source]'s plain readers, or to its service inputs if it is a [service]'s (a queue). */
+    private fun register(source: SourceKeys, list: ByteArray, service: Boolean = false) {
+        withSession("register a reader of source '${source.name}'") { session ->
+            session.retrying { registerOnce(it, source, list, service) }
+            liveness.declared(session)
+        }
+    }
+
+    private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
+        Script.REGISTER.run(jedis, listOf(if (service) source.services else source.readers, source.log, list), emptyList())
+    }
+
+    /**
+     * Publishes [envelopes] to [source] in one atomic step, all or nothing. While a service queue
+     * the source feeds has no room, or Redis is unreachable, it waits, up to the publish timeout.
+     */
+    private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
+        checkStarted("publishing to an Optimus source")
+        val deadline = System.nanoTime() + publishTimeout.toNanos()
+        val what = "publish to source '${source.name}'"
+        val step = StepBatch(source.log, source.log, source, null, null, null, stepRules)
+        envelopes.forEach(step::publish)
+        withSession(what) { session ->
+            var backoff: Backoff? = null
+            while (true) {
+                val result = session.retryingUntil(deadline, what) { jedis ->
+                    if (source.view == null) source.refreshView(jedis, keys)
+                    step.execute(jedis, ack = 0, take = 0, strict = true)
+                }
+                when (result) {
+                    is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
+                    is StepResult.Stale -> source.view = null
+                    is StepResult.Full -> {
+                        val left = deadline - System.nanoTime()
+                        if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
+                        val wait = (backoff ?: Backoff().also { backoff = it }).next()
+                        connections.pause(minOf(wait, (left + 999_999) / 1_000_000))
+                    }
+                }
+            }
+        }
+    }
+
+    private fun queueFull(source: SourceKeys, full: StepResult.Full, count: Int): QueueFullException {
+        val service = keys.serviceOf(full.key) ?: full.key.toString(UTF_8)
+        val limit = full.limit.toInt()
+        val why = if (count > limit) {
+            "$count values in one publish are more than its queue limit of $limit"
+        } else {
+            "its queue holds ${full.length} values of its limit of $limit and no room came within $publishTimeout"
+        }
+        return QueueFullException(
+            service,
+            limit,
+            "publish to source '${source.name}' refused, nothing was published: service '$service' is fed by it and $why. " +
+                "Is a process that hosts '$service' running and keeping up? Raise the limit with " +
+                "OptimusCore.Builder.queueLimit(\"$service\", n), or the wait with publishTimeout.",
+        )
+    }
+
+    /** Runs [action] on a pooled session; an ACL refusal becomes a [dev.prime.PrimeException] saying what to grant. */
+    private fun <T> withSession(what: String = "a Redis command", action: (RedisSession) -> T): T {
         val session = publishers.poll() ?: RedisSession(connections)
         try {
             return action(session)
+        } catch (e: JedisDataException) {
+            if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
+            if (e.message?.startsWith("OOM") == true) {
+                throw dev.prime.PrimeException(
+                    "$what refused, nothing was stored: Redis is out of memory (its maxmemory is reached; free memory " +
+                        "or raise maxmemory). Redis said: ${e.message}",
+                    e,
+                )
+            }
+            throw e
         } finally {
             publishers += session
         }
@@ -521,6 +763,72 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(callTimeout = timeout.takeUnless { it.isZero })
         }
 
+        /**
+         * How long a process counts as alive after its last heartbeat (default 5 s, at least
+         * 300 ms; the heartbeat runs every third of it). It bounds how long readers and reply
+         * lists of a killed process stay in Redis, and how long a successor waits in `start()` to
+         * take over the services of a killed host.
+         */
+        public fun leaseTime(leaseTime: Duration): Builder = apply {
+            require(leaseTime >= MIN_LEASE_TIME) {
+                "lease time must be at least ${MIN_LEASE_TIME.toMillis()} ms (shorter leases lapse on ordinary GC pauses), " +
+                    "was $leaseTime"
+            }
+            settings = settings.copy(leaseTime = leaseTime)
+        }
+
+        /**
+         * The most values a service's input queue holds (default 100,000), for every service
+         * without a limit of its own. A service's input is a queue, never trimmed: a publish that
+         * would put it over its limit waits for room up to [publishTimeout] and then throws
+         * [QueueFullException], publishing nothing.
+         */
+        public fun queueLimit(limit: Int): Builder = apply {
+            require(limit > 0) { "queue limit must be positive, was $limit" }
+            settings = settings.copy(queueLimit = limit)
+        }
+
+        /** The queue limit of [service] (as the user named it), instead of the default [queueLimit]. */
+        public fun queueLimit(service: String, limit: Int): Builder = apply {
+            require(limit > 0) { "queue limit of service '$service' must be positive, was $limit" }
+            settings = settings.copy(queueLimits = settings.queueLimits + (service to limit))
+        }
+
+        /**
+         * The longest [EventBlock.publish] and [publishAll] wait (default 10 s): for room in a full
+         * service queue, then [QueueFullException]; for an unreachable Redis, then
+         * [RedisUnavailableException].
+         */
+        public fun publishTimeout(timeout: Duration): Builder = apply {
+            require(!timeout.isNegative) { "publish timeout must not be negative, was $timeout" }
+            settings = settings.copy(publishTimeout = timeout)
+        }
+
+        /**
+         * The largest encoded value (default 16 MiB): a bigger one is refused at publish or call
+         * time with [ValueTooLargeException]; a bigger entry found in Redis is dead-lettered
+         * (keeping its first KiB, not the blob). Every process of a topology should agree.
+         */
+        public fun maxValueBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "max value bytes must be positive, was $bytes" }
+            settings = settings.copy(maxValueBytes = bytes)
+        }
+
+        /**
+         * The most dead letters kept per service (default 10,000): older ones are dropped, and
+         * counted ([trimmedDeadLetters]).
+         */
+        public fun deadLetterLimit(limit: Int): Builder = apply {
+            require(limit > 0) { "dead-letter limit must be positive, was $limit" }
+            settings = settings.copy(deadLetterLimit = limit)
+        }
+
+        /** The bytes a service step takes at most (default 8 MiB; always at least one entry). */
+        internal fun batchBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "batch bytes must be positive, was $bytes" }
+            settings = settings.copy(batchBytes = bytes)
+        }
+
         /** Makes the core: starts an embedded Redis unless [redis] was given, and checks that Redis answers. */
         public fun build(): OptimusCore = OptimusCore(config, settings)
     }
@@ -531,12 +839,24 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val hosts: Set<String>? = null,
         val retries: Int = 0,
         val callTimeout: Duration? = Duration.ofSeconds(60),
+        val leaseTime: Duration = Duration.ofSeconds(5),
+        val publishTimeout: Duration = Duration.ofSeconds(10),
+        val maxValueBytes: Int = 16 * 1024 * 1024,
+        val queueLimit: Int = 100_000,
+        val queueLimits: Map<String, Int> = emptyMap(),
+        val deadLetterLimit: Int = 10_000,
+        val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
     )
 
     public companion object {
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
+        private val MIN_LEASE_TIME = Duration.ofMillis(300)
+        private val MIN_REPLY_TTL = Duration.ofMinutes(10)
+
+        /** An envelope's header, payload marker and longest reply key. */
+        private const val ENVELOPE_OVERHEAD = 16 + 2 + 0xFFFF
 
         /** Settings for a core; call [Builder.build]. */
         @JvmStatic

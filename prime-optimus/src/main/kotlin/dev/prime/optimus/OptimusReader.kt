@@ -90,6 +90,7 @@ internal class OptimusReader<T>(
                     val pipeline = jedis.pipelined()
                     pipeline.srem(source.readers, list) // first: no publish writes to it after this
                     pipeline.del(list, processing, missedKey)
+                    core.disownReader(pipeline, list)
                     pipeline.sync()
                 }
             }

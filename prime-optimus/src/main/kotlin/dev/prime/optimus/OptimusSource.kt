@@ -5,12 +5,19 @@ import dev.prime.Reader
 import dev.prime.Source
 
 /**
- * A source kept in Redis: its newest values in a log list (for readers that come late) and a set
- * of reader lists it publishes to. Every process that declares the same topology has an equal
+ * A source kept in Redis: its newest values in a log list (for readers that come late), a set of
+ * plain reader lists it publishes to (trimmed to the retention) and a set of service inputs it
+ * publishes to (queues, never trimmed). Every process that declares the same topology has an equal
  * object for it; any of them can publish and read.
  */
 internal class OptimusSource<T>(private val core: OptimusCore, private val name: String) : Source<T> {
-    val keys = SourceKeys(core.keys.sourceLog(name), core.keys.sourceReaders(name), core.config().sourceRetention())
+    val keys = SourceKeys(
+        name,
+        core.keys.sourceLog(name),
+        core.keys.sourceReaders(name),
+        core.keys.sourceServices(name),
+        core.config().sourceRetention(),
+    )
 
     override fun core(): PrimeCore = core
 

@@ -8,18 +8,30 @@ import java.security.MessageDigest
 /**
  * The Lua scripts that make each step of a service one atomic operation in Redis.
  *
- * [STEP] does, in order and atomically: push values to lists (the next service's input, reply
- * lists, dead letters), publish values to a source (its log and every registered reader list,
- * each trimmed to the retention, counting what a reader lost), acknowledge the first `ack`
- * entries of a processing list, and move up to `take` new entries from an input list to that
- * processing list, returning them. A crash between any two steps therefore neither loses a value
- * (it stays in the processing list until its results are stored) nor duplicates one. Values for
- * the same list go in one `RPUSH` (up to 1000 at a time), not one call each: a command called
- * from Lua costs about as much as storing a small value. Entries are taken with `LMOVE`, one at a
- * time, which moves the stored string itself (`LRANGE` + `RPUSH` copied each one into Lua and back).
+ * [STEP] does, in order and atomically: check that the caller's view of the output source's
+ * readers is current (else it answers `STALE` and changes nothing) and that the service queues it
+ * feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
+ * values to a source (its log and every plain reader list, each trimmed to the retention, counting
+ * what a reader lost, and every service input, never trimmed: a service's input is a queue);
+ * push replies, each only after checking that its key is in this topology's reply namespace and
+ * a list (a reply list gets an expiry; a bad one is dead-lettered instead); push dead letters and
+ * trim the dead-letter list to its cap, counting what it trimmed; acknowledge the first `ack`
+ * entries of a processing list; and move new entries from an input list to that processing list,
+ * at most `take` of them and stopping once they reach `takeBytes` (always at least one), returning
+ * them (an entry above `maxBytes` comes back as its size and a prefix, not the blob). A crash
+ * between any two steps therefore neither loses a value (it stays in the processing list until its
+ * results are stored) nor duplicates one. Values for the same list go in one `RPUSH` (up to 1000
+ * at a time), not one call each: a command called from Lua costs about as much as storing a small
+ * value. Entries are taken with `LMOVE`, one at a time, which moves the stored string itself.
  *
- * [REGISTER] adds a reader list to a source; a reader that is new gets a copy of the retained
- * values (a reader starts at the oldest retained value).
+ * Every key a script touches is passed in KEYS (Redis Cluster and Redis-compatible servers need
+ * that): the caller passes the reader and service lists it knows, and the script checks them
+ * against the source's two sets (plain readers, service inputs) before it writes anything.
+ *
+ * [PEEK] reads the head of a processing list under the same bounds (after a restart).
+ *
+ * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
+ * the retained values (it starts at the oldest retained value).
  *
  * Scripts run with EVALSHA and fall back to EVAL when the server does not know them (after a
  * restart), which also loads them.
@@ -35,59 +47,147 @@ internal class Script private constructor(private val source: ByteArray) {
     }
 
     companion object {
-        /** KEYS: processing, input, source log, source readers. ARGV: ack, take, retention, pushes, (key, value) x pushes, published values... */
+        /**
+         * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
+         * service's input, 6 source log, 7 source reader set, 8 source service set, then the reply
+         * keys, the reader lists, their missed counters, the service inputs.
+         * ARGV: see [StepBatch.run]. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}` or
+         * `{'FULL', key, length, limit}`.
+         */
         val STEP = Script(
             """
-            local proc, input, log, readers = KEYS[1], KEYS[2], KEYS[3], KEYS[4]
-            local ack, take, retention, pushes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
-            local i = 5
-            local last = 4 + 2 * pushes
-            while i <= last do
-              local key, values = ARGV[i], {ARGV[i + 1]}
-              i = i + 2
-              while i <= last and ARGV[i] == key and #values < 1000 do
-                values[#values + 1] = ARGV[i + 1]
-                i = i + 2
+            local proc, input, dead, deadTrimmed, nextKey, log, readers, services =
+              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8]
+            local ack, take, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
+            local retention, deadLimit, nextLimit, strict = tonumber(ARGV[5]), tonumber(ARGV[6]), tonumber(ARGV[7]), ARGV[8] == '1'
+            local replyPrefix, replyTtl = ARGV[9], ARGV[10]
+            local nReplyKeys, nReaders, nServices = tonumber(ARGV[11]), tonumber(ARGV[12]), tonumber(ARGV[13])
+            local nNext, nReplies, nDead, nPublished = tonumber(ARGV[14]), tonumber(ARGV[15]), tonumber(ARGV[16]), tonumber(ARGV[17])
+            local readerAt = 8 + nReplyKeys
+            local missedAt = readerAt + nReaders
+            local serviceAt = missedAt + nReaders
+            local limitsAt = 17
+            local nextAt = limitsAt + nServices
+            local repliesAt = nextAt + nNext
+            local deadAt = repliesAt + 3 * nReplies
+            local publishedAt = deadAt + nDead
+            local function pushAll(key, from, count)
+              local length = 0
+              for start = from, from + count - 1, 1000 do
+                length = redis.call('RPUSH', key, unpack(ARGV, start, math.min(start + 999, from + count - 1)))
               end
-              redis.call('RPUSH', key, unpack(values))
+              return length
             end
-            if i <= #ARGV then
-              local targets = redis.call('SMEMBERS', readers)
-              for start = i, #ARGV, 1000 do
-                local stop = math.min(start + 999, #ARGV)
-                redis.call('RPUSH', log, unpack(ARGV, start, stop))
-                for _, target in ipairs(targets) do
-                  redis.call('RPUSH', target, unpack(ARGV, start, stop))
+            if nPublished > 0 then
+              if redis.call('SCARD', readers) ~= nReaders or redis.call('SCARD', services) ~= nServices then
+                return {'STALE'}
+              end
+              for r = 1, nReaders do
+                if redis.call('SISMEMBER', readers, KEYS[readerAt + r]) == 0 then return {'STALE'} end
+              end
+              for s = 1, nServices do
+                local key = KEYS[serviceAt + s]
+                if redis.call('SISMEMBER', services, key) == 0 then return {'STALE'} end
+                local limit, length = tonumber(ARGV[limitsAt + s]), redis.call('LLEN', key)
+                if (strict and length + nPublished > limit) or ((not strict) and length >= limit) then
+                  return {'FULL', key, length, limit}
                 end
               end
-              redis.call('LTRIM', log, -retention, -1)
-              for _, target in ipairs(targets) do
-                local length = redis.call('LLEN', target)
-                if length > retention then
-                  redis.call('LTRIM', target, length - retention, -1)
-                  redis.call('INCRBY', target .. ':missed', length - retention)
+            end
+            if nNext > 0 then
+              local length = redis.call('LLEN', nextKey)
+              if nextLimit > 0 and length >= nextLimit then return {'FULL', nextKey, length, nextLimit} end
+              pushAll(nextKey, nextAt + 1, nNext)
+            end
+            local missed = {}
+            if nPublished > 0 then
+              if pushAll(log, publishedAt + 1, nPublished) > retention then
+                redis.call('LTRIM', log, -retention, -1)
+              end
+              for s = 1, nServices do
+                pushAll(KEYS[serviceAt + s], publishedAt + 1, nPublished)
+              end
+              for r = 1, nReaders do
+                local over = pushAll(KEYS[readerAt + r], publishedAt + 1, nPublished) - retention
+                if over > 0 then
+                  redis.call('LTRIM', KEYS[readerAt + r], over, -1)
+                  redis.call('INCRBY', KEYS[missedAt + r], over)
+                  missed[r] = over
+                else
+                  missed[r] = 0
                 end
+              end
+            end
+            local refused = {}
+            for k = 0, nReplies - 1 do
+              local at = repliesAt + 1 + 3 * k
+              local key = KEYS[8 + tonumber(ARGV[at])]
+              local reason = nil
+              if string.sub(key, 1, #replyPrefix) ~= replyPrefix then
+                reason = "outside this topology's reply namespace " .. replyPrefix .. '*'
+              else
+                local kind = redis.call('TYPE', key)['ok']
+                if kind ~= 'list' and kind ~= 'none' then reason = 'of type ' .. kind .. ', not a reply list' end
+              end
+              if reason then
+                local text = 'refused request: its reply key ' .. string.sub(key, 1, 200) .. ' is ' .. reason
+                local raw = redis.call('LINDEX', proc, tonumber(ARGV[at + 1])) or ''
+                refused[#refused + 1] = struct.pack('>I4', #text) .. text .. raw
+              else
+                redis.call('RPUSH', key, ARGV[at + 2])
+                redis.call('PEXPIRE', key, replyTtl)
+              end
+            end
+            if nDead > 0 or #refused > 0 then
+              local length = 0
+              if nDead > 0 then length = pushAll(dead, deadAt + 1, nDead) end
+              if #refused > 0 then length = redis.call('RPUSH', dead, unpack(refused)) end
+              if length > deadLimit then
+                redis.call('LTRIM', dead, length - deadLimit, -1)
+                redis.call('INCRBY', deadTrimmed, length - deadLimit)
               end
             end
             if ack > 0 then
               redis.call('LTRIM', proc, ack, -1)
             end
-            if take > 0 then
-              local taken = {}
-              for k = 1, take do
-                local value = redis.call('LMOVE', input, proc, 'LEFT', 'RIGHT')
-                if not value then
-                  break
-                end
-                taken[k] = value
-              end
-              return taken
+            local result = {'OK', missed}
+            local bytes = 0
+            for k = 1, take do
+              if bytes >= takeBytes then break end
+              local value = redis.call('LMOVE', input, proc, 'LEFT', 'RIGHT')
+              if not value then break end
+              bytes = bytes + #value
+              if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
+              result[#result + 1] = value
             end
-            return {}
+            return result
             """.trimIndent().toByteArray(UTF_8),
         )
 
-        /** KEYS: source readers, source log, reader list. Returns 1 if the reader is new. */
+        /**
+         * KEYS: processing. ARGV: most entries, most bytes, largest entry. Returns
+         * `{complete (1: the whole list was returned), entries...}`, entries above the largest size
+         * as `{size, prefix}`.
+         */
+        val PEEK = Script(
+            """
+            local count, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3])
+            local length = redis.call('LLEN', KEYS[1])
+            local result = {0}
+            local bytes = 0
+            for k = 0, math.min(length, count) - 1 do
+              if bytes >= takeBytes then return result end
+              local value = redis.call('LINDEX', KEYS[1], k)
+              bytes = bytes + #value
+              if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
+              result[#result + 1] = value
+            end
+            if #result - 1 == length then result[1] = 1 end
+            return result
+            """.trimIndent().toByteArray(UTF_8),
+        )
+
+        /** KEYS: the source's reader or service set, source log, the list. Returns 1 if the list is new. */
         val REGISTER = Script(
             """
             if redis.call('SADD', KEYS[1], KEYS[3]) == 0 then

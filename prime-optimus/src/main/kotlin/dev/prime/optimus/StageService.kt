@@ -1,11 +1,15 @@
 package dev.prime.optimus
 
 import dev.prime.ChainFailedException
+import dev.prime.CoreClosedException
+import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.currentCoroutineContext
 import kotlinx.coroutines.delay
 import kotlinx.coroutines.ensureActive
 import org.slf4j.LoggerFactory
 import redis.clients.jedis.args.ListDirection
+import redis.clients.jedis.exceptions.JedisDataException
+import java.nio.charset.StandardCharsets.UTF_8
 
 /** What a service does with one input: emit any number of outputs (a chain emits exactly one). */
 internal fun interface StageLogic {
@@ -25,7 +29,18 @@ internal fun interface StageLogic {
  * processing list holds. Values seen recently (by id) are acknowledged without processing them
  * again, which absorbs duplicates from a producer that retried a push.
  *
- * Memory: one batch of at most [BATCH] values, and the last 4096 ids.
+ * Nothing an entry or a block does stops the service: every throwable but a
+ * [VirtualMachineError] is caught on every path (a value's goes to the error handler and the
+ * dead letters, a request's to its caller); an entry above the size limit is dead-lettered with
+ * its first KiB; a step Redis refuses for a reason other than the connection (WRONGTYPE, OOM, a
+ * script error) is stored again one entry at a time, and an entry Redis still refuses is
+ * dead-lettered with Redis' answer. Connection failures, a Redis out of memory and a missing
+ * permission are waited out as an outage (nothing could be stored, not even a dead letter). When the
+ * queue this service feeds is full, the service holds its results and waits for room: an
+ * internal hop never drops a value (the wait shows at the publisher as [QueueFullException]).
+ *
+ * Memory: one batch of at most [BATCH] values and [StepRules.batchBytes] bytes (one entry may be
+ * bigger, up to the entry size limit), and the last 4096 ids.
  */
 internal class StageService(
     val name: String,
@@ -38,7 +53,10 @@ internal class StageService(
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
     private val processing = core.keys.serviceProcessing(name)
-    private val dead = core.keys.deadLetters(name)
+    private val empty = StepBatch(
+        processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
+    )
+    private val rules = core.stepRules
     private val recent = RecentIds()
 
     suspend fun run() {
@@ -46,29 +64,40 @@ internal class StageService(
     }
 
     private suspend fun loop(session: RedisSession) {
-        var pending: List<ByteArray>? = null // null: read the processing list first
+        var pending: List<TakenEntry>? = null // null: read the processing list first
         val backoff = Backoff()
         var outage = false
         while (true) {
             currentCoroutineContext().ensureActive()
             if (core.connections.isClosed) return
             try {
-                val taken = pending ?: session.once { it.lrange(processing, 0, -1) }
-                if (taken.isEmpty()) {
+                var complete = true
+                val taken = pending ?: peek(session).also { complete = it.second }.first
+                pending = if (taken.isEmpty()) {
                     val one = session.once { it.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS) }
-                    pending = if (one == null) emptyList() else listOf(one)
+                    if (one == null) emptyList() else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
-                    val step = StepBatch(processing, input, output)
-                    for (raw in taken) handle(raw, step)
-                    pending = session.once { step.run(it, ack = taken.size, take = BATCH) }
-                    step.ids.forEach(recent::add)
+                    val batchIds = HashSet<Long>()
+                    val parts = taken.map { handle(it, batchIds) }
+                    store(session, parts, take = if (complete) BATCH else 0)?.takeIf { complete }
                 }
                 if (outage) LOG.info("service '{}' reconnected to Redis", name)
                 outage = false
                 backoff.reset()
-            } catch (e: Exception) {
+            } catch (e: CancellationException) {
+                throw e
+            } catch (e: VirtualMachineError) {
+                LOG.error("service '{}' stops: {}", name, e.toString())
+                throw e
+            } catch (e: Throwable) {
                 if (core.connections.isClosed) return
-                if (!outage) LOG.warn("service '{}' lost Redis ({}); retrying", name, e.toString())
+                if (!outage) {
+                    if (e is JedisDataException && RedisPermissions.isRefusal(e)) {
+                        LOG.error("service '{}' {}; retrying", name, describeFailure(e))
+                    } else {
+                        LOG.warn("service '{}' {}; retrying", name, describeFailure(e))
+                    }
+                }
                 outage = true
                 pending = null
                 delay(backoff.next())
@@ -76,29 +105,161 @@ internal class StageService(
         }
     }
 
-    private fun handle(raw: ByteArray, step: StepBatch) {
+    private fun describeFailure(e: Throwable): String = when {
+        e is Exception && RedisConnections.isTransient(e) -> "lost Redis ($e)"
+        e is JedisDataException && isOutOfMemory(e) ->
+            "cannot store anything: Redis is out of memory (its maxmemory is reached: ${e.message})"
+        e is JedisDataException && RedisPermissions.isRefusal(e) ->
+            RedisPermissions.explain(e, core.redisUser, core.name(), "service '$name'").message!!
+        else -> "cannot read its input ($e)"
+    }
+
+    /** The head of the processing list (what a crash left), within the batch bounds; whether that is all of it. */
+    private fun peek(session: RedisSession): Pair<List<TakenEntry>, Boolean> {
+        val reply = session.once {
+            Script.PEEK.run(
+                it,
+                listOf(processing),
+                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) },
+            )
+        } as List<*>
+        val entries = reply.subList(1, reply.size).map { item ->
+            if (item is ByteArray) TakenEntry(item, item.size.toLong())
+            else (item as List<*>).let { TakenEntry(it[1] as ByteArray, it[0] as Long) }
+        }
+        return entries to (reply[0] == 1L)
+    }
+
+    /**
+     * Stores the parts' results in one step and returns the entries taken next; if Redis refuses
+     * the step for a reason of its content, stores the parts one at a time (dead-lettering any it
+     * still refuses) and returns `null` (read the processing list again).
+     */
+    private suspend fun store(session: RedisSession, parts: List<Part>, take: Int): List<TakenEntry>? {
+        val whole = if (parts.size == 1) parts[0].batch else StepBatch.combine(parts.map { it.batch })
+        val stored = try {
+            runStep(session, whole, ack = parts.size, take = take)
+        } catch (e: JedisDataException) {
+            if (!isEntryFault(e)) throw e
+            storeOneByOne(session, parts, e)
+            return null
+        }
+        whole.ids.forEach(recent::add)
+        return stored.taken
+    }
+
+    /**
+     * A refusal caused by what a step stores: not the connection, not the user's permissions, and
+     * not a Redis out of memory (then nothing can be stored, not even a dead letter: the service
+     * waits as in an outage rather than drop what it holds).
+     */
+    private fun isEntryFault(e: JedisDataException) =
+        !RedisConnections.isTransient(e) && !RedisPermissions.isRefusal(e) && !isOutOfMemory(e)
+
+    private suspend fun storeOneByOne(session: RedisSession, parts: List<Part>, cause: JedisDataException) {
+        LOG.warn("service '{}': Redis refused a step of {} entries ({}); storing them one at a time", name, parts.size, cause.message)
+        for (part in parts) {
+            try {
+                runStep(session, part.batch, ack = 1, take = 0)
+                part.batch.ids.forEach(recent::add)
+            } catch (e: JedisDataException) {
+                if (!isEntryFault(e)) throw e
+                deadLetterAlone(session, part, "Redis refused to store its results: ${e.message}")
+            }
+        }
+    }
+
+    /** Dead-letters [part]'s entry alone; if Redis refuses even that, drops it with an ERROR (never a loop). */
+    private suspend fun deadLetterAlone(session: RedisSession, part: Part, reason: String) {
+        val letter = empty.part()
+        letter.dead(DeadLetter.encode(reason, part.entry))
+        try {
+            runStep(session, letter, ack = 1, take = 0)
+        } catch (e: JedisDataException) {
+            if (!isEntryFault(e)) throw e
+            session.once { it.lpop(processing) }
+            LOG.error(
+                "service '{}' dropped an entry: Redis refused both its results ({}) and its dead letter ({}); entry: {}",
+                name, reason, e.message, DeadLetter.describe(part.entry),
+            )
+        }
+        part.batch.ids.forEach(recent::add)
+    }
+
+    /** Runs [batch]; refreshes a stale view of the output's readers, and waits while the queue it feeds is full. */
+    private suspend fun runStep(session: RedisSession, batch: StepBatch, ack: Int, take: Int): StepResult.Stored {
+        var backoff: Backoff? = null
+        while (true) {
+            val result = session.once { jedis ->
+                if (batch.publishes && output!!.view == null) output.refreshView(jedis, core.keys)
+                batch.execute(jedis, ack, take)
+            }
+            when (result) {
+                is StepResult.Stored -> {
+                    if (backoff != null) LOG.info("service '{}' goes on: there is room again", name)
+                    if (output != null && result.missed.isNotEmpty()) core.readerMisses.record(output, result.view, result.missed)
+                    return result
+                }
+                is StepResult.Stale -> output!!.view = null
+                is StepResult.Full -> {
+                    if (backoff == null) {
+                        LOG.warn(
+                            "service '{}' waits: the queue of service '{}' holds {} values, its limit is {}",
+                            name, core.keys.serviceOf(result.key), result.length, result.limit,
+                        )
+                    }
+                    delay((backoff ?: Backoff().also { backoff = it }).next())
+                    if (core.connections.isClosed) throw CoreClosedException(core.name())
+                }
+            }
+        }
+    }
+
+    /** One entry of a batch and what its handling stores. */
+    private class Part(val entry: TakenEntry, val batch: StepBatch)
+
+    /** Handles one entry; never throws but a [VirtualMachineError]. */
+    private fun handle(entry: TakenEntry, batchIds: MutableSet<Long>): Part {
+        val part = Part(entry, empty.part())
+        val step = part.batch
+        if (!entry.isWhole || entry.size > rules.maxEntryBytes) {
+            step.dead(DeadLetter.encodePrefix("an entry of ${entry.size} bytes, over the limit of ${rules.maxEntryBytes}", entry))
+            return part
+        }
+        val raw = entry.bytes
         val envelope = try {
             Envelope.parse(raw)
         } catch (e: CodecException) {
-            step.push(dead, DeadLetter.encode("undecodable envelope: ${e.message}", raw))
-            return
+            step.dead(DeadLetter.encode("undecodable envelope: ${e.message}", entry))
+            return part
         }
         // a duplicate of a value handled recently, or earlier in this batch
-        if (envelope.id in recent || !step.ids.add(envelope.id)) return
+        if (envelope.id in recent || !batchIds.add(envelope.id)) return part
+        step.ids += envelope.id
+        val replyTo = envelope.replyTo
+        if (replyTo != null && !startsWith(replyTo, rules.replyPrefix)) {
+            step.dead(
+                DeadLetter.encode(
+                    "refused request: its reply key ${printable(replyTo)} is outside this topology's reply namespace " +
+                        "${rules.replyPrefix.toString(UTF_8)}*",
+                    entry,
+                ),
+            )
+            return part
+        }
         val value = try {
             envelope.payload()?.let(core.codec::decode)
         } catch (e: CodecException) {
-            step.push(dead, DeadLetter.encode("cannot decode the value: ${e.message}", raw))
-            if (envelope.kind == Envelope.Kind.REQUEST) {
-                step.push(envelope.replyTo!!, Envelope.replyError(envelope.id, name, e.toString()))
-            }
-            return
+            step.dead(DeadLetter.encode("cannot decode the value: ${e.message}", entry))
+            if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
+            return part
         }
         when (envelope.kind) {
             Envelope.Kind.REQUEST -> handleRequest(envelope, value, step)
-            Envelope.Kind.VALUE -> handleValue(envelope, value, raw, step)
-            else -> step.push(dead, DeadLetter.encode("a ${envelope.kind} does not belong in a service's input", raw))
+            Envelope.Kind.VALUE -> handleValue(envelope, value, entry, step)
+            else -> step.dead(DeadLetter.encode("a ${envelope.kind} does not belong in a service's input", entry))
         }
+        return part
     }
 
     private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch) {
@@ -108,20 +269,20 @@ internal class StageService(
             logic.process(value) { result = it }
             val payload = core.encode(result)
             if (next != null) {
-                step.push(next, Envelope.request(envelope.id, replyTo, payload))
+                step.next(Envelope.request(envelope.id, replyTo, payload))
             } else {
-                step.push(replyTo, Envelope.replyOk(envelope.id, payload))
+                step.reply(replyTo, Envelope.replyOk(envelope.id, payload))
             }
         } catch (e: VirtualMachineError) {
             throw e
         } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)
             core.rememberFailure(envelope.id, failure)
-            step.push(replyTo, Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString()))
+            step.reply(replyTo, Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString()))
         }
     }
 
-    private fun handleValue(envelope: Envelope, value: Any?, raw: ByteArray, step: StepBatch) {
+    private fun handleValue(envelope: Envelope, value: Any?, entry: TakenEntry, step: StepBatch) {
         var attempts = 0
         while (true) {
             attempts++
@@ -134,14 +295,14 @@ internal class StageService(
                 if (core.connections.isClosed) return
                 if (attempts <= core.retries) continue
                 core.reportFailure(name, value ?: "null", e)
-                step.push(dead, DeadLetter.encode("failed after $attempts attempt(s): $e", raw))
+                step.dead(DeadLetter.encode("failed after $attempts attempt(s): $e", entry))
                 return
             }
             payloads.forEachIndexed { index, payload ->
                 val id = if (payloads.size == 1) envelope.id else ValueIds.derive(envelope.id, index)
                 val forwarded = Envelope.value(id, payload)
                 when {
-                    next != null -> step.push(next, forwarded)
+                    next != null -> step.next(forwarded)
                     output != null -> step.publish(forwarded)
                 }
             }
@@ -155,5 +316,14 @@ internal class StageService(
         /** The most values one step takes. */
         const val BATCH = 256
         private val LOG = LoggerFactory.getLogger(StageService::class.java)
+
+        private fun isOutOfMemory(e: JedisDataException): Boolean =
+            e.message?.let { it.startsWith("OOM") || " OOM " in it } == true
+
+        private fun startsWith(bytes: ByteArray, prefix: ByteArray): Boolean =
+            bytes.size >= prefix.size && (prefix.indices).all { bytes[it] == prefix[it] }
+
+        /** A key for a message: at most 200 characters. */
+        private fun printable(key: ByteArray): String = key.toString(UTF_8).take(200)
     }
 }

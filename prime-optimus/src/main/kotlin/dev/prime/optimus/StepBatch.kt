@@ -4,45 +4,239 @@ import redis.clients.jedis.Jedis
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
- * What one step of a consumer stores in Redis, run as one [Script.STEP]: list pushes (next
- * service, replies, dead letters), values published to a source, the acknowledgement of the
- * entries it processed, and the taking of the next entries.
+ * What one step of a consumer stores in Redis, run as one [Script.STEP]: values for the next
+ * service of a chain, replies, dead letters, values published to a source, the acknowledgement of
+ * the entries it processed, and the taking of the next entries.
+ *
+ * A service builds one batch per entry it handled and [combine]s them into one step; if Redis
+ * refuses the combined step for a reason other than the connection, it stores the parts one at a
+ * time to find the entry at fault (see [StageService]).
  */
 internal class StepBatch(
     private val processing: ByteArray,
     private val input: ByteArray,
     private val output: SourceKeys?,
+    private val dead: ByteArray?,
+    private val deadTrimmed: ByteArray?,
+    private val next: ByteArray?,
+    private val rules: StepRules,
 ) {
-    private val pushes = ArrayList<ByteArray>()
+    /** A plain consumer's step (a reader): acknowledge and take, nothing stored. */
+    constructor(processing: ByteArray, input: ByteArray, output: SourceKeys?) :
+        this(processing, input, output, null, null, null, StepRules.PLAIN)
+
+    private val nextValues = ArrayList<ByteArray>()
+    private val replies = ArrayList<Reply>()
+    private val deadValues = ArrayList<ByteArray>()
     private val published = ArrayList<ByteArray>()
 
     /** Ids of the values this step handled; remembered once the step is stored. */
     val ids: MutableSet<Long> = LinkedHashSet()
 
-    fun push(list: ByteArray, value: ByteArray) {
-        pushes += list
-        pushes += value
+    private class Reply(val key: ByteArray, val position: Int, val value: ByteArray)
+
+    /** Pushes [value] to the next service of the chain. */
+    fun next(value: ByteArray) {
+        checkNotNull(next) { "this service is the last of its chain" }
+        nextValues += value
     }
 
+    /** Pushes [value] to the reply list [key], checked by the script (see [Script.STEP]). */
+    fun reply(key: ByteArray, value: ByteArray) {
+        replies += Reply(key, 0, value)
+    }
+
+    /** Stores a dead letter (an encoded [DeadLetter]). */
+    fun dead(value: ByteArray) {
+        checkNotNull(dead) { "this consumer keeps no dead letters" }
+        deadValues += value
+    }
+
+    /** Publishes [value] to the output source. */
     fun publish(value: ByteArray) {
         checkNotNull(output) { "this service has no output source" }
         published += value
     }
 
-    /** Stores the step; returns the entries taken next (already in the processing list). */
-    @Suppress("UNCHECKED_CAST")
-    fun run(jedis: Jedis, ack: Int, take: Int): List<ByteArray> {
-        val keys = listOf(processing, input, output?.log ?: processing, output?.readers ?: processing)
-        val args = ArrayList<ByteArray>(4 + pushes.size + published.size)
-        args += ack.toString().toByteArray(UTF_8)
-        args += take.toString().toByteArray(UTF_8)
-        args += (output?.retention ?: 1).toString().toByteArray(UTF_8)
-        args += (pushes.size / 2).toString().toByteArray(UTF_8)
-        args += pushes
+    /** Whether this step publishes to its output source (and so needs a current view of its readers). */
+    val publishes: Boolean get() = published.isNotEmpty()
+
+    /** A batch like this one, empty: the part for one more entry. */
+    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules)
+
+    /**
+     * Stores the step: acknowledges [ack] entries, takes up to [take] new ones (and at most
+     * [StepRules.batchBytes], at least one). [strict]: a service queue this step publishes to must
+     * have room for all of its values (a publisher); otherwise it must merely not be full (a
+     * service's output, which may overshoot by one batch so it always makes progress).
+     */
+    fun execute(jedis: Jedis, ack: Int, take: Int, strict: Boolean = false): StepResult {
+        val view = if (published.isEmpty()) SourceView.NONE else checkNotNull(output!!.view) { "no view of the readers" }
+        val replyKeys = LinkedHashMap<ByteKey, Int>()
+        for (reply in replies) replyKeys.getOrPut(ByteKey(reply.key)) { replyKeys.size + 1 }
+        val keys = ArrayList<ByteArray>(8 + replyKeys.size + 2 * view.readers.size + view.services.size)
+        keys += processing
+        keys += input
+        keys += dead ?: processing
+        keys += deadTrimmed ?: processing
+        keys += next ?: processing
+        keys += output?.log ?: processing
+        keys += output?.readers ?: processing
+        keys += output?.services ?: processing
+        replyKeys.keys.forEach { keys += it.bytes }
+        keys += view.readers
+        keys += view.missed
+        keys += view.services
+        val args = ArrayList<ByteArray>(17 + view.services.size + nextValues.size + 3 * replies.size + deadValues.size + published.size)
+        args += number(ack)
+        args += number(take)
+        args += number(rules.batchBytes)
+        args += number(rules.maxEntryBytes)
+        args += number(output?.retention ?: 1)
+        args += number(rules.deadLetterLimit)
+        args += number(if (next == null) 0 else rules.queueLimit(next))
+        args += number(if (strict) 1 else 0)
+        args += rules.replyPrefix
+        args += number(rules.replyTtlMillis)
+        args += number(replyKeys.size)
+        args += number(view.readers.size)
+        args += number(view.services.size)
+        args += number(nextValues.size)
+        args += number(replies.size)
+        args += number(deadValues.size)
+        args += number(published.size)
+        view.services.forEach { args += number(rules.queueLimit(it)) }
+        args += nextValues
+        for (reply in replies) {
+            args += number(replyKeys.getValue(ByteKey(reply.key)))
+            args += number(reply.position)
+            args += reply.value
+        }
+        args += deadValues
         args += published
-        return Script.STEP.run(jedis, keys, args) as List<ByteArray>
+        return StepResult.parse(Script.STEP.run(jedis, keys, args), view)
+    }
+
+    /** Stores the step of a plain consumer; returns the entries taken next (already in the processing list). */
+    fun run(jedis: Jedis, ack: Int, take: Int): List<ByteArray> {
+        val result = execute(jedis, ack, take)
+        check(result is StepResult.Stored) { "a plain consumer's step was refused: $result" }
+        return result.taken.map { it.bytes }
+    }
+
+    companion object {
+        /** One step storing every part, in order; the parts' replies are checked against their own entries. */
+        fun combine(parts: List<StepBatch>): StepBatch {
+            val first = parts.first()
+            val whole = first.part()
+            parts.forEachIndexed { position, part ->
+                whole.nextValues += part.nextValues
+                part.replies.forEach { whole.replies += Reply(it.key, position, it.value) }
+                whole.deadValues += part.deadValues
+                whole.published += part.published
+                whole.ids += part.ids
+            }
+            return whole
+        }
+
+        private fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)
     }
 }
 
-/** The keys and retention of a source, for publishing to it. */
-internal class SourceKeys(val log: ByteArray, val readers: ByteArray, val retention: Int)
+/** Limits and namespaces every step of one core follows. */
+internal class StepRules(
+    /** Reply keys must start with it. */
+    val replyPrefix: ByteArray,
+    /** The expiry a reply list gets whenever a reply is pushed. */
+    val replyTtlMillis: Long,
+    /** The most dead letters kept per service. */
+    val deadLetterLimit: Int,
+    /** An entry above it is taken as its size and a prefix, not read whole. */
+    val maxEntryBytes: Int,
+    /** A step takes entries until they reach this many bytes (always at least one). */
+    val batchBytes: Int,
+    /** The queue limit of a service, by its input key. */
+    val queueLimit: (ByteArray) -> Int,
+) {
+    companion object {
+        const val DEFAULT_BATCH_BYTES: Int = 8 * 1024 * 1024
+
+        /** For consumers that only acknowledge and take. */
+        val PLAIN: StepRules = StepRules(ByteArray(0), 1, Int.MAX_VALUE, Int.MAX_VALUE, DEFAULT_BATCH_BYTES) { Int.MAX_VALUE }
+    }
+}
+
+/** An entry a step took: whole, or (above the largest entry size) its first bytes and its size. */
+internal class TakenEntry(val bytes: ByteArray, val size: Long) {
+    val isWhole: Boolean get() = bytes.size.toLong() == size
+}
+
+/** What the step script answered. */
+internal sealed class StepResult {
+    /** Stored; [missed] per reader of [view] (what retention trimmed from each), [taken] the next entries. */
+    class Stored(val taken: List<TakenEntry>, val missed: List<Long>, val view: SourceView) : StepResult()
+
+    /** The caller's view of the source's readers is out of date; nothing was stored. */
+    object Stale : StepResult()
+
+    /** The service queue [key] holds [length] of its [limit] entries; nothing was stored. */
+    class Full(val key: ByteArray, val length: Long, val limit: Long) : StepResult() {
+        override fun toString(): String = "Full[${key.toString(UTF_8)}: $length of $limit]"
+    }
+
+    companion object {
+        fun parse(reply: Any?, view: SourceView): StepResult {
+            val items = reply as List<*>
+            return when (val status = (items[0] as ByteArray).toString(UTF_8)) {
+                "OK" -> Stored(
+                    items.subList(2, items.size).map { item ->
+                        if (item is ByteArray) TakenEntry(item, item.size.toLong())
+                        else (item as List<*>).let { TakenEntry(it[1] as ByteArray, it[0] as Long) }
+                    },
+                    (items[1] as List<*>).map { it as Long },
+                    view,
+                )
+                "STALE" -> Stale
+                "FULL" -> Full(items[1] as ByteArray, items[2] as Long, items[3] as Long)
+                else -> throw IllegalStateException("unexpected answer of the step script: $status")
+            }
+        }
+    }
+}
+
+/** The keys and retention of a source, for publishing to it, and the publisher's view of its readers. */
+internal class SourceKeys(
+    val name: String,
+    val log: ByteArray,
+    val readers: ByteArray,
+    val services: ByteArray,
+    val retention: Int,
+) {
+    /** The reader and service lists this process last saw; the step script says when it is out of date. */
+    @Volatile
+    var view: SourceView? = null
+
+    /** Reads the source's reader and service sets (one round trip) into [view]. */
+    fun refreshView(jedis: Jedis, keys: Keys) {
+        val pipeline = jedis.pipelined()
+        val plain = pipeline.smembers(readers)
+        val queues = pipeline.smembers(services)
+        pipeline.sync()
+        val readerLists = plain.get().toList()
+        view = SourceView(readerLists, readerLists.map(keys::missedOf), queues.get().toList())
+    }
+}
+
+/** A publisher's view of a source: its plain reader lists (and their missed counters) and its service inputs. */
+internal class SourceView(val readers: List<ByteArray>, val missed: List<ByteArray>, val services: List<ByteArray>) {
+    companion object {
+        val NONE: SourceView = SourceView(emptyList(), emptyList(), emptyList())
+    }
+}
+
+/** A byte array as a map key (by content). */
+internal class ByteKey(val bytes: ByteArray) {
+    override fun equals(other: Any?): Boolean = other is ByteKey && bytes.contentEquals(other.bytes)
+
+    override fun hashCode(): Int = bytes.contentHashCode()
+}

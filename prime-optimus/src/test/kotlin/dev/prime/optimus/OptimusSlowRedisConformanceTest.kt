@@ -15,6 +15,9 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
 
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
+    /** A service's input is a queue on Optimus, never trimmed to the retention. */
+    override fun serviceInputIsAQueue(): Boolean = true
+
     /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
 

@@ -1,0 +1,165 @@
+package dev.prime.liberty;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertSame;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.ChainFailedException;
+import java.util.ArrayList;
+import java.util.List;
+import org.junit.jupiter.api.Test;
+
+/**
+ * The flat composition of linked chains, at every length around its run size: each block runs
+ * once and in order, and a failure at any position names that position's chain.
+ */
+class LibertyFlatCompositionTest {
+  private static final int LONGEST = 2 * Runs.MAX_LENGTH + 3;
+
+  @Test
+  void everyLengthRunsEveryBlockInOrder() {
+    try (LibertyCore core = new LibertyCore()) {
+      core.start();
+      for (int length = 1; length <= LONGEST; length++) {
+        Chain<List<Integer>, List<Integer>> chain = core.chain(appending(0));
+        for (int i = 1; i < length; i++) {
+          chain = chain.then(appending(i));
+        }
+        List<Integer> expected = new ArrayList<>();
+        for (int i = 0; i < length; i++) {
+          expected.add(i);
+        }
+        assertEquals(expected, chain.toBlock().process(List.of()), "length " + length);
+      }
+    }
+  }
+
+  @Test
+  void failureAtEveryPositionNamesThatPositionsChain() {
+    IllegalArgumentException boom = new IllegalArgumentException("boom");
+    try (LibertyCore core = new LibertyCore()) {
+      core.start();
+      for (int length = 1; length <= LONGEST; length++) {
+        for (int failing = 0; failing < length; failing++) {
+          Chain<Integer, Integer> chain = null;
+          for (int i = 0; i < length; i++) {
+            Block<Integer, Integer> block =
+                i == failing
+                    ? x -> {
+                      throw boom;
+                    }
+                    : x -> x + 1;
+            Chain<Integer, Integer> step = core.chain("n" + length + "-f" + failing + "-" + i, block);
+            chain = chain == null ? step : chain.then(step);
+          }
+          Block<Integer, Integer> block = chain.toBlock();
+          ChainFailedException e =
+              assertThrows(ChainFailedException.class, () -> block.process(0));
+          assertEquals("n" + length + "-f" + failing + "-" + failing, e.chainName());
+          assertSame(boom, e.getCause());
+        }
+      }
+    }
+  }
+
+  @Test
+  void foreignFailureAtAnyPositionPassesUnchanged() {
+    IllegalStateException boom = new IllegalStateException("foreign boom");
+    try (LibertyCore core = new LibertyCore();
+        LibertyCore other = new LibertyCore()) {
+      core.start();
+      other.start();
+      for (int failing = 0; failing < LONGEST; failing++) {
+        Chain<Integer, Integer> chain = null;
+        for (int i = 0; i < LONGEST; i++) {
+          Chain<Integer, Integer> step =
+              i == failing
+                  ? other.chain(
+                      "foreign-" + failing,
+                      x -> {
+                        throw boom;
+                      })
+                  : core.chain((Integer x) -> x + 1);
+          chain = chain == null ? step : core.link(chain, step);
+        }
+        Block<Integer, Integer> block = chain.toBlock();
+        ChainFailedException e = assertThrows(ChainFailedException.class, () -> block.process(0));
+        assertEquals("foreign-" + failing, e.chainName(), "the foreign chain named itself");
+        assertSame(boom, e.getCause());
+      }
+    }
+  }
+
+  @Test
+  void eachTierIsUsedFromItsLength() {
+    int run = Runs.MAX_LENGTH;
+    int sequence = Runs.MAX_LENGTH * RunSequences.MAX_RUNS;
+    assertEquals(Runs.Run1.class, shapeOf(1));
+    assertEquals(Runs.class, shapeOf(run).getEnclosingClass());
+    assertEquals(RunSequences.Seq2.class, shapeOf(run + 1));
+    assertEquals(RunSequences.class, shapeOf(sequence).getEnclosingClass());
+    assertEquals(RunLoop.class, shapeOf(sequence + 1));
+  }
+
+  @Test
+  void longChainsRunEveryBlockInOrderAndNameTheFailingOne() {
+    int sequence = Runs.MAX_LENGTH * RunSequences.MAX_RUNS;
+    IllegalArgumentException boom = new IllegalArgumentException("boom");
+    try (LibertyCore core = new LibertyCore()) {
+      core.start();
+      for (int length : new int[] {sequence, sequence + 1, 2 * sequence + Runs.MAX_LENGTH + 3}) {
+        assertEquals((long) length, adders(core, length, -1, boom).toBlock().process(0L));
+        for (int failing : new int[] {0, length / 2, length - 1}) {
+          Block<Long, Long> block = adders(core, length, failing, boom).toBlock();
+          ChainFailedException e = assertThrows(ChainFailedException.class, () -> block.process(0L));
+          assertEquals(name(length, failing, failing), e.chainName());
+          assertSame(boom, e.getCause());
+        }
+      }
+    }
+  }
+
+  private static Class<?> shapeOf(int length) {
+    try (LibertyCore core = new LibertyCore()) {
+      Chain<Integer, Integer> chain = core.chain((Integer x) -> x + 1);
+      for (int i = 1; i < length; i++) {
+        chain = chain.then((Integer x) -> x + 1);
+      }
+      core.start();
+      Block<Integer, Integer> block = chain.toBlock();
+      assertEquals(length, block.process(0));
+      return block.getClass();
+    }
+  }
+
+  /** {@code length} named chains adding one, the one at {@code failing} throwing instead. */
+  private static Chain<Long, Long> adders(
+      LibertyCore core, int length, int failing, RuntimeException boom) {
+    Chain<Long, Long> chain = null;
+    for (int i = 0; i < length; i++) {
+      Block<Long, Long> block =
+          i == failing
+              ? x -> {
+                throw boom;
+              }
+              : x -> x + 1;
+      Chain<Long, Long> step = core.chain(name(length, failing, i), block);
+      chain = chain == null ? step : chain.then(step);
+    }
+    return chain;
+  }
+
+  private static String name(int length, int failing, int position) {
+    return "l" + length + "-f" + failing + "-" + position;
+  }
+
+  private static Block<List<Integer>, List<Integer>> appending(int value) {
+    return list -> {
+      List<Integer> next = new ArrayList<>(list);
+      next.add(value);
+      return next;
+    };
+  }
+}

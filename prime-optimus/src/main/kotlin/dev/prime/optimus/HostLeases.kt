@@ -1,0 +1,138 @@
+package dev.prime.optimus
+
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.Pipeline
+import java.nio.charset.StandardCharsets.UTF_8
+import java.time.Duration
+import java.util.concurrent.ConcurrentHashMap
+
+/**
+ * The host leases of the services one core instance runs: a service has one host at a time.
+ *
+ * Design note. A host lease is a key holding the id of the instance that runs the service, set
+ * with `SET NX PX` semantics (in [LeaseScripts.HOST_CLAIM], which also renews a lease the instance
+ * holds) and renewed by the heartbeat every third of the lease time. [claim] waits at most one
+ * lease time (plus [CLAIM_MARGIN]) for a lease held by another instance to lapse, so a restarted
+ * worker takes over from a killed one; a live holder renews its lease and the claim fails. The
+ * set of held services is a concurrent set: [claim] runs on declaring threads, [renew] on the
+ * heartbeat thread.
+ */
+internal class HostLeases(
+    private val keys: Keys,
+    private val connections: RedisConnections,
+    private val instance: String,
+    private val leaseTime: Duration,
+) {
+    private val held: MutableSet<String> = ConcurrentHashMap.newKeySet()
+    private val instanceId = instance.toByteArray(UTF_8)
+    private val leaseMillis = leaseTime.toMillis().toString().toByteArray(UTF_8)
+
+    /** The services whose lease this instance holds. */
+    val services: Set<String> get() = held.toSet()
+
+    /**
+     * Claims the leases of [services], waiting up to one lease time for leases of other instances
+     * to lapse.
+     *
+     * @throws IllegalStateException naming each service another live instance still hosts (the
+     *     leases claimed by this call are released again)
+     */
+    fun claim(services: Collection<String>, coreName: String) {
+        if (services.isEmpty()) return
+        val started = System.nanoTime()
+        val deadline = started + leaseTime.toNanos() + CLAIM_MARGIN.toNanos()
+        val all = services.toList()
+        RedisSession(connections).use { session ->
+            while (true) {
+                // all of them each time: this renews the leases already claimed while others are awaited
+                val holders = session.retrying { claimOnce(it, all) }
+                val claimed = ArrayList<String>()
+                val refused = LinkedHashMap<String, String>()
+                var soonest = Long.MAX_VALUE
+                all.forEachIndexed { i, service ->
+                    val (holder, remaining) = holders[i]
+                    if (holder == instance) {
+                        claimed += service
+                    } else {
+                        refused[service] = holder
+                        soonest = minOf(soonest, remaining)
+                    }
+                }
+                if (refused.isEmpty()) {
+                    held += claimed
+                    return
+                }
+                val left = deadline - System.nanoTime()
+                if (left <= 0) {
+                    val described = refused.entries.joinToString("; ") { (service, holder) ->
+                        "service '$service' is already hosted by ${describe(session, holder)}"
+                    }
+                    if (claimed.isNotEmpty()) session.retrying { release(it, claimed) }
+                    val waited = Duration.ofNanos(System.nanoTime() - started).toMillis()
+                    throw IllegalStateException(
+                        "core '$coreName' cannot start: $described, which kept its host lease during the $waited ms " +
+                            "start() waited. A service has one host at a time: remove it from hosts(...) of one of the " +
+                            "processes, or stop the other one (the lease of a killed host lapses within the lease time, " +
+                            "${leaseTime.toMillis()} ms)",
+                    )
+                }
+                val wait = (soonest + 1).coerceIn(MIN_WAIT_MS, ceilMillis(left))
+                connections.pause(wait)
+            }
+        }
+    }
+
+    /**
+     * Renews every held lease (re-claiming one that is gone, after Redis lost its data or this
+     * instance was frozen); returns the services whose lease another instance holds now, with that
+     * holder. Those are no longer held.
+     */
+    fun renew(jedis: Jedis): Map<String, String> {
+        val services = held.toList()
+        if (services.isEmpty()) return emptyMap()
+        val holders = claimOnce(jedis, services)
+        val taken = LinkedHashMap<String, String>()
+        services.forEachIndexed { i, service ->
+            val holder = holders[i].first
+            if (holder != instance) {
+                taken[service] = holder
+                held -= service
+            }
+        }
+        return taken
+    }
+
+    /** Queues the release of every held lease (only where this instance still holds it). */
+    fun releaseAll(pipeline: Pipeline) {
+        val services = held.toList()
+        held.clear()
+        if (services.isNotEmpty()) LeaseScripts.HOST_RELEASE.queue(pipeline, services.map(keys::hostLease), listOf(instanceId))
+    }
+
+    /** Who [holder] is: its id and, while its instance lease lives, the process it names. */
+    fun describe(session: RedisSession, holder: String): String {
+        val process = try {
+            session.once { it.get(keys.instanceLease(holder)) }?.toString(UTF_8)
+        } catch (_: Exception) {
+            null
+        }
+        return "instance $holder" + (process?.let { " ($it)" } ?: "")
+    }
+
+    private fun claimOnce(jedis: Jedis, services: List<String>): List<Pair<String, Long>> {
+        val reply = LeaseScripts.HOST_CLAIM.run(jedis, services.map(keys::hostLease), listOf(instanceId, leaseMillis)) as List<*>
+        return services.indices.map { i -> (reply[2 * i] as ByteArray).toString(UTF_8) to (reply[2 * i + 1] as Long) }
+    }
+
+    private fun release(jedis: Jedis, services: List<String>) {
+        LeaseScripts.HOST_RELEASE.run(jedis, services.map(keys::hostLease), listOf(instanceId))
+    }
+
+    private companion object {
+        /** Slack over the lease time when waiting for another's lease to lapse (timer and network jitter). */
+        val CLAIM_MARGIN: Duration = Duration.ofMillis(200)
+        const val MIN_WAIT_MS = 10L
+
+        fun ceilMillis(nanos: Long): Long = ((nanos + 999_999) / 1_000_000).coerceAtLeast(1)
+    }
+}

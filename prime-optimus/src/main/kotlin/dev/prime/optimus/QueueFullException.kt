@@ -1,0 +1,21 @@
+package dev.prime.optimus
+
+import dev.prime.PrimeException
+
+/**
+ * A publish found a service's input queue full ([OptimusCore.Builder.queueLimit]) and no room
+ * came within [OptimusCore.Builder.publishTimeout]. Nothing of the publish was stored. The message
+ * names the service, its limit and what to do.
+ *
+ * @property service the service whose queue is full, as the user named it
+ * @property limit its queue limit
+ */
+public class QueueFullException internal constructor(
+    public val service: String,
+    public val limit: Int,
+    message: String,
+) : PrimeException(message) {
+    private companion object {
+        private const val serialVersionUID: Long = 1L
+    }
+}

@@ -1,0 +1,54 @@
+package dev.prime.optimus
+
+import org.slf4j.LoggerFactory
+import java.nio.charset.StandardCharsets.UTF_8
+import java.util.concurrent.ConcurrentHashMap
+
+/**
+ * Tells, at WARN, what plain readers miss: each publish learns from the step script how many
+ * values retention trimmed from each reader list; this adds them up per reader and logs at most
+ * one line per reader per [intervalNanos] with the count since its last line. (The total is also
+ * kept in Redis and read by `Reader.missed()`.) Memory: one small record per reader that missed
+ * something, at most [MAX_READERS] (then they start over).
+ */
+internal class ReaderMisses(
+    private val coreName: String,
+    private val intervalNanos: Long = 10_000_000_000L,
+    private val clock: () -> Long = System::nanoTime,
+    private val warn: (String) -> Unit = LOG::warn,
+) {
+    private class Tally(var pending: Long, var lastLine: Long)
+
+    private val tallies = ConcurrentHashMap<ByteKey, Tally>()
+
+    fun record(source: SourceKeys, view: SourceView, missed: List<Long>) {
+        for (index in missed.indices) {
+            val count = missed[index]
+            if (count > 0) record(source, view.readers[index], count)
+        }
+    }
+
+    private fun record(source: SourceKeys, reader: ByteArray, count: Long) {
+        if (tallies.size > MAX_READERS) tallies.clear()
+        val now = clock()
+        val tally = tallies.computeIfAbsent(ByteKey(reader)) { Tally(0, now - intervalNanos) }
+        val line = synchronized(tally) {
+            tally.pending += count
+            if (now - tally.lastLine < intervalNanos) return
+            tally.lastLine = now
+            val lost = tally.pending
+            tally.pending = 0
+            lost
+        }
+        warn(
+            "core '$coreName': reader ${reader.toString(UTF_8)} of source '${source.name}' missed $line value(s) " +
+                "(the source retains ${source.retention}; Reader.missed() gives the total): read faster or raise " +
+                "CoreConfig.sourceRetention",
+        )
+    }
+
+    private companion object {
+        const val MAX_READERS = 4096
+        val LOG = LoggerFactory.getLogger(ReaderMisses::class.java)
+    }
+}

@@ -1,0 +1,52 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.ErrorHandler
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.args.ListDirection
+import java.net.URI
+import java.time.Duration
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+
+/** Dead letters are capped (older ones trimmed and counted); reply lists get an expiry whenever a reply is pushed. */
+class DeadLetterCapTest {
+
+    @Test
+    fun deadLettersAreCappedAndTheTrimmedOnesCounted() {
+        val failed = CountDownLatch(5)
+        OptimusCore.builder().config(CoreConfig.builder().errorHandler(ErrorHandler { _, _, _ -> failed.countDown() }).build())
+            .redis(TestRedis.url).deadLetterLimit(3).build().use { core ->
+                val events = EventBlock<Int>()
+                core.source("numbers", events).then(core.chain("refuse") { x: Int -> throw IllegalArgumentException("bad $x") })
+                core.start()
+                (1..5).forEach(events::publish)
+                assertTrue(failed.await(20, TimeUnit.SECONDS))
+                val deadline = System.nanoTime() + Duration.ofSeconds(20).toNanos()
+                while (core.trimmedDeadLetters("refuse") < 2 && System.nanoTime() < deadline) Thread.sleep(10)
+                assertEquals(2L, core.trimmedDeadLetters("refuse"))
+                val reasons = core.deadLetters("refuse").map { it.reason }
+                assertEquals(3, reasons.size, reasons.toString())
+                assertTrue(reasons.map { it.substringAfterLast("bad ") }.containsAll(listOf("3", "4", "5")), reasons.toString())
+            }
+    }
+
+    @Test
+    fun aReplyListGetsAnExpiryWhenAReplyIsPushed() {
+        OptimusCore.builder().redis(TestRedis.url).build().use { core ->
+            core.chain("echo") { x: Int -> x }.toBlock()
+            core.start()
+            val reply = core.keys.reply("a-caller-that-died")
+            Jedis(URI(TestRedis.url)).use { raw ->
+                raw.rpush(core.keys.serviceInput("echo"), Envelope.request(77L, reply, core.encode(5)))
+                assertTrue(raw.blmove(reply, reply, ListDirection.LEFT, ListDirection.RIGHT, 20.0) != null, "no reply")
+                val ttl = raw.pttl(reply)
+                assertTrue(ttl in 1..Duration.ofMinutes(10).toMillis(), "the reply list expires in $ttl ms")
+            }
+        }
+    }
+}

@@ -1,0 +1,63 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import java.time.Duration
+import kotlin.system.exitProcess
+
+/**
+ * The worker process of the lease tests: `LeaseWorkerMain REDIS_URL CORE_NAME LEASE_MS MODE [N]`.
+ * - `readers N`: declares a source "numbers", makes N readers of it (which read nothing) and
+ *   starts, hosting nothing; prints `READY`.
+ * - `host`: declares [TwoProcessTopology] hosting [TwoProcessTopology.WORKER_SERVICES], prints
+ *   `DECLARED`, waits for a line `START`, starts, and prints `READY <ms start() took>`.
+ *
+ * Then it waits until its input ends or gives a line `STOP`, and prints `STOPPED`. A failing
+ * `start()` prints `FAILED <message>` and exits with 1.
+ */
+object LeaseWorkerMain {
+    @JvmStatic
+    fun main(args: Array<String>) {
+        if (args.size < 4) {
+            System.err.println("usage: LeaseWorkerMain REDIS_URL CORE_NAME LEASE_MS readers N | host")
+            exitProcess(2)
+        }
+        val mode = args[3]
+        val builder = OptimusCore.builder()
+            .config(CoreConfig.builder().name(args[1]).build())
+            .redis(args[0])
+            .leaseTime(Duration.ofMillis(args[2].toLong()))
+        builder.hosts(if (mode == "host") TwoProcessTopology.WORKER_SERVICES else emptyList()).build().use { core ->
+            when (mode) {
+                "readers" -> {
+                    val numbers = core.source("numbers", EventBlock<Int>())
+                    val readers = (0 until args[4].toInt()).map { numbers.reader() }
+                    core.start()
+                    println("READY with ${readers.size} readers")
+                }
+                "host" -> {
+                    TwoProcessTopology.declare(core, EventBlock())
+                    println("DECLARED")
+                    System.out.flush()
+                    if (generateSequence { readlnOrNull() }.firstOrNull { it.trim() == "START" } == null) return
+                    val started = System.nanoTime()
+                    try {
+                        core.start()
+                    } catch (e: IllegalStateException) {
+                        println("FAILED ${e.message}")
+                        System.out.flush()
+                        exitProcess(1)
+                    }
+                    println("READY ${(System.nanoTime() - started) / 1_000_000}")
+                }
+                else -> {
+                    System.err.println("unknown mode $mode")
+                    exitProcess(2)
+                }
+            }
+            System.out.flush()
+            generateSequence { readlnOrNull() }.firstOrNull { it.trim() == "STOP" }
+        }
+        println("STOPPED")
+    }
+}

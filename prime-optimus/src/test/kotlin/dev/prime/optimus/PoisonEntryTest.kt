@@ -1,0 +1,74 @@
+package dev.prime.optimus
+
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import java.net.URI
+import java.nio.charset.StandardCharsets.UTF_8
+import java.time.Duration
+
+/**
+ * Crafted entries cannot stop a service or make it write outside its namespace: a request whose
+ * reply key is another key of the topology, a key outside it, or a key of the wrong type is
+ * dead-lettered with the reason; a step that Redis refuses (WRONGTYPE on the next service's input)
+ * dead-letters the entries it could not store, one by one, and the service goes on.
+ */
+class PoisonEntryTest {
+
+    @Test
+    fun requestsWithForeignReplyKeysAreDeadLetteredAndTheServiceKeepsServing() {
+        OptimusCore.builder().redis(TestRedis.url).callTimeout(Duration.ofSeconds(20)).build().use { core ->
+            val echo = core.chain("echo") { x: Int -> x }.toBlock()
+            core.start()
+            val payload = core.encode(7)
+            val wrongKind = core.keys.reply("not-a-list")
+            Jedis(URI(TestRedis.url)).use { raw ->
+                raw.set(wrongKind, "a string".toByteArray())
+                val input = core.keys.serviceInput("echo")
+                raw.rpush(input, Envelope.request(1L, core.keys.codec, payload))
+                raw.rpush(input, Envelope.request(2L, "victim:list".toByteArray(UTF_8), payload))
+                raw.rpush(input, Envelope.request(3L, wrongKind, payload))
+                assertEquals(5, echo.process(5), "the service still serves")
+                assertFalse(raw.exists("victim:list"), "nothing was written outside the namespace")
+                assertEquals("string", raw.type(core.keys.codec))
+                assertEquals("string", raw.type(wrongKind))
+            }
+            val reasons = core.deadLetters("echo").map { it.reason }
+            assertEquals(3, reasons.size, reasons.toString())
+            assertTrue(reasons.all { "reply key" in it }, reasons.toString())
+            assertTrue("victim:list" in reasons[1], reasons[1])
+        }
+    }
+
+    @Test
+    fun aStepRedisRefusesDeadLettersItsEntriesAndTheServiceGoesOn() {
+        OptimusCore.builder().redis(TestRedis.url).build().use { core ->
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events)
+                .then(core.chain("first") { x: Int -> x + 1 }.then(core.chain("second") { x: Int -> x * 2 })).reader()
+            core.start()
+            val nextInput = core.keys.serviceInput("second")
+            Jedis(URI(TestRedis.url)).use { raw ->
+                raw.set(nextInput, "not a list".toByteArray())
+                events.publish(1)
+                events.publish(2)
+                events.publish(3)
+                val deadline = System.nanoTime() + PATIENCE.toNanos()
+                while (core.deadLetters("first").size < 3 && System.nanoTime() < deadline) Thread.sleep(20)
+                val reasons = core.deadLetters("first").map { it.reason }
+                assertEquals(3, reasons.size, reasons.toString())
+                assertTrue(reasons.all { "WRONGTYPE" in it }, reasons.toString())
+                raw.del(nextInput)
+            }
+            events.publish(10)
+            assertEquals(22, out.take(PATIENCE).orElseThrow(), "the service goes on once its next input is a list again")
+        }
+    }
+
+    private companion object {
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
+}

@@ -1,0 +1,104 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import java.net.URI
+import java.time.Duration
+import java.util.UUID
+import java.util.concurrent.CopyOnWriteArrayList
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+
+/**
+ * A service's queue is bounded: a publish that finds no room within the publish timeout is
+ * refused whole; a service feeding a full queue (an internal hop) waits and drops nothing.
+ */
+class QueueLimitTest {
+
+    @Test
+    fun aPublishToAFullQueueIsRefusedWithinTheTimeoutAndPublishesNothing() {
+        OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).queueLimit("slow", 10)
+            .publishTimeout(Duration.ofSeconds(1)).build().use { core ->
+                val events = EventBlock<Int>()
+                val numbers = core.source("numbers", events)
+                numbers.then(core.chain("slow") { x: Int -> x })
+                val reader = numbers.reader()
+                core.start()
+                core.publishAll(numbers, (0 until 10).toList())
+
+                val started = System.nanoTime()
+                val full = assertThrows(QueueFullException::class.java) { events.publish(10) }
+                val waited = Duration.ofNanos(System.nanoTime() - started)
+                assertTrue(waited >= Duration.ofMillis(900) && waited <= Duration.ofSeconds(2), "refused after $waited")
+                assertEquals("slow", full.service)
+                assertEquals(10, full.limit)
+                assertTrue("queueLimit(\"slow\"" in full.message!!, full.message)
+
+                assertThrows(QueueFullException::class.java) { core.publishAll(numbers, listOf(11, 12, 13)) }
+                assertEquals((0 until 10).toList(), reader.drain(), "the refused publishes published nothing")
+                Jedis(URI(TestRedis.url)).use { raw ->
+                    assertEquals(10L, raw.llen(core.keys.serviceInput("slow")))
+                    assertEquals(10L, raw.llen(core.keys.sourceLog("numbers")))
+                }
+            }
+    }
+
+    @Test
+    fun aBatchLargerThanTheLimitIsRefusedAtOnce() {
+        OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).queueLimit(5).build().use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            numbers.then(core.chain("small") { x: Int -> x })
+            core.start()
+            val started = System.nanoTime()
+            val full = assertThrows(QueueFullException::class.java) { core.publishAll(numbers, (0 until 6).toList()) }
+            assertTrue(Duration.ofNanos(System.nanoTime() - started) < Duration.ofSeconds(5))
+            assertTrue("6 values in one publish" in full.message!!, full.message)
+        }
+    }
+
+    @Test
+    fun aServiceFeedingAFullQueueWaitsAndDropsNothing() {
+        val config = CoreConfig.builder().name("hop-" + UUID.randomUUID()).build()
+        val seen = CopyOnWriteArrayList<Int>()
+        val all = CountDownLatch(VALUES)
+        OptimusCore.builder().config(config).redis(TestRedis.url).hosts("first").queueLimit("second", 5).build().use { front ->
+            val numbers = declare(front) { }
+            front.start()
+            front.publishAll(numbers, (0 until VALUES).toList())
+            Jedis(URI(TestRedis.url)).use { raw ->
+                val second = front.keys.serviceInput("second")
+                val deadline = System.nanoTime() + PATIENCE.toNanos()
+                while (raw.llen(second) < 5 && System.nanoTime() < deadline) Thread.sleep(10)
+                val waiting = raw.llen(second)
+                assertTrue(waiting in 5L..(5L + StageService.BATCH), "the next service's queue holds $waiting")
+                val upstream = raw.llen(front.keys.serviceInput("first")) + raw.llen(front.keys.serviceProcessing("first"))
+                assertEquals(VALUES.toLong(), waiting + upstream, "every value is in one of the queues")
+            }
+            OptimusCore.builder().config(config).redis(TestRedis.url).hosts("second").queueLimit("second", 5).build().use { back ->
+                declare(back) { x ->
+                    seen += x
+                    all.countDown()
+                }
+                back.start()
+                assertTrue(all.await(PATIENCE.seconds, TimeUnit.SECONDS), "${all.count} values did not arrive")
+            }
+        }
+        assertEquals((0 until VALUES).map { it + 1 }, seen.toList())
+    }
+
+    private fun declare(core: OptimusCore, record: (Int) -> Unit): dev.prime.Source<Int> {
+        val numbers = core.source("numbers", EventBlock<Int>())
+        numbers.then(core.chain("first") { x: Int -> x + 1 }.then(core.chain("second") { x: Int -> record(x); x }))
+        return numbers
+    }
+
+    private companion object {
+        const val VALUES = 300
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
+}

@@ -1,0 +1,54 @@
+package dev.prime.optimus
+
+import dev.prime.EventBlock
+import dev.prime.PrimeException
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import java.net.URI
+
+/** A Redis user that lacks a command or key Optimus needs gets a message that names it and where the list is. */
+class RedisAclTest {
+
+    @Test
+    fun aUserWithoutTheTopologysKeysIsToldWhichPatternToGrant() {
+        val user = "prime-otherkeys"
+        Jedis(URI(TestRedis.url)).use { admin ->
+            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~other:*", "&*", "+@all")
+        }
+        try {
+            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+            OptimusCore.builder().redis(url).config(dev.prime.CoreConfig.builder().name("locked").build()).build().use { core ->
+                val numbers = core.source("numbers", EventBlock<Int>())
+                val refused = assertThrows(PrimeException::class.java) { numbers.reader() }
+                val message = refused.message!!
+                assertTrue("'$user'" in message, message)
+                assertTrue("prime:{locked}:*" in message, message)
+            }
+        } finally {
+            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
+        }
+    }
+
+    @Test
+    fun aUserWithoutACommandOptimusNeedsIsToldWhichOne() {
+        val user = "prime-noscript"
+        Jedis(URI(TestRedis.url)).use { admin ->
+            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~*", "&*", "+@all", "-evalsha", "-eval")
+        }
+        try {
+            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+            OptimusCore.builder().redis(url).build().use { core ->
+                val numbers = core.source("numbers", EventBlock<Int>())
+                val refused = assertThrows(PrimeException::class.java) { numbers.reader() }
+                val message = refused.message!!
+                assertTrue("'$user'" in message, message)
+                assertTrue("evalsha" in message.lowercase(), message)
+                assertTrue("docs/architecture.md" in message, message)
+            }
+        } finally {
+            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
+        }
+    }
+}

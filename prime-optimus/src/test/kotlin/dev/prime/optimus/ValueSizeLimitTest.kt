@@ -1,0 +1,61 @@
+package dev.prime.optimus
+
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import java.net.URI
+import java.time.Duration
+import java.util.Optional
+
+/** Values above `maxValueBytes` are refused where they are given; entries above it found in Redis are dead-lettered with a prefix. */
+class ValueSizeLimitTest {
+
+    @Test
+    fun anOversizeValueIsRefusedAtPublishAndAtCall() {
+        OptimusCore.builder().redis(TestRedis.url).maxValueBytes(LIMIT).build().use { core ->
+            val events = EventBlock<ByteArray>()
+            val blobs = core.source("blobs", events)
+            val reader = blobs.reader()
+            val size = core.chain("size") { b: ByteArray -> b.size }.toBlock()
+            core.start()
+
+            val atPublish = assertThrows(ValueTooLargeException::class.java) { events.publish(ByteArray(2 * LIMIT)) }
+            assertTrue("$LIMIT" in atPublish.message!!, atPublish.message)
+            assertTrue("maxValueBytes" in atPublish.message!!, atPublish.message)
+            assertThrows(ValueTooLargeException::class.java) { core.publishAll(blobs, listOf(ByteArray(1), ByteArray(2 * LIMIT))) }
+            assertEquals(Optional.empty<ByteArray>(), reader.poll(), "nothing of a refused publish was published")
+
+            assertThrows(ValueTooLargeException::class.java) { size.process(ByteArray(2 * LIMIT)) }
+            assertEquals(10, size.process(ByteArray(10)), "the chain still answers")
+        }
+    }
+
+    @Test
+    fun oversizeEntriesFoundInRedisAreDeadLetteredWithOnlyAPrefixKept() {
+        OptimusCore.builder().redis(TestRedis.url).maxValueBytes(LIMIT).build().use { core ->
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events).then(core.chain("inc") { x: Int -> x + 1 }).reader()
+            core.start()
+            Jedis(URI(TestRedis.url)).use { raw ->
+                repeat(3) { i -> raw.rpush(core.keys.serviceInput("inc"), Envelope.value(1000L + i, ByteArray(HUGE) { 7 })) }
+            }
+            events.publish(1)
+            assertEquals(2, out.take(PATIENCE).orElseThrow())
+            val letters = core.deadLetters("inc")
+            assertEquals(3, letters.size, letters.toString())
+            for (letter in letters) {
+                assertTrue(letter.bytes().size <= DeadLetter.PREFIX_KEPT, "a dead letter kept ${letter.bytes().size} bytes")
+                assertTrue("over the limit" in letter.reason && "${HUGE + 11}" in letter.reason, letter.reason)
+            }
+        }
+    }
+
+    private companion object {
+        const val LIMIT = 64 * 1024
+        const val HUGE = 3 * 1024 * 1024
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
+}
