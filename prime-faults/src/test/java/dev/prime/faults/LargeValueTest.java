@@ -8,6 +8,7 @@ import dev.prime.EventBlock;
 import dev.prime.optimus.DeadLetter;
 import dev.prime.optimus.KryoCodec;
 import dev.prime.optimus.OptimusCore;
+import dev.prime.optimus.ValueTooLargeException;
 import java.util.List;
 import java.util.Map;
 import java.util.concurrent.atomic.AtomicReference;
@@ -80,7 +81,7 @@ class LargeValueTest {
       operation.run();
       return "accepted in " + Figures.seconds(System.nanoTime() - started);
     } catch (RuntimeException e) {
-      String kind = PendingApi.isValueTooLarge(e) ? "ValueTooLargeException" : e.getClass().getName();
+      String kind = e instanceof ValueTooLargeException ? "ValueTooLargeException" : e.getClass().getName();
       return "refused with " + kind + " in " + Figures.seconds(System.nanoTime() - started) + " (" + e.getMessage() + ")";
     }
   }

@@ -7,7 +7,6 @@ import dev.prime.EventBlock;
 import dev.prime.optimus.OptimusCore;
 import java.nio.file.Path;
 import java.time.Duration;
-import java.util.OptionalLong;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicReference;
@@ -91,13 +90,8 @@ class RedisRestartFaultTest {
       redis.kill();
       redis.restart(false);
       long restartedAt = System.nanoTime();
-      // each live process re-declares within about one heartbeat; without the API, wait that long anyway
-      long redeclared = -1;
-      if (PendingApi.redisResets(worker).isPresent()) {
-        redeclared = Bounded.await(Duration.ofSeconds(30), () -> counted(worker) && counted(collector));
-      } else {
-        Bounded.hold(Duration.ofSeconds(6));
-      }
+      // each live process re-declares what it hosts and reads within about one heartbeat
+      long redeclared = Bounded.await(Duration.ofSeconds(30), () -> worker.redisResets() >= 1 && collector.redisResets() >= 1);
 
       Ledger ledger = new Ledger(before, after);
       sink.set(ledger);
@@ -110,29 +104,18 @@ class RedisRestartFaultTest {
       }
       ledger.awaitAll(Duration.ofSeconds(20));
       Bounded.hold(Duration.ofMillis(300));
-      OptionalLong workerResets = PendingApi.redisResets(worker);
-      OptionalLong collectorResets = PendingApi.redisResets(collector);
+      long workerResets = worker.redisResets();
+      long collectorResets = collector.redisResets();
       Figures.report("redis-restart empty: " + ledger.counts() + " (published after it was back), redisResets() "
-          + text(workerResets) + " in the worker, " + text(collectorResets) + " in the collector, re-declared "
+          + workerResets + " in the worker, " + collectorResets + " in the collector, re-declared "
           + (redeclared < 0 ? "(not seen)" : "in " + Figures.seconds(redeclared)) + " after the restart ("
           + Figures.seconds(System.nanoTime() - restartedAt) + " to the end of the run)");
       assertEquals(0, ledger.lost(), "values published after Redis came back empty must arrive: " + ledger.counts());
       assertEquals(0, ledger.duplicated(), ledger.counts());
       assertEquals(0, ledger.reordered(), ledger.counts());
       assertEquals(0, ledger.refusedCount(), ledger.counts());
-      assertTrue(workerResets.isPresent(), "OptimusCore.redisResets() is missing (issue 9 item 2, branch opt-lease)");
-      assertTrue(workerResets.getAsLong() >= 1 && collectorResets.getAsLong() >= 1,
-          "both processes count the reset: " + workerResets + ", " + collectorResets);
+      assertTrue(workerResets >= 1 && collectorResets >= 1, "both processes count the reset: " + workerResets + ", " + collectorResets);
     }
-  }
-
-  private static boolean counted(OptimusCore core) {
-    OptionalLong resets = PendingApi.redisResets(core);
-    return resets.isPresent() && resets.getAsLong() >= 1;
-  }
-
-  private static String text(OptionalLong value) {
-    return value.isPresent() ? Long.toString(value.getAsLong()) : "n/a";
   }
 
   /** Publishes ids {@code first..first+n-1}, pausing after {@code pauseAfter} until {@code resume}. */
