@@ -12,11 +12,12 @@ import java.util.Locale;
 /**
  * The one summary line each fault test prints with its figures, e.g. {@code kill-worker SIGKILL
  * run 1/2: 2000 sent, 0 lost, 0 duplicated, 0 reordered, recovered in 0.41 s}. Lines go to
- * standard output and are appended to {@code target/fault-figures.txt}, so a run's figures can be
- * quoted as they are.
+ * standard output and to {@code target/fault-figures.txt} (started afresh by each run), so a
+ * run's figures can be quoted as they are.
  */
 final class Figures {
   private static final Path FILE = Path.of("target", "fault-figures.txt");
+  private static boolean started; // guarded by Figures.class: the first line of a run starts a new file
 
   private Figures() {}
 
@@ -26,8 +27,9 @@ final class Figures {
     System.out.println(full);
     try {
       Files.createDirectories(FILE.getParent());
-      Files.writeString(FILE, full + System.lineSeparator(), StandardCharsets.UTF_8,
-          StandardOpenOption.CREATE, StandardOpenOption.APPEND);
+      Files.writeString(FILE, full + System.lineSeparator(), StandardCharsets.UTF_8, StandardOpenOption.CREATE,
+          started ? StandardOpenOption.APPEND : StandardOpenOption.TRUNCATE_EXISTING);
+      started = true;
     } catch (IOException e) {
       throw new UncheckedIOException("cannot write " + FILE.toAbsolutePath(), e);
     }
