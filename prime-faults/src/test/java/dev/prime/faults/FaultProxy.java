@@ -117,11 +117,6 @@ final class FaultProxy implements AutoCloseable {
     cutPattern.set(pattern.clone());
   }
 
-  /** Whether the armed cut is still waiting for its write. */
-  boolean cutPending() {
-    return cutPattern.get() != null;
-  }
-
   /** How many connections were cut after a marked client write was answered. */
   int cutsDone() {
     return cuts.get();

@@ -36,11 +36,6 @@ final class Ledger {
     this.count = count;
   }
 
-  /** The number of ids this ledger expects. */
-  int sent() {
-    return count;
-  }
-
   /** Records the arrival of {@code id}, processed by {@code tag}. */
   synchronized void arrived(long id, int tag) {
     arrivals++;

@@ -4,7 +4,6 @@ import dev.prime.CoreClosedException;
 import dev.prime.Reader;
 import java.time.Duration;
 import java.util.Optional;
-import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicReference;
 import java.util.concurrent.locks.LockSupport;
 
@@ -21,7 +20,6 @@ final class LedgerFeed implements AutoCloseable {
   private static final Duration MAX_LIFE = Duration.ofMinutes(30);
 
   private final Thread thread;
-  private final AtomicInteger readFailures = new AtomicInteger();
   private volatile boolean closed;
 
   private LedgerFeed(Reader<Long> reader, AtomicReference<Ledger> sink, String name) {
@@ -33,11 +31,6 @@ final class LedgerFeed implements AutoCloseable {
   /** Starts feeding {@code sink}'s ledger from {@code reader} (call after the core's {@code start()}). */
   static LedgerFeed start(Reader<Long> reader, AtomicReference<Ledger> sink, String name) {
     return new LedgerFeed(reader, sink, name);
-  }
-
-  /** Reads that failed (Redis unreachable) and were retried. */
-  int readFailures() {
-    return readFailures.get();
   }
 
   @Override
@@ -65,8 +58,7 @@ final class LedgerFeed implements AutoCloseable {
       } catch (InterruptedException e) {
         return;
       } catch (RuntimeException e) {
-        readFailures.incrementAndGet(); // Redis unreachable: try again shortly
-        LockSupport.parkNanos(POLL.toNanos());
+        LockSupport.parkNanos(POLL.toNanos()); // Redis unreachable: try again shortly
       }
     }
   }

@@ -15,17 +15,8 @@ final class TopologyKeys {
     this.prefix = "prime:{" + coreName + "}:";
   }
 
-  /** Every key of the topology, as a SCAN pattern. */
-  String all() {
-    return prefix + "*";
-  }
-
   String serviceInput(String service) {
     return prefix + "svc:" + service + ":in";
-  }
-
-  String deadLetters(String service) {
-    return prefix + "svc:" + service + ":dead";
   }
 
   String sourceReaders(String source) {

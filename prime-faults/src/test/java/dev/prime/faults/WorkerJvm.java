@@ -97,14 +97,6 @@ final class WorkerJvm implements AutoCloseable {
         .orElseThrow(() -> new AssertionError("worker " + name + " did not print READY; output:\n" + output()));
   }
 
-  long pid() {
-    return process.pid();
-  }
-
-  boolean isAlive() {
-    return process.isAlive();
-  }
-
   /** Kills the worker with SIGKILL and waits until it is gone. */
   void kill() {
     process.destroyForcibly();
