@@ -679,6 +679,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         )
     }
 
+    /** Runs [action]; a Redis ACL refusal it meets becomes a [dev.prime.PrimeException] saying what to grant. */
+    internal inline fun <T> explainingRefusals(what: String, action: () -> T): T = try {
+        action()
+    } catch (e: JedisDataException) {
+        if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
+        throw e
+    }
+
     /** Runs [action] on a pooled session; an ACL refusal becomes a [dev.prime.PrimeException] saying what to grant. */
     private fun <T> withSession(what: String = "a Redis command", action: (RedisSession) -> T): T {
         val session = publishers.poll() ?: RedisSession(connections)
