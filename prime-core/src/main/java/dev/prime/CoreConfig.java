@@ -143,6 +143,11 @@ public final class CoreConfig {
     }
 
     /**
+     * How many of its latest values each source keeps for plain readers and collectors, which
+     * skip (and count as missed) what falls out of it; on the in-memory media also how many
+     * values a service's input holds before a publish waits for room (see {@link
+     * #publishTimeout(Duration)}).
+     *
      * @param values how many values each source keeps, at least 1
      * @return this builder
      */

@@ -21,8 +21,8 @@ import java.util.concurrent.locks.ReentrantLock;
  * <p>Design: values go into a ring buffer of {@code retention} slots, indexed by a global
  * sequence number. A reader is just a cursor (the sequence number of its next value), so any
  * number of readers cost no memory per value, late readers start at the oldest retained value,
- * and a reader that falls more than {@code retention} behind skips to the oldest retained value
- * and counts what it missed. Memory is bounded by the retention whatever the readers do.
+ * and a plain reader that falls more than {@code retention} behind skips to the oldest retained
+ * value and counts what it missed. Memory is bounded by the retention whatever the readers do.
  *
  * <p>Service inputs are queues: a reader made by {@link #serviceInput(String)} (the input of an
  * in-process service) gates the publishers, like a gating sequence of a Disruptor. A publish never
