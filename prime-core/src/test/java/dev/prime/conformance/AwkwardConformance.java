@@ -212,6 +212,61 @@ public interface AwkwardConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A service that publishes into its own input waits for itself when that input is full: the
+   * publish fails with {@link QueueFullException} after the publish timeout (never a hang), the
+   * failure goes to the error handler, and the service goes on with the values that fitted.
+   */
+  @Test
+  default void aServiceFeedingItsOwnFullInputFailsThatPublishInsteadOfHanging()
+      throws InterruptedException {
+    int capacity = 2;
+    Duration timeout = Duration.ofMillis(200);
+    java.util.concurrent.atomic.AtomicReference<Throwable> reported =
+        new java.util.concurrent.atomic.AtomicReference<>();
+    CountDownLatch failed = new CountDownLatch(1);
+    CountDownLatch lastDone = new CountDownLatch(1);
+    List<Integer> heard = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(timeout)
+            .errorHandler(
+                (service, input, error) -> {
+                  reported.compareAndSet(null, error);
+                  failed.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .listen(
+              (Integer x) -> {
+                heard.add(x);
+                if (x == 0) {
+                  for (int i = 1; i <= capacity + 1; i++) {
+                    events.publish(i); // the last finds its own input full
+                  }
+                }
+                if (x == capacity) {
+                  lastDone.countDown();
+                }
+              });
+      core.start();
+      long began = System.nanoTime();
+      events.publish(0);
+      assertTrue(failed.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(
+          reported.get() instanceof QueueFullException,
+          "the error handler got " + reported.get());
+      assertTrue(
+          took.compareTo(timeout.plusSeconds(1)) <= 0,
+          "failed within the publish timeout and a second, took " + took);
+      assertTrue(lastDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(0, 1, 2), heard, "the values that fitted, and not the refused one");
+    }
+  }
+
   @Test
   default void manyChainsOnOneSource() throws InterruptedException {
     int chains = 8;
