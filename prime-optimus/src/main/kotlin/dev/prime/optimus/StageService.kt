@@ -55,9 +55,13 @@ internal class StageService(
     private val processing = core.keys.serviceProcessing(name)
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
+        core.hostFence(name),
     )
     private val rules = core.stepRules
     private val recent = RecentIds()
+
+    /** The reply owed to a caller whose request's block threw a [VirtualMachineError] (see [loop]). */
+    private var fatalReply: Pair<ByteArray, ByteArray>? = null
 
     suspend fun run() {
         RedisSession(core.connections).use { session -> loop(session) }
@@ -86,7 +90,11 @@ internal class StageService(
                 backoff.reset()
             } catch (e: CancellationException) {
                 throw e
+            } catch (e: HostingLost) {
+                core.hostingLost(session, name, e.holder)
+                return
             } catch (e: VirtualMachineError) {
+                replyFatal(session)
                 LOG.error("service '{}' stops: {}", name, e.toString())
                 throw e
             } catch (e: Throwable) {
@@ -201,6 +209,13 @@ internal class StageService(
                     return result
                 }
                 is StepResult.Stale -> output!!.view = null
+                is StepResult.Fenced -> {
+                    if (result.holder.isNotEmpty()) throw HostingLost(result.holder)
+                    // nobody holds the lease (it lapsed during a pause, or Redis lost it): the heartbeat re-claims it
+                    if (backoff == null) LOG.info("service '{}' waits for its host lease to be renewed", name)
+                    delay((backoff ?: Backoff().also { backoff = it }).next())
+                    if (core.connections.isClosed) throw CoreClosedException(core.name())
+                }
                 is StepResult.Full -> {
                     if (backoff == null) {
                         LOG.warn(
@@ -214,6 +229,28 @@ internal class StageService(
             }
         }
     }
+
+    /**
+     * Pushes the reply owed to a caller whose block threw a [VirtualMachineError], alone (nothing
+     * acknowledged: the request stays in the processing list, as after a crash), so the caller
+     * fails at once rather than at its call timeout. Best effort and bounded: one attempt, and any
+     * throwable (another OutOfMemoryError) is ignored, for the error being thrown matters more.
+     * The stack is unwound by now, so a StackOverflowError leaves room for it.
+     */
+    private fun replyFatal(session: RedisSession) {
+        val (key, reply) = fatalReply ?: return
+        fatalReply = null
+        try {
+            val step = empty.part()
+            step.reply(key, reply)
+            session.once { step.execute(it, ack = 0, take = 0) }
+        } catch (_: Throwable) {
+            // the caller waits for its timeout, as before
+        }
+    }
+
+    /** A step found this service's host lease held by another instance ([holder]): the service stops, storing nothing. */
+    private class HostingLost(val holder: String) : Exception("the host lease is held by instance $holder")
 
     /** One entry of a batch and what its handling stores. */
     private class Part(val entry: TakenEntry, val batch: StepBatch)
@@ -274,6 +311,9 @@ internal class StageService(
                 step.reply(replyTo, Envelope.replyOk(envelope.id, payload))
             }
         } catch (e: VirtualMachineError) {
+            // the caller gets it promptly (see replyFatal), this service then ends
+            fatalReply = replyTo to Envelope.replyError(envelope.id, name, e.toString())
+            core.rememberFailure(envelope.id, e)
             throw e
         } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)
