@@ -29,7 +29,8 @@ class FrozenHostTest {
                 val numbers = EventBlock<Int>()
                 val output = TwoProcessTopology.declare(core, numbers).output.reader()
                 core.start()
-                val args = arrayOf(redis.uri, name, LEASE.toMillis().toString(), "host")
+                // a host busy in its block (1 ms a value) is almost always in the middle of a step when frozen
+                val args = arrayOf(redis.uri, name, LEASE.toMillis().toString(), "host", "1")
                 WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { frozen ->
                     frozen.awaitLine("DECLARED")
                     frozen.send("START")
