@@ -15,4 +15,5 @@ public interface MediaConformance
         ThrowableConformance,
         AtomicLinkConformance,
         InterruptConformance,
-        ValueCopyConformance {}
+        ValueCopyConformance,
+        LongChainConformance {}

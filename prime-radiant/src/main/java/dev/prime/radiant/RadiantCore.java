@@ -21,6 +21,11 @@ import java.util.function.Predicate;
  * method, so a linked chain runs at the speed of hand-written calls, and its blocks stay inlinable
  * however many different chains the program has.
  *
+ * <p>A chain of more than 200 call sites (blocks, conditions, template code) is too long for one
+ * method that the JIT still compiles; it is split into several generated classes, each holding a
+ * segment of the chain, run one after the other by a small driver class, so chains of any length
+ * (100,000 links and more) compile and run on a default thread stack.
+ *
  * <pre>{@code
  * try (PrimeCore core = new RadiantCore()) {
  *   Block<Integer, Integer> plusThree =

@@ -3,7 +3,9 @@ package dev.prime.radiant.internal;
 import dev.prime.Block;
 import dev.prime.EventBlock;
 import java.lang.reflect.Modifier;
+import java.util.ArrayDeque;
 import java.util.ArrayList;
+import java.util.Deque;
 import java.util.IdentityHashMap;
 import java.util.List;
 import java.util.Map;
@@ -11,8 +13,10 @@ import java.util.function.Predicate;
 
 /**
  * The static fields of a fused class: one per distinct object the chain calls, typed with the
- * object's own class when the generated class can name it (public, not hidden, exported, visible
- * to Prime's loader), else with the interface it is called through.
+ * object's own class when the generated class can name it (public, not hidden, exported, and
+ * resolved to the same class by the generated class's loader: Prime's classes, the user's classes
+ * Prime's loader sees, and the other classes of the same chain), else with the interface it is
+ * called through.
  */
 final class ConstantFields {
 
@@ -29,25 +33,25 @@ final class ConstantFields {
     }
   }
 
-  private final ClassLoader prime;
+  private final ClassLoader resolving;
   private final List<Field> fields = new ArrayList<>();
   private final Map<Object, Field> blocks = new IdentityHashMap<>();
   private final Map<Object, Field> predicates = new IdentityHashMap<>();
   private final Map<Object, Field> events = new IdentityHashMap<>();
 
-  private ConstantFields(ClassLoader prime) {
-    this.prime = prime;
+  private ConstantFields(ClassLoader resolving) {
+    this.resolving = resolving;
   }
 
   /**
    * Lays out the fields for every constant in a tree.
    *
    * @param root the tree
-   * @param prime the parent loader of the generated class
+   * @param resolving the loader of the generated class
    * @return the layout
    */
-  static ConstantFields of(Node root, ClassLoader prime) {
-    ConstantFields layout = new ConstantFields(prime);
+  static ConstantFields of(Node root, ClassLoader resolving) {
+    ConstantFields layout = new ConstantFields(resolving);
     layout.collect(root);
     return layout;
   }
@@ -86,13 +90,27 @@ final class ConstantFields {
       return false;
     }
     try {
-      return Class.forName(type.getName(), false, prime) == type;
+      return Class.forName(type.getName(), false, resolving) == type;
     } catch (ClassNotFoundException | LinkageError notVisible) {
       return false;
     }
   }
 
-  private void collect(Node node) {
+  /** Visits the tree in pre-order (the fields' order), with an explicit stack. */
+  private void collect(Node root) {
+    Deque<Node> pending = new ArrayDeque<>();
+    pending.push(root);
+    while (!pending.isEmpty()) {
+      Node node = pending.pop();
+      collectOwn(node);
+      List<Node> children = node.children();
+      for (int i = children.size() - 1; i >= 0; i--) {
+        pending.push(children.get(i));
+      }
+    }
+  }
+
+  private void collectOwn(Node node) {
     if (node instanceof Node.Leaf leaf) {
       block(leaf.block());
     } else if (node instanceof Node.Opaque opaque) {
@@ -104,9 +122,6 @@ final class ConstantFields {
     } else if (node instanceof Node.Guard guard) {
       predicate(guard.pass());
       block(guard.substitute());
-    }
-    for (Node child : node.children()) {
-      collect(child);
     }
   }
 }

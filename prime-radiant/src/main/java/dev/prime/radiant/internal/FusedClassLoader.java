@@ -1,10 +1,12 @@
 package dev.prime.radiant.internal;
 
 /**
- * The class loader of one fused class.
+ * The class loader of one fused chain: its class, and for a long chain its segment classes.
  *
- * <p>Design note. Each fused class gets a loader of its own, so the class (and its loader) can be
- * unloaded as soon as the block is no longer referenced. Hidden classes
+ * <p>Design note. Each fused chain gets a loader of its own, so its classes (and the loader) can
+ * be unloaded as soon as the chain's block is no longer referenced. The classes of one chain
+ * refer to each other by name (a driver calls its segments by their own type), which this loader
+ * resolves because it defined them. Hidden classes
  * ({@code Lookup.defineHiddenClass}) would be unloadable too, but the JVM leaves their frames out
  * of stack traces and of {@code StackWalker} by default, and Radiant promises that a failing
  * user block shows up directly under the fused chain that called it. The parent is the loader of

@@ -2,35 +2,42 @@ package dev.prime.radiant.internal;
 
 import dev.prime.Block;
 import java.lang.reflect.InvocationTargetException;
-import java.util.ArrayList;
-import java.util.List;
 import java.util.concurrent.atomic.AtomicLong;
+import java.util.function.Consumer;
 import net.bytebuddy.ByteBuddy;
 import net.bytebuddy.ClassFileVersion;
 import net.bytebuddy.asm.AsmVisitorWrapper;
 import net.bytebuddy.description.modifier.TypeManifestation;
 import net.bytebuddy.description.modifier.Visibility;
-import net.bytebuddy.dynamic.DynamicType;
 import net.bytebuddy.implementation.FixedValue;
 import net.bytebuddy.implementation.Implementation;
 import net.bytebuddy.jar.asm.ClassWriter;
-import net.bytebuddy.jar.asm.Opcodes;
 import net.bytebuddy.matcher.ElementMatchers;
 import net.bytebuddy.pool.TypePool;
 
 /**
- * Compiles a {@link Node} tree into one generated class implementing {@link Block}.
+ * Compiles a {@link Node} tree into generated classes implementing {@link Block}.
  *
- * <p>Design note. The class is written with ByteBuddy ({@link ProcessEmitter} writes the method
- * body through ByteBuddy's ASM), defined in a {@link FusedClassLoader} of its own (so it is
- * unloaded with its block) and handed its constants through {@link FusedConstants}. One tree gives
- * one class, except for very large trees: HotSpot neither compiles methods over 8000 bytes of
- * bytecode nor inlines into them much, so a tree with more than {@link #MAX_SITES} call sites is
- * cut: its heaviest subtrees are compiled first, each into a class of its own, and called from the
- * outer class as one opaque block. Thread-safe and stateless apart from a counter for class names.
+ * <p>Design note. A class is written with ByteBuddy ({@link ProcessEmitter} writes the method body
+ * through ByteBuddy's ASM), defined in the {@link FusedClassLoader} of its chain (so it is
+ * unloaded with the chain's block) and handed its constants through {@link FusedConstants}. A
+ * chain of up to {@link #MAX_SITES} call sites, templates included, is one class with one
+ * straight-line {@code process} method, small enough for the JIT to compile and to inline every
+ * block into. Longer chains are split by {@link TreeSplitter}: HotSpot never compiles a method
+ * over 8000 bytes of bytecode ({@code HugeMethodLimit}), a method has at most 64 KB of code, and a
+ * class's constant pool at most 65535 entries, so a chain of n blocks becomes about
+ * n / {@code MAX_SITES} segment classes run one after the other by a small driver class (drivers
+ * of drivers past {@code MAX_SITES} segments). Every class keeps its own call sites, so profiles
+ * stay monomorphic in every segment. Nothing here recurses over the tree: chains of 100,000
+ * links compile on a default thread stack. Thread-safe and stateless apart from a counter for
+ * class names.
  */
 public final class FusedCompiler {
-  /** Most call sites in one generated method (each 12 to 20 bytes of bytecode). */
+  /**
+   * Most call sites in one generated method (each 7 to 20 bytes of bytecode, plus 6 bytes per
+   * distinct chain name in the failure handlers: at most about 5 KB, under HotSpot's 8000-byte
+   * limit for compiling a method at all).
+   */
   public static final int MAX_SITES = 200;
 
   private static final String PACKAGE = "dev.prime.radiant.fused.";
@@ -48,79 +55,70 @@ public final class FusedCompiler {
   /**
    * Compiles a chain.
    *
-   * @param chainName the chain's name (for the class name, its loader and {@code toString})
+   * @param chainName the chain's name (for the class names, their loader and {@code toString})
    * @param root the chain's tree
    * @param <I> input type
    * @param <O> output type
-   * @return a new instance of the generated class
+   * @return a new instance of the generated class that runs the whole chain
    */
   public static <I, O> Block<I, O> compile(String chainName, Node root) {
-    return define(chainName, fit(chainName, root));
+    return compile(chainName, root, bytes -> {});
   }
 
-  /** Cuts subtrees off until no method has more than {@link #MAX_SITES} call sites. */
-  private static Node fit(String chainName, Node node) {
-    List<Node> children = node.children();
-    if (!children.isEmpty()) {
-      List<Node> fitted = new ArrayList<>(children.size());
-      for (Node child : children) {
-        fitted.add(fit(chainName, child));
-      }
-      node = node.withChildren(fitted);
-    }
-    while (node.sites() > MAX_SITES) {
-      List<Node> parts = new ArrayList<>(node.children());
-      int heaviest = 0;
-      for (int i = 1; i < parts.size(); i++) {
-        if (parts.get(i).sites() > parts.get(heaviest).sites()) {
-          heaviest = i;
-        }
-      }
-      if (parts.get(heaviest).sites() <= 1) {
-        break; // nothing left to cut: the node itself is small
-      }
-      parts.set(heaviest, new Node.Opaque(define(chainName, parts.get(heaviest))));
-      node = node.withChildren(parts);
-    }
-    return node;
+  /**
+   * Compiles a chain and shows every class file written (for tests of the class-file limits).
+   *
+   * @param chainName the chain's name
+   * @param root the chain's tree
+   * @param classFiles receives each class file, segments first, the chain's own class last
+   * @return a new instance of the generated class that runs the whole chain
+   */
+  static <I, O> Block<I, O> compile(String chainName, Node root, Consumer<byte[]> classFiles) {
+    FusedClassLoader loader =
+        new FusedClassLoader(chainName, FusedCompiler.class.getClassLoader());
+    TreeSplitter splitter =
+        new TreeSplitter(
+            MAX_SITES,
+            piece ->
+                define(loader, chainName, "part of fused Radiant chain '", piece, classFiles));
+    return define(
+        loader, chainName, "fused Radiant chain '", splitter.split(root), classFiles);
   }
 
-  private static <I, O> Block<I, O> define(String chainName, Node root) {
-    ClassLoader prime = FusedCompiler.class.getClassLoader();
-    ConstantFields fields = ConstantFields.of(root, prime);
+  private static <I, O> Block<I, O> define(
+      FusedClassLoader loader,
+      String chainName,
+      String description,
+      Node root,
+      Consumer<byte[]> classFiles) {
+    ConstantFields fields = ConstantFields.of(root, loader);
     String binaryName = PACKAGE + "Fused_" + identifier(chainName) + "_" + CLASSES.incrementAndGet();
     String owner = binaryName.replace('.', '/');
     ProcessEmitter emitter = new ProcessEmitter(root, fields, owner);
 
-    DynamicType.Builder<Object> builder =
+    Object[] values = new Object[fields.all().size()];
+    for (int i = 0; i < values.length; i++) {
+      values[i] = fields.all().get(i).value();
+    }
+    byte[] bytes =
         new ByteBuddy(ClassFileVersion.JAVA_V17)
             .subclass(Object.class)
             .name(binaryName)
             .modifiers(Visibility.PUBLIC, TypeManifestation.FINAL)
-            .implement(Block.class);
-    Object[] values = new Object[fields.all().size()];
-    for (int i = 0; i < values.length; i++) {
-      ConstantFields.Field field = fields.all().get(i);
-      builder =
-          builder.defineField(
-              field.name(),
-              field.type(),
-              Opcodes.ACC_PRIVATE | Opcodes.ACC_STATIC | Opcodes.ACC_FINAL);
-      values[i] = field.value();
-    }
-    byte[] bytes =
-        builder
+            .implement(Block.class)
             .initializer(emitter.initializer())
             .defineMethod("process", Object.class, Visibility.PUBLIC)
             .withParameters(Object.class)
             .intercept(new Implementation.Simple(emitter))
             .method(ElementMatchers.named("toString"))
-            .intercept(FixedValue.value("fused Radiant chain '" + chainName + "'"))
+            .intercept(FixedValue.value(description + chainName + "'"))
             .visit(new AsmVisitorWrapper.ForDeclaredMethods().writerFlags(ClassWriter.COMPUTE_FRAMES))
+            .visit(new StaticFieldsWriter(fields))
             .make(TYPES)
             .getBytes();
 
-    Class<?> type = new FusedClassLoader(chainName, prime).define(binaryName, bytes);
+    classFiles.accept(bytes);
+    Class<?> type = loader.define(binaryName, bytes);
     FusedConstants.initialize(type, values);
     try {
       @SuppressWarnings("unchecked")

@@ -13,6 +13,12 @@ import java.util.function.Predicate;
  *
  * <p>Every node that runs code of its own (a condition, a substitute, a publication) carries the
  * name of its chain, so a failure there is reported as that chain's, as in the other media.
+ *
+ * <p>Linking builds a binary {@link Link} per {@code then}, so a chain of n links is a tree n deep.
+ * Nothing walks a tree recursively: the compiler flattens spines of links into {@link Sequence}s
+ * and visits nodes with explicit stacks, and {@code toString} of a node shows its kind and its
+ * children's kinds only. ({@code equals} and {@code hashCode} are the records' own and do
+ * descend: the compiler keys its maps by identity, never by node.)
  */
 public sealed interface Node {
 
@@ -27,17 +33,12 @@ public sealed interface Node {
    */
   Node withChildren(List<Node> children);
 
-  /** Call sites this node emits itself, children excluded: a measure of method size. */
+  /**
+   * Call sites this node emits itself, children excluded: a measure of method size. (A subtree's
+   * total is summed by {@link TreeSplitter} while it walks the tree, never recursively: trees are
+   * as deep as chains are long.)
+   */
   int ownSites();
-
-  /** Call sites of the whole subtree. */
-  default int sites() {
-    int sum = ownSites();
-    for (Node child : children()) {
-      sum += child.sites();
-    }
-    return sum;
-  }
 
   /**
    * A block the media does not look inside, called through its own call site; what it throws
@@ -104,6 +105,11 @@ public sealed interface Node {
    * @param second runs on its output
    */
   record Link(Node first, Node second) implements Node {
+    public Link {
+      Objects.requireNonNull(first, "first");
+      Objects.requireNonNull(second, "second");
+    }
+
     @Override
     public List<Node> children() {
       return List.of(first, second);
@@ -117,6 +123,46 @@ public sealed interface Node {
     @Override
     public int ownSites() {
       return 0;
+    }
+
+    @Override
+    public String toString() {
+      return shallow(this);
+    }
+  }
+
+  /**
+   * {@code steps[n-1](...steps[1](steps[0](x)))}: a spine of {@link Link}s flattened, which is
+   * how the compiler sees links (the cores build binary links, one per {@code then}).
+   *
+   * @param steps two or more nodes (the compiler flattens links and sequences among them too)
+   */
+  record Sequence(List<Node> steps) implements Node {
+    public Sequence {
+      if (steps.size() < 2) {
+        throw new IllegalArgumentException("a sequence has 2 or more steps, not " + steps.size());
+      }
+      steps = List.copyOf(steps);
+    }
+
+    @Override
+    public List<Node> children() {
+      return steps;
+    }
+
+    @Override
+    public Node withChildren(List<Node> children) {
+      return new Sequence(children);
+    }
+
+    @Override
+    public int ownSites() {
+      return 0;
+    }
+
+    @Override
+    public String toString() {
+      return shallow(this);
     }
   }
 
@@ -143,6 +189,11 @@ public sealed interface Node {
     public int ownSites() {
       return 1;
     }
+
+    @Override
+    public String toString() {
+      return shallow(this);
+    }
   }
 
   /**
@@ -166,6 +217,11 @@ public sealed interface Node {
     @Override
     public int ownSites() {
       return 6;
+    }
+
+    @Override
+    public String toString() {
+      return shallow(this);
     }
   }
 
@@ -197,6 +253,11 @@ public sealed interface Node {
     public int ownSites() {
       return 1;
     }
+
+    @Override
+    public String toString() {
+      return shallow(this);
+    }
   }
 
   /**
@@ -220,6 +281,11 @@ public sealed interface Node {
     @Override
     public int ownSites() {
       return 1;
+    }
+
+    @Override
+    public String toString() {
+      return shallow(this);
     }
   }
 
@@ -247,5 +313,20 @@ public sealed interface Node {
     public int ownSites() {
       return 2;
     }
+
+    @Override
+    public String toString() {
+      return shallow(this);
+    }
+  }
+
+  /** A node's kind and its children's kinds, without descending: trees may be very deep. */
+  private static String shallow(Node node) {
+    StringBuilder b = new StringBuilder(node.getClass().getSimpleName()).append('[');
+    List<Node> children = node.children();
+    for (int i = 0; i < children.size() && i < 5; i++) {
+      b.append(i == 0 ? "" : ", ").append(children.get(i).getClass().getSimpleName());
+    }
+    return b.append(children.size() > 5 ? ", ...]" : "]").toString();
   }
 }

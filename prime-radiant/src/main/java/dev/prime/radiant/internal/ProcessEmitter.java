@@ -26,7 +26,9 @@ import dev.prime.Block;
 import dev.prime.ChainFailedException;
 import dev.prime.CoreClosedException;
 import dev.prime.EventBlock;
+import java.util.ArrayDeque;
 import java.util.ArrayList;
+import java.util.Deque;
 import java.util.Iterator;
 import java.util.LinkedHashMap;
 import java.util.List;
@@ -59,6 +61,10 @@ import net.bytebuddy.jar.asm.Type;
  * anything else in a {@code ChainFailedException} naming that chain. Nothing runs on the normal
  * path but the calls. Each local variable slot holds one type only, so frames are simple to
  * compute. Stateless and thread-safe: the generated method keeps its state in locals.
+ *
+ * <p>A {@link Node.Sequence} (links flattened) is its steps one after the other, the value on the
+ * stack between them. The tree is expanded from a stack of pending steps, not by recursion, so
+ * the depth of a tree never becomes the depth of the compiler's stack.
  */
 final class ProcessEmitter implements ByteCodeAppender {
   private static final String OBJECT_TO_OBJECT = "(Ljava/lang/Object;)Ljava/lang/Object;";
@@ -88,7 +94,7 @@ final class ProcessEmitter implements ByteCodeAppender {
   @Override
   public Size apply(MethodVisitor mv, Implementation.Context context, MethodDescription method) {
     Writer writer = new Writer(mv);
-    writer.emit(root, 1);
+    writer.emitAll(root, 1);
     mv.visitInsn(ARETURN);
     writer.emitHandlers();
     return new Size(MAX_STACK, writer.nextLocal);
@@ -121,6 +127,8 @@ final class ProcessEmitter implements ByteCodeAppender {
   private final class Writer {
     private final MethodVisitor mv;
     private final Map<String, Label> handlers = new LinkedHashMap<>();
+    /** Code still to write, next first: the tree is expanded from here, never recursively. */
+    private final Deque<Runnable> pending = new ArrayDeque<>();
     private int nextLocal = 2; // 0: this, 1: the input
 
     Writer(MethodVisitor mv) {
@@ -128,12 +136,35 @@ final class ProcessEmitter implements ByteCodeAppender {
     }
 
     /**
-     * Emits {@code node} applied to the value in local {@code input} (or on the stack, if
-     * {@link #ON_STACK}); leaves the output on the stack.
+     * Emits {@code root} applied to the value in local {@code input}; leaves the output on the
+     * stack. Nodes are expanded from a stack of pending steps, not by recursion.
      */
-    void emit(Node node, int input) {
-      boolean leafLike = node instanceof Node.Leaf || node instanceof Node.Opaque;
-      if (input == ON_STACK && !leafLike && !(node instanceof Node.Link)) {
+    void emitAll(Node root, int input) {
+      emit(root, input);
+      while (!pending.isEmpty()) {
+        pending.pop().run();
+      }
+    }
+
+    /** Schedules {@code steps} to run next, in this order, before anything scheduled earlier. */
+    private void next(Runnable... steps) {
+      for (int i = steps.length - 1; i >= 0; i--) {
+        pending.push(steps[i]);
+      }
+    }
+
+    /**
+     * Emits {@code node} applied to the value in local {@code input} (or on the stack, if
+     * {@link #ON_STACK}); leaves the output on the stack. Code of the node itself is written now,
+     * its children's code is scheduled with {@link #next}.
+     */
+    private void emit(Node node, int input) {
+      boolean takesStack =
+          node instanceof Node.Leaf
+              || node instanceof Node.Opaque
+              || node instanceof Node.Link
+              || node instanceof Node.Sequence;
+      if (input == ON_STACK && !takesStack) {
         input = store();
       }
       emitFrom(node, input);
@@ -145,8 +176,16 @@ final class ProcessEmitter implements ByteCodeAppender {
       } else if (node instanceof Node.Opaque opaque) {
         callBlock(fields.block(opaque.block()), input);
       } else if (node instanceof Node.Link link) {
-        emit(link.first(), input);
-        emit(link.second(), ON_STACK);
+        next(() -> emit(link.first(), input), () -> emit(link.second(), ON_STACK));
+      } else if (node instanceof Node.Sequence sequence) {
+        List<Node> steps = sequence.steps();
+        Runnable[] all = new Runnable[steps.size()];
+        for (int i = 0; i < all.length; i++) {
+          Node step = steps.get(i);
+          int from = i == 0 ? input : ON_STACK;
+          all[i] = () -> emit(step, from);
+        }
+        next(all);
       } else if (node instanceof Node.IfElse branch) {
         emitBranch(
             branch.chain(),
@@ -178,11 +217,14 @@ final class ProcessEmitter implements ByteCodeAppender {
       Label end = new Label();
       named(chain, () -> callPredicate(fields.predicate(condition), input));
       mv.visitJumpInsn(IFEQ, elseLabel);
-      then.run();
-      mv.visitJumpInsn(GOTO, end);
-      mv.visitLabel(elseLabel);
-      otherwise.run();
-      mv.visitLabel(end);
+      next(
+          then,
+          () -> {
+            mv.visitJumpInsn(GOTO, end);
+            mv.visitLabel(elseLabel);
+          },
+          otherwise,
+          () -> mv.visitLabel(end));
     }
 
     private void emitForEach(Node.ForEach loop, int input) {
@@ -231,67 +273,81 @@ final class ProcessEmitter implements ByteCodeAppender {
                 INVOKEINTERFACE, ITERATOR, "next", "()Ljava/lang/Object;", true);
             mv.visitVarInsn(ASTORE, element);
           });
-      emit(loop.body(), element);
-      int value = store();
-      named(
-          loop.chain(),
+      next(
+          () -> emit(loop.body(), element),
           () -> {
+            int value = store();
+            named(
+                loop.chain(),
+                () -> {
+                  mv.visitVarInsn(ALOAD, out);
+                  mv.visitVarInsn(ALOAD, value);
+                  mv.visitMethodInsn(
+                      INVOKEVIRTUAL, ARRAY_LIST, "add", "(Ljava/lang/Object;)Z", false);
+                  mv.visitInsn(POP);
+                });
+            mv.visitJumpInsn(GOTO, head);
+            mv.visitLabel(done);
             mv.visitVarInsn(ALOAD, out);
-            mv.visitVarInsn(ALOAD, value);
-            mv.visitMethodInsn(INVOKEVIRTUAL, ARRAY_LIST, "add", "(Ljava/lang/Object;)Z", false);
-            mv.visitInsn(POP);
           });
-      mv.visitJumpInsn(GOTO, head);
-      mv.visitLabel(done);
-      mv.visitVarInsn(ALOAD, out);
     }
 
     private void emitUnion(Node.Union union, int input) {
       List<Node> parts = union.parts();
       int[] outputs = new int[parts.size()];
+      Runnable[] steps = new Runnable[2 * outputs.length + 1];
       for (int i = 0; i < outputs.length; i++) {
-        emit(parts.get(i), input);
-        outputs[i] = store();
+        Node part = parts.get(i);
+        int index = i;
+        steps[2 * i] = () -> emit(part, input);
+        steps[2 * i + 1] = () -> outputs[index] = store();
       }
       String tuple = "dev/prime/Tuple" + outputs.length;
-      named(
-          union.chain(),
-          () -> {
-            mv.visitTypeInsn(NEW, tuple);
-            mv.visitInsn(DUP);
-            for (int slot : outputs) {
-              mv.visitVarInsn(ALOAD, slot);
-            }
-            mv.visitMethodInsn(
-                INVOKESPECIAL,
-                tuple,
-                "<init>",
-                "(" + "Ljava/lang/Object;".repeat(outputs.length) + ")V",
-                false);
-          });
+      steps[steps.length - 1] =
+          () ->
+              named(
+                  union.chain(),
+                  () -> {
+                    mv.visitTypeInsn(NEW, tuple);
+                    mv.visitInsn(DUP);
+                    for (int slot : outputs) {
+                      mv.visitVarInsn(ALOAD, slot);
+                    }
+                    mv.visitMethodInsn(
+                        INVOKESPECIAL,
+                        tuple,
+                        "<init>",
+                        "(" + "Ljava/lang/Object;".repeat(outputs.length) + ")V",
+                        false);
+                  });
+      next(steps);
     }
 
     private void emitFork(Node.Fork fork, int input) {
-      emit(fork.body(), input);
-      int output = store();
-      Label skip = new Label();
-      mv.visitVarInsn(ALOAD, output);
-      mv.visitJumpInsn(IFNULL, skip);
-      ConstantFields.Field events = fields.events(fork.events());
-      named(
-          fork.chain(),
+      next(
+          () -> emit(fork.body(), input),
           () -> {
-            mv.visitFieldInsn(GETSTATIC, owner, events.name(), Type.getDescriptor(events.type()));
+            int output = store();
+            Label skip = new Label();
             mv.visitVarInsn(ALOAD, output);
-            mv.visitMethodInsn(
-                INVOKEVIRTUAL,
-                Type.getInternalName(EventBlock.class),
-                "publish",
-                "(Ljava/lang/Object;)V",
-                false);
+            mv.visitJumpInsn(IFNULL, skip);
+            ConstantFields.Field events = fields.events(fork.events());
+            named(
+                fork.chain(),
+                () -> {
+                  mv.visitFieldInsn(
+                      GETSTATIC, owner, events.name(), Type.getDescriptor(events.type()));
+                  mv.visitVarInsn(ALOAD, output);
+                  mv.visitMethodInsn(
+                      INVOKEVIRTUAL,
+                      Type.getInternalName(EventBlock.class),
+                      "publish",
+                      "(Ljava/lang/Object;)V",
+                      false);
+                });
+            mv.visitLabel(skip);
+            mv.visitVarInsn(ALOAD, output);
           });
-      mv.visitLabel(skip);
-      mv.visitVarInsn(ALOAD, output);
     }
 
     private void callBlock(ConstantFields.Field field, int input) {

@@ -1,0 +1,62 @@
+package dev.prime.radiant.internal;
+
+import net.bytebuddy.asm.AsmVisitorWrapper;
+import net.bytebuddy.description.field.FieldDescription;
+import net.bytebuddy.description.field.FieldList;
+import net.bytebuddy.description.method.MethodList;
+import net.bytebuddy.description.type.TypeDescription;
+import net.bytebuddy.implementation.Implementation;
+import net.bytebuddy.jar.asm.ClassVisitor;
+import net.bytebuddy.jar.asm.FieldVisitor;
+import net.bytebuddy.jar.asm.Opcodes;
+import net.bytebuddy.jar.asm.Type;
+import net.bytebuddy.pool.TypePool;
+import net.bytebuddy.utility.OpenedClassReader;
+
+/**
+ * Declares a fused class's constant fields ({@code private static final}, see
+ * {@link ConstantFields}) directly in the class file as it is written.
+ *
+ * <p>Design note. ByteBuddy's own {@code defineField} matches every field against every other
+ * one, which costs time quadratic in their number; a segment of a long chain has up to
+ * {@link FusedCompiler#MAX_SITES} fields, and that matching was most of the time spent compiling
+ * a chain of 100,000 distinct blocks. The generated code refers to its fields by name only, so
+ * ByteBuddy needs no description of them. Stateless once built; thread-safe.
+ */
+final class StaticFieldsWriter extends AsmVisitorWrapper.AbstractBase {
+  private final ConstantFields fields;
+
+  StaticFieldsWriter(ConstantFields fields) {
+    this.fields = fields;
+  }
+
+  @Override
+  public ClassVisitor wrap(
+      TypeDescription instrumentedType,
+      ClassVisitor classVisitor,
+      Implementation.Context implementationContext,
+      TypePool typePool,
+      FieldList<FieldDescription.InDefinedShape> declaredFields,
+      MethodList<?> methods,
+      int writerFlags,
+      int readerFlags) {
+    return new ClassVisitor(OpenedClassReader.ASM_API, classVisitor) {
+      @Override
+      public void visitEnd() {
+        for (ConstantFields.Field field : fields.all()) {
+          FieldVisitor visitor =
+              super.visitField(
+                  Opcodes.ACC_PRIVATE | Opcodes.ACC_STATIC | Opcodes.ACC_FINAL,
+                  field.name(),
+                  Type.getDescriptor(field.type()),
+                  null,
+                  null);
+          if (visitor != null) {
+            visitor.visitEnd();
+          }
+        }
+        super.visitEnd();
+      }
+    };
+  }
+}
