@@ -11,8 +11,9 @@ import java.security.MessageDigest
  *
  * [STEP] does, in order and atomically: check that this instance still holds the service's host
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
- * the step it was in, whose acknowledgement would trim its successor's processing list), check that the caller's view of the output source's
- * readers is current (else it answers `STALE` and changes nothing) and that the service queues it
+ * the step it was in, whose acknowledgement would trim its successor's processing list); check
+ * that the caller's view of the output source's readers is current (else it answers `STALE` and
+ * changes nothing) and that the service queues it
  * feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
  * values to a source (its log and every plain reader list, each trimmed to the retention, counting
  * what a reader lost, and every service input, never trimmed: a service's input is a queue);
