@@ -13,8 +13,7 @@ import java.security.MessageDigest
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
  * the step it was in, whose acknowledgement would trim its successor's processing list); check
  * that the caller's view of the output source's readers is current (else it answers `STALE` and
- * changes nothing) and that the service queues it
- * feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
+ * changes nothing) and that the service queues it feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
  * values to a source (its log and every plain reader list, each trimmed to the retention, counting
  * what a reader lost, and every service input, never trimmed: a service's input is a queue);
  * push replies, each only after checking that its key is in this topology's reply namespace and
@@ -32,7 +31,9 @@ import java.security.MessageDigest
  * that): the caller passes the reader and service lists it knows, and the script checks them
  * against the source's two sets (plain readers, service inputs) before it writes anything.
  *
- * [PEEK] reads the head of a processing list under the same bounds (after a restart).
+ * [PEEK] reads the head of a processing list under the same bounds, fenced like [STEP] (after a
+ * restart, and after every idle wait: a host that resumes from a freeze learns there that it lost
+ * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script).
  *
  * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
  * the retained values (it starts at the oldest retained value).
@@ -185,12 +186,15 @@ internal class Script(text: String) {
         )
 
         /**
-         * KEYS: processing. ARGV: most entries, most bytes, largest entry. Returns
-         * `{complete (1: the whole list was returned), entries...}`, entries above the largest size
-         * as `{size, prefix}`.
+         * KEYS: processing, the service's host lease. ARGV: most entries, most bytes, largest
+         * entry, the instance id that must hold the host lease. Returns `{complete (1: the whole
+         * list was returned), entries...}`, entries above the largest size as `{size, prefix}`, or
+         * `{'FENCED', holder}` as [STEP] does.
          */
         val PEEK = Script(
             """
+            local holder = redis.call('GET', KEYS[2])
+            if holder ~= ARGV[4] then return {'FENCED', holder or ''} end
             local count, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3])
             local length = redis.call('LLEN', KEYS[1])
             local result = {0}

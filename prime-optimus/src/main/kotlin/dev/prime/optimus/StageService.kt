@@ -53,9 +53,10 @@ internal class StageService(
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
     private val processing = core.keys.serviceProcessing(name)
+    private val fence = core.hostFence(name)
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
-        core.hostFence(name),
+        fence,
     )
     private val rules = core.stepRules
     private val recent = RecentIds()
@@ -76,10 +77,13 @@ internal class StageService(
             if (core.connections.isClosed) return
             try {
                 var complete = true
-                val taken = pending ?: peek(session).also { complete = it.second }.first
-                pending = if (taken.isEmpty()) {
+                val taken = pending ?: peek(session)?.also { complete = it.second }?.first
+                pending = if (taken == null) {
+                    null // the host lease lapsed: wait for the heartbeat to re-claim it
+                } else if (taken.isEmpty()) {
                     val one = session.once { it.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS) }
-                    if (one == null) emptyList() else listOf(TakenEntry(one, one.size.toLong()))
+                    // after an idle wait, the fenced peek comes first: this host may have been frozen in it
+                    if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
                     val batchIds = HashSet<Long>()
                     val parts = taken.map { handle(it, batchIds) }
@@ -87,7 +91,7 @@ internal class StageService(
                 }
                 if (outage) LOG.info("service '{}' reconnected to Redis", name)
                 outage = false
-                backoff.reset()
+                if (taken == null) delay(backoff.next()) else backoff.reset()
             } catch (e: CancellationException) {
                 throw e
             } catch (e: HostingLost) {
@@ -122,15 +126,24 @@ internal class StageService(
         else -> "cannot read its input ($e)"
     }
 
-    /** The head of the processing list (what a crash left), within the batch bounds; whether that is all of it. */
-    private fun peek(session: RedisSession): Pair<List<TakenEntry>, Boolean> {
+    /**
+     * The head of the processing list (what a crash left), within the batch bounds; whether that
+     * is all of it. `null` if nobody holds this service's host lease (it lapsed: the heartbeat
+     * re-claims it); throws [HostingLost] if another instance holds it.
+     */
+    private fun peek(session: RedisSession): Pair<List<TakenEntry>, Boolean>? {
         val reply = session.once {
             Script.PEEK.run(
                 it,
-                listOf(processing),
-                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) },
+                listOf(processing, fence.lease),
+                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) } + fence.instance,
             )
         } as List<*>
+        if (reply[0] is ByteArray) { // {'FENCED', holder}
+            val holder = (reply[1] as ByteArray).toString(UTF_8)
+            if (holder.isNotEmpty()) throw HostingLost(holder)
+            return null
+        }
         val entries = reply.subList(1, reply.size).map { item ->
             if (item is ByteArray) TakenEntry(item, item.size.toLong())
             else (item as List<*>).let { TakenEntry(it[1] as ByteArray, it[0] as Long) }

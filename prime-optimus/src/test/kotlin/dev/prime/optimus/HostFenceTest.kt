@@ -20,7 +20,8 @@ import java.util.concurrent.TimeUnit
  * The step script fences a hosted service's step by its host lease: a step of a host whose lease
  * another instance took writes nothing (its input stays in the processing list for the new host),
  * and a step that finds the lease held by nobody waits for the heartbeat to re-claim it and then
- * stores its results once. The lease is long here, so the heartbeat (every third of it) does not
+ * stores its results once; an idle host checks its lease after each wait for input, so it takes
+ * nothing more once another instance holds it. The lease is long here, so the heartbeat (every third of it) does not
  * see the change first: the step itself must.
  */
 class HostFenceTest {
@@ -70,6 +71,39 @@ class HostFenceTest {
     }
 
     @Test
+    fun anIdleHostWhoseLeaseAnotherInstanceTookTakesNothingMore() {
+        val name = "host-fence-idle"
+        val keys = Keys(name)
+        val reported = CompletableFuture<Throwable>()
+        val config = CoreConfig.builder().name(name).errorHandler { _, _, error -> reported.complete(error) }.build()
+        Jedis(URI(TestRedis.url)).use { jedis ->
+            OptimusCore.builder().config(config).redis(TestRedis.url).leaseTime(IDLE_LEASE).build().use { host ->
+                val events = EventBlock<Int>()
+                val output = host.source("numbers", events).then(host.chain("double") { x: Int -> 2 * x }).reader()
+                host.start()
+                events.publish(1)
+                assertEquals(2, output.take(PATIENCE).orElseThrow(), "the host works, then waits idle for input")
+                val taken = System.nanoTime()
+                jedis.set(keys.hostLease("double"), "intruder".toByteArray(UTF_8), SetParams().px(Duration.ofMinutes(1).toMillis()))
+
+                val error = reported.get(PATIENCE.seconds, TimeUnit.SECONDS)
+                val noticed = Duration.ofNanos(System.nanoTime() - taken)
+                assertTrue(error is IllegalStateException && error.message!!.contains("instance intruder"), error.toString())
+                // its wait for input lasts at most a second; the heartbeat comes every 20 s (it may come first by chance)
+                assertTrue(noticed < IDLE_NOTICE, "the idle service noticed after its wait for input: after $noticed")
+                events.publish(5)
+                assertEquals(Optional.empty<Int>(), output.take(Duration.ofSeconds(2)), "nobody processes it")
+                // in the input, or (if the heartbeat noticed while the service waited for input) in the processing list
+                assertEquals(
+                    1L,
+                    jedis.llen(keys.serviceInput("double")) + jedis.llen(keys.serviceProcessing("double")),
+                    "the value waits in Redis for the new host",
+                )
+            }
+        }
+    }
+
+    @Test
     fun aStepThatFindsTheLeaseHeldByNobodyWaitsForTheHeartbeatAndStoresOnce() {
         val name = "host-fence-lapsed"
         val keys = Keys(name)
@@ -113,6 +147,8 @@ class HostFenceTest {
     private companion object {
         val LONG_LEASE: Duration = Duration.ofSeconds(30)
         val SHORT_LEASE: Duration = Duration.ofSeconds(3)
+        val IDLE_LEASE: Duration = Duration.ofSeconds(60)
+        val IDLE_NOTICE: Duration = Duration.ofSeconds(3)
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
 }
