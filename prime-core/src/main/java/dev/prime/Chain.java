@@ -20,12 +20,12 @@ package dev.prime;
  */
 public interface Chain<I, O> {
 
-  /** The core that created this chain. */
+  /** {@return the core that created this chain} */
   PrimeCore core();
 
   /**
-   * The chain's name, unique within its core. Optimus derives Redis keys from it, so every
-   * process that declares the same topology must give its chains the same names.
+   * {@return the chain's name, unique within its core} Optimus derives Redis keys from it, so
+   * every process that declares the same topology must give its chains the same names.
    */
   String name();
 

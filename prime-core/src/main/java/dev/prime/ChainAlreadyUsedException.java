@@ -7,9 +7,12 @@ package dev.prime;
 public class ChainAlreadyUsedException extends PrimeException {
   private static final long serialVersionUID = 1L;
 
+  /** The name of the chain this exception is about. */
   private final String chainName;
 
   /**
+   * Creates the exception for a chain.
+   *
    * @param chainName the chain used twice
    */
   public ChainAlreadyUsedException(String chainName) {
@@ -22,7 +25,7 @@ public class ChainAlreadyUsedException extends PrimeException {
     this.chainName = chainName;
   }
 
-  /** The name of the chain that was used twice. */
+  /** {@return the name of the chain that was used twice} */
   public String chainName() {
     return chainName;
   }

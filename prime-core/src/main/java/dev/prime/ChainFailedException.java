@@ -12,9 +12,12 @@ package dev.prime;
 public class ChainFailedException extends PrimeException {
   private static final long serialVersionUID = 1L;
 
+  /** The name of the chain this exception is about. */
   private final String chainName;
 
   /**
+   * Creates the exception for a chain's failure.
+   *
    * @param chainName the chain whose block failed
    * @param cause what the block threw
    */
@@ -23,7 +26,7 @@ public class ChainFailedException extends PrimeException {
     this.chainName = chainName;
   }
 
-  /** The name of the chain whose block failed. */
+  /** {@return the name of the chain whose block failed} */
   public String chainName() {
     return chainName;
   }

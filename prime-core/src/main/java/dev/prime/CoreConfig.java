@@ -41,49 +41,51 @@ public final class CoreConfig {
     this.valueCopies = b.valueCopies;
   }
 
-  /** The default settings. */
+  /** {@return the default settings} */
   public static CoreConfig defaults() {
     return DEFAULTS;
   }
 
-  /** A builder starting from the defaults. */
+  /** {@return A builder starting from the defaults} */
   public static Builder builder() {
     return new Builder();
   }
 
   /**
-   * The core's name, used in thread names and log lines, or {@code null} for a generated one
-   * ({@code liberty-1}, ...).
+   * {@return the core's name, used in thread names and log lines, or {@code null} for a
+   * generated one ({@code liberty-1}, ...)}
    */
   public String name() {
     return name;
   }
 
-  /** How many of its latest values each source keeps for readers that have not read them yet. */
+  /**
+   * {@return how many of its latest values each source keeps for readers that have not read them yet}
+   */
   public int sourceRetention() {
     return sourceRetention;
   }
 
-  /** Where the failures of asynchronous services go. */
+  /** {@return where the failures of asynchronous services go} */
   public ErrorHandler errorHandler() {
     return errorHandler;
   }
 
-  /** How long {@link PrimeCore#close()} waits for each group of services to stop. */
+  /** {@return how long {@link PrimeCore#close()} waits for each group of services to stop} */
   public Duration shutdownTimeout() {
     return shutdownTimeout;
   }
 
   /**
-   * The codec through which the in-memory media copy every value that crosses a service
-   * boundary, or {@code null} (the default) if they pass values by reference; see
+   * {@return the codec through which the in-memory media copy every value that crosses a
+   * service boundary, or {@code null} (the default) if they pass values by reference} See
    * {@link Builder#copyValues(ValueCodec)}.
    */
   public ValueCodec valueCopies() {
     return valueCopies;
   }
 
-  /** A builder starting from these settings. */
+  /** {@return a builder starting from these settings} */
   public Builder toBuilder() {
     Builder b = new Builder();
     b.name = name;
@@ -183,7 +185,7 @@ public final class CoreConfig {
       return this;
     }
 
-    /** The settings. */
+    /** {@return the settings} */
     public CoreConfig build() {
       return new CoreConfig(this);
     }

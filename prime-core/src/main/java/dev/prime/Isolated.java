@@ -10,7 +10,7 @@ package dev.prime;
  */
 public interface Isolated<I, O> {
 
-  /** The name of the shared chain. */
+  /** {@return the name of the shared chain} */
   String name();
 
   /**

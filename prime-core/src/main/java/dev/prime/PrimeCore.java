@@ -10,18 +10,19 @@ import dev.prime.blocks.LinkBlock;
 import dev.prime.blocks.RepeaterLoopBlock;
 import dev.prime.blocks.SyncCollectorBlock;
 import dev.prime.blocks.UnionBlock;
-import dev.prime.internal.MemorySource;
-import dev.prime.internal.Names;
 import dev.prime.internal.ServiceThreads;
-import dev.prime.internal.SourceService;
 import dev.prime.spi.AbstractChain;
-import java.util.ArrayList;
+import dev.prime.spi.TopologyRecorder;
+import dev.prime.topology.Topology;
+import java.util.Collections;
+import java.util.LinkedHashSet;
 import java.util.List;
 import java.util.Objects;
 import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.function.Consumer;
+import java.util.function.Function;
 import java.util.function.Predicate;
 
 /**
@@ -80,10 +81,9 @@ public abstract class PrimeCore implements AutoCloseable {
 
   private final CoreConfig config;
   private final String name;
-  private final Names names = new Names();
+  private volatile TopologyRecorder recorder; // made on first use: it refers to this core
   private final ServiceThreads services;
-  private final List<MemorySource<?>> memorySources = new ArrayList<>(); // guarded by itself
-  private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by memorySources
+  private final InProcessServices inProcess;
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
 
@@ -99,24 +99,25 @@ public abstract class PrimeCore implements AutoCloseable {
             ? config.name()
             : media + "-" + CORE_COUNTERS.computeIfAbsent(media, k -> new AtomicInteger()).incrementAndGet();
     this.services = new ServiceThreads(name);
+    this.inProcess = new InProcessServices(this, services);
   }
 
-  /** The core's name (from {@link CoreConfig#name()} or generated). */
+  /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
   public final String name() {
     return name;
   }
 
-  /** The core's settings. */
+  /** {@return the core's settings} */
   public final CoreConfig config() {
     return config;
   }
 
-  /** Whether {@link #start()} was called. */
+  /** {@return whether {@link #start()} was called} */
   public final boolean isStarted() {
     return state != State.NEW;
   }
 
-  /** Whether {@link #close()} was called. */
+  /** {@return whether {@link #close()} was called} */
   public final boolean isClosed() {
     return state == State.CLOSED;
   }
@@ -134,7 +135,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, O> Chain<I, O> chain(Block<I, O> block) {
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return newChain(names.fresh("chain"), block);
+    return newChain(topologyRecorder().blockChain(null), block);
   }
 
   /**
@@ -151,7 +152,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return newChain(names.claim(name), block);
+    return newChain(topologyRecorder().blockChain(name), block);
   }
 
   /**
@@ -179,8 +180,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
     return newChain(
-        derivedName(first.name() + ">" + second.name(), "link"),
-        new LinkBlock<>(first.toBlock(), second.toBlock()));
+        topologyRecorder().link(first, second), new LinkBlock<>(first.toBlock(), second.toBlock()));
   }
 
   // ---------------------------------------------------------------- templates
@@ -201,7 +201,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
     return newChain(
-        derivedName("if(" + then.name() + "|" + otherwise.name() + ")", "if"),
+        topologyRecorder().ifElse(then, otherwise),
         new IfThenElseBlock<>(condition, then.toBlock(), otherwise.toBlock()));
   }
 
@@ -216,7 +216,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
     requireChains(body);
     return newChain(
-        derivedName("forEach(" + body.name() + ")", "forEach"), new ForEachBlock<>(body.toBlock()));
+        topologyRecorder().forEach(body), new ForEachBlock<>(body.toBlock()));
   }
 
   /**
@@ -231,7 +231,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
     requireChains(a, b);
-    return newChain(unionName(a, b), UnionBlock.of(a.toBlock(), b.toBlock()));
+    return newChain(topologyRecorder().union(a, b), UnionBlock.of(a.toBlock(), b.toBlock()));
   }
 
   /**
@@ -249,7 +249,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
     requireChains(a, b, c);
-    return newChain(unionName(a, b, c), UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock()));
+    return newChain(topologyRecorder().union(a, b, c), UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock()));
   }
 
   /**
@@ -270,7 +270,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
     requireChains(a, b, c, d);
     return newChain(
-        unionName(a, b, c, d),
+        topologyRecorder().union(a, b, c, d),
         UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock()));
   }
 
@@ -294,7 +294,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
     requireChains(a, b, c, d, e);
     return newChain(
-        unionName(a, b, c, d, e),
+        topologyRecorder().union(a, b, c, d, e),
         UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock(), e.toBlock()));
   }
 
@@ -312,7 +312,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(events, "events must not be null");
     requireChains(chain);
     return newChain(
-        derivedName("fork(" + chain.name() + ")", "fork"), new ForkBlock<>(chain.toBlock(), events));
+        topologyRecorder().fork(chain), new ForkBlock<>(chain.toBlock(), events));
   }
 
   /**
@@ -332,7 +332,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
     return newChain(
-        derivedName("guard(" + chain.name() + ")", "guard"),
+        topologyRecorder().guard(chain),
         new GuardBlock<>(pass, chain.toBlock(), substitute));
   }
 
@@ -347,6 +347,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
     requireChains(chain);
     String sharedName = chain.name();
+    String sharedNode = topologyRecorder().isolate(chain);
     Block<I, O> shared = new IsolateBlock<>(chain.toBlock());
     AtomicInteger users = new AtomicInteger();
     return new Isolated<>() {
@@ -358,7 +359,9 @@ public abstract class PrimeCore implements AutoCloseable {
       @Override
       public Chain<I, O> newUser() {
         ensureOpen();
-        return newChain(derivedName(sharedName + "@" + users.incrementAndGet(), "isolated"), shared);
+        return newChain(
+            topologyRecorder().isolatedUser(sharedNode, sharedName, users.incrementAndGet()),
+            shared);
       }
     };
   }
@@ -374,8 +377,8 @@ public abstract class PrimeCore implements AutoCloseable {
   public <T> Chain<Token, T> syncCollector(Source<T> source) {
     requireSource(source);
     return newChain(
-        derivedName("collect(" + source.name() + ")", "collect"),
-        new SyncCollectorBlock<>(source.reader()));
+        topologyRecorder().syncCollector(source),
+        new SyncCollectorBlock<>(InProcessServices.serviceReader(source)));
   }
 
   /**
@@ -390,8 +393,8 @@ public abstract class PrimeCore implements AutoCloseable {
   public <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
     requireSource(source);
     return newChain(
-        derivedName("collectAll(" + source.name() + ")", "collectAll"),
-        new AsyncCollectorBlock<>(source.reader()));
+        topologyRecorder().asyncCollector(source),
+        new AsyncCollectorBlock<>(InProcessServices.serviceReader(source)));
   }
 
   /**
@@ -410,7 +413,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(repeater, "repeater block must not be null");
     requireChains(inner);
     return newChain(
-        derivedName("repeat(" + inner.name() + ")", "repeat"),
+        topologyRecorder().repeater(inner, null),
         new RepeaterLoopBlock<>(inner.toBlock(), null, repeater, this::ensureOpen));
   }
 
@@ -435,7 +438,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     Chain<Token, List<E>> collector = asyncCollector(source);
     return newChain(
-        derivedName("repeat(" + inner.name() + ")", "repeat"),
+        topologyRecorder().repeater(inner, collector.name()),
         new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater, this::ensureOpen));
   }
 
@@ -451,7 +454,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <T> Source<T> source(EventBlock<T> events) {
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(names.fresh("source"), events);
+    return newSource(topologyRecorder().eventSource(null), events);
   }
 
   /**
@@ -466,7 +469,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(names.claim(name), events);
+    return newSource(topologyRecorder().eventSource(name), events);
   }
 
   /**
@@ -479,20 +482,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the source
    */
   protected <T> Source<T> newSource(String name, EventBlock<T> events) {
-    MemorySource<T> source = newMemorySource(name);
-    synchronized (memorySources) {
-      subscriptions.add(
-          events.subscribe(
-              value -> {
-                try {
-                  source.publish(value);
-                } catch (CoreClosedException closing) {
-                  // the core closed while this value was on its way: nobody can read it any more
-                }
-              }));
-    }
-    return source;
+    return inProcess.eventSource(name, events);
   }
+
 
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
@@ -509,18 +501,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     requireChains(chain);
     Block<I, O> block = chain.toBlock();
-    String name = derivedName(source.name() + ">" + chain.name(), "link");
-    MemorySource<O> out = newMemorySource(name);
-    runService(
-        name,
-        source.reader(),
-        value -> {
-          O output = block.process(value);
-          if (output != null) {
-            out.publish(output);
-          }
-        });
-    return out;
+    return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
   }
 
   /**
@@ -534,17 +515,7 @@ public abstract class PrimeCore implements AutoCloseable {
   protected <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
-    String name = derivedName("filter(" + source.name() + ")", "filter");
-    MemorySource<T> out = newMemorySource(name);
-    runService(
-        name,
-        source.reader(),
-        value -> {
-          if (predicate.test(value)) {
-            out.publish(value);
-          }
-        });
-    return out;
+    return inProcess.filter(topologyRecorder().filter(source), source, predicate);
   }
 
   /**
@@ -560,22 +531,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
-    String name = derivedName("flatMap(" + source.name() + ")", "flatMap");
-    MemorySource<R> out = newMemorySource(name);
-    runService(
-        name,
-        source.reader(),
-        value -> {
-          Iterable<? extends R> outputs = block.process(value);
-          if (outputs != null) {
-            for (R output : outputs) {
-              if (output != null) {
-                out.publish(output);
-              }
-            }
-          }
-        });
-    return out;
+    return inProcess.flatMap(topologyRecorder().flatMap(source), source, block);
   }
 
   /**
@@ -588,16 +544,94 @@ public abstract class PrimeCore implements AutoCloseable {
   protected <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
-    runService(derivedName("listen(" + source.name() + ")", "listen"), source.reader(), listener);
+    inProcess.listen(topologyRecorder().listener(source), source, listener);
   }
 
   /**
-   * The names of the asynchronous services this core runs in this process.
+   * The services of this core's diagram that this process runs, in declaration order: every
+   * chain made of a block, every template chain and every filter, flat-map and listener (see
+   * {@link dev.prime.topology.TopologyNode}); linked chains and sources are not services. The
+   * same declarations give the same names on every media; a media that spreads services over
+   * processes (Optimus) leaves out those hosted elsewhere.
    *
    * @return a snapshot
    */
-  public Set<String> serviceNames() {
-    return services.names();
+  public final Set<String> serviceNames() {
+    Topology topology = topology();
+    Set<String> hosted = new LinkedHashSet<>();
+    for (String service : topology.services()) {
+      if (topology.isHostedHere(service)) {
+        hosted.add(service);
+      }
+    }
+    return Collections.unmodifiableSet(hosted);
+  }
+
+  /**
+   * The diagram declared on this core so far, as data: chains, sources, links, templates,
+   * services, readers and where each service is hosted. The same declarations give an equal
+   * topology, and the same Mermaid and DOT drawings, on every media.
+   *
+   * @return an immutable snapshot
+   */
+  public final Topology topology() {
+    return topologyRecorder().snapshot(this::isHostedHere);
+  }
+
+  /**
+   * Consumes a chain given to a link or template and returns it in this media's compiled form.
+   * Which chains are this media's own is the topology's rule: a chain of this core gives the form
+   * its media compiled it to ({@link AbstractChain#compiledForm()}); any other chain (of another
+   * core, or of another media: a {@link dev.prime.topology.TopologyNode.ForeignChain} of the
+   * topology) is consumed through its {@link Chain#toBlock()}, and {@code foreign} turns that block
+   * into the form. A media never needs to recognise chains by their class.
+   *
+   * @param chain the chain, already checked by {@link #requireChains}
+   * @param form the type of this media's compiled form
+   * @param foreign makes the form of another core's chain from its block
+   * @param <F> the form
+   * @return the chain's form
+   */
+  protected final <F> F part(
+      Chain<?, ?> chain, Class<F> form, Function<Block<?, ?>, ? extends F> foreign) {
+    if (chain.core() == this && chain instanceof AbstractChain<?, ?> own) {
+      F compiled = own.consumeAsPart(form);
+      if (compiled != null) {
+        return compiled;
+      }
+    }
+    return foreign.apply(chain.toBlock());
+  }
+
+  /**
+   * Whether this process runs a service of the diagram. Every media that runs in one process
+   * hosts all of them; a media that spreads services over processes overrides this.
+   *
+   * @param service a service's name
+   * @return true by default
+   */
+  protected boolean isHostedHere(String service) {
+    return true;
+  }
+
+  /**
+   * Where this core's diagram is recorded and every name is made; a media names what it builds
+   * through it (see {@link TopologyRecorder}).
+   *
+   * @return the recorder of this core
+   */
+  protected final TopologyRecorder topologyRecorder() {
+    TopologyRecorder r = recorder;
+    if (r == null) {
+      synchronized (lifecycle) {
+        r = recorder;
+        if (r == null) {
+          r = new TopologyRecorder(this);
+          recorder = r;
+        }
+      }
+    }
+    return r;
   }
 
   // ---------------------------------------------------------------- lifecycle
@@ -635,14 +669,7 @@ public abstract class PrimeCore implements AutoCloseable {
       }
       state = State.CLOSED;
     }
-    List<MemorySource<?>> sources;
-    synchronized (memorySources) {
-      subscriptions.forEach(EventBlock.Subscription::close);
-      subscriptions.clear();
-      sources = new ArrayList<>(memorySources);
-      memorySources.clear();
-    }
-    sources.forEach(MemorySource::close);
+    inProcess.close();
     services.stopAll(config.shutdownTimeout());
     onClose();
   }
@@ -679,7 +706,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a unique name
    */
   protected final String derivedName(String preferred, String kind) {
-    return names.derived(preferred, kind);
+    return topologyRecorder().derived(preferred, kind);
   }
 
   /**
@@ -735,24 +762,6 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    */
   protected final <T> void runService(String name, Reader<T> reader, Consumer<? super T> step) {
-    services.add(name, new SourceService<>(name, reader, step, config.errorHandler(), this::isClosed));
-  }
-
-  private <T> MemorySource<T> newMemorySource(String name) {
-    MemorySource<T> source =
-        new MemorySource<>(this, name, config.sourceRetention(), config.valueCopies());
-    synchronized (memorySources) {
-      ensureOpen();
-      memorySources.add(source);
-    }
-    return source;
-  }
-
-  private String unionName(Chain<?, ?>... parts) {
-    StringBuilder b = new StringBuilder("union(");
-    for (int i = 0; i < parts.length; i++) {
-      b.append(i == 0 ? "" : "|").append(parts[i].name());
-    }
-    return derivedName(b.append(')').toString(), "union");
+    inProcess.run(name, reader, step);
   }
 }

@@ -44,17 +44,17 @@ public final class Repeat<I, O> {
     return new Repeat<>(false, null, conclusion);
   }
 
-  /** Whether the inner chain runs again. */
+  /** {@return whether the inner chain runs again} */
   public boolean isAgain() {
     return again;
   }
 
-  /** The next input of the inner chain; only meaningful if {@link #isAgain()}. */
+  /** {@return the next input of the inner chain; only meaningful if {@link #isAgain()}} */
   public I next() {
     return next;
   }
 
-  /** The conclusion; only meaningful if not {@link #isAgain()}. */
+  /** {@return the conclusion; only meaningful if not {@link #isAgain()}} */
   public O conclusion() {
     return conclusion;
   }

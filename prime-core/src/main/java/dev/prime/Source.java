@@ -18,10 +18,10 @@ import java.util.function.Predicate;
  */
 public interface Source<T> {
 
-  /** The core that created this source. */
+  /** {@return the core that created this source} */
   PrimeCore core();
 
-  /** The source's name, unique within its core. */
+  /** {@return the source's name, unique within its core} */
   String name();
 
   /**

@@ -40,12 +40,12 @@ public final class FailureNamingBlock<I, O> implements Block<I, O> {
     }
   }
 
-  /** The wrapped block. */
+  /** {@return the wrapped block} */
   public Block<I, O> unwrap() {
     return block;
   }
 
-  /** The name of the chain. */
+  /** {@return the name of the chain} */
   public String chainName() {
     return chainName;
   }

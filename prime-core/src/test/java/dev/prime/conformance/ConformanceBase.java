@@ -29,15 +29,16 @@ public interface ConformanceBase {
   }
 
   /**
-   * How many in-process services linking one chain to a source adds (1 for media that run each
-   * source-linked chain as a service thread in this process).
+   * How many service loops linking one chain to a source runs (1 for media that run each
+   * source-linked chain as one service thread in this process). Not the topology's services,
+   * which are the same on every media ({@link PrimeCore#serviceNames()}).
    */
   default int servicesPerSourceLink() {
     return 1;
   }
 
   /**
-   * How many in-process services a chain made by linking {@code chains} chains runs as when it
+   * How many service loops a chain made by linking {@code chains} chains runs as when it
    * is linked to a source (1 for media that fuse linked chains; Optimus keeps one service per
    * chain and re-routes their lists). It also says what the error handler gets as the input when
    * the second of two linked chains fails: a fused media (1 service for 2 chains) gives the value

@@ -1,8 +1,8 @@
 package dev.prime.conformance;
 
 /**
- * The whole media conformance kit: a media runs every semantic of DESIGN.md ("Semantics every
- * media must keep") with one small test class, e.g. {@code class LibertyConformanceTest implements
+ * The whole media conformance kit: a media runs every promise of docs/architecture.md ("What
+ * every media keeps") with one small test class, e.g. {@code class LibertyConformanceTest implements
  * MediaConformance { public PrimeCore newCore(CoreConfig c) { return new LibertyCore(c); } }}.
  */
 public interface MediaConformance
@@ -12,6 +12,7 @@ public interface MediaConformance
         ErrorConformance,
         LifecycleConformance,
         AwkwardConformance,
+        TopologyConformance,
         ThrowableConformance,
         AtomicLinkConformance,
         InterruptConformance,

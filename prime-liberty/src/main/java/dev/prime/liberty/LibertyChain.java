@@ -29,15 +29,13 @@ final class LibertyChain<I, O> extends AbstractChain<I, O> {
   }
 
   /**
-   * Consumes a chain and returns its steps: a chain of this core gives its own, another chain is
-   * one unnamed step, its {@link Chain#toBlock()} (which names its own failures).
+   * Its steps: what a link of the same core joins ({@link dev.prime.PrimeCore}'s {@code part});
+   * another core's chain is one unnamed step instead, its {@link Chain#toBlock()} (which names
+   * its own failures).
    */
-  static StepSequence take(LibertyCore core, Chain<?, ?> chain) {
-    if (chain instanceof LibertyChain<?, ?> own && own.core() == core) {
-      own.consume();
-      return own.steps;
-    }
-    return new Step(null, chain.toBlock());
+  @Override
+  protected Object compiledForm() {
+    return steps;
   }
 
   @Override

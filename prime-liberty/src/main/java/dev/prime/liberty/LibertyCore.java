@@ -50,9 +50,9 @@ public final class LibertyCore extends PrimeCore {
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
-    StepSequence a = LibertyChain.take(this, first);
-    StepSequence b = LibertyChain.take(this, second);
-    return LibertyChain.linked(
-        this, derivedName(first.name() + ">" + second.name(), "link"), StepSequence.join(a, b));
+    String name = topologyRecorder().link(first, second);
+    StepSequence a = part(first, StepSequence.class, block -> new Step(null, block));
+    StepSequence b = part(second, StepSequence.class, block -> new Step(null, block));
+    return LibertyChain.linked(this, name, StepSequence.join(a, b));
   }
 }

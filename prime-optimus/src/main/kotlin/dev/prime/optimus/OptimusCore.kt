@@ -9,6 +9,7 @@ import dev.prime.EventBlock
 import dev.prime.PrimeCore
 import dev.prime.Reader
 import dev.prime.Source
+import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
@@ -218,12 +219,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     override fun <I, M, O> link(first: Chain<I, M>?, second: Chain<M, O>?): Chain<I, O> {
         requireChains(first, second)
-        if (first is OptimusChain<I, M> && first.core() === this && second is OptimusChain<M, O> && second.core() === this) {
-            val stages = first.take() + second.take()
-            return OptimusChain(this, derivedName(first.name() + ">" + second.name(), "link"), stages)
-        }
-        return super.link(first, second)
+        val name = topologyRecorder().link(first, second)
+        val link = topologyRecorder().node(name) as TopologyNode.Link
+        return OptimusChain(this, name, stagesOf(first!!, link.first()) + stagesOf(second!!, link.second()))
     }
+
+    /**
+     * The services of [chain], consuming it: a chain of this core gives its own; any other chain
+     * becomes one service, named as the topology names it ([node], `hosted(name)`), running its block.
+     */
+    private fun stagesOf(chain: Chain<*, *>, node: String): List<StageSpec> =
+        part(chain, Stages::class.java) { block -> Stages(listOf(StageSpec(node, chainLogic(block)))) }.specs
 
     // ------------------------------------------------------------------ sources
 
@@ -243,12 +249,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         requireSource(source)
         requireChains(chain)
         if (source !is OptimusSource<I> || source.core() !== this) return super.link(source, chain)
-        val stages = if (chain is OptimusChain<I, O> && chain.core() === this) {
-            chain.take()
-        } else {
-            listOf(StageSpec(derivedName("hosted(" + chain!!.name() + ")", "hosted"), chainLogic(chain.toBlock())))
-        }
-        val output = OptimusSource<O>(this, derivedName(source.name() + ">" + chain!!.name(), "link"))
+        val name = topologyRecorder().sourceLink(source, chain)
+        val stages = stagesOf(chain!!, (topologyRecorder().node(name) as TopologyNode.SourceLink).chain())
+        val output = OptimusSource<O>(this, name)
         bindToSource(source, stages, output)
         return output
     }
@@ -257,21 +260,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     override fun <T> filterSource(source: Source<T>?, predicate: Predicate<in T>?): Source<T> {
         Objects.requireNonNull(predicate, "predicate must not be null")
         if (!isOwn(source)) return super.filterSource(source, predicate)
-        return serviceOn(source!!, "filter", publishes = true) { input, emit -> if (predicate!!.test(input as T)) emit(input) }!!
+        return serviceOn(source!!, topologyRecorder().filter(source), publishes = true) { input, emit -> if (predicate!!.test(input as T)) emit(input) }!!
     }
 
     @Suppress("UNCHECKED_CAST")
     override fun <T, R> flatMapSource(source: Source<T>?, block: Block<in T, out Iterable<R>>?): Source<R> {
         Objects.requireNonNull(block, "block must not be null")
         if (!isOwn(source)) return super.flatMapSource(source, block)
-        return serviceOn(source!!, "flatMap", publishes = true) { input, emit -> block!!.process(input as T)?.forEach(emit) }!!
+        return serviceOn(source!!, topologyRecorder().flatMap(source), publishes = true) { input, emit -> block!!.process(input as T)?.forEach(emit) }!!
     }
 
     @Suppress("UNCHECKED_CAST")
     override fun <T> listenSource(source: Source<T>?, listener: Consumer<in T>?) {
         Objects.requireNonNull(listener, "listener must not be null")
         if (!isOwn(source)) return super.listenSource(source, listener)
-        serviceOn<Any>(source!!, "listen", publishes = false) { input, _ -> listener!!.accept(input as T) }
+        serviceOn<Any>(source!!, topologyRecorder().listener(source), publishes = false) { input, _ -> listener!!.accept(input as T) }
     }
 
     /** Checks [source] like every link does; whether it is a source of this core (else the generic service is used). */
@@ -280,9 +283,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return source is OptimusSource<*> && source.core() === this
     }
 
-    /** One service reading [source] and running [logic], named `kind(source)`; its output source if it [publishes]. */
-    private fun <R> serviceOn(source: Source<*>, kind: String, publishes: Boolean, logic: StageLogic): OptimusSource<R>? {
-        val name = derivedName(kind + "(" + source.name() + ")", kind)
+    /** One service reading [source] and running [logic], named [name]; its output source if it [publishes]. */
+    private fun <R> serviceOn(source: Source<*>, name: String, publishes: Boolean, logic: StageLogic): OptimusSource<R>? {
         val output = if (publishes) OptimusSource<R>(this, name) else null
         bindToSource(source as OptimusSource<*>, listOf(StageSpec(name, logic)), output)
         return output
@@ -347,11 +349,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
-     * The asynchronous services this process runs: the services of used chains it hosts, and the
-     * in-process services of links to sources of other cores.
+     * Whether this process runs [service]: it hosts it ([Builder.hosts]; all services by default)
+     * and was not refused it, or lost it, to another live instance (see [start]).
      */
-    override fun serviceNames(): Set<String> =
-        super.serviceNames() + services.keys.filter { isHosted(it) && it !in notRunning }
+    override fun isHostedHere(service: String): Boolean = isHosted(service) && service !in notRunning
 
     // ------------------------------------------------------------------ liveness
 
@@ -369,10 +370,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         checkCodecAgreement()
         declarations.codecDeclared = true
         hosts?.let { wanted ->
-            val unknown = wanted - services.keys
+            val declared = topology().services()
+            val unknown = wanted - declared
             require(unknown.isEmpty()) {
                 "core '${name()}' is told to host $unknown, which its topology does not declare (declare the whole " +
-                    "topology before start()); its services: ${services.keys.sorted()}"
+                    "topology before start()); its services: ${declared.sorted()}"
             }
         }
         val hosted = services.keys.filter(::isHosted)
@@ -486,6 +488,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
         bind(stages, null)
         return RemoteCall(this, chainName, keys.serviceInput(stages.first().name))
+    }
+
+    /** Records a reader the program opened on [source] in the topology. */
+    internal fun recordReader(source: OptimusSource<*>) {
+        topologyRecorder().reader(source.name())
     }
 
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {

@@ -2,7 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.PrimeCore
 import dev.prime.Reader
-import dev.prime.Source
+import dev.prime.spi.MediaSource
 
 /**
  * A source kept in Redis: its newest values in a log list (for readers that come late), a set of
@@ -10,7 +10,7 @@ import dev.prime.Source
  * publishes to (queues, never trimmed). Every process that declares the same topology has an equal
  * object for it; any of them can publish and read.
  */
-internal class OptimusSource<T>(private val core: OptimusCore, private val name: String) : Source<T> {
+internal class OptimusSource<T>(private val core: OptimusCore, private val name: String) : MediaSource<T> {
     val keys = SourceKeys(
         name,
         core.keys.sourceLog(name),
@@ -23,7 +23,9 @@ internal class OptimusSource<T>(private val core: OptimusCore, private val name:
 
     override fun name(): String = name
 
-    override fun reader(): Reader<T> = core.newReader(this)
+    override fun reader(): Reader<T> = core.newReader(this).also { core.recordReader(this) }
+
+    override fun serviceReader(): Reader<T> = core.newReader(this)
 
     override fun toString(): String = "OptimusSource[$name]"
 }

@@ -65,14 +65,17 @@ public final class RadiantCore extends PrimeCore {
     return new RadiantChain<>(this, name, new Node.Leaf(name, block));
   }
 
-  /** Links two chains into one tree; chains of another core become opaque nodes. */
+  /**
+   * Links two chains into one tree; chains of another core become opaque nodes (see {@link
+   * PrimeCore#part}).
+   */
   @Override
   public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
     requireChains(first, second);
-    Node a = RadiantChain.take(this, first);
-    Node b = RadiantChain.take(this, second);
-    return new RadiantChain<>(
-        this, derivedName(first.name() + ">" + second.name(), "link"), new Node.Link(a, b));
+    String name = topologyRecorder().link(first, second);
+    Node a = part(first, Node.class, Node.Opaque::new);
+    Node b = part(second, Node.class, Node.Opaque::new);
+    return new RadiantChain<>(this, name, new Node.Link(a, b));
   }
 
   @Override
@@ -80,17 +83,17 @@ public final class RadiantCore extends PrimeCore {
       Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
-    Node a = RadiantChain.take(this, then);
-    Node b = RadiantChain.take(this, otherwise);
-    String name = derivedName("if(" + then.name() + "|" + otherwise.name() + ")", "if");
+    String name = topologyRecorder().ifElse(then, otherwise);
+    Node a = part(then, Node.class, Node.Opaque::new);
+    Node b = part(otherwise, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.IfElse(name, condition, a, b));
   }
 
   @Override
   public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
     requireChains(body);
-    Node node = RadiantChain.take(this, body);
-    String name = derivedName("forEach(" + body.name() + ")", "forEach");
+    String name = topologyRecorder().forEach(body);
+    Node node = part(body, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.ForEach(name, node));
   }
 
@@ -121,8 +124,8 @@ public final class RadiantCore extends PrimeCore {
   public <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
     requireChains(chain);
-    Node node = RadiantChain.take(this, chain);
-    String name = derivedName("fork(" + chain.name() + ")", "fork");
+    String name = topologyRecorder().fork(chain);
+    Node node = part(chain, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.Fork(name, node, events));
   }
 
@@ -132,21 +135,19 @@ public final class RadiantCore extends PrimeCore {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
-    Node node = RadiantChain.take(this, chain);
-    String name = derivedName("guard(" + chain.name() + ")", "guard");
+    String name = topologyRecorder().guard(chain);
+    Node node = part(chain, Node.class, Node.Opaque::new);
     return new RadiantChain<>(this, name, new Node.Guard(name, pass, node, substitute));
   }
 
   /** The tuple type is chosen by the number of parts, in the generated code. */
   private <I, T> Chain<I, T> fusedUnion(Chain<?, ?>... parts) {
     requireChains(parts);
+    String name = topologyRecorder().union(parts);
     Node[] nodes = new Node[parts.length];
-    StringBuilder preferred = new StringBuilder("union(");
     for (int i = 0; i < parts.length; i++) {
-      nodes[i] = RadiantChain.take(this, parts[i]);
-      preferred.append(i == 0 ? "" : "|").append(parts[i].name());
+      nodes[i] = part(parts[i], Node.class, Node.Opaque::new);
     }
-    String name = derivedName(preferred.append(')').toString(), "union");
     return new RadiantChain<>(this, name, new Node.Union(name, List.of(nodes)));
   }
 }

@@ -8,6 +8,7 @@ import dev.prime.Reader;
 import dev.prime.Source;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.Set;
 import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
@@ -26,7 +27,13 @@ class RadiantServicesTest {
                   .then(core.chain("label", (Integer x) -> x > 15 ? "v" + x : null)));
       Reader<String> reader = out.reader();
       core.start();
-      assertEquals(1, core.serviceNames().size(), core.serviceNames().toString());
+      assertEquals(Set.of("scale", "label"), core.serviceNames(), "the diagram's services");
+      assertEquals(
+          1,
+          Thread.getAllStackTraces().keySet().stream()
+              .filter(t -> t.isAlive() && t.getName().startsWith("prime-" + core.name() + "-"))
+              .count(),
+          "the linked chain runs on one service thread");
       for (int i = 1; i <= 3; i++) {
         sensor.publish(i);
       }

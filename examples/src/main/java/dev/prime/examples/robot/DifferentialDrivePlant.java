@@ -49,22 +49,22 @@ public final class DifferentialDrivePlant {
     return steady + (speed - steady) * Math.exp(-dt / spec.motorTimeConstant());
   }
 
-  /** The true pose (which odometry only estimates). */
+  /** {@return the true pose (which odometry only estimates)} */
   public Pose pose() {
     return pose;
   }
 
-  /** The true rim speeds of the wheels. */
+  /** {@return the true rim speeds of the wheels} */
   public WheelSpeeds wheelSpeeds() {
     return new WheelSpeeds(leftSpeed, rightSpeed);
   }
 
-  /** Metres the left rim has rolled since time zero (negative if backwards). */
+  /** {@return metres the left rim has rolled since time zero (negative if backwards)} */
   public double leftTravel() {
     return leftTravel;
   }
 
-  /** Metres the right rim has rolled since time zero (negative if backwards). */
+  /** {@return metres the right rim has rolled since time zero (negative if backwards)} */
   public double rightTravel() {
     return rightTravel;
   }

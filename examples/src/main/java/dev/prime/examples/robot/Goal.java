@@ -11,6 +11,8 @@ public record Goal(double x, double y) {
   /**
    * Checks the coordinates.
    *
+   * @param x metres
+   * @param y metres
    * @throws IllegalArgumentException if a coordinate is not a finite number
    */
   public Goal {

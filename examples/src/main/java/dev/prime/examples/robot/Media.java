@@ -35,7 +35,7 @@ public enum Media {
     this.factory = factory;
   }
 
-  /** The name used on the command line. */
+  /** {@return the name used on the command line} */
   public String cliName() {
     return cliName;
   }
@@ -90,7 +90,7 @@ public enum Media {
         "unknown media '" + name + "'; known media: " + knownNames());
   }
 
-  /** The command-line names of every media, separated by commas. */
+  /** {@return the command-line names of every media, separated by commas} */
   public static String knownNames() {
     return Arrays.stream(values()).map(Media::cliName).collect(Collectors.joining(", "));
   }

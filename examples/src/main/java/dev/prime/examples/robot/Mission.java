@@ -17,6 +17,9 @@ public record Mission(Goal goal, int maxSteps, int traceEvery) {
   /**
    * Checks the values.
    *
+   * @param goal where to drive, starting at the origin facing along x
+   * @param maxSteps give up after this many steps
+   * @param traceEvery print a trace line every this many steps
    * @throws IllegalArgumentException if a count is not positive
    */
   public Mission {

@@ -54,7 +54,7 @@ public final class Pid {
     return Math.max(-limit, Math.min(limit, output));
   }
 
-  /** The accumulated integral of the error, in error-seconds. */
+  /** {@return the accumulated integral of the error, in error-seconds} */
   public double integral() {
     return integral;
   }

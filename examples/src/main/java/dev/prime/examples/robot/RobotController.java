@@ -25,9 +25,9 @@ public final class RobotController {
   public static final double TOLERANCE = 0.03;
 
   /**
-   * The asynchronous services of this topology on a media that runs each chain as a service
-   * (Optimus): the names a process is told to host, or to leave to another process. They are
-   * deterministic because every chain is named.
+   * The services of this topology ({@link PrimeCore#serviceNames()}, the same on every media): on
+   * Optimus, the names a process is told to host, or to leave to another process. They are
+   * deterministic because every chain is named and the templates' names are made from them.
    */
   public static final List<String> SERVICES =
       List.of("odometry", "planner", "pid", "guard(planner>pid)", "collect(encoders>odometry)");

@@ -51,23 +51,35 @@ public record RobotOptions(
   public static final RobotOptions DEFAULTS =
       new RobotOptions(Media.LIBERTY, new Goal(2, 1), 3000, 100, false, null, List.of(), "robot");
 
-  /** Copies {@code remote}. */
+  /**
+   * Copies {@code remote}.
+   *
+   * @param media the media to run on
+   * @param goal where to drive
+   * @param maxSteps give up after this many steps
+   * @param traceEvery print a trace line every this many steps
+   * @param help whether only the usage was asked for
+   * @param redisUrl the Redis the Optimus media uses, or {@code null} for an embedded one
+   * @param remote the services another process runs (see {@link RobotWorker}); empty: none
+   * @param name the core's name; processes that share a topology on one Redis use the same one
+   */
   public RobotOptions {
     remote = List.copyOf(remote);
   }
 
-  /** The mission these options describe. */
+  /** {@return the mission these options describe} */
   public Mission mission() {
     return new Mission(goal, maxSteps, traceEvery);
   }
 
-  /** The core's settings: its name. */
+  /** {@return the core's settings: its name} */
   public CoreConfig coreConfig() {
     return CoreConfig.builder().name(name).build();
   }
 
   /**
-   * The services this process hosts: {@code null} (all of them) unless some are {@link #remote}.
+   * {@return the services this process hosts: {@code null} (all of them) unless some are {@link
+   * #remote}}
    */
   public List<String> hosted() {
     if (remote.isEmpty()) {

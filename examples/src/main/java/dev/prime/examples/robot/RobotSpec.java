@@ -21,7 +21,7 @@ public record RobotSpec(
   /** A small indoor robot: 5 cm wheels, 30 cm track, 1024-tick encoders, 12 V motors. */
   public static final RobotSpec SMALL_INDOOR = new RobotSpec(0.05, 0.30, 1024, 0.2, 0.1, 12);
 
-  /** Metres a wheel's rim travels per encoder tick. */
+  /** {@return metres a wheel's rim travels per encoder tick} */
   public double metresPerTick() {
     return 2 * Math.PI * wheelRadius / ticksPerRevolution;
   }

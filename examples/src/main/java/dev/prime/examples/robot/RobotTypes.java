@@ -22,7 +22,7 @@ public final class RobotTypes {
 
   private RobotTypes() {}
 
-  /** A codec that knows every type of {@link #ALL}, registered in that order. */
+  /** {@return A codec that knows every type of {@link #ALL}, registered in that order} */
   public static KryoCodec codec() {
     KryoCodec.Builder builder = KryoCodec.builder();
     for (Class<?> type : ALL) {

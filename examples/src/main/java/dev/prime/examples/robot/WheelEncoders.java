@@ -18,7 +18,7 @@ public final class WheelEncoders {
     this.spec = Objects.requireNonNull(spec, "spec must not be null");
   }
 
-  /** The readings, one per {@link #sample}. */
+  /** {@return the readings, one per {@link #sample}} */
   public EventBlock<EncoderReading> events() {
     return events;
   }

@@ -17,6 +17,12 @@ final class FusedClassLoader extends ClassLoader {
 
   FusedClassLoader(String chainName, ClassLoader parent) {
     super("prime-radiant[" + chainName + "]", parent);
+    // On the module path Radiant is a named module exporting only dev.prime.radiant; the fused
+    // classes live in this loader's unnamed module and read FusedConstants from this package.
+    // On the class path Radiant is unnamed itself and this does nothing.
+    FusedClassLoader.class
+        .getModule()
+        .addExports(FusedClassLoader.class.getPackageName(), getUnnamedModule());
   }
 
   Class<?> define(String binaryName, byte[] bytes) {

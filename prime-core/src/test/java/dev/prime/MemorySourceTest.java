@@ -1,15 +1,9 @@
-package dev.prime.internal;
+package dev.prime;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
-import dev.prime.Block;
-import dev.prime.Chain;
-import dev.prime.CoreClosedException;
-import dev.prime.CoreConfig;
-import dev.prime.PrimeCore;
-import dev.prime.Reader;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;

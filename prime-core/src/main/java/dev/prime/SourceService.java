@@ -1,9 +1,5 @@
-package dev.prime.internal;
+package dev.prime;
 
-import dev.prime.ChainFailedException;
-import dev.prime.CoreClosedException;
-import dev.prime.ErrorHandler;
-import dev.prime.Reader;
 import java.util.Objects;
 import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;
@@ -22,7 +18,7 @@ import org.slf4j.LoggerFactory;
  *
  * @param <T> value type
  */
-public final class SourceService<T> implements Runnable {
+final class SourceService<T> implements Runnable {
   private static final Logger LOG = LoggerFactory.getLogger(SourceService.class);
 
   private final String name;
@@ -39,7 +35,7 @@ public final class SourceService<T> implements Runnable {
    * @param ownerClosed whether the core running this service is closed: a CoreClosedException
    *     from the step ends the service only then (a closed foreign core is an ordinary failure)
    */
-  public SourceService(
+  SourceService(
       String name,
       Reader<T> reader,
       Consumer<? super T> step,

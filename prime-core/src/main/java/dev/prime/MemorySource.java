@@ -1,9 +1,6 @@
-package dev.prime.internal;
+package dev.prime;
 
-import dev.prime.CoreClosedException;
-import dev.prime.PrimeCore;
-import dev.prime.Reader;
-import dev.prime.Source;
+import dev.prime.spi.MediaSource;
 import dev.prime.spi.ValueCodec;
 import java.lang.invoke.VarHandle;
 import java.time.Duration;
@@ -17,6 +14,8 @@ import java.util.concurrent.locks.ReentrantLock;
 
 /**
  * An in-memory, broadcast source: the default source of every media that runs in one process.
+ * Package-private next to {@link PrimeCore}, whose default it is: the API package never depends on
+ * {@code dev.prime.internal}, which depends on nothing else of Prime (see PackageCyclesTest).
  *
  * <p>Design: values go into a ring buffer of {@code retention} slots, indexed by a global
  * sequence number. A reader is just a cursor (the sequence number of its next value), so any
@@ -41,12 +40,13 @@ import java.util.concurrent.locks.ReentrantLock;
  *
  * @param <T> value type
  */
-public final class MemorySource<T> implements Source<T> {
+final class MemorySource<T> implements MediaSource<T> {
   /** Rounds a reader spins, watching for a publication, before it parks. */
   static final int SPINS = 4_096;
 
   private final PrimeCore core;
   private final String name;
+  private final Runnable onReader;
   private final Object[] ring;
   private final ValueCodec copies; // null: values are shared by reference
   private final ReentrantLock lock = new ReentrantLock();
@@ -61,8 +61,8 @@ public final class MemorySource<T> implements Source<T> {
    * @param name the source's name
    * @param retention how many latest values to keep
    */
-  public MemorySource(PrimeCore core, String name, int retention) {
-    this(core, name, retention, null);
+  MemorySource(PrimeCore core, String name, int retention) {
+    this(core, name, retention, null, () -> {});
   }
 
   /**
@@ -71,11 +71,15 @@ public final class MemorySource<T> implements Source<T> {
    * @param retention how many latest values to keep
    * @param copies encodes each value at publish and decodes it for each read; {@code null} to
    *     share values by reference
+   * @param onReader called when the program opens a reader ({@link #reader()}, not {@link
+   *     #serviceReader()}), before it is made: the core records it in its topology
    */
-  public MemorySource(PrimeCore core, String name, int retention, ValueCodec copies) {
+  MemorySource(
+      PrimeCore core, String name, int retention, ValueCodec copies, Runnable onReader) {
     this.copies = copies;
     this.core = Objects.requireNonNull(core, "core");
     this.name = Objects.requireNonNull(name, "name");
+    this.onReader = Objects.requireNonNull(onReader, "onReader");
     if (retention < 1) {
       throw new IllegalArgumentException("retention must be at least 1, was " + retention);
     }
@@ -133,6 +137,13 @@ public final class MemorySource<T> implements Source<T> {
 
   @Override
   public Reader<T> reader() {
+    Reader<T> reader = serviceReader();
+    onReader.run();
+    return reader;
+  }
+
+  @Override
+  public Reader<T> serviceReader() {
     lock.lock();
     try {
       if (closed) {

@@ -1,0 +1,141 @@
+package dev.prime;
+
+import dev.prime.internal.ServiceThreads;
+import dev.prime.spi.MediaSource;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.function.Consumer;
+import java.util.function.Predicate;
+
+/**
+ * {@link PrimeCore}'s in-process defaults, which a media that runs in one process uses as they
+ * are: in-memory broadcast sources fed by event blocks, and services (a chain on a source, a
+ * filter, a flat-map, a listener) that each run on a thread of the core.
+ *
+ * <p>Design note. The sources and the event-block subscriptions are kept in lists guarded by the
+ * sources list, so that {@link #close()} unsubscribes and closes every one exactly once, and a
+ * source made after the core closed is refused ({@link PrimeCore#ensureOpen()} under the same
+ * lock). Service threads belong to {@link ServiceThreads}, which starts, names and stops them.
+ */
+final class InProcessServices {
+  private final PrimeCore core;
+  private final ServiceThreads threads;
+  private final List<MemorySource<?>> sources = new ArrayList<>(); // guarded by itself
+  private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by sources
+
+  InProcessServices(PrimeCore core, ServiceThreads threads) {
+    this.core = core;
+    this.threads = threads;
+  }
+
+  /** An in-memory source publishing what {@code events} publishes. */
+  <T> Source<T> eventSource(String name, EventBlock<T> events) {
+    MemorySource<T> source = newSource(name);
+    synchronized (sources) {
+      subscriptions.add(
+          events.subscribe(
+              value -> {
+                try {
+                  source.publish(value);
+                } catch (CoreClosedException closing) {
+                  // the core closed while this value was on its way: nobody can read it any more
+                }
+              }));
+    }
+    return source;
+  }
+
+  /** A service running {@code block} on every value of {@code input}; its non-null outputs. */
+  <I, O> Source<O> link(String name, Source<I> input, Block<I, O> block) {
+    MemorySource<O> out = newSource(name);
+    run(
+        name,
+        serviceReader(input),
+        value -> {
+          O output = block.process(value);
+          if (output != null) {
+            out.publish(output);
+          }
+        });
+    return out;
+  }
+
+  /** A service republishing the values of {@code input} that pass. */
+  <T> Source<T> filter(String name, Source<T> input, Predicate<? super T> predicate) {
+    MemorySource<T> out = newSource(name);
+    run(
+        name,
+        serviceReader(input),
+        value -> {
+          if (predicate.test(value)) {
+            out.publish(value);
+          }
+        });
+    return out;
+  }
+
+  /** A service publishing every non-null value {@code block} makes of each value of {@code input}. */
+  <T, R> Source<R> flatMap(
+      String name, Source<T> input, Block<? super T, ? extends Iterable<? extends R>> block) {
+    MemorySource<R> out = newSource(name);
+    run(
+        name,
+        serviceReader(input),
+        value -> {
+          Iterable<? extends R> outputs = block.process(value);
+          if (outputs != null) {
+            for (R output : outputs) {
+              if (output != null) {
+                out.publish(output);
+              }
+            }
+          }
+        });
+    return out;
+  }
+
+  /** A service calling {@code listener} with every value of {@code input}. */
+  <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
+    run(name, serviceReader(input), listener);
+  }
+
+  /** A service on a thread of the core: each value of {@code reader} goes to {@code step}. */
+  <T> void run(String name, Reader<T> reader, Consumer<? super T> step) {
+    threads.add(
+        name,
+        new SourceService<>(name, reader, step, core.config().errorHandler(), core::isClosed));
+  }
+
+  /** Unsubscribes from every event block and closes every source, waking their readers. */
+  void close() {
+    List<MemorySource<?>> closing;
+    synchronized (sources) {
+      subscriptions.forEach(EventBlock.Subscription::close);
+      subscriptions.clear();
+      closing = new ArrayList<>(sources);
+      sources.clear();
+    }
+    closing.forEach(MemorySource::close);
+  }
+
+  /** A reader for one of the core's services: not one of the program's, so not recorded. */
+  static <T> Reader<T> serviceReader(Source<T> source) {
+    return source instanceof MediaSource<T> media ? media.serviceReader() : source.reader();
+  }
+
+  private <T> MemorySource<T> newSource(String name) {
+    CoreConfig config = core.config();
+    MemorySource<T> source =
+        new MemorySource<>(
+            core,
+            name,
+            config.sourceRetention(),
+            config.valueCopies(),
+            () -> core.topologyRecorder().reader(name));
+    synchronized (sources) {
+      core.ensureOpen();
+      sources.add(source);
+    }
+    return source;
+  }
+}

@@ -1,0 +1,359 @@
+package dev.prime.spi;
+
+import dev.prime.Chain;
+import dev.prime.PrimeCore;
+import dev.prime.Source;
+import dev.prime.internal.Names;
+import dev.prime.topology.Topology;
+import dev.prime.topology.TopologyNode;
+import java.util.ArrayList;
+import java.util.HashMap;
+import java.util.List;
+import java.util.Map;
+import java.util.Objects;
+import java.util.function.Predicate;
+
+/**
+ * Records the diagram declared on one core as {@link TopologyNode}s, and makes every name: the one
+ * place where chains, sources and template chains get their names ({@code a>b}, {@code
+ * if(a|b)}, {@code guard(a)}, ...). Every media names what it builds through this class, so the
+ * same declarations give the same names, Redis keys and log names on every media.
+ *
+ * <p>Each method records one node and returns its name. A chain or source of another core used
+ * here is recorded first as a {@link TopologyNode.ForeignChain} ({@code hosted(name)}) or {@link
+ * TopologyNode.ForeignSource}, whose name is then the part's name. {@link PrimeCore} makes one
+ * per core ({@link PrimeCore#topologyRecorder()} gives it to media). Thread-safe.
+ */
+public final class TopologyRecorder {
+  private final PrimeCore owner;
+  private final Names names = new Names();
+  private final List<TopologyNode> nodes = new ArrayList<>(); // guarded by this
+  private final Map<String, TopologyNode> byName = new HashMap<>(); // guarded by this
+  private final Map<Object, String> foreign = new HashMap<>(); // guarded by this
+  private final Map<String, Integer> readers = new HashMap<>(); // guarded by this
+
+  /**
+   * @param owner the core whose diagram this records
+   */
+  public TopologyRecorder(PrimeCore owner) {
+    this.owner = Objects.requireNonNull(owner, "owner");
+  }
+
+  /**
+   * Records a chain made of a block.
+   *
+   * @param name the name the user gave, or {@code null} for {@code chain-N}
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String blockChain(String name) {
+    return add(new TopologyNode.BlockChain(name == null ? names.fresh("chain") : names.claim(name)));
+  }
+
+  /**
+   * Records a source fed by an event block.
+   *
+   * @param name the name the user gave, or {@code null} for {@code source-N}
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String eventSource(String name) {
+    return add(
+        new TopologyNode.EventSource(name == null ? names.fresh("source") : names.claim(name)));
+  }
+
+  /**
+   * Records two linked chains.
+   *
+   * @param first runs first
+   * @param second runs on its outputs
+   * @return the linked chain's name, {@code first>second}
+   */
+  public synchronized String link(Chain<?, ?> first, Chain<?, ?> second) {
+    String a = part(first);
+    String b = part(second);
+    return add(
+        new TopologyNode.Link(names.derived(first.name() + ">" + second.name(), "link"), a, b));
+  }
+
+  /**
+   * Records the if/else template.
+   *
+   * @param then the chain for inputs that satisfy the condition
+   * @param otherwise the chain for the others
+   * @return the template chain's name, {@code if(then|otherwise)}
+   */
+  public synchronized String ifElse(Chain<?, ?> then, Chain<?, ?> otherwise) {
+    String a = part(then);
+    String b = part(otherwise);
+    String name = names.derived("if(" + then.name() + "|" + otherwise.name() + ")", "if");
+    return add(new TopologyNode.IfElse(name, a, b));
+  }
+
+  /**
+   * Records the for-each template.
+   *
+   * @param body the chain for one element
+   * @return the template chain's name, {@code forEach(body)}
+   */
+  public synchronized String forEach(Chain<?, ?> body) {
+    String b = part(body);
+    return add(
+        new TopologyNode.ForEach(names.derived("forEach(" + body.name() + ")", "forEach"), b));
+  }
+
+  /**
+   * Records a union of 2 to 5 chains.
+   *
+   * @param chains the chains, in tuple order
+   * @return the template chain's name, {@code union(a|b|...)}
+   */
+  public synchronized String union(Chain<?, ?>... chains) {
+    List<String> parts = new ArrayList<>(chains.length);
+    StringBuilder preferred = new StringBuilder("union(");
+    for (int i = 0; i < chains.length; i++) {
+      parts.add(part(chains[i]));
+      preferred.append(i == 0 ? "" : "|").append(chains[i].name());
+    }
+    String name = names.derived(preferred.append(')').toString(), "union");
+    return add(new TopologyNode.Union(name, parts));
+  }
+
+  /**
+   * Records the fork template.
+   *
+   * @param chain the forked chain
+   * @return the template chain's name, {@code fork(chain)}
+   */
+  public synchronized String fork(Chain<?, ?> chain) {
+    String c = part(chain);
+    return add(new TopologyNode.Fork(names.derived("fork(" + chain.name() + ")", "fork"), c));
+  }
+
+  /**
+   * Records the guard template.
+   *
+   * @param chain the guarded chain
+   * @return the template chain's name, {@code guard(chain)}
+   */
+  public synchronized String guard(Chain<?, ?> chain) {
+    String c = part(chain);
+    return add(new TopologyNode.Guard(names.derived("guard(" + chain.name() + ")", "guard"), c));
+  }
+
+  /**
+   * Records that a chain is shared by isolation (no node of its own: its users are the nodes).
+   *
+   * @param chain the shared chain
+   * @return the name of the shared chain's node
+   */
+  public synchronized String isolate(Chain<?, ?> chain) {
+    return part(chain);
+  }
+
+  /**
+   * Records one user of an isolated chain.
+   *
+   * @param shared the shared chain's node, from {@link #isolate}
+   * @param sharedName the shared chain's own name
+   * @param user 1 for the first user, 2 for the next, ...
+   * @return the user chain's name, {@code shared@user}
+   */
+  public synchronized String isolatedUser(String shared, String sharedName, int user) {
+    return add(
+        new TopologyNode.IsolatedUser(names.derived(sharedName + "@" + user, "isolated"), shared));
+  }
+
+  /**
+   * Records a sync collector.
+   *
+   * @param source the source it reads
+   * @return the collector chain's name, {@code collect(source)}
+   */
+  public synchronized String syncCollector(Source<?> source) {
+    String s = sourcePart(source);
+    return add(
+        new TopologyNode.SyncCollector(
+            names.derived("collect(" + source.name() + ")", "collect"), s));
+  }
+
+  /**
+   * Records an async collector.
+   *
+   * @param source the source it reads
+   * @return the collector chain's name, {@code collectAll(source)}
+   */
+  public synchronized String asyncCollector(Source<?> source) {
+    String s = sourcePart(source);
+    return add(
+        new TopologyNode.AsyncCollector(
+            names.derived("collectAll(" + source.name() + ")", "collectAll"), s));
+  }
+
+  /**
+   * Records a repeater.
+   *
+   * @param inner the chain run each round
+   * @param collector the async collector it reads between rounds (recorded before), or {@code
+   *     null}
+   * @return the repeater chain's name, {@code repeat(inner)}
+   */
+  public synchronized String repeater(Chain<?, ?> inner, String collector) {
+    String i = part(inner);
+    return add(
+        new TopologyNode.Repeater(
+            names.derived("repeat(" + inner.name() + ")", "repeat"), i, collector));
+  }
+
+  /**
+   * Records a chain linked to a source.
+   *
+   * @param source the input source
+   * @param chain the chain that runs on it
+   * @return the output source's name, {@code source>chain}
+   */
+  public synchronized String sourceLink(Source<?> source, Chain<?, ?> chain) {
+    String s = sourcePart(source);
+    String c = part(chain);
+    return add(
+        new TopologyNode.SourceLink(
+            names.derived(source.name() + ">" + chain.name(), "link"), s, c));
+  }
+
+  /**
+   * Records a filter of a source.
+   *
+   * @param source the input source
+   * @return the filtered source's name, {@code filter(source)}
+   */
+  public synchronized String filter(Source<?> source) {
+    String s = sourcePart(source);
+    return add(new TopologyNode.Filter(names.derived("filter(" + source.name() + ")", "filter"), s));
+  }
+
+  /**
+   * Records a flat-map of a source.
+   *
+   * @param source the input source
+   * @return the flattened source's name, {@code flatMap(source)}
+   */
+  public synchronized String flatMap(Source<?> source) {
+    String s = sourcePart(source);
+    return add(
+        new TopologyNode.FlatMap(names.derived("flatMap(" + source.name() + ")", "flatMap"), s));
+  }
+
+  /**
+   * Records a listener of a source.
+   *
+   * @param source the source
+   * @return the listener's name, {@code listen(source)}
+   */
+  public synchronized String listener(Source<?> source) {
+    String s = sourcePart(source);
+    return add(
+        new TopologyNode.Listener(names.derived("listen(" + source.name() + ")", "listen"), s));
+  }
+
+  /**
+   * Records a reader the program opened on a source of this core.
+   *
+   * @param source the source's name
+   */
+  public synchronized void reader(String source) {
+    if (!byName.containsKey(source)) {
+      throw new IllegalStateException("no source named '" + source + "' was recorded");
+    }
+    add(new TopologyNode.ReaderNode(source, readers.merge(source, 1, Integer::sum)));
+  }
+
+  /**
+   * Claims a name derived from others for something that is not a node of the diagram (it is
+   * still unique among the core's names). Names of the diagram's nodes come from the recording
+   * methods.
+   *
+   * @param preferred the derived name
+   * @param kind the fallback prefix if it is too long or invalid ({@code kind-N})
+   * @return a unique name
+   */
+  public synchronized String derived(String preferred, String kind) {
+    return names.derived(preferred, kind);
+  }
+
+  /**
+   * The node with a name.
+   *
+   * @param name a recorded name
+   * @return the node
+   * @throws IllegalArgumentException if nothing of that name was recorded
+   */
+  public synchronized TopologyNode node(String name) {
+    TopologyNode node = byName.get(name);
+    if (node == null) {
+      throw new IllegalArgumentException("nothing named '" + name + "' was recorded");
+    }
+    return node;
+  }
+
+  /**
+   * A snapshot of what was recorded.
+   *
+   * @param hostedHere whether this process runs a service
+   * @return the topology
+   */
+  public synchronized Topology snapshot(Predicate<String> hostedHere) {
+    List<String> elsewhere = new ArrayList<>();
+    for (TopologyNode node : nodes) {
+      if (node.isService() && !hostedHere.test(node.name())) {
+        elsewhere.add(node.name());
+      }
+    }
+    return Topology.of(nodes, elsewhere);
+  }
+
+  private String add(TopologyNode node) {
+    nodes.add(node);
+    byName.put(node.name(), node);
+    return node.name();
+  }
+
+  /** A chain or source of the owning core: recorded when it was made, or a media's mistake. */
+  private String own(String name) {
+    if (!byName.containsKey(name)) {
+      throw new IllegalStateException(
+          "'" + name + "' belongs to core '" + owner.name() + "' but was never recorded in its"
+              + " topology: a media must name every chain and source it makes through"
+              + " PrimeCore.topologyRecorder()");
+    }
+    return name;
+  }
+
+  /** The node name of a chain used as a part: its own, or a new foreign node's. */
+  private String part(Chain<?, ?> chain) {
+    if (chain.core() == owner) {
+      return own(chain.name());
+    }
+    String known = foreign.get(chain);
+    if (known != null) {
+      return known;
+    }
+    String name = names.derived("hosted(" + chain.name() + ")", "hosted");
+    foreign.put(chain, name);
+    return add(new TopologyNode.ForeignChain(name, chain.core().name(), chain.name()));
+  }
+
+  /** The node name of a source used as a part: its own, or a new foreign node's. */
+  private String sourcePart(Source<?> source) {
+    if (source.core() == owner) {
+      return own(source.name());
+    }
+    String known = foreign.get(source);
+    if (known != null) {
+      return known;
+    }
+    String name =
+        names.derived("from(" + source.core().name() + ":" + source.name() + ")", "foreign");
+    foreign.put(source, name);
+    return add(new TopologyNode.ForeignSource(name, source.core().name(), source.name()));
+  }
+}

@@ -1,0 +1,165 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.Isolated;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Repeat;
+import dev.prime.Source;
+import dev.prime.Token;
+import dev.prime.Tuple2;
+import dev.prime.topology.TopologyNode;
+import dev.prime.topology.TopologyNode.AsyncCollector;
+import dev.prime.topology.TopologyNode.BlockChain;
+import dev.prime.topology.TopologyNode.EventSource;
+import dev.prime.topology.TopologyNode.Filter;
+import dev.prime.topology.TopologyNode.FlatMap;
+import dev.prime.topology.TopologyNode.ForEach;
+import dev.prime.topology.TopologyNode.ForeignChain;
+import dev.prime.topology.TopologyNode.ForeignSource;
+import dev.prime.topology.TopologyNode.Fork;
+import dev.prime.topology.TopologyNode.Guard;
+import dev.prime.topology.TopologyNode.IfElse;
+import dev.prime.topology.TopologyNode.IsolatedUser;
+import dev.prime.topology.TopologyNode.Link;
+import dev.prime.topology.TopologyNode.Listener;
+import dev.prime.topology.TopologyNode.ReaderNode;
+import dev.prime.topology.TopologyNode.Repeater;
+import dev.prime.topology.TopologyNode.SourceLink;
+import dev.prime.topology.TopologyNode.SyncCollector;
+import dev.prime.topology.TopologyNode.Union;
+import java.util.List;
+import org.junit.jupiter.api.Test;
+
+/**
+ * The topology a core records: every declaration as a node, named in one place, so the same
+ * declarations give the same nodes, names and services on every media. Readers the core opens for
+ * its own services (links, collectors, filters) are not the program's and are not listed.
+ */
+public interface TopologyConformance extends ConformanceBase {
+
+  @Test
+  default void everyDeclarationIsANodeWithTheSameNameOnEveryMedia() {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", events);
+      Source<Integer> doubled = numbers.then(core.chain("double", (Integer x) -> x * 2));
+      doubled.reader();
+      doubled.filter(x -> x > 2).listen(x -> {});
+      numbers.flatMap(x -> List.of(x, x));
+      Chain<Integer, String> choose =
+          core.ifThenElse(
+              x -> x > 0, core.chain("pos", (Integer x) -> "+"), core.chain("neg", x -> "-"));
+      Chain<List<Integer>, List<String>> each = core.forEach(choose);
+      Chain<List<Integer>, Tuple2<List<String>, Integer>> both =
+          core.union(each, core.chain("size", List::size));
+      Chain<Integer, Integer> forked =
+          core.fork(
+              core.guard(x -> x > 0, core.chain("inc", (Integer x) -> x + 1), x -> 0),
+              new EventBlock<>());
+      Isolated<Integer, Integer> shared = core.isolate(core.chain("shared", (Integer x) -> x));
+      shared.newUser();
+      shared.newUser();
+      Chain<Token, Integer> collect = core.syncCollector(doubled);
+      core.asyncCollector(numbers);
+      core.repeater(
+          core.chain("step", (Integer x) -> x + 1),
+          numbers,
+          (Integer in, Integer out, List<Integer> seen) -> Repeat.<Integer, Integer>stop(out));
+      Chain<Token, Integer> called = collect.then(forked);
+
+      List<TopologyNode> expected =
+          List.of(
+              new EventSource("numbers"),
+              new BlockChain("double"),
+              new SourceLink("numbers>double", "numbers", "double"),
+              new ReaderNode("numbers>double", 1),
+              new Filter("filter(numbers>double)", "numbers>double"),
+              new Listener("listen(filter(numbers>double))", "filter(numbers>double)"),
+              new FlatMap("flatMap(numbers)", "numbers"),
+              new BlockChain("pos"),
+              new BlockChain("neg"),
+              new IfElse("if(pos|neg)", "pos", "neg"),
+              new ForEach("forEach(if(pos|neg))", "if(pos|neg)"),
+              new BlockChain("size"),
+              new Union("union(forEach(if(pos|neg))|size)", List.of("forEach(if(pos|neg))", "size")),
+              new BlockChain("inc"),
+              new Guard("guard(inc)", "inc"),
+              new Fork("fork(guard(inc))", "guard(inc)"),
+              new BlockChain("shared"),
+              new IsolatedUser("shared@1", "shared"),
+              new IsolatedUser("shared@2", "shared"),
+              new SyncCollector("collect(numbers>double)", "numbers>double"),
+              new AsyncCollector("collectAll(numbers)", "numbers"),
+              new BlockChain("step"),
+              new AsyncCollector("collectAll(numbers)#2", "numbers"),
+              new Repeater("repeat(step)", "step", "collectAll(numbers)#2"),
+              new Link(called.name(), "collect(numbers>double)", "fork(guard(inc))"));
+      assertEquals(expected, core.topology().nodes());
+      assertEquals("collect(numbers>double)>fork(guard(inc))", called.name());
+      assertEquals(both.name(), "union(forEach(if(pos|neg))|size)");
+      assertEquals(
+          List.of(
+              "double",
+              "filter(numbers>double)",
+              "listen(filter(numbers>double))",
+              "flatMap(numbers)",
+              "pos",
+              "neg",
+              "if(pos|neg)",
+              "forEach(if(pos|neg))",
+              "size",
+              "union(forEach(if(pos|neg))|size)",
+              "inc",
+              "guard(inc)",
+              "fork(guard(inc))",
+              "shared",
+              "shared@1",
+              "shared@2",
+              "collect(numbers>double)",
+              "collectAll(numbers)",
+              "step",
+              "collectAll(numbers)#2",
+              "repeat(step)"),
+          List.copyOf(core.serviceNames()));
+    }
+  }
+
+  @Test
+  default void chainsAndSourcesOfAnotherCoreAreForeignNodes() throws InterruptedException {
+    // declared first, closed last: the local service never sees its foreign source closed
+    try (PrimeCore other = newCore(CoreConfig.builder().name("topology-other").build());
+        PrimeCore core = newCore()) {
+      EventBlock<Integer> readings = new EventBlock<>();
+      Source<Integer> theirs = other.source("readings", readings);
+      Source<Integer> mine = core.link(theirs, core.chain("local", (Integer x) -> -x));
+      Chain<Integer, Integer> mixed =
+          core.link(
+              core.chain("first", (Integer x) -> x + 1), other.chain("remote", (Integer x) -> x * 10));
+      assertEquals(
+          List.of(
+              new BlockChain("local"),
+              new ForeignSource("from(topology-other:readings)", "topology-other", "readings"),
+              new SourceLink(mine.name(), "from(topology-other:readings)", "local"),
+              new BlockChain("first"),
+              new ForeignChain("hosted(remote)", "topology-other", "remote"),
+              new Link(mixed.name(), "first", "hosted(remote)")),
+          core.topology().nodes().subList(0, 6));
+      assertEquals("readings>local", mine.name());
+      assertEquals("first>remote", mixed.name());
+      assertEquals(List.of("local", "first", "hosted(remote)"), List.copyOf(core.serviceNames()));
+      assertEquals(List.of(new EventSource("readings"), new BlockChain("remote")), other.topology().nodes());
+
+      Reader<Integer> reader = mine.reader();
+      other.start();
+      core.start();
+      assertEquals(40, mixed.toBlock().process(3), "the mixed chain runs both parts");
+      readings.publish(5);
+      assertEquals(-5, takeOrFail(reader), "the foreign source feeds the local service");
+    }
+  }
+}

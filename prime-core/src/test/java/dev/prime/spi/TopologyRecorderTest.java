@@ -1,0 +1,85 @@
+package dev.prime.spi;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Source;
+import dev.prime.topology.TopologyNode;
+import java.util.List;
+import org.junit.jupiter.api.Test;
+
+/** Names made in one place, readers counted per source, and a media's unrecorded chain refused. */
+class TopologyRecorderTest {
+
+  /** The generic core with a media mistake on demand: a chain made without the recorder. */
+  private static final class PlainCore extends PrimeCore {
+    PlainCore() {
+      super("plain", CoreConfig.defaults());
+    }
+
+    @Override
+    protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
+      PrimeCore self = this;
+      return new AbstractChain<>(self, name) {
+        @Override
+        protected Block<I, O> createBlock() {
+          return new FailureNamingBlock<>(name, block);
+        }
+      };
+    }
+
+    <I, O> Chain<I, O> unrecorded(String name, Block<I, O> block) {
+      return newChain(name, block);
+    }
+  }
+
+  @Test
+  void aTakenDerivedNameGetsASuffixAndTheNodeKeepsItsParts() {
+    try (PlainCore core = new PlainCore()) {
+      core.chain("forEach(body)", (Integer x) -> x); // a user's name that a template would make
+      Chain<List<Integer>, List<Integer>> each = core.forEach(core.chain("body", (Integer x) -> x));
+      assertEquals("forEach(body)#2", each.name());
+      assertEquals(
+          new TopologyNode.ForEach("forEach(body)#2", "body"),
+          core.topology().node("forEach(body)#2").orElseThrow());
+    }
+  }
+
+  @Test
+  void readersOfTheProgramAreNumberedPerSource() {
+    try (PlainCore core = new PlainCore()) {
+      Source<Integer> a = core.source("a", new EventBlock<>());
+      Source<Integer> b = core.source("b", new EventBlock<>());
+      a.reader();
+      b.reader();
+      a.reader();
+      core.syncCollector(a); // the collector's own reader is not the program's
+      assertEquals(
+          List.of(
+              new TopologyNode.ReaderNode("a", 1),
+              new TopologyNode.ReaderNode("b", 1),
+              new TopologyNode.ReaderNode("a", 2)),
+          core.topology().nodes().stream()
+              .filter(node -> node instanceof TopologyNode.ReaderNode)
+              .toList());
+    }
+  }
+
+  @Test
+  void aChainItsMediaNeverRecordedIsRefusedWithTheFix() {
+    try (PlainCore core = new PlainCore()) {
+      Chain<Integer, Integer> stray = core.unrecorded("stray", x -> x);
+      IllegalStateException e =
+          assertThrows(IllegalStateException.class, () -> core.guard(x -> true, stray, x -> 0));
+      assertTrue(
+          e.getMessage().contains("'stray'") && e.getMessage().contains("topologyRecorder()"),
+          e.getMessage());
+    }
+  }
+}
