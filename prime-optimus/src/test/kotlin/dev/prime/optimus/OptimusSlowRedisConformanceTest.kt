@@ -18,7 +18,7 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     /** A service's input is a queue on Optimus, never trimmed to the retention. */
     override fun serviceInputIsAQueue(): Boolean = true
 
-    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    /** Blocks run in services: a VirtualMachineError reaches the caller promptly, then ends the service. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
 
     private companion object {
