@@ -62,9 +62,10 @@ public interface ConformanceBase {
   /**
    * Whether a synchronous call runs the chain's blocks on the caller's thread (true for the
    * in-memory media). Then a {@link VirtualMachineError} a block throws reaches the caller
-   * unchanged. A media whose chains are services (Optimus) runs the block on a service's thread:
-   * a {@code VirtualMachineError} ends that service, as it ends any thread, and the caller gets no
-   * reply; the kit's test of that case is skipped there.
+   * unchanged and the chain goes on working. A media whose chains are services (Optimus) runs the
+   * block on a service's thread: the caller gets the error promptly (unwrapped in the process that
+   * ran the block), and the error then ends that service, as it ends any thread; the kit tests
+   * each case on the media it applies to.
    */
   default boolean blocksRunOnTheCallersThread() {
     return true;

@@ -165,8 +165,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val allSlots = ConcurrentLinkedQueue<CallerSlot>()
     private val slotNumbers = AtomicInteger()
     private val publishers = ConcurrentLinkedQueue<RedisSession>()
-    private val failures = Collections.synchronizedMap(object : LinkedHashMap<Long, ChainFailedException>() {
-        override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, ChainFailedException>?) = size > FAILURES_KEPT
+    private val failures = Collections.synchronizedMap(object : LinkedHashMap<Long, Throwable>() {
+        override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, Throwable>?) = size > FAILURES_KEPT
     })
 
     private val threadNumbers = AtomicInteger()
@@ -526,11 +526,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (isClosed) slot.close() else idleSlots += slot
     }
 
-    internal fun rememberFailure(id: Long, failure: ChainFailedException) {
+    /**
+     * Keeps what a request's block threw for a caller in this process: a [ChainFailedException],
+     * or the block's own [VirtualMachineError], which reaches the caller unwrapped as on the
+     * media that run blocks on the caller's thread.
+     */
+    internal fun rememberFailure(id: Long, failure: Throwable) {
         failures[id] = failure
     }
 
-    internal fun takeFailure(id: Long): ChainFailedException? = failures.remove(id)
+    internal fun takeFailure(id: Long): Throwable? = failures.remove(id)
 
     /**
      * Gives a failure to the error handler as the user knows it: a [ChainFailedException] (a chain
@@ -604,6 +609,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         withSession("claim the host leases of $services") { hostLeases.claim(services, name()) }
     }
 
+    /** The fence [service]'s steps check: its host lease must hold this instance's id. */
+    internal fun hostFence(service: String): HostFence = HostFence(keys.hostLease(service), instance.toByteArray(UTF_8))
+
+    /**
+     * Called by [service]'s own loop when a step found its host lease held by [holder]: stops the
+     * service as the heartbeat would have (whichever sees it first stops it, once).
+     */
+    internal fun hostingLost(session: RedisSession, service: String, holder: String) {
+        if (hostLeases.drop(service)) stopLostService(service, hostLeases.describe(session, holder))
+    }
+
     /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
     private fun stopLostService(service: String, holder: String) {
         notRunning += service
@@ -651,6 +667,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 when (result) {
                     is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
                     is StepResult.Stale -> source.view = null
+                    is StepResult.Fenced -> throw IllegalStateException("a publish step was fenced: $result")
                     is StepResult.Full -> {
                         val left = deadline - System.nanoTime()
                         if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
@@ -677,6 +694,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 "Is a process that hosts '$service' running and keeping up? Raise the limit with " +
                 "OptimusCore.Builder.queueLimit(\"$service\", n), or the wait with publishTimeout.",
         )
+    }
+
+    /** Runs [action]; a Redis ACL refusal it meets becomes a [dev.prime.PrimeException] saying what to grant. */
+    internal inline fun <T> explainingRefusals(what: String, action: () -> T): T = try {
+        action()
+    } catch (e: JedisDataException) {
+        if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
+        throw e
     }
 
     /** Runs [action] on a pooled session; an ACL refusal becomes a [dev.prime.PrimeException] saying what to grant. */

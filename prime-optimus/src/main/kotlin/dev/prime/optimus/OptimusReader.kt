@@ -122,8 +122,10 @@ internal class OptimusReader<T>(
      * The next value. [wait]: block until [deadline] (a nanoTime; `null`: forever) for one;
      * else return `null` at once if there is none.
      */
+    private fun next(wait: Boolean, deadline: Long?): T? = core.explainingRefusals("reading a source") { nextValue(wait, deadline) }
+
     @Suppress("UNCHECKED_CAST")
-    private fun next(wait: Boolean, deadline: Long?): T? {
+    private fun nextValue(wait: Boolean, deadline: Long?): T? {
         val started = System.nanoTime()
         // how long Redis may be unreachable before this read gives up (null: never)
         val redisDeadline = if (wait) deadline else started + NO_WAIT_BOUND_MS * 1_000_000

@@ -23,7 +23,7 @@ internal class RemoteCall<I, O>(
         val slot = core.borrowSlot()
         try {
             @Suppress("UNCHECKED_CAST")
-            return slot.call(input, payload, chainName) as O
+            return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName) } as O
         } finally {
             core.returnSlot(slot)
         }

@@ -15,6 +15,6 @@ class OptimusConformanceTest : MediaConformance {
     override fun newCoreWithServiceInputCapacity(config: CoreConfig, capacity: Int): PrimeCore =
         OptimusCore.builder().config(config).redis(TestRedis.url).queueLimit(capacity).build()
 
-    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    /** Blocks run in services: a VirtualMachineError reaches the caller promptly, then ends the service. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
 }

@@ -51,4 +51,33 @@ class RedisAclTest {
             Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
         }
     }
+
+    @Test
+    fun aCallerAndAReaderWithoutACommandTheyNeedAreToldWhichOne() {
+        val user = "prime-noblmove"
+        Jedis(URI(TestRedis.url)).use { admin ->
+            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~*", "&*", "+@all", "-blmove")
+        }
+        try {
+            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+            val config = dev.prime.CoreConfig.builder().name("acl-caller").build()
+            // hosts nothing: the call's request waits in Redis, and the caller's wait for the reply needs BLMOVE
+            OptimusCore.builder().redis(url).config(config).hosts(emptyList()).callTimeout(java.time.Duration.ofSeconds(5)).build().use { core ->
+                val twice = core.chain("twice") { x: Int -> 2 * x }.toBlock()
+                val reader = core.source("numbers", EventBlock<Int>()).reader()
+                core.start()
+                for (refused in listOf(
+                    assertThrows(PrimeException::class.java) { twice.process(1) },
+                    assertThrows(PrimeException::class.java) { reader.take(java.time.Duration.ofSeconds(2)) },
+                )) {
+                    val message = refused.message!!
+                    assertTrue("'$user'" in message, message)
+                    assertTrue("'blmove'" in message.lowercase(), message)
+                    assertTrue("docs/architecture.md" in message, message)
+                }
+            }
+        } finally {
+            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
+        }
+    }
 }
