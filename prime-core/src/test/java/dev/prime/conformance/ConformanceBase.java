@@ -49,12 +49,14 @@ public interface ConformanceBase {
   }
 
   /**
-   * Whether a chain linked to a source reads a queue (every value published while it is busy is
-   * processed: Optimus) rather than a retention window (it skips to the newest retained values).
-   * The design asks for queues on every media; media still on the window return {@code false}.
+   * A new, not yet started core of the media under test, built from {@code config}, whose
+   * services' inputs each hold at most {@code capacity} values a service has not processed: then
+   * a publish waits, and after {@link CoreConfig#publishTimeout()} fails with {@link
+   * dev.prime.QueueFullException}. By default the source retention, which is that capacity on the
+   * in-memory media; a media with a capacity of its own (Optimus: its queue limit) sets that.
    */
-  default boolean serviceInputIsAQueue() {
-    return false;
+  default PrimeCore newCoreWithServiceInputCapacity(CoreConfig config, int capacity) {
+    return newCore(config.toBuilder().sourceRetention(capacity).build());
   }
 
   /**

@@ -141,7 +141,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal val ids: ValueIds = ValueIds()
     internal val retries: Int = settings.retries
     internal val callTimeout: Duration? = settings.callTimeout
-    private val publishTimeout: Duration = settings.publishTimeout
+    private val publishTimeout: Duration = settings.publishTimeout ?: config.publishTimeout()
     private val maxValueBytes: Int = settings.maxValueBytes
     private val queueLimit: Int = settings.queueLimit
     private val queueLimits: Map<String, Int> = settings.queueLimits
@@ -827,9 +827,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
 
         /**
-         * The longest [EventBlock.publish] and [publishAll] wait (default 10 s): for room in a full
-         * service queue, then [QueueFullException]; for an unreachable Redis, then
-         * [RedisUnavailableException].
+         * The longest [EventBlock.publish] and [publishAll] wait (default: the config's
+         * [CoreConfig.publishTimeout], 10 s unless set): for room in a full service queue, then
+         * [QueueFullException]; for an unreachable Redis, then [RedisUnavailableException].
          */
         public fun publishTimeout(timeout: Duration): Builder = apply {
             require(!timeout.isNegative) { "publish timeout must not be negative, was $timeout" }
@@ -872,7 +872,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val retries: Int = 0,
         val callTimeout: Duration? = Duration.ofSeconds(60),
         val leaseTime: Duration = Duration.ofSeconds(5),
-        val publishTimeout: Duration = Duration.ofSeconds(10),
+        val publishTimeout: Duration? = null, // null: the CoreConfig's
         val maxValueBytes: Int = 16 * 1024 * 1024,
         val queueLimit: Int = 100_000,
         val queueLimits: Map<String, Int> = emptyMap(),
