@@ -26,12 +26,16 @@ public final class CoreConfig {
   /** Default time {@link PrimeCore#close()} waits for services to stop. */
   public static final Duration DEFAULT_SHUTDOWN_TIMEOUT = Duration.ofSeconds(5);
 
+  /** Default time a publish waits for room in a full service input. */
+  public static final Duration DEFAULT_PUBLISH_TIMEOUT = Duration.ofSeconds(10);
+
   private static final CoreConfig DEFAULTS = builder().build();
 
   private final String name;
   private final int sourceRetention;
   private final ErrorHandler errorHandler;
   private final Duration shutdownTimeout;
+  private final Duration publishTimeout;
   private final ValueCodec valueCopies;
 
   private CoreConfig(Builder b) {
@@ -39,6 +43,7 @@ public final class CoreConfig {
     this.sourceRetention = b.sourceRetention;
     this.errorHandler = b.errorHandler != null ? b.errorHandler : new LoggingErrorHandler();
     this.shutdownTimeout = b.shutdownTimeout;
+    this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
   }
 
@@ -78,6 +83,14 @@ public final class CoreConfig {
   }
 
   /**
+   * {@return how long a publish waits for room in a full service input before it throws {@link
+   * QueueFullException}} See {@link Builder#publishTimeout(Duration)}.
+   */
+  public Duration publishTimeout() {
+    return publishTimeout;
+  }
+
+  /**
    * {@return the codec through which the in-memory media copy every value that crosses a
    * service boundary, or {@code null} (the default) if they pass values by reference} See
    * {@link Builder#copyValues(ValueCodec)}.
@@ -93,6 +106,7 @@ public final class CoreConfig {
     b.sourceRetention = sourceRetention;
     b.errorHandler = errorHandler;
     b.shutdownTimeout = shutdownTimeout;
+    b.publishTimeout = publishTimeout;
     b.valueCopies = valueCopies;
     return b;
   }
@@ -101,6 +115,7 @@ public final class CoreConfig {
   public String toString() {
     return "CoreConfig[name=" + name + ", sourceRetention=" + sourceRetention
         + ", shutdownTimeout=" + shutdownTimeout
+        + ", publishTimeout=" + publishTimeout
         + (valueCopies == null ? "" : ", copyValues=" + valueCopies) + "]";
   }
 
@@ -110,6 +125,7 @@ public final class CoreConfig {
     private int sourceRetention = DEFAULT_SOURCE_RETENTION;
     private ErrorHandler errorHandler = null; // a LoggingErrorHandler of its own at build()
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
+    private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
 
     private Builder() {}
@@ -128,6 +144,11 @@ public final class CoreConfig {
     }
 
     /**
+     * How many of its latest values each source keeps for plain readers and collectors, which
+     * skip (and count as missed) what falls out of it; on the in-memory media also how many
+     * values a service's input holds before a publish waits for room (see {@link
+     * #publishTimeout(Duration)}).
+     *
      * @param values how many values each source keeps, at least 1
      * @return this builder
      */
@@ -163,6 +184,35 @@ public final class CoreConfig {
         throw new IllegalArgumentException("shutdownTimeout must be positive, was " + timeout);
       }
       this.shutdownTimeout = timeout;
+      return this;
+    }
+
+    /**
+     * The longest a publish waits for room in a full service input (default 10 s). The input of
+     * a service (a chain linked to a source, a filter, a flat-map, a listener) is a queue: a
+     * publish never overwrites a value a service has not processed yet. When a service's input
+     * holds as many unprocessed values as it can (the {@linkplain #sourceRetention source
+     * retention} on the in-memory media, the queue limit on Optimus), the publish waits for the
+     * service to take one; if none is taken within this time it throws {@link
+     * QueueFullException} and publishes nothing. Plain {@link Reader}s never hold a publish up:
+     * they skip what they missed.
+     *
+     * <p>Values published before {@link PrimeCore#start()} wait in the services' inputs; publishing
+     * more than they hold before the services run waits this long and then fails. A service that
+     * publishes into its own input (directly or through a cycle of services) waits for itself:
+     * when its input is full that publish fails after this time, and the failure goes to the
+     * error handler.
+     *
+     * @param timeout how long a publish waits for room; zero (fail at once) or positive
+     * @return this builder
+     */
+    public Builder publishTimeout(Duration timeout) {
+      Objects.requireNonNull(timeout, "publishTimeout must not be null");
+      if (timeout.isNegative()) {
+        throw new IllegalArgumentException(
+            "publishTimeout must be zero or positive, was " + timeout);
+      }
+      this.publishTimeout = timeout;
       return this;
     }
 

@@ -50,7 +50,7 @@ final class InProcessServices {
     MemorySource<O> out = newSource(name);
     run(
         name,
-        serviceReader(input),
+        serviceInput(name, input),
         value -> {
           O output = block.process(value);
           if (output != null) {
@@ -65,7 +65,7 @@ final class InProcessServices {
     MemorySource<T> out = newSource(name);
     run(
         name,
-        serviceReader(input),
+        serviceInput(name, input),
         value -> {
           if (predicate.test(value)) {
             out.publish(value);
@@ -80,7 +80,7 @@ final class InProcessServices {
     MemorySource<R> out = newSource(name);
     run(
         name,
-        serviceReader(input),
+        serviceInput(name, input),
         value -> {
           Iterable<? extends R> outputs = block.process(value);
           if (outputs != null) {
@@ -96,7 +96,7 @@ final class InProcessServices {
 
   /** A service calling {@code listener} with every value of {@code input}. */
   <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
-    run(name, serviceReader(input), listener);
+    run(name, serviceInput(name, input), listener);
   }
 
   /** A service on a thread of the core: each value of {@code reader} goes to {@code step}. */
@@ -121,6 +121,17 @@ final class InProcessServices {
   /** A reader for one of the core's services: not one of the program's, so not recorded. */
   static <T> Reader<T> serviceReader(Source<T> source) {
     return source instanceof MediaSource<T> media ? media.serviceReader() : source.reader();
+  }
+
+  /**
+   * The input of service {@code name}: on an in-memory source a queue that holds publishers up
+   * rather than let the service miss a value ({@link MemorySource#serviceInput}); on another
+   * media's source, its service reader.
+   */
+  private static <T> Reader<T> serviceInput(String name, Source<T> source) {
+    return source instanceof MemorySource<T> memory
+        ? memory.serviceInput(name)
+        : serviceReader(source);
   }
 
   private <T> MemorySource<T> newSource(String name) {

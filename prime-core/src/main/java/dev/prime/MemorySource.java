@@ -11,6 +11,7 @@ import java.util.Objects;
 import java.util.Optional;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.locks.Condition;
+import java.util.concurrent.locks.LockSupport;
 import java.util.concurrent.locks.ReentrantLock;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
@@ -23,8 +24,22 @@ import org.slf4j.LoggerFactory;
  * <p>Design: values go into a ring buffer of {@code retention} slots, indexed by a global
  * sequence number. A reader is just a cursor (the sequence number of its next value), so any
  * number of readers cost no memory per value, late readers start at the oldest retained value,
- * and a reader that falls more than {@code retention} behind skips to the oldest retained value
- * and counts what it missed. Memory is bounded by the retention whatever the readers do.
+ * and a plain reader that falls more than {@code retention} behind skips to the oldest retained
+ * value and counts what it missed. Memory is bounded by the retention whatever the readers do.
+ *
+ * <p>Service inputs are queues: a reader made by {@link #serviceInput(String)} (the input of an
+ * in-process service) gates the publishers, like a gating sequence of a Disruptor. A publish never
+ * overwrites a slot such a reader has not read yet: when the ring is full of values a service has
+ * not taken, the publisher waits (polling with short timed parks, the lock released, so the
+ * service, close() and other readers go on) up to {@link CoreConfig#publishTimeout()}, then throws
+ * {@link QueueFullException} having published nothing. Plain readers ({@link #reader()}, {@link
+ * #serviceReader()}, which collectors use) never gate: they are lapped and count what they missed.
+ * Hot path: the publisher keeps the lowest gating cursor it last saw ({@code gate}, under the
+ * lock) and re-reads the gating readers' cursors only when the next slot would lap that cached
+ * value, so a publish that is not about to lap a service costs one comparison and allocates
+ * nothing. The gating readers are an array replaced (copy on write) under the lock when one is
+ * added or closed; a closed gating reader (its service stopped) stops gating. Closing the source
+ * wakes waiting publishers, which then fail with {@link CoreClosedException}.
  *
  * <p>Threading: publishers serialise on one lock. Readers take no shared lock: a publisher
  * announces the sequence number it is about to write ({@code claimed}), writes the slot, then
@@ -47,6 +62,12 @@ final class MemorySource<T> implements MediaSource<T> {
   /** Rounds a reader spins, watching for a publication, before it parks. */
   static final int SPINS = 4_096;
 
+  /** Longest single park of a publisher waiting for room in a service's input. */
+  private static final long MAX_ROOM_PARK_NANOS = TimeUnit.MILLISECONDS.toNanos(1);
+
+  @SuppressWarnings("rawtypes")
+  private static final MemorySource.MemoryReader[] NO_GATES = new MemorySource.MemoryReader[0];
+
   private final PrimeCore core;
   private final String name;
   private final Runnable onReader;
@@ -58,6 +79,8 @@ final class MemorySource<T> implements MediaSource<T> {
   private volatile long count; // written under lock: values fully published
   private volatile boolean closed; // written under lock
   private int waiting; // guarded by lock: readers parked until the next publication
+  private MemoryReader[] gates = noGates(); // guarded by lock, replaced on change: service inputs
+  private long gate = Long.MAX_VALUE; // guarded by lock: lowest gating cursor last seen
 
   /**
    * @param core the owning core
@@ -117,6 +140,10 @@ final class MemorySource<T> implements MediaSource<T> {
         throw new CoreClosedException(core.name());
       }
       long sequence = count;
+      if (sequence - ring.length >= gate) {
+        awaitRoom();
+        sequence = count; // another publisher may have gone first while this one waited
+      }
       claimed = sequence + 1;
       VarHandle.storeStoreFence(); // the claim is visible before the slot changes
       ring[(int) (sequence % ring.length)] = stored;
@@ -129,11 +156,87 @@ final class MemorySource<T> implements MediaSource<T> {
     }
   }
 
+  /**
+   * Waits, the lock held on entry and exit but released while parked, until publishing the next
+   * value overwrites no value a gating reader has not read.
+   *
+   * @throws QueueFullException if no room came within the core's publish timeout
+   * @throws CoreClosedException if the source closed meanwhile
+   */
+  private void awaitRoom() {
+    long deadline = 0;
+    long park = 1_000;
+    boolean timed = false;
+    while (true) {
+      MemoryReader blocking = lowestGate();
+      if (blocking == null || count - ring.length < gate) {
+        return;
+      }
+      if (!timed) {
+        timed = true;
+        deadline = System.nanoTime() + saturatedNanos(core.config().publishTimeout());
+      }
+      long left = deadline - System.nanoTime();
+      if (left <= 0 || Thread.currentThread().isInterrupted()) {
+        throw queueFull(blocking);
+      }
+      lock.unlock();
+      try {
+        LockSupport.parkNanos(this, Math.min(park, left));
+      } finally {
+        lock.lock();
+      }
+      park = Math.min(park * 2, MAX_ROOM_PARK_NANOS);
+      if (closed) {
+        throw new CoreClosedException(core.name());
+      }
+    }
+  }
+
+  /** Re-reads the gating cursors into {@code gate}; the gating reader furthest behind, or null. */
+  private MemoryReader lowestGate() {
+    MemoryReader lowest = null;
+    long min = Long.MAX_VALUE;
+    for (MemoryReader reader : gates) {
+      long cursor = reader.cursor;
+      if (!reader.readerClosed && cursor < min) {
+        min = cursor;
+        lowest = reader;
+      }
+    }
+    gate = min;
+    return lowest;
+  }
+
+  private QueueFullException queueFull(MemoryReader blocking) {
+    Duration timeout = core.config().publishTimeout();
+    return new QueueFullException(
+        blocking.service,
+        ring.length,
+        "publish to source '"
+            + name
+            + "' refused, nothing was published: the input of service '"
+            + blocking.service
+            + "' holds "
+            + ring.length
+            + " values it has not processed (its capacity, the source retention) and no room came"
+            + " within "
+            + timeout
+            + (Thread.currentThread().isInterrupted() ? " (the publisher was interrupted)" : "")
+            + ". Is '"
+            + blocking.service
+            + "' stuck or slow, or publishing into its own input? Make it faster, publish fewer"
+            + " values, give it more room with CoreConfig.Builder.sourceRetention(n), or wait"
+            + " longer with CoreConfig.Builder.publishTimeout(d).");
+  }
+
   /** Wakes every waiting reader; later reads throw {@link CoreClosedException}. */
   public void close() {
     lock.lock();
     try {
       closed = true;
+      gates = noGates();
+      gate = Long.MAX_VALUE;
       java.util.Arrays.fill(ring, null);
       published.signalAll();
     } finally {
@@ -161,6 +264,55 @@ final class MemorySource<T> implements MediaSource<T> {
     }
   }
 
+  /**
+   * The input of the in-process service {@code service}: a reader, positioned like {@link
+   * #reader()} and not recorded in the topology, that gates publishers (a publish never overwrites
+   * a value it has not read). Close it when the service stops, so that it stops gating.
+   *
+   * @param service the service's name, for {@link QueueFullException}
+   * @return a new gating reader
+   */
+  Reader<T> serviceInput(String service) {
+    Objects.requireNonNull(service, "service");
+    lock.lock();
+    try {
+      if (closed) {
+        throw new CoreClosedException(core.name());
+      }
+      MemoryReader reader = new MemoryReader(Math.max(0, count - ring.length), service);
+      MemoryReader[] more = java.util.Arrays.copyOf(gates, gates.length + 1);
+      more[gates.length] = reader;
+      gates = more;
+      gate = Math.min(gate, reader.cursor);
+      return reader;
+    } finally {
+      lock.unlock();
+    }
+  }
+
+  /** Stops {@code reader} gating publishers. */
+  private void ungate(MemoryReader reader) {
+    lock.lock();
+    try {
+      for (int i = 0; i < gates.length; i++) {
+        if (gates[i] == reader) {
+          MemoryReader[] fewer = java.util.Arrays.copyOf(gates, gates.length - 1);
+          System.arraycopy(gates, i + 1, fewer, i, gates.length - 1 - i);
+          gates = fewer;
+          break;
+        }
+      }
+      gate = Long.MIN_VALUE; // re-read at the next publish that could lap
+    } finally {
+      lock.unlock();
+    }
+  }
+
+  @SuppressWarnings("unchecked")
+  private MemoryReader[] noGates() {
+    return (MemoryReader[]) NO_GATES;
+  }
+
   @Override
   public String toString() {
     return "MemorySource[" + name + "]";
@@ -170,9 +322,15 @@ final class MemorySource<T> implements MediaSource<T> {
     private volatile long cursor; // written under this reader's monitor; read anywhere as a hint
     private long missed; // guarded by this reader's monitor
     private volatile boolean readerClosed;
+    private final String service; // null: a plain reader, which never gates
 
     MemoryReader(long cursor) {
+      this(cursor, null);
+    }
+
+    MemoryReader(long cursor, String service) {
       this.cursor = cursor;
+      this.service = service;
     }
 
     /** The next value if one is published, else null; never blocks on publishers. */
@@ -327,6 +485,9 @@ final class MemorySource<T> implements MediaSource<T> {
         return;
       }
       readerClosed = true;
+      if (service != null) {
+        ungate(this);
+      }
       lock.lock();
       try {
         published.signalAll();

@@ -48,8 +48,17 @@ final class SourceService<T> implements Runnable {
     this.ownerClosed = Objects.requireNonNull(ownerClosed, "ownerClosed");
   }
 
+  /** Runs the loop; closes the reader when the loop ends, so it no longer holds publishers up. */
   @Override
   public void run() {
+    try {
+      loop();
+    } finally {
+      reader.close();
+    }
+  }
+
+  private void loop() {
     while (!Thread.currentThread().isInterrupted()) {
       T value;
       try {

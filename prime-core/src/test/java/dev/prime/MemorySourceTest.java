@@ -17,7 +17,11 @@ class MemorySourceTest {
   /** The smallest core a MemorySource can belong to; its chains are never used here. */
   private static final class BareCore extends PrimeCore {
     BareCore() {
-      super("bare", CoreConfig.defaults());
+      this(CoreConfig.defaults());
+    }
+
+    BareCore(CoreConfig config) {
+      super("bare", config);
     }
 
     @Override
@@ -173,6 +177,117 @@ class MemorySourceTest {
       } finally {
         pool.shutdownNow();
       }
+    }
+  }
+
+  private static BareCore coreWaiting(Duration publishTimeout) {
+    return new BareCore(CoreConfig.builder().publishTimeout(publishTimeout).build());
+  }
+
+  @Test
+  void aServiceInputIsNeverLappedAndAFullOneRefusesThePublishAfterTheTimeout() {
+    try (BareCore core = coreWaiting(Duration.ofMillis(100))) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 3);
+      Reader<Integer> input = source.serviceInput("svc");
+      Reader<Integer> plain = source.reader();
+      range(0, 3).forEach(source::publish);
+      long began = System.nanoTime();
+      QueueFullException full = assertThrows(QueueFullException.class, () -> source.publish(3));
+      long waitedMillis = (System.nanoTime() - began) / 1_000_000;
+      assertTrue(waitedMillis >= 90 && waitedMillis < 1_100, "waited " + waitedMillis + " ms");
+      assertEquals("svc", full.serviceName());
+      assertEquals(3, full.capacity());
+      assertTrue(full.getMessage().contains("'s'"), full.getMessage());
+      assertTrue(full.getMessage().contains("sourceRetention"), full.getMessage());
+      assertEquals(Optional.of(0), input.poll()); // room for one
+      source.publish(4);
+      assertEquals(List.of(1, 2, 4), input.drain(), "the refused 3 was published to nobody");
+      assertEquals(List.of(1, 2, 4), plain.drain(), "a plain reader is lapped as before");
+      assertEquals(1, plain.missed());
+      assertEquals(0, input.missed());
+    }
+  }
+
+  @Test
+  void plainReadersNeverHoldPublishersUp() {
+    try (BareCore core = coreWaiting(Duration.ZERO)) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 2);
+      Reader<Integer> plain = source.reader();
+      Reader<Integer> collector = source.serviceReader();
+      range(0, 100).forEach(source::publish);
+      assertEquals(List.of(98, 99), plain.drain());
+      assertEquals(98, plain.missed());
+      assertEquals(List.of(98, 99), collector.drain());
+    }
+  }
+
+  @Test
+  void aClosedServiceInputStopsGating() {
+    try (BareCore core = coreWaiting(Duration.ZERO)) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 2);
+      Reader<Integer> stopped = source.serviceInput("stopped");
+      Reader<Integer> running = source.serviceInput("running");
+      range(0, 2).forEach(source::publish);
+      assertThrows(QueueFullException.class, () -> source.publish(2));
+      assertEquals(List.of(0, 1), running.drain());
+      QueueFullException full = assertThrows(QueueFullException.class, () -> source.publish(2));
+      assertEquals("stopped", full.serviceName(), "the input furthest behind is named");
+      stopped.close();
+      for (int i = 2; i < 10; i++) {
+        source.publish(i); // would be refused if the closed input still gated
+        assertEquals(Optional.of(i), running.poll());
+      }
+      assertEquals(0, running.missed());
+    }
+  }
+
+  @Test
+  void aPublisherKeepsPaceWithAServiceThroughATinyInput() throws Exception {
+    int n = 20_000;
+    try (BareCore core = coreWaiting(Duration.ofSeconds(30))) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 2);
+      Reader<Integer> input = source.serviceInput("svc");
+      java.util.concurrent.ExecutorService pool =
+          java.util.concurrent.Executors.newSingleThreadExecutor();
+      try {
+        java.util.concurrent.Future<List<Integer>> taken =
+            pool.submit(
+                () -> {
+                  List<Integer> values = new ArrayList<>();
+                  for (int i = 0; i < n; i++) {
+                    values.add(input.take());
+                  }
+                  return values;
+                });
+        range(0, n).forEach(source::publish);
+        assertEquals(range(0, n), taken.get(60, java.util.concurrent.TimeUnit.SECONDS));
+        assertEquals(0, input.missed());
+      } finally {
+        pool.shutdownNow();
+      }
+    }
+  }
+
+  @Test
+  void closingTheSourceWakesAWaitingPublisher() throws Exception {
+    try (BareCore core = coreWaiting(Duration.ofSeconds(30))) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 1);
+      source.serviceInput("svc");
+      source.publish(0);
+      java.util.concurrent.CompletableFuture<Throwable> failure =
+          java.util.concurrent.CompletableFuture.supplyAsync(
+              () -> {
+                try {
+                  source.publish(1);
+                  return null;
+                } catch (Throwable e) {
+                  return e;
+                }
+              });
+      // the publisher is (or soon will be) waiting for room; closing must wake it
+      source.close();
+      Throwable thrown = failure.get(5, java.util.concurrent.TimeUnit.SECONDS);
+      assertTrue(thrown instanceof CoreClosedException, String.valueOf(thrown));
     }
   }
 }

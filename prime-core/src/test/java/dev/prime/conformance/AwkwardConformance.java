@@ -1,13 +1,16 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.QueueFullException;
 import dev.prime.Reader;
 import dev.prime.Source;
+import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.concurrent.CountDownLatch;
@@ -85,8 +88,12 @@ public interface AwkwardConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A service's input is a queue: a service slower than its publisher, behind a retention of one
+   * value, still processes every value, in order; the publisher is held up meanwhile.
+   */
   @Test
-  default void slowServiceBehindTinyRetentionSkipsToTheNewestValue()
+  default void slowServiceBehindTinyRetentionProcessesEveryValueInOrder()
       throws InterruptedException {
     CountDownLatch release = new CountDownLatch(1);
     CountDownLatch firstInside = new CountDownLatch(1);
@@ -113,19 +120,150 @@ public interface AwkwardConformance extends ConformanceBase {
       core.start();
       events.publish(0);
       assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-      for (int i = 1; i <= 50; i++) {
-        events.publish(i);
-      }
+      java.util.concurrent.atomic.AtomicReference<Throwable> publishFailure =
+          new java.util.concurrent.atomic.AtomicReference<>();
+      Thread publisher =
+          new Thread(
+              () -> {
+                try {
+                  for (int i = 1; i <= 50; i++) {
+                    events.publish(i);
+                  }
+                } catch (Throwable e) {
+                  publishFailure.set(e);
+                }
+              },
+              "kit-slow-service-publisher");
+      publisher.start();
       release.countDown();
       assertTrue(newestDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-      if (serviceInputIsAQueue()) {
-        assertEquals(
-            java.util.stream.IntStream.rangeClosed(0, 50).boxed().toList(),
-            processed,
-            "a service's input is a queue: nothing is skipped");
-      } else {
-        assertEquals(List.of(0, 50), processed, "the service skips to the newest retained value");
+      publisher.join(patience().toMillis());
+      assertEquals(null, publishFailure.get(), "no publish is refused while the service works");
+      assertEquals(
+          java.util.stream.IntStream.rangeClosed(0, 50).boxed().toList(),
+          processed,
+          "a service's input is a queue: nothing is skipped");
+    }
+  }
+
+  /**
+   * A stuck service holds its publishers up, and after the publish timeout refuses them with
+   * {@link QueueFullException}: within the timeout and a second, and the refused value is
+   * published to nobody (neither the service nor a plain reader ever sees it).
+   */
+  @Test
+  default void stuckServiceMakesAPublishFailWithQueueFullWithinThePublishTimeout()
+      throws InterruptedException {
+    int capacity = 4;
+    Duration timeout = Duration.ofMillis(300);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch firstInside = new CountDownLatch(1);
+    CountDownLatch sentinelDone = new CountDownLatch(1);
+    List<Integer> processed = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config = CoreConfig.builder().publishTimeout(timeout).build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source(events);
+      core.link(
+          source,
+          core.chain(
+              (Integer x) -> {
+                processed.add(x);
+                firstInside.countDown();
+                try {
+                  release.await();
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+                if (x == -1) {
+                  sentinelDone.countDown();
+                }
+                return x;
+              }));
+      try (Reader<Integer> watcher = source.reader()) {
+        core.start();
+        events.publish(0);
+        assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        for (int i = 1; i <= capacity; i++) {
+          events.publish(i); // fills the stuck service's input
+        }
+        long began = System.nanoTime();
+        QueueFullException refused =
+            assertThrows(QueueFullException.class, () -> events.publish(999));
+        Duration waited = Duration.ofNanos(System.nanoTime() - began);
+        assertTrue(
+            waited.compareTo(timeout.plusSeconds(1)) <= 0,
+            "refused within the publish timeout and a second, took " + waited);
+        assertTrue(
+            waited.compareTo(timeout.minusMillis(20)) >= 0,
+            "waited for room up to the publish timeout first, took " + waited);
+        assertEquals(capacity, refused.capacity(), refused.getMessage());
+        assertTrue(
+            refused.serviceName() != null && !refused.serviceName().isBlank(),
+            "names the service: " + refused.getMessage());
+        List<Integer> seen = watcher.drain(); // a plain reader may have missed the oldest
+        assertEquals(capacity, seen.get(seen.size() - 1), "the newest value a reader sees: " + seen);
+        release.countDown();
+        events.publish(-1); // a sentinel, after room came
+        assertTrue(sentinelDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        assertEquals(List.of(0, 1, 2, 3, 4, -1), processed, "the refused 999 reached nobody");
+        assertEquals(-1, takeOrFail(watcher), "the refused 999 was published to no reader");
       }
+    }
+  }
+
+  /**
+   * A service that publishes into its own input waits for itself when that input is full: the
+   * publish fails with {@link QueueFullException} after the publish timeout (never a hang), the
+   * failure goes to the error handler, and the service goes on with the values that fitted.
+   */
+  @Test
+  default void aServiceFeedingItsOwnFullInputFailsThatPublishInsteadOfHanging()
+      throws InterruptedException {
+    int capacity = 2;
+    Duration timeout = Duration.ofMillis(200);
+    java.util.concurrent.atomic.AtomicReference<Throwable> reported =
+        new java.util.concurrent.atomic.AtomicReference<>();
+    CountDownLatch failed = new CountDownLatch(1);
+    CountDownLatch lastDone = new CountDownLatch(1);
+    List<Integer> heard = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(timeout)
+            .errorHandler(
+                (service, input, error) -> {
+                  reported.compareAndSet(null, error);
+                  failed.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .listen(
+              (Integer x) -> {
+                heard.add(x);
+                if (x == 0) {
+                  for (int i = 1; i <= capacity + 1; i++) {
+                    events.publish(i); // the last finds its own input full
+                  }
+                }
+                if (x == capacity) {
+                  lastDone.countDown();
+                }
+              });
+      core.start();
+      long began = System.nanoTime();
+      events.publish(0);
+      assertTrue(failed.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(
+          reported.get() instanceof QueueFullException,
+          "the error handler got " + reported.get());
+      assertTrue(
+          took.compareTo(timeout.plusSeconds(1)) <= 0,
+          "failed within the publish timeout and a second, took " + took);
+      assertTrue(lastDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(0, 1, 2), heard, "the values that fitted, and not the refused one");
     }
   }
 

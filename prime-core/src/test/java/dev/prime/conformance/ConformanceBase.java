@@ -49,20 +49,23 @@ public interface ConformanceBase {
   }
 
   /**
-   * Whether a chain linked to a source reads a queue (every value published while it is busy is
-   * processed: Optimus) rather than a retention window (it skips to the newest retained values).
-   * The design asks for queues on every media; media still on the window return {@code false}.
+   * A new, not yet started core of the media under test, built from {@code config}, whose
+   * services' inputs each hold at most {@code capacity} values a service has not processed: then
+   * a publish waits, and after {@link CoreConfig#publishTimeout()} fails with {@link
+   * dev.prime.QueueFullException}. By default the source retention, which is that capacity on the
+   * in-memory media; a media with a capacity of its own (Optimus: its queue limit) sets that.
    */
-  default boolean serviceInputIsAQueue() {
-    return false;
+  default PrimeCore newCoreWithServiceInputCapacity(CoreConfig config, int capacity) {
+    return newCore(config.toBuilder().sourceRetention(capacity).build());
   }
 
   /**
    * Whether a synchronous call runs the chain's blocks on the caller's thread (true for the
    * in-memory media). Then a {@link VirtualMachineError} a block throws reaches the caller
-   * unchanged. A media whose chains are services (Optimus) runs the block on a service's thread:
-   * a {@code VirtualMachineError} ends that service, as it ends any thread, and the caller gets no
-   * reply; the kit's test of that case is skipped there.
+   * unchanged and the chain goes on working. A media whose chains are services (Optimus) runs the
+   * block on a service's thread: the caller gets the error promptly (unwrapped in the process that
+   * ran the block), and the error then ends that service, as it ends any thread; the kit tests
+   * each case on the media it applies to.
    */
   default boolean blocksRunOnTheCallersThread() {
     return true;

@@ -4,6 +4,7 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTimeoutPreemptively;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
@@ -26,7 +27,8 @@ import org.junit.jupiter.api.Test;
 /**
  * What a failure looks like, for every kind of throwable a block throws: a synchronous caller gets
  * a {@code ChainFailedException} naming the chain as the user named it, with the block's own
- * throwable as cause, for everything but a {@link VirtualMachineError}; the error handler of an
+ * throwable as cause, for everything but a {@link VirtualMachineError}, which reaches it unwrapped
+ * (promptly also where blocks run in services, which it then ends); the error handler of an
  * asynchronous service gets the chain's name, the input and the block's own throwable, and the
  * service goes on.
  */
@@ -92,7 +94,7 @@ public interface ThrowableConformance extends ConformanceBase {
   default void aVirtualMachineErrorReachesASyncCallerUnwrapped() {
     Assumptions.assumeTrue(
         blocksRunOnTheCallersThread(),
-        "this media runs blocks in services: a VirtualMachineError ends the service, see the hook");
+        "this media runs blocks in services: see the test of a VirtualMachineError in a service");
     OutOfMemoryError oom = new OutOfMemoryError("thrown by a block on purpose");
     try (PrimeCore core = newCore()) {
       Chain<Integer, Integer> chain =
@@ -109,6 +111,39 @@ public interface ThrowableConformance extends ConformanceBase {
       assertSame(oom, assertThrows(OutOfMemoryError.class, () -> block.process(0)));
       assertThrows(StackOverflowError.class, () -> block.process(-1));
       assertEquals(3, block.process(3), "the chain works after a VirtualMachineError");
+    }
+  }
+
+  @Test
+  default void aVirtualMachineErrorInAServiceReachesASyncCallerPromptlyAndEndsOnlyThatService() {
+    Assumptions.assumeFalse(
+        blocksRunOnTheCallersThread(),
+        "this media runs blocks on the caller's thread: see the test of the unwrapped error");
+    OutOfMemoryError oom = new OutOfMemoryError("thrown by a block on purpose");
+    try (PrimeCore core = newCore()) {
+      Block<Integer, Integer> vm =
+          core.chain(
+                  "vm",
+                  (Integer x) -> {
+                    if (x == 0) {
+                      throw oom;
+                    }
+                    return x;
+                  })
+              .toBlock();
+      Block<Integer, Integer> deep =
+          core.chain("deep", (Integer x) -> x < 0 ? recurseForever(x) : x).toBlock();
+      Block<Integer, Integer> other = core.chain("other", (Integer x) -> x + 1).toBlock();
+      core.start();
+      assertEquals(1, vm.process(1));
+      // promptly: within the kit's patience, not at the media's call timeout
+      OutOfMemoryError thrown =
+          assertTimeoutPreemptively(
+              patience(), () -> assertThrows(OutOfMemoryError.class, () -> vm.process(0)));
+      assertSame(oom, thrown, "the block's own error, unwrapped, in the process that ran it");
+      assertTimeoutPreemptively(
+          patience(), () -> assertThrows(StackOverflowError.class, () -> deep.process(-1)));
+      assertEquals(3, other.process(2), "the core's other services go on");
     }
   }
 

@@ -15,7 +15,8 @@ import java.util.concurrent.ConcurrentHashMap
  * lease time (plus [CLAIM_MARGIN]) for a lease held by another instance to lapse, so a restarted
  * worker takes over from a killed one; a live holder renews its lease and the claim fails. The
  * set of held services is a concurrent set: [claim] runs on declaring threads, [renew] on the
- * heartbeat thread.
+ * heartbeat thread, [drop] on a service whose step the script fenced (see [Script.STEP]); a lease
+ * found taken is removed from it once, by whichever of them sees it first.
  */
 internal class HostLeases(
     private val keys: Keys,
@@ -94,13 +95,16 @@ internal class HostLeases(
         val taken = LinkedHashMap<String, String>()
         services.forEachIndexed { i, service ->
             val holder = holders[i].first
-            if (holder != instance) {
-                taken[service] = holder
-                held -= service
-            }
+            if (holder != instance && held.remove(service)) taken[service] = holder
         }
         return taken
     }
+
+    /**
+     * Forgets [service]'s lease, which a step of it found held by another instance; `false` if it
+     * was not held any more (the heartbeat saw it first).
+     */
+    fun drop(service: String): Boolean = held.remove(service)
 
     /** Queues the release of every held lease (only where this instance still holds it). */
     fun releaseAll(pipeline: Pipeline) {

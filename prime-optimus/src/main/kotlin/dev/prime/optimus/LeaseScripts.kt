@@ -1,32 +1,5 @@
 package dev.prime.optimus
 
-import redis.clients.jedis.Jedis
-import redis.clients.jedis.Pipeline
-import redis.clients.jedis.exceptions.JedisNoScriptException
-import java.nio.charset.StandardCharsets.UTF_8
-import java.security.MessageDigest
-
-/**
- * One Lua script of the liveness machinery, run with EVALSHA (EVAL when the server does not know
- * it yet, which also loads it). Every key a script touches is passed in KEYS.
- */
-internal class LeaseScript(text: String) {
-    private val source: ByteArray = text.trimIndent().toByteArray(UTF_8)
-    private val sha: ByteArray = MessageDigest.getInstance("SHA-1").digest(source)
-        .joinToString("") { "%02x".format(it) }.toByteArray(UTF_8)
-
-    fun run(jedis: Jedis, keys: List<ByteArray>, args: List<ByteArray>): Any? = try {
-        jedis.evalsha(sha, keys, args)
-    } catch (_: JedisNoScriptException) {
-        jedis.eval(source, keys, args)
-    }
-
-    /** Queues the script in [pipeline] (as EVAL: a pipeline cannot fall back). */
-    fun queue(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>) {
-        pipeline.eval(source, keys, args)
-    }
-}
-
 /** The scripts of instance leases, reclaiming and host leases (see [Liveness] and [HostLeases]). */
 internal object LeaseScripts {
     /**
@@ -35,7 +8,7 @@ internal object LeaseScripts {
      * ARGV: instance id, lease value, lease ms, fresh epoch. Returns {epoch, 1 if the lease was
      * still there else 0, the declaration count or -1 if there is none}.
      */
-    val HEARTBEAT = LeaseScript(
+    val HEARTBEAT = Script(
         """
         local epoch = redis.call('GET', KEYS[3])
         if not epoch then
@@ -51,7 +24,7 @@ internal object LeaseScripts {
     )
 
     /** Raises a count to at least ARGV 1. KEYS: the count. */
-    val RAISE = LeaseScript(
+    val RAISE = Script(
         """
         local current = tonumber(redis.call('GET', KEYS[1]) or '0')
         if current < tonumber(ARGV[1]) then
@@ -68,7 +41,7 @@ internal object LeaseScripts {
      * set) or 1 (a reply list). ARGV: the instance id, then the key count of each owned list.
      * Returns -1 if the lease is back, 1 if the instance is gone entirely, 0 if it still owns lists.
      */
-    val RECLAIM = LeaseScript(
+    val RECLAIM = Script(
         """
         if redis.call('EXISTS', KEYS[1]) == 1 then
           return -1
@@ -99,7 +72,7 @@ internal object LeaseScripts {
      * renewed, one another holds is left alone. KEYS: host leases. ARGV: instance id, lease ms.
      * Returns, per key, its holder and its remaining milliseconds.
      */
-    val HOST_CLAIM = LeaseScript(
+    val HOST_CLAIM = Script(
         """
         local result = {}
         for _, key in ipairs(KEYS) do
@@ -118,7 +91,7 @@ internal object LeaseScripts {
     )
 
     /** Deletes the host leases this instance holds. KEYS: host leases. ARGV: instance id. */
-    val HOST_RELEASE = LeaseScript(
+    val HOST_RELEASE = Script(
         """
         for _, key in ipairs(KEYS) do
           if redis.call('GET', key) == ARGV[1] then

@@ -141,7 +141,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal val ids: ValueIds = ValueIds()
     internal val retries: Int = settings.retries
     internal val callTimeout: Duration? = settings.callTimeout
-    private val publishTimeout: Duration = settings.publishTimeout
+    private val publishTimeout: Duration = settings.publishTimeout ?: config.publishTimeout()
     private val maxValueBytes: Int = settings.maxValueBytes
     private val queueLimit: Int = settings.queueLimit
     private val queueLimits: Map<String, Int> = settings.queueLimits
@@ -165,8 +165,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val allSlots = ConcurrentLinkedQueue<CallerSlot>()
     private val slotNumbers = AtomicInteger()
     private val publishers = ConcurrentLinkedQueue<RedisSession>()
-    private val failures = Collections.synchronizedMap(object : LinkedHashMap<Long, ChainFailedException>() {
-        override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, ChainFailedException>?) = size > FAILURES_KEPT
+    private val failures = Collections.synchronizedMap(object : LinkedHashMap<Long, Throwable>() {
+        override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, Throwable>?) = size > FAILURES_KEPT
     })
 
     private val threadNumbers = AtomicInteger()
@@ -529,11 +529,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (isClosed) slot.close() else idleSlots += slot
     }
 
-    internal fun rememberFailure(id: Long, failure: ChainFailedException) {
+    /**
+     * Keeps what a request's block threw for a caller in this process: a [ChainFailedException],
+     * or the block's own [VirtualMachineError], which reaches the caller unwrapped as on the
+     * media that run blocks on the caller's thread.
+     */
+    internal fun rememberFailure(id: Long, failure: Throwable) {
         failures[id] = failure
     }
 
-    internal fun takeFailure(id: Long): ChainFailedException? = failures.remove(id)
+    internal fun takeFailure(id: Long): Throwable? = failures.remove(id)
 
     /**
      * Gives a failure to the error handler as the user knows it: a [ChainFailedException] (a chain
@@ -607,6 +612,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         withSession("claim the host leases of $services") { hostLeases.claim(services, name()) }
     }
 
+    /** The fence [service]'s steps check: its host lease must hold this instance's id. */
+    internal fun hostFence(service: String): HostFence = HostFence(keys.hostLease(service), instance.toByteArray(UTF_8))
+
+    /**
+     * Called by [service]'s own loop when a step found its host lease held by [holder]: stops the
+     * service as the heartbeat would have (whichever sees it first stops it, once).
+     */
+    internal fun hostingLost(session: RedisSession, service: String, holder: String) {
+        if (hostLeases.drop(service)) stopLostService(service, hostLeases.describe(session, holder))
+    }
+
     /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
     private fun stopLostService(service: String, holder: String) {
         notRunning += service
@@ -654,6 +670,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 when (result) {
                     is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
                     is StepResult.Stale -> source.view = null
+                    is StepResult.Fenced -> throw IllegalStateException("a publish step was fenced: $result")
                     is StepResult.Full -> {
                         val left = deadline - System.nanoTime()
                         if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
@@ -813,9 +830,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
 
         /**
-         * The longest [EventBlock.publish] and [publishAll] wait (default 10 s): for room in a full
-         * service queue, then [QueueFullException]; for an unreachable Redis, then
-         * [RedisUnavailableException].
+         * The longest [EventBlock.publish] and [publishAll] wait (default: the config's
+         * [CoreConfig.publishTimeout], 10 s unless set): for room in a full service queue, then
+         * [QueueFullException]; for an unreachable Redis, then [RedisUnavailableException].
          */
         public fun publishTimeout(timeout: Duration): Builder = apply {
             require(!timeout.isNegative) { "publish timeout must not be negative, was $timeout" }
@@ -858,7 +875,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val retries: Int = 0,
         val callTimeout: Duration? = Duration.ofSeconds(60),
         val leaseTime: Duration = Duration.ofSeconds(5),
-        val publishTimeout: Duration = Duration.ofSeconds(10),
+        val publishTimeout: Duration? = null, // null: the CoreConfig's
         val maxValueBytes: Int = 16 * 1024 * 1024,
         val queueLimit: Int = 100_000,
         val queueLimits: Map<String, Int> = emptyMap(),

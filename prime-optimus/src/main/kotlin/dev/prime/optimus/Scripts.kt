@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.Pipeline
 import redis.clients.jedis.exceptions.JedisNoScriptException
 import java.nio.charset.StandardCharsets.UTF_8
 import java.security.MessageDigest
@@ -8,9 +9,11 @@ import java.security.MessageDigest
 /**
  * The Lua scripts that make each step of a service one atomic operation in Redis.
  *
- * [STEP] does, in order and atomically: check that the caller's view of the output source's
- * readers is current (else it answers `STALE` and changes nothing) and that the service queues it
- * feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
+ * [STEP] does, in order and atomically: check that this instance still holds the service's host
+ * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
+ * the step it was in, whose acknowledgement would trim its successor's processing list); check
+ * that the caller's view of the output source's readers is current (else it answers `STALE` and
+ * changes nothing) and that the service queues it feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
  * values to a source (its log and every plain reader list, each trimmed to the retention, counting
  * what a reader lost, and every service input, never trimmed: a service's input is a queue);
  * push replies, each only after checking that its key is in this topology's reply namespace and
@@ -28,45 +31,63 @@ import java.security.MessageDigest
  * that): the caller passes the reader and service lists it knows, and the script checks them
  * against the source's two sets (plain readers, service inputs) before it writes anything.
  *
- * [PEEK] reads the head of a processing list under the same bounds (after a restart).
+ * [PEEK] reads the head of a processing list under the same bounds, fenced like [STEP] (after a
+ * restart, and after every idle wait: a host that resumes from a freeze learns there that it lost
+ * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script).
  *
  * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
  * the retained values (it starts at the oldest retained value).
  *
  * Scripts run with EVALSHA and fall back to EVAL when the server does not know them (after a
- * restart), which also loads them.
+ * restart), which also loads them. The liveness scripts ([LeaseScripts]) run the same way.
  */
-internal class Script private constructor(private val source: ByteArray) {
+internal class Script(text: String) {
+    private val source: ByteArray = text.trimIndent().toByteArray(UTF_8)
     private val sha: ByteArray = MessageDigest.getInstance("SHA-1").digest(source)
         .joinToString("") { "%02x".format(it) }.toByteArray(UTF_8)
 
+    /** Runs the script (EVALSHA, or EVAL when the server does not know it yet, which also loads it). */
     fun run(jedis: Jedis, keys: List<ByteArray>, args: List<ByteArray>): Any? = try {
         jedis.evalsha(sha, keys, args)
     } catch (_: JedisNoScriptException) {
         jedis.eval(source, keys, args)
     }
 
+    /** Queues the script in [pipeline] (as EVAL: a pipeline cannot fall back). */
+    fun queue(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>) {
+        pipeline.eval(source, keys, args)
+    }
+
     companion object {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
-         * service's input, 6 source log, 7 source reader set, 8 source service set, then the reply
-         * keys, the reader lists, their missed counters, the service inputs.
-         * ARGV: see [StepBatch.run]. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}` or
-         * `{'FULL', key, length, limit}`.
+         * service's input, 6 source log, 7 source reader set, 8 source service set, 9 the service's
+         * host lease (any existing key when ARGV 18 is empty), then the reply keys, the reader
+         * lists, their missed counters, the service inputs.
+         * ARGV: 1-17 the counts and limits (see [StepBatch.execute]), 18 the instance id that must
+         * hold the host lease (empty: no fence, for readers and publishers), then the per-service
+         * queue limits and the values. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
+         * `{'FULL', key, length, limit}` or `{'FENCED', holder}` (the host lease is held by
+         * another instance, or by none: empty; nothing was written).
          */
         val STEP = Script(
             """
-            local proc, input, dead, deadTrimmed, nextKey, log, readers, services =
-              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8]
+            local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease =
+              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9]
             local ack, take, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
             local retention, deadLimit, nextLimit, strict = tonumber(ARGV[5]), tonumber(ARGV[6]), tonumber(ARGV[7]), ARGV[8] == '1'
             local replyPrefix, replyTtl = ARGV[9], ARGV[10]
             local nReplyKeys, nReaders, nServices = tonumber(ARGV[11]), tonumber(ARGV[12]), tonumber(ARGV[13])
             local nNext, nReplies, nDead, nPublished = tonumber(ARGV[14]), tonumber(ARGV[15]), tonumber(ARGV[16]), tonumber(ARGV[17])
-            local readerAt = 8 + nReplyKeys
+            local fence = ARGV[18]
+            if fence ~= '' then
+              local holder = redis.call('GET', hostLease)
+              if holder ~= fence then return {'FENCED', holder or ''} end
+            end
+            local readerAt = 9 + nReplyKeys
             local missedAt = readerAt + nReaders
             local serviceAt = missedAt + nReaders
-            local limitsAt = 17
+            local limitsAt = 18
             local nextAt = limitsAt + nServices
             local repliesAt = nextAt + nNext
             local deadAt = repliesAt + 3 * nReplies
@@ -121,7 +142,7 @@ internal class Script private constructor(private val source: ByteArray) {
             local refused = {}
             for k = 0, nReplies - 1 do
               local at = repliesAt + 1 + 3 * k
-              local key = KEYS[8 + tonumber(ARGV[at])]
+              local key = KEYS[9 + tonumber(ARGV[at])]
               local reason = nil
               if string.sub(key, 1, #replyPrefix) ~= replyPrefix then
                 reason = "outside this topology's reply namespace " .. replyPrefix .. '*'
@@ -161,16 +182,19 @@ internal class Script private constructor(private val source: ByteArray) {
               result[#result + 1] = value
             end
             return result
-            """.trimIndent().toByteArray(UTF_8),
+            """,
         )
 
         /**
-         * KEYS: processing. ARGV: most entries, most bytes, largest entry. Returns
-         * `{complete (1: the whole list was returned), entries...}`, entries above the largest size
-         * as `{size, prefix}`.
+         * KEYS: processing, the service's host lease. ARGV: most entries, most bytes, largest
+         * entry, the instance id that must hold the host lease. Returns `{complete (1: the whole
+         * list was returned), entries...}`, entries above the largest size as `{size, prefix}`, or
+         * `{'FENCED', holder}` as [STEP] does.
          */
         val PEEK = Script(
             """
+            local holder = redis.call('GET', KEYS[2])
+            if holder ~= ARGV[4] then return {'FENCED', holder or ''} end
             local count, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3])
             local length = redis.call('LLEN', KEYS[1])
             local result = {0}
@@ -184,7 +208,7 @@ internal class Script private constructor(private val source: ByteArray) {
             end
             if #result - 1 == length then result[1] = 1 end
             return result
-            """.trimIndent().toByteArray(UTF_8),
+            """,
         )
 
         /** KEYS: the source's reader or service set, source log, the list. Returns 1 if the list is new. */
@@ -198,7 +222,7 @@ internal class Script private constructor(private val source: ByteArray) {
               redis.call('RPUSH', KEYS[3], unpack(retained, start, math.min(start + 999, #retained)))
             end
             return 1
-            """.trimIndent().toByteArray(UTF_8),
+            """,
         )
     }
 }

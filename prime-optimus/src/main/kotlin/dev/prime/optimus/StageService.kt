@@ -54,12 +54,17 @@ internal class StageService(
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
     private val processing = core.keys.serviceProcessing(name)
+    private val fence = core.hostFence(name)
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
+        fence,
     )
     private val rules = core.stepRules
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
+
+    /** The reply owed to a caller whose request's block threw a [VirtualMachineError] (see [loop]). */
+    private var fatalReply: Pair<ByteArray, ByteArray>? = null
 
     suspend fun run() {
         RedisSession(core.connections).use { session -> loop(session) }
@@ -74,10 +79,13 @@ internal class StageService(
             if (core.connections.isClosed) return
             try {
                 var complete = true
-                val taken = pending ?: peek(session).also { complete = it.second }.first
-                pending = if (taken.isEmpty()) {
+                val taken = pending ?: peek(session)?.also { complete = it.second }?.first
+                pending = if (taken == null) {
+                    null // the host lease lapsed: wait for the heartbeat to re-claim it
+                } else if (taken.isEmpty()) {
                     val one = session.once { it.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS) }
-                    if (one == null) emptyList() else listOf(TakenEntry(one, one.size.toLong()))
+                    // after an idle wait, the fenced peek comes first: this host may have been frozen in it
+                    if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
                     val batchIds = HashSet<Long>()
                     val parts = taken.map { handle(it, batchIds) }
@@ -85,10 +93,14 @@ internal class StageService(
                 }
                 if (outage) LOG.info("service '{}' reconnected to Redis", name)
                 outage = false
-                backoff.reset()
+                if (taken == null) delay(backoff.next()) else backoff.reset()
             } catch (e: CancellationException) {
                 throw e
+            } catch (e: HostingLost) {
+                core.hostingLost(session, name, e.holder)
+                return
             } catch (e: VirtualMachineError) {
+                replyFatal(session)
                 LOG.error("service '{}' stops: {}", name, e.toString())
                 throw e
             } catch (e: Throwable) {
@@ -116,15 +128,24 @@ internal class StageService(
         else -> "cannot read its input ($e)"
     }
 
-    /** The head of the processing list (what a crash left), within the batch bounds; whether that is all of it. */
-    private fun peek(session: RedisSession): Pair<List<TakenEntry>, Boolean> {
+    /**
+     * The head of the processing list (what a crash left), within the batch bounds; whether that
+     * is all of it. `null` if nobody holds this service's host lease (it lapsed: the heartbeat
+     * re-claims it); throws [HostingLost] if another instance holds it.
+     */
+    private fun peek(session: RedisSession): Pair<List<TakenEntry>, Boolean>? {
         val reply = session.once {
             Script.PEEK.run(
                 it,
-                listOf(processing),
-                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) },
+                listOf(processing, fence.lease),
+                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) } + fence.instance,
             )
         } as List<*>
+        if (reply[0] is ByteArray) { // {'FENCED', holder}
+            val holder = (reply[1] as ByteArray).toString(UTF_8)
+            if (holder.isNotEmpty()) throw HostingLost(holder)
+            return null
+        }
         val entries = reply.subList(1, reply.size).map { item ->
             if (item is ByteArray) TakenEntry(item, item.size.toLong())
             else (item as List<*>).let { TakenEntry(it[1] as ByteArray, it[0] as Long) }
@@ -203,6 +224,13 @@ internal class StageService(
                     return result
                 }
                 is StepResult.Stale -> output!!.view = null
+                is StepResult.Fenced -> {
+                    if (result.holder.isNotEmpty()) throw HostingLost(result.holder)
+                    // nobody holds the lease (it lapsed during a pause, or Redis lost it): the heartbeat re-claims it
+                    if (backoff == null) LOG.info("service '{}' waits for its host lease to be renewed", name)
+                    delay((backoff ?: Backoff().also { backoff = it }).next())
+                    if (core.connections.isClosed) throw CoreClosedException(core.name())
+                }
                 is StepResult.Full -> {
                     if (backoff == null) {
                         LOG.warn(
@@ -216,6 +244,28 @@ internal class StageService(
             }
         }
     }
+
+    /**
+     * Pushes the reply owed to a caller whose block threw a [VirtualMachineError], alone (nothing
+     * acknowledged: the request stays in the processing list, as after a crash), so the caller
+     * fails at once rather than at its call timeout. Best effort and bounded: one attempt, and any
+     * throwable (another OutOfMemoryError) is ignored, for the error being thrown matters more.
+     * The stack is unwound by now, so a StackOverflowError leaves room for it.
+     */
+    private fun replyFatal(session: RedisSession) {
+        val (key, reply) = fatalReply ?: return
+        fatalReply = null
+        try {
+            val step = empty.part()
+            step.reply(key, reply)
+            session.once { step.execute(it, ack = 0, take = 0) }
+        } catch (_: Throwable) {
+            // the caller waits for its timeout, as before
+        }
+    }
+
+    /** A step found this service's host lease held by another instance ([holder]): the service stops, storing nothing. */
+    private class HostingLost(val holder: String) : Exception("the host lease is held by instance $holder")
 
     /** One entry of a batch and what its handling stores. */
     private class Part(val entry: TakenEntry, val batch: StepBatch)
@@ -291,6 +341,9 @@ internal class StageService(
                 step.reply(replyTo, Envelope.replyOk(envelope.id, payload))
             }
         } catch (e: VirtualMachineError) {
+            // the caller gets it promptly (see replyFatal), this service then ends
+            fatalReply = replyTo to Envelope.replyError(envelope.id, name, e.toString())
+            core.rememberFailure(envelope.id, e)
             throw e
         } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)

@@ -20,6 +20,8 @@ internal class StepBatch(
     private val deadTrimmed: ByteArray?,
     private val next: ByteArray?,
     private val rules: StepRules,
+    /** The host lease this step must hold (a hosted service's step), or `null` (readers, publishers). */
+    private val fence: HostFence? = null,
 ) {
     /** A plain consumer's step (a reader): acknowledge and take, nothing stored. */
     constructor(processing: ByteArray, input: ByteArray, output: SourceKeys?) :
@@ -62,7 +64,7 @@ internal class StepBatch(
     val publishes: Boolean get() = published.isNotEmpty()
 
     /** A batch like this one, empty: the part for one more entry. */
-    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules)
+    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules, fence)
 
     /**
      * Stores the step: acknowledges [ack] entries, takes up to [take] new ones (and at most
@@ -74,7 +76,7 @@ internal class StepBatch(
         val view = if (published.isEmpty()) SourceView.NONE else checkNotNull(output!!.view) { "no view of the readers" }
         val replyKeys = LinkedHashMap<ByteKey, Int>()
         for (reply in replies) replyKeys.getOrPut(ByteKey(reply.key)) { replyKeys.size + 1 }
-        val keys = ArrayList<ByteArray>(8 + replyKeys.size + 2 * view.readers.size + view.services.size)
+        val keys = ArrayList<ByteArray>(9 + replyKeys.size + 2 * view.readers.size + view.services.size)
         keys += processing
         keys += input
         keys += dead ?: processing
@@ -83,11 +85,12 @@ internal class StepBatch(
         keys += output?.log ?: processing
         keys += output?.readers ?: processing
         keys += output?.services ?: processing
+        keys += fence?.lease ?: processing
         replyKeys.keys.forEach { keys += it.bytes }
         keys += view.readers
         keys += view.missed
         keys += view.services
-        val args = ArrayList<ByteArray>(17 + view.services.size + nextValues.size + 3 * replies.size + deadValues.size + published.size)
+        val args = ArrayList<ByteArray>(18 + view.services.size + nextValues.size + 3 * replies.size + deadValues.size + published.size)
         args += number(ack)
         args += number(take)
         args += number(rules.batchBytes)
@@ -105,6 +108,7 @@ internal class StepBatch(
         args += number(replies.size)
         args += number(deadValues.size)
         args += number(published.size)
+        args += fence?.instance ?: ByteArray(0)
         view.services.forEach { args += number(rules.queueLimit(it)) }
         args += nextValues
         for (reply in replies) {
@@ -176,6 +180,14 @@ internal sealed class StepResult {
     /** Stored; [missed] per reader of [view] (what retention trimmed from each), [taken] the next entries. */
     class Stored(val taken: List<TakenEntry>, val missed: List<Long>, val view: SourceView) : StepResult()
 
+    /**
+     * The service's host lease is not this instance's: [holder] holds it (empty: nobody, e.g. it
+     * lapsed while this process was paused, or Redis lost it); nothing was stored.
+     */
+    class Fenced(val holder: String) : StepResult() {
+        override fun toString(): String = "Fenced[${holder.ifEmpty { "nobody" }}]"
+    }
+
     /** The caller's view of the source's readers is out of date; nothing was stored. */
     object Stale : StepResult()
 
@@ -197,12 +209,16 @@ internal sealed class StepResult {
                     view,
                 )
                 "STALE" -> Stale
+                "FENCED" -> Fenced((items[1] as ByteArray).toString(UTF_8))
                 "FULL" -> Full(items[1] as ByteArray, items[2] as Long, items[3] as Long)
                 else -> throw IllegalStateException("unexpected answer of the step script: $status")
             }
         }
     }
 }
+
+/** The host lease a hosted service's step checks: its key and the id of this core instance. */
+internal class HostFence(val lease: ByteArray, val instance: ByteArray)
 
 /** The keys and retention of a source, for publishing to it, and the publisher's view of its readers. */
 internal class SourceKeys(

@@ -11,9 +11,10 @@ class OptimusConformanceTest : MediaConformance {
     /** Optimus keeps one service per linked chain (their lists are re-routed, no extra hop). */
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
-    /** A service's input is a queue on Optimus, never trimmed to the retention. */
-    override fun serviceInputIsAQueue(): Boolean = true
+    /** A service's input holds its queue limit, not the retention. */
+    override fun newCoreWithServiceInputCapacity(config: CoreConfig, capacity: Int): PrimeCore =
+        OptimusCore.builder().config(config).redis(TestRedis.url).queueLimit(capacity).build()
 
-    /** Blocks run in services: a VirtualMachineError ends the service, and the caller gets no reply. */
+    /** Blocks run in services: a VirtualMachineError reaches the caller promptly, then ends the service. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
 }

@@ -15,9 +15,15 @@ internal object TwoProcessTopology {
 
     class Declared(val output: Source<Int>, val square: Block<Int, Int>)
 
-    fun declare(core: OptimusCore, numbers: EventBlock<Int>): Declared {
+    /** Declares the topology; "double" takes [doubleMillis] per value (a host busy in its block, not in Redis). */
+    fun declare(core: OptimusCore, numbers: EventBlock<Int>, doubleMillis: Long = 0): Declared {
         val output = core.source("numbers", numbers)
-            .then(core.chain("double") { x: Int -> x * 2 }.then(core.chain("inc") { x: Int -> x + 1 }))
+            .then(
+                core.chain("double") { x: Int ->
+                    if (doubleMillis > 0) Thread.sleep(doubleMillis)
+                    x * 2
+                }.then(core.chain("inc") { x: Int -> x + 1 }),
+            )
         val square = core.chain("square") { x: Int -> x * x }.toBlock()
         return Declared(output, square)
     }
