@@ -3,6 +3,7 @@ package dev.prime;
 import dev.prime.spi.ValueCodec;
 import java.time.Duration;
 import java.util.Objects;
+import dev.prime.spi.RateLimitedLog;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 
@@ -40,7 +41,7 @@ public final class CoreConfig {
   private CoreConfig(Builder b) {
     this.name = b.name;
     this.sourceRetention = b.sourceRetention;
-    this.errorHandler = b.errorHandler;
+    this.errorHandler = b.errorHandler != null ? b.errorHandler : new LoggingErrorHandler();
     this.shutdownTimeout = b.shutdownTimeout;
     this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
@@ -122,7 +123,7 @@ public final class CoreConfig {
   public static final class Builder {
     private String name;
     private int sourceRetention = DEFAULT_SOURCE_RETENTION;
-    private ErrorHandler errorHandler = LoggingErrorHandler.INSTANCE;
+    private ErrorHandler errorHandler = null; // a LoggingErrorHandler of its own at build()
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
     private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
@@ -161,6 +162,10 @@ public final class CoreConfig {
     }
 
     /**
+     * The default handler logs a service's first failure with its stack trace, then at most one
+     * WARN line per service every 10 s counting the others; after 10 s without failures the next
+     * one is logged in full again.
+     *
      * @param handler receives the failures of asynchronous services
      * @return this builder
      */
@@ -241,19 +246,38 @@ public final class CoreConfig {
     }
   }
 
-  /** The default error handler: log the failure and go on. */
-  private enum LoggingErrorHandler implements ErrorHandler {
-    INSTANCE;
+  /** Writes the failure counts the default error handler still owes (a core closes). */
+  void flushErrorSummaries() {
+    if (errorHandler instanceof LoggingErrorHandler logging) {
+      logging.bursts.flush();
+    }
+  }
 
+  /**
+   * The default error handler: logs the first failure of a service in a burst with its stack
+   * trace, then at most one WARN line per service every 10 s counting the others; after 10 s
+   * without failures a service's next failure is logged in full again. One per {@link CoreConfig},
+   * so its state is bounded by the core's services.
+   */
+  private static final class LoggingErrorHandler implements ErrorHandler {
     private static final Logger LOG = LoggerFactory.getLogger(ErrorHandler.class);
+    private final RateLimitedLog bursts = new RateLimitedLog(ErrorHandler.class.getName());
 
     @Override
     public void handle(String service, Object input, Throwable error) {
-      LOG.error(
-          "service '{}' failed on a {}; going on with the next value",
-          service,
-          input.getClass().getName(),
-          error);
+      String inputType = input == null ? "null" : input.getClass().getName();
+      bursts.record(
+          "service '" + service + "' failed",
+          1,
+          error.toString(),
+          () ->
+              LOG.error(
+                  "service '{}' failed on a {}; going on with the next value (further failures"
+                      + " of this service are counted, at most one line per {} s)",
+                  service,
+                  inputType,
+                  RateLimitedLog.DEFAULT_SECONDS,
+                  error));
     }
   }
 }

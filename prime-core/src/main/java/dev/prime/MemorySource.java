@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.spi.RateLimitedLog;
 import dev.prime.spi.MediaSource;
 import dev.prime.spi.ValueCodec;
 import java.lang.invoke.VarHandle;
@@ -12,6 +13,8 @@ import java.util.concurrent.TimeUnit;
 import java.util.concurrent.locks.Condition;
 import java.util.concurrent.locks.LockSupport;
 import java.util.concurrent.locks.ReentrantLock;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
 
 /**
  * An in-memory, broadcast source: the default source of every media that runs in one process.
@@ -84,6 +87,9 @@ final class MemorySource<T> implements MediaSource<T> {
    * @param name the source's name
    * @param retention how many latest values to keep
    */
+  private static final Logger LOG = LoggerFactory.getLogger(MemorySource.class);
+  private final RateLimitedLog missLog = new RateLimitedLog(MemorySource.class.getName()); // one key: this source
+
   MemorySource(PrimeCore core, String name, int retention) {
     this(core, name, retention, null, () -> {});
   }
@@ -342,7 +348,23 @@ final class MemorySource<T> implements MediaSource<T> {
         }
         long oldest = available - ring.length;
         if (position < oldest) {
-          missed += oldest - position;
+          long lost = oldest - position;
+          missed += lost;
+          missLog.record(
+              "a reader of source '" + name + "' of core '" + core.name() + "' missed values",
+              lost,
+              lost + " values",
+              () ->
+                  LOG.warn(
+                      "a reader of source '{}' of core '{}' missed {} values: it fell more than"
+                          + " the retention ({}) behind; read faster or raise"
+                          + " CoreConfig.sourceRetention (further misses are counted, at most one"
+                          + " line per {} s)",
+                      name,
+                      core.name(),
+                      lost,
+                      ring.length,
+                      RateLimitedLog.DEFAULT_SECONDS));
           position = oldest;
         }
         Object value = ring[(int) (position % ring.length)];

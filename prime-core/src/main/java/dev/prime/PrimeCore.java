@@ -24,6 +24,8 @@ import java.util.concurrent.atomic.AtomicInteger;
 import java.util.function.Consumer;
 import java.util.function.Function;
 import java.util.function.Predicate;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
 
 /**
  * The media layer: turns blocks into chains and event blocks into sources, links them, and runs
@@ -80,7 +82,9 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   private final CoreConfig config;
+  private static final Logger LOG = LoggerFactory.getLogger(PrimeCore.class);
   private final String name;
+  private final String media;
   private volatile TopologyRecorder recorder; // made on first use: it refers to this core
   private final ServiceThreads services;
   private final InProcessServices inProcess;
@@ -92,7 +96,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param config the settings
    */
   protected PrimeCore(String media, CoreConfig config) {
-    Objects.requireNonNull(media, "media");
+    this.media = Objects.requireNonNull(media, "media");
     this.config = Objects.requireNonNull(config, "config must not be null");
     this.name =
         config.name() != null
@@ -655,6 +659,27 @@ public abstract class PrimeCore implements AutoCloseable {
     }
     onStart();
     services.startAll();
+    List<String> hosted = serviceNames().stream().filter(this::isHostedHere).toList();
+    LOG.info(
+        "core '{}' started on {}{}, hosting services {}{}",
+        name,
+        media,
+        startDetails(),
+        hosted.subList(0, Math.min(hosted.size(), START_LINE_SERVICES)),
+        hosted.size() > START_LINE_SERVICES
+            ? " and " + (hosted.size() - START_LINE_SERVICES) + " more"
+            : "");
+  }
+
+  /** The most service names the start line lists (a core may have thousands). */
+  private static final int START_LINE_SERVICES = 20;
+
+  /**
+   * {@return what the start line logged by {@link #start()} adds after the media's name, such as
+   * {@code " with Redis redis://127.0.0.1:6379"}; never a password; empty by default}
+   */
+  protected String startDetails() {
+    return "";
   }
 
   /**
@@ -672,6 +697,7 @@ public abstract class PrimeCore implements AutoCloseable {
     inProcess.close();
     services.stopAll(config.shutdownTimeout());
     onClose();
+    config.flushErrorSummaries();
   }
 
   /** Called by {@link #start()} before the in-process services start. */

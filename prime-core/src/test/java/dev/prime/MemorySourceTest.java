@@ -4,6 +4,7 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.conformance.CapturedStderr;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
@@ -46,6 +47,29 @@ class MemorySourceTest {
       assertEquals(range(0, 4), reader.drain());
       assertEquals(0, reader.missed());
     }
+  }
+
+  @Test
+  void missesAreLoggedOnceAtWarnThenCounted() {
+    List<String> warnings;
+    try (CapturedStderr err = new CapturedStderr();
+        BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "lossy", 2);
+      Reader<Integer> reader = source.reader();
+      for (int lap = 0; lap < 100; lap++) { // 100 misses of 3 values each, in one burst
+        range(0, 5).forEach(source::publish);
+        reader.drain();
+      }
+      assertEquals(300, reader.missed());
+      warnings =
+          err.lines().stream()
+              .filter(l -> l.contains("source 'lossy' of core '" + core.name() + "'"))
+              .toList();
+    }
+    assertTrue(warnings.size() >= 1 && warnings.size() <= 3, String.join("\n", warnings));
+    assertTrue(warnings.get(0).contains("WARN"), warnings.get(0));
+    assertTrue(warnings.get(0).contains("missed 3 values"), warnings.get(0));
+    assertTrue(warnings.get(0).contains("CoreConfig.sourceRetention"), warnings.get(0));
   }
 
   @Test

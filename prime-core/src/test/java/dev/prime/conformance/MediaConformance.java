@@ -17,4 +17,5 @@ public interface MediaConformance
         AtomicLinkConformance,
         InterruptConformance,
         ValueCopyConformance,
-        LongChainConformance {}
+        LongChainConformance,
+        LoggingConformance {}

@@ -354,6 +354,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     override fun isHostedHere(service: String): Boolean = isHosted(service) && service !in notRunning
 
+    /** The start line names the Redis, its password redacted ([redisUrl]). */
+    override fun startDetails(): String = " with Redis $redisUrl"
+
     // ------------------------------------------------------------------ liveness
 
     /**

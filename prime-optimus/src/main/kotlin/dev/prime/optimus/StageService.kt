@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
+import dev.prime.spi.RateLimitedLog
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.currentCoroutineContext
 import kotlinx.coroutines.delay
@@ -60,6 +61,7 @@ internal class StageService(
     )
     private val rules = core.stepRules
     private val recent = RecentIds()
+    private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
     /** The reply owed to a caller whose request's block threw a [VirtualMachineError] (see [loop]). */
     private var fatalReply: Pair<ByteArray, ByteArray>? = null
@@ -268,19 +270,35 @@ internal class StageService(
     /** One entry of a batch and what its handling stores. */
     private class Part(val entry: TakenEntry, val batch: StepBatch)
 
+    /**
+     * Dead-letters [entry] for [reason] (its first bytes only if [prefix]) and logs it at WARN: the
+     * first of a burst in full, then counted, at most one line per 10 s (a block's own failures are
+     * logged by the error handler instead).
+     */
+    private fun deadLetter(step: StepBatch, reason: String, entry: TakenEntry, prefix: Boolean = false) {
+        step.dead(if (prefix) DeadLetter.encodePrefix(reason, entry) else DeadLetter.encode(reason, entry))
+        deadLetterLog.record("service '$name' dead-lettered entries", 1, reason) {
+            LOG.warn(
+                "service '{}' dead-lettered an entry: {} (see OptimusCore.deadLetters; further ones are counted, at most one " +
+                    "line per {} s)",
+                name, reason, RateLimitedLog.DEFAULT_SECONDS,
+            )
+        }
+    }
+
     /** Handles one entry; never throws but a [VirtualMachineError]. */
     private fun handle(entry: TakenEntry, batchIds: MutableSet<Long>): Part {
         val part = Part(entry, empty.part())
         val step = part.batch
         if (!entry.isWhole || entry.size > rules.maxEntryBytes) {
-            step.dead(DeadLetter.encodePrefix("an entry of ${entry.size} bytes, over the limit of ${rules.maxEntryBytes}", entry))
+            deadLetter(step, "an entry of ${entry.size} bytes, over the limit of ${rules.maxEntryBytes}", entry, prefix = true)
             return part
         }
         val raw = entry.bytes
         val envelope = try {
             Envelope.parse(raw)
         } catch (e: CodecException) {
-            step.dead(DeadLetter.encode("undecodable envelope: ${e.message}", entry))
+            deadLetter(step, "undecodable envelope: ${e.message}", entry)
             return part
         }
         // a duplicate of a value handled recently, or earlier in this batch
@@ -288,26 +306,25 @@ internal class StageService(
         step.ids += envelope.id
         val replyTo = envelope.replyTo
         if (replyTo != null && !startsWith(replyTo, rules.replyPrefix)) {
-            step.dead(
-                DeadLetter.encode(
-                    "refused request: its reply key ${printable(replyTo)} is outside this topology's reply namespace " +
-                        "${rules.replyPrefix.toString(UTF_8)}*",
-                    entry,
-                ),
+            deadLetter(
+                step,
+                "refused request: its reply key ${printable(replyTo)} is outside this topology's reply namespace " +
+                    "${rules.replyPrefix.toString(UTF_8)}*",
+                entry,
             )
             return part
         }
         val value = try {
             envelope.payload()?.let(core.codec::decode)
         } catch (e: CodecException) {
-            step.dead(DeadLetter.encode("cannot decode the value: ${e.message}", entry))
+            deadLetter(step, "cannot decode the value: ${e.message}", entry)
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
             return part
         }
         when (envelope.kind) {
             Envelope.Kind.REQUEST -> handleRequest(envelope, value, step)
             Envelope.Kind.VALUE -> handleValue(envelope, value, entry, step)
-            else -> step.dead(DeadLetter.encode("a ${envelope.kind} does not belong in a service's input", entry))
+            else -> deadLetter(step, "a ${envelope.kind} does not belong in a service's input", entry)
         }
         return part
     }

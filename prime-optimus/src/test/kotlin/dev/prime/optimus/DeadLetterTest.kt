@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import dev.prime.CoreConfig
+import dev.prime.conformance.CapturedStderr
 import dev.prime.EventBlock
 import dev.prime.ErrorHandler
 import org.junit.jupiter.api.Assertions.assertEquals
@@ -35,6 +36,27 @@ class DeadLetterTest {
             assertEquals(2, core.clearDeadLetters("increment"))
             assertEquals(listOf<DeadLetter>(), core.deadLetters("increment"))
         }
+    }
+
+    @Test
+    fun aBurstOfDeadLettersIsLoggedOnceThenCounted() {
+        val lines = CapturedStderr().use { err ->
+            TestRedis.core().use { core ->
+                val events = EventBlock<Int>()
+                val out = core.source("bursty", events).then(core.chain("burst-target") { x: Int -> x + 1 }).reader()
+                core.start()
+                Jedis(URI(TestRedis.url)).use { raw ->
+                    val input = core.keys.serviceInput("burst-target")
+                    repeat(100) { raw.rpush(input, "garbage $it".toByteArray()) }
+                }
+                events.publish(41) // behind the 100 bad entries: once it is out, they were handled
+                assertEquals(42, out.take(PATIENCE).orElseThrow())
+                assertEquals(100, core.deadLetters("burst-target").size)
+            }
+            err.lines().filter { it.contains("service 'burst-target' dead-lettered") }
+        }
+        assertTrue(lines.size in 1..3, "one WARN line and at most a few summaries, not ${lines.size}: $lines")
+        assertTrue(lines[0].contains(" WARN ") && lines[0].contains("undecodable envelope"), lines[0])
     }
 
     @Test

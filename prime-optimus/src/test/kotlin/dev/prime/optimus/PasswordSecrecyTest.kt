@@ -1,8 +1,10 @@
 package dev.prime.optimus
 
+import dev.prime.conformance.CapturedStderr
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
 import java.io.PrintWriter
@@ -71,6 +73,27 @@ class PasswordSecrecyTest {
                 assertEquals(3, call.process(3), "the right password logs in")
                 assertNoSecret(core.redisUrl + core.toString(), "Secret2", "core")
             }
+        }
+    }
+
+    @Test
+    fun theStartLineNamesTheRedisWithoutItsPassword() {
+        EmbeddedRedis.start().use { redis ->
+            Jedis(URI(redis.uri)).use { it.configSet("requirepass", "Start%Secret4") }
+            val lines = CapturedStderr().use { err ->
+                OptimusCore.builder().config(dev.prime.CoreConfig.builder().name("start-line").build()).redis("redis://:Start%25Secret4@127.0.0.1:${redis.port}").build()
+                    .use { core ->
+                        core.chain("echo") { x: Int -> x }
+                        core.start()
+                    }
+                err.lines().filter { it.contains("core 'start-line' started on ") }
+            }
+            assertEquals(1, lines.size, lines.toString())
+            val line = lines[0]
+            assertTrue(line.contains(" INFO "), line)
+            assertTrue(line.contains("started on optimus with Redis redis://:***@127.0.0.1:${redis.port}"), line)
+            assertTrue(line.contains("hosting services [echo]"), line)
+            assertNoSecret(line, "Secret4", "start line")
         }
     }
 

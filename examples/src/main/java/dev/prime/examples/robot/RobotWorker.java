@@ -11,12 +11,17 @@ import java.io.InputStreamReader;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
 
 /**
  * The other process of the two-process robot: {@code robot-worker --hosts SERVICE,... [--redis
  * URL] [--goal X,Y] [--name NAME]}. It declares the same topology as {@link RobotMain} (same core
  * name, same goal) and runs only the named services, taking their inputs from Redis and storing
- * their results there, until it is stopped (Ctrl-C, end of input, or a line {@code STOP}). Pair it
+ * their results there, until it is stopped: by a line {@code STOP} on its standard input, or by
+ * SIGTERM / Ctrl-C (a shutdown hook closes the core and prints {@code STOPPED}). The end of its
+ * standard input does not stop it, so it runs under systemd or Docker with stdin on {@code
+ * /dev/null}. Pair it
  * with {@code robot --media optimus --redis URL --remote SERVICE,...}. Without {@code --redis} it
  * starts an embedded Redis (listening on 127.0.0.1 only) and prints its URL in its {@code READY}
  * line, so both processes run on one machine with nothing installed.
@@ -24,8 +29,9 @@ import java.util.List;
  * <p>Blocks keep their state in the process that hosts them: a worker hosting a stateful block
  * (odometry, pid) serves one mission; the planner holds none and may serve many.
  *
- * <p>Exit codes: 0 stopped, 2 the command line is wrong, 3 the Redis cannot be reached (or the
- * embedded one cannot start).
+ * <p>Exit codes: 0 stopped by a line {@code STOP}, 2 the command line is wrong, 3 the Redis cannot
+ * be reached (or the embedded one cannot start); stopped by a signal the JVM exits with 128 + the
+ * signal's number (143 for SIGTERM, 130 for Ctrl-C's SIGINT) after the core is closed.
  */
 public final class RobotWorker {
 
@@ -40,7 +46,7 @@ public final class RobotWorker {
               + String.join(", ", RobotController.SERVICES),
           "  --goal X,Y        the robot's goal, as given to the robot (default 2,1)",
           "  --name NAME       the core's name, as given to the robot (default robot)",
-          "stop it with Ctrl-C, end of input, or a line STOP");
+          "stop it with a line STOP, SIGTERM or Ctrl-C (the end of input does not stop it)");
 
   private RobotWorker() {}
 
@@ -56,8 +62,12 @@ public final class RobotWorker {
     }
   }
 
+  /** How long a signal's shutdown hook waits for the worker to close before the JVM exits. */
+  private static final long CLOSE_ON_SIGNAL_SECONDS = 30;
+
   /**
-   * Runs the worker until {@code in} ends or gives a line {@code STOP}, and returns its exit code.
+   * Runs the worker until {@code in} gives a line {@code STOP} or the JVM shuts down (SIGTERM,
+   * Ctrl-C), and returns its exit code. The end of {@code in} does not stop it.
    *
    * @param args the command line
    * @param in where the stop comes from
@@ -92,7 +102,22 @@ public final class RobotWorker {
       return 3;
     }
     EmbeddedRedis ownRedis = embedded;
-    Thread closeOnExit = new Thread(() -> close(core, ownRedis), "robot-worker-close");
+    CountDownLatch stopRequested = new CountDownLatch(1);
+    CountDownLatch stopped = new CountDownLatch(1);
+    Thread closeOnExit =
+        new Thread(
+            () -> {
+              // a signal: let run() close the core and say STOPPED, as a STOP line would
+              stopRequested.countDown();
+              try {
+                if (!stopped.await(CLOSE_ON_SIGNAL_SECONDS, TimeUnit.SECONDS)) {
+                  close(core, ownRedis, err);
+                }
+              } catch (InterruptedException e) {
+                close(core, ownRedis, err);
+              }
+            },
+            "robot-worker-close");
     Runtime.getRuntime().addShutdownHook(closeOnExit);
     try {
       // Only the hosted services run here, but the whole topology is declared, in the same order.
@@ -110,22 +135,30 @@ public final class RobotWorker {
               + core.name()
               + "' on "
               + (ownRedis == null ? options.redisUrl : ownRedis.getUri()));
-      awaitStop(in);
+      awaitStop(in, stopRequested);
     } finally {
-      close(core, ownRedis);
       try {
-        Runtime.getRuntime().removeShutdownHook(closeOnExit);
-      } catch (IllegalStateException e) {
-        // the JVM is exiting: the hook closes the core as well (closing twice does nothing)
+        close(core, ownRedis, err);
+        try {
+          Runtime.getRuntime().removeShutdownHook(closeOnExit);
+        } catch (IllegalStateException e) {
+          // the JVM is exiting (a signal): its hook is waiting for this close
+        }
+        out.println("STOPPED");
+        out.flush();
+      } finally {
+        stopped.countDown(); // only now may a signal's hook return and the JVM halt
       }
     }
-    out.println("STOPPED");
     return 0;
   }
 
-  private static void close(PrimeCore core, EmbeddedRedis redis) {
+  private static void close(PrimeCore core, EmbeddedRedis redis, PrintStream err) {
     try {
       core.close();
+    } catch (RuntimeException e) {
+      // on a signal the embedded Redis's own hook may stop it at the same time: still stop
+      err.println("error: closing the core: " + e);
     } finally {
       if (redis != null) {
         redis.close();
@@ -133,16 +166,35 @@ public final class RobotWorker {
     }
   }
 
-  private static void awaitStop(InputStream in) {
-    BufferedReader lines = new BufferedReader(new InputStreamReader(in, StandardCharsets.UTF_8));
+  /**
+   * Returns once {@code in} gives a line {@code STOP} or a stop is requested (by the shutdown
+   * hook). The input is read on a daemon thread, so a blocked read never holds the JVM; its end
+   * (or failure) leaves the worker running.
+   */
+  private static void awaitStop(InputStream in, CountDownLatch stopRequested) {
+    Thread reader =
+        new Thread(
+            () -> {
+              BufferedReader lines =
+                  new BufferedReader(new InputStreamReader(in, StandardCharsets.UTF_8));
+              try {
+                for (String line = lines.readLine(); line != null; line = lines.readLine()) {
+                  if (line.strip().equals("STOP")) {
+                    stopRequested.countDown();
+                    return;
+                  }
+                }
+              } catch (IOException e) {
+                // input is gone: as at its end, keep running until a signal
+              }
+            },
+            "robot-worker-stdin");
+    reader.setDaemon(true);
+    reader.start();
     try {
-      for (String line = lines.readLine(); line != null; line = lines.readLine()) {
-        if (line.strip().equals("STOP")) {
-          return;
-        }
-      }
-    } catch (IOException e) {
-      // input is gone: stop as at its end
+      stopRequested.await();
+    } catch (InterruptedException e) {
+      Thread.currentThread().interrupt();
     }
   }
 
