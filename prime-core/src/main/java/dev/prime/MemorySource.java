@@ -82,14 +82,14 @@ final class MemorySource<T> implements MediaSource<T> {
   private MemoryReader[] gates = noGates(); // guarded by lock, replaced on change: service inputs
   private long gate = Long.MAX_VALUE; // guarded by lock: lowest gating cursor last seen
 
+  private static final Logger LOG = LoggerFactory.getLogger(MemorySource.class);
+  private final RateLimitedLog missLog = new RateLimitedLog(MemorySource.class.getName()); // one key: this source
+
   /**
    * @param core the owning core
    * @param name the source's name
    * @param retention how many latest values to keep
    */
-  private static final Logger LOG = LoggerFactory.getLogger(MemorySource.class);
-  private final RateLimitedLog missLog = new RateLimitedLog(MemorySource.class.getName()); // one key: this source
-
   MemorySource(PrimeCore core, String name, int retention) {
     this(core, name, retention, null, () -> {});
   }
@@ -177,7 +177,14 @@ final class MemorySource<T> implements MediaSource<T> {
         deadline = System.nanoTime() + saturatedNanos(core.config().publishTimeout());
       }
       long left = deadline - System.nanoTime();
-      if (left <= 0 || Thread.currentThread().isInterrupted()) {
+      if (Thread.currentThread().isInterrupted()) {
+        throw new PrimeException(
+            "publish to source '"
+                + name
+                + "' was interrupted while it waited for room in a service's input; nothing was"
+                + " published (the thread's interrupt flag is kept)");
+      }
+      if (left <= 0) {
         throw queueFull(blocking);
       }
       lock.unlock();

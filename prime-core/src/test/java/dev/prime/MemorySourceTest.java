@@ -209,6 +209,28 @@ class MemorySourceTest {
   }
 
   @Test
+  void anInterruptedPublisherWaitingForRoomStopsAtOnceAndPublishesNothing() {
+    try (BareCore core = coreWaiting(Duration.ofSeconds(30))) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 2);
+      Reader<Integer> input = source.serviceInput("svc");
+      range(0, 2).forEach(source::publish);
+      Thread.currentThread().interrupt();
+      long began = System.nanoTime();
+      try {
+        PrimeException stopped = assertThrows(PrimeException.class, () -> source.publish(2));
+        assertTrue(Thread.currentThread().isInterrupted(), "the interrupt flag is kept");
+        assertTrue(stopped.getMessage().contains("interrupted"), stopped.getMessage());
+        assertTrue(!(stopped instanceof QueueFullException), "an interrupt is not a full queue");
+      } finally {
+        Thread.interrupted();
+      }
+      long waitedMillis = (System.nanoTime() - began) / 1_000_000;
+      assertTrue(waitedMillis < 1_000, "waited " + waitedMillis + " ms of a 30 s publish timeout");
+      assertEquals(List.of(0, 1), input.drain(), "the interrupted publish stored nothing");
+    }
+  }
+
+  @Test
   void plainReadersNeverHoldPublishersUp() {
     try (BareCore core = coreWaiting(Duration.ZERO)) {
       MemorySource<Integer> source = new MemorySource<>(core, "s", 2);

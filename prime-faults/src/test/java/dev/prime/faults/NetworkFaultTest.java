@@ -40,7 +40,7 @@ class NetworkFaultTest {
       Ledger ledger = new Ledger(0, n);
       sink.set(ledger);
       CountDownLatch frozen = new CountDownLatch(1);
-      Thread publisher = RedisRestartFaultTest.publisher(ids, ledger, 0, n, 2 * n / 5, frozen);
+      Thread publisher = StreamRun.publisher(ids, ledger, 0, n, 2 * n / 5, frozen);
       long noticed;
       long flowBack;
       try {
@@ -89,7 +89,7 @@ class NetworkFaultTest {
       Ledger ledger = new Ledger(0, n);
       sink.set(ledger);
       CountDownLatch go = new CountDownLatch(1);
-      Thread publisher = RedisRestartFaultTest.publisher(ids, ledger, 0, n, 0, go);
+      Thread publisher = StreamRun.publisher(ids, ledger, 0, n, 0, go);
       go.countDown();
       List<Integer> cut = new java.util.ArrayList<>();
       try {

@@ -8,7 +8,6 @@ import dev.prime.optimus.OptimusCore;
 import java.nio.file.Path;
 import java.time.Duration;
 import java.util.concurrent.CountDownLatch;
-import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
@@ -40,7 +39,7 @@ class RedisRestartFaultTest {
         Ledger ledger = new Ledger(first, n);
         sink.set(ledger);
         CountDownLatch restarted = new CountDownLatch(1);
-        Thread publisher = publisher(ids, ledger, first, n, 2 * n / 5, restarted);
+        Thread publisher = StreamRun.publisher(ids, ledger, first, n, 2 * n / 5, restarted);
         long flowBack;
         try {
           assertTrue(ledger.awaitDistinct(n / 3, FaultMode.PATIENCE), "before the crash: " + ledger.counts());
@@ -118,25 +117,5 @@ class RedisRestartFaultTest {
       assertEquals(0, ledger.refusedCount(), ledger.counts());
       assertTrue(workerResets >= 1 && collectorResets >= 1, "both processes count the reset: " + workerResets + ", " + collectorResets);
     }
-  }
-
-  /** Publishes ids {@code first..first+n-1}, pausing after {@code pauseAfter} until {@code resume}. */
-  static Thread publisher(EventBlock<Long> ids, Ledger ledger, long first, int n, int pauseAfter, CountDownLatch resume) {
-    Thread thread = new Thread(() -> {
-      try {
-        for (int i = 0; i < n; i++) {
-          if (i == pauseAfter && !resume.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS)) return;
-          try {
-            ids.publish(first + i);
-          } catch (RuntimeException e) {
-            ledger.refused(first + i);
-          }
-        }
-      } catch (InterruptedException e) {
-        Thread.currentThread().interrupt();
-      }
-    }, "fault-publisher");
-    thread.start();
-    return thread;
   }
 }

@@ -1,5 +1,6 @@
 package dev.prime.faults;
 
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.EventBlock;
@@ -56,24 +57,7 @@ final class StreamRun {
     Ledger ledger = new Ledger(first, n);
     sink.set(ledger);
     CountDownLatch killed = new CountDownLatch(1);
-    CountDownLatch published = new CountDownLatch(1);
-    Thread publisher = new Thread(() -> {
-      try {
-        for (int i = 0; i < n; i++) {
-          if (i == pauseAfter && !killed.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS)) return;
-          try {
-            ids.publish(first + i);
-          } catch (RuntimeException e) {
-            ledger.refused(first + i);
-          }
-        }
-      } catch (InterruptedException e) {
-        Thread.currentThread().interrupt();
-      } finally {
-        published.countDown();
-      }
-    }, "fault-publisher-" + coreName);
-    publisher.start();
+    Thread publisher = publisher(ids, ledger, first, n, pauseAfter, killed);
     try {
       assertTrue(ledger.awaitDistinct(killAfter, FaultMode.PATIENCE),
           "only " + ledger.distinct() + " of " + killAfter + " ids arrived before the kill; worker output:\n" + victim.output());
@@ -81,7 +65,8 @@ final class StreamRun {
       long killedAt = System.nanoTime();
       killed.countDown();
       if (backlogFirst) {
-        assertTrue(published.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "the publisher did not finish");
+        publisher.join(FaultMode.PATIENCE.toMillis());
+        assertFalse(publisher.isAlive(), "the publisher did not finish");
       }
       WorkerJvm successor = startWorker(generation);
       boolean all = ledger.awaitAll(FaultMode.PATIENCE);
@@ -96,5 +81,25 @@ final class StreamRun {
       killed.countDown();
       publisher.join(FaultMode.PATIENCE.toMillis());
     }
+  }
+
+  /** Publishes ids {@code first..first+n-1}, pausing after {@code pauseAfter} until {@code resume}. */
+  static Thread publisher(EventBlock<Long> ids, Ledger ledger, long first, int n, int pauseAfter, CountDownLatch resume) {
+    Thread thread = new Thread(() -> {
+      try {
+        for (int i = 0; i < n; i++) {
+          if (i == pauseAfter && !resume.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS)) return;
+          try {
+            ids.publish(first + i);
+          } catch (RuntimeException e) {
+            ledger.refused(first + i);
+          }
+        }
+      } catch (InterruptedException e) {
+        Thread.currentThread().interrupt();
+      }
+    }, "fault-publisher");
+    thread.start();
+    return thread;
   }
 }

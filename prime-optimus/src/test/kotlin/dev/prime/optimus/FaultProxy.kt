@@ -7,6 +7,7 @@ import java.net.Socket
 import java.net.URI
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.atomic.AtomicInteger
+import java.util.concurrent.locks.LockSupport
 
 /**
  * A TCP proxy in front of a Redis that injects network faults on command:
@@ -16,10 +17,12 @@ import java.util.concurrent.atomic.AtomicInteger
  *   reached Redis.
  * - [freeze]: stops forwarding in both directions and leaves every socket open (new connections
  *   are accepted and then left silent): a network that drops everything, as a pulled cable.
+ * - [replyDelayNanos]: holds every chunk of a reply back that long: a slow network, for the
+ *   awkward (slow-Redis) variant of the conformance kit.
  *
  * Two daemon threads per connection pump the bytes; [close] closes every socket, which ends them.
  */
-internal class FaultProxy(target: String) : AutoCloseable {
+internal class FaultProxy(target: String, private val replyDelayNanos: Long = 0) : AutoCloseable {
     private val targetUri = URI(target)
     private val server = ServerSocket(0, 50, InetAddress.getLoopbackAddress())
     private val sockets: MutableSet<Socket> = ConcurrentHashMap.newKeySet()
@@ -90,6 +93,7 @@ internal class FaultProxy(target: String) : AutoCloseable {
                 val n = from.getInputStream().read(buffer)
                 if (n < 0) break
                 awaitThaw()
+                if (!upward && replyDelayNanos > 0) LockSupport.parkNanos(replyDelayNanos)
                 if (!upward && link.doomed) {
                     cuts.incrementAndGet() // Redis answered the marked write: it ran; the client never learns
                     break

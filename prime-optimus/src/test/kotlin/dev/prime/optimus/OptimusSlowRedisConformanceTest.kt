@@ -23,6 +23,6 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     override fun blocksRunOnTheCallersThread(): Boolean = false
 
     private companion object {
-        val proxy: SlowProxy by lazy { SlowProxy(TestRedis.url, 500_000) }
+        val proxy: FaultProxy by lazy { FaultProxy(TestRedis.url, replyDelayNanos = 500_000) }
     }
 }
