@@ -674,13 +674,25 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     is StepResult.Full -> {
                         val left = deadline - System.nanoTime()
                         if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
+                        if (Thread.currentThread().isInterrupted) throw interruptedPublish(what)
                         val wait = (backoff ?: Backoff().also { backoff = it }).next()
-                        connections.pause(minOf(wait, (left + 999_999) / 1_000_000))
+                        try {
+                            connections.pauseInterruptibly(minOf(wait, (left + 999_999) / 1_000_000))
+                        } catch (_: InterruptedException) {
+                            Thread.currentThread().interrupt()
+                            throw interruptedPublish(what)
+                        }
                     }
                 }
             }
         }
     }
+
+    /** An interrupt ended a publish that waited for room: nothing was published, and the flag stays set. */
+    private fun interruptedPublish(what: String) = dev.prime.PrimeException(
+        "$what was interrupted while it waited for room in a service's queue; nothing was published (the thread's " +
+            "interrupt flag is kept)",
+    )
 
     private fun queueFull(source: SourceKeys, full: StepResult.Full, count: Int): QueueFullException {
         val service = keys.serviceOf(full.key) ?: full.key.toString(UTF_8)

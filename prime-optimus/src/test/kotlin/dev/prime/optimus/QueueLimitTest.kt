@@ -49,6 +49,31 @@ class QueueLimitTest {
     }
 
     @Test
+    fun anInterruptedPublisherWaitingForRoomStopsAtOnceSaysSoAndPublishesNothing() {
+        OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).queueLimit("stuck", 2)
+            .publishTimeout(Duration.ofSeconds(30)).build().use { core ->
+                val events = EventBlock<Int>()
+                val numbers = core.source("numbers", events)
+                numbers.then(core.chain("stuck") { x: Int -> x })
+                core.start()
+                core.publishAll(numbers, listOf(0, 1))
+                Thread.currentThread().interrupt()
+                val started = System.nanoTime()
+                try {
+                    // before: the interrupt looked like a closed core, and the event block dropped the value silently
+                    val stopped = assertThrows(dev.prime.PrimeException::class.java) { events.publish(2) }
+                    assertTrue(Thread.currentThread().isInterrupted, "the interrupt flag is kept")
+                    assertTrue("interrupted" in stopped.message!!, stopped.message)
+                    assertTrue(stopped !is QueueFullException && stopped !is dev.prime.CoreClosedException, stopped.toString())
+                } finally {
+                    Thread.interrupted()
+                }
+                assertTrue(Duration.ofNanos(System.nanoTime() - started) < Duration.ofSeconds(5), "a 30 s publish timeout was not waited out")
+                Jedis(URI(TestRedis.url)).use { raw -> assertEquals(2L, raw.llen(core.keys.serviceInput("stuck"))) }
+            }
+    }
+
+    @Test
     fun aBatchLargerThanTheLimitIsRefusedAtOnce() {
         OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).queueLimit(5).build().use { core ->
             val numbers = core.source("numbers", EventBlock<Int>())
