@@ -1,12 +1,15 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.PrimeException;
 import dev.prime.QueueFullException;
 import dev.prime.Reader;
 import dev.prime.Source;
@@ -143,6 +146,64 @@ public interface AwkwardConformance extends ConformanceBase {
           java.util.stream.IntStream.rangeClosed(0, 50).boxed().toList(),
           processed,
           "a service's input is a queue: nothing is skipped");
+    }
+  }
+
+  /**
+   * A publisher waiting for room in a stuck service's input honours interruption: it stops within
+   * a second (not the publish timeout) with a {@link PrimeException} that says it was interrupted
+   * (not a full queue, not a closed core), keeps the interrupt flag, and publishes nothing.
+   */
+  @Test
+  default void anInterruptedPublisherWaitingForRoomStopsAtOnceAndPublishesNothing()
+      throws InterruptedException {
+    int capacity = 2;
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch firstInside = new CountDownLatch(1);
+    CountDownLatch sentinelDone = new CountDownLatch(1);
+    List<Integer> processed = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config = CoreConfig.builder().publishTimeout(Duration.ofSeconds(30)).build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.link(
+          core.source(events),
+          core.chain(
+              (Integer x) -> {
+                processed.add(x);
+                firstInside.countDown();
+                try {
+                  release.await();
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+                if (x == -1) {
+                  sentinelDone.countDown();
+                }
+                return x;
+              }));
+      core.start();
+      events.publish(0);
+      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      for (int i = 1; i <= capacity; i++) {
+        events.publish(i); // fills the stuck service's input
+      }
+      long began = System.nanoTime();
+      Thread.currentThread().interrupt();
+      try {
+        PrimeException stopped = assertThrows(PrimeException.class, () -> events.publish(999));
+        assertTrue(Thread.currentThread().isInterrupted(), "the interrupt flag is kept");
+        assertFalse(stopped instanceof QueueFullException, "an interrupt is not a full queue: " + stopped);
+        assertFalse(stopped instanceof CoreClosedException, "an interrupt is not a closed core: " + stopped);
+        assertTrue(stopped.getMessage().contains("interrupted"), stopped.getMessage());
+      } finally {
+        Thread.interrupted();
+      }
+      Duration waited = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(waited.compareTo(Duration.ofSeconds(1)) <= 0, "stopped within a second, took " + waited);
+      release.countDown();
+      events.publish(-1);
+      assertTrue(sentinelDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(0, 1, 2, -1), processed, "the interrupted 999 reached nobody");
     }
   }
 
