@@ -748,8 +748,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         check(theirs == null || theirs == mine) {
-            "core '${name()}' uses a codec with fingerprint $mine, but this topology's processes use $theirs: register " +
-                "the same types in the same order in every process (or delete the Redis key " +
+            "core '${name()}' uses a codec with fingerprint $mine, but this topology's processes use $theirs: allow " +
+                "the same types (classes, sealed types, packages) in every process's KryoCodec (or delete the Redis key " +
                 "'${keys.codec.toString(UTF_8)}' if the types changed on purpose)"
         }
     }
