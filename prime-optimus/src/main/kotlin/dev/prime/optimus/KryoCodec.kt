@@ -130,6 +130,24 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
 
     override fun toString(): String = "KryoCodec(${fingerprint()})"
 
+    /**
+     * Why a value of exactly [type] cannot be encoded (the message [encode] would give, from its
+     * lower-case start), or null if it can. A record or enum a default codec learns is admitted.
+     */
+    internal fun refusalOf(type: Class<*>): String? {
+        val session = sessions.obtain()
+        try {
+            session.registration(type)
+        } catch (e: UnregisteredTypeException) {
+            return "KryoCodec does not allow it" + howToAllow(e.type)
+        } catch (e: IllegalArgumentException) {
+            return e.message ?: e.toString()
+        } finally {
+            sessions.free(session)
+        }
+        return null
+    }
+
     private fun encodeFailure(value: Any, e: Throwable): IllegalArgumentException {
         val unregistered = e.causes().filterIsInstance<UnregisteredTypeException>().firstOrNull()
         val type = value.javaClass.name
@@ -145,6 +163,11 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
     /** What to say when [type], found in a value of class [valueType], is not allowed. */
     private fun notAllowed(valueType: Class<*>, type: Class<*>): String {
         val what = if (type == valueType) "the type is not allowed" else "it contains a ${type.name}, which is not allowed"
+        return "KryoCodec cannot encode a value of type ${valueType.name}: $what${howToAllow(type)}"
+    }
+
+    /** Why [type] is refused under the learning rule, if that applies, and the line that allows it. */
+    private fun howToAllow(type: Class<*>): String {
         val learned = if (registry.allowList.learnsRecordsAndEnums && !type.isRecord && !type.isEnum) {
             " (records and enums are accepted without configuration; ${type.simpleName} is neither)"
         } else ""
@@ -157,8 +180,7 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
                 "KryoCodec.builder().allow($sourceName.class) (Kotlin: allow($sourceName::class.java)), " +
                 "or allow its whole package: KryoCodec.builder().allowPackage(\"${type.packageName}\")"
         }
-        return "KryoCodec cannot encode a value of type ${valueType.name}: $what$learned. $howTo. " +
-            "Every process of the topology must allow the same types"
+        return "$learned. $howTo. Every process of the topology must allow the same types"
     }
 
     private fun decodeFailure(bytes: ByteArray, e: Throwable): CodecException {
@@ -258,9 +280,11 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
          * Whether a record or enum that no other rule allows is accepted when this process
          * sends one (default `true`). Such a type is admitted by the process that sends it, under
          * an id computed from its name, and is readable in a process once that process has sent
-         * one itself: bytes alone never admit it. That covers every value of a topology that
-         * runs in one process (each value is encoded by the process that decodes it); for
-         * values sent between processes, allow the types by class or package in every process.
+         * one itself, or once an [OptimusCore] started with a block class that declares it
+         * (`class Odometry implements Block<EncoderReading, Estimate>`): bytes alone never admit
+         * it. That covers every value of a topology that runs in one process (each value is
+         * encoded by the process that decodes it); for values sent between processes, allow the
+         * types by class or package in every process (or declare them in block classes).
          * Set `false` to accept only what is allowed explicitly.
          */
         public fun learnRecordsAndEnums(enabled: Boolean): Builder {

@@ -137,6 +137,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val endpoint: RedisEndpoint
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
+    private val declaredTypes = DeclaredTypes()
     internal val connections: RedisConnections
     internal val ids: ValueIds = ValueIds()
     internal val retries: Int = settings.retries
@@ -214,8 +215,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     // ------------------------------------------------------------------ chains
 
-    override fun <I, O> newChain(name: String, block: Block<I, O>): Chain<I, O> =
-        OptimusChain(this, name, listOf(StageSpec(name, chainLogic(block))))
+    override fun <I, O> newChain(name: String, block: Block<I, O>): Chain<I, O> {
+        declaredTypes.note(name, block)
+        return OptimusChain(this, name, listOf(StageSpec(name, chainLogic(block))))
+    }
 
     override fun <I, M, O> link(first: Chain<I, M>?, second: Chain<M, O>?): Chain<I, O> {
         requireChains(first, second)
@@ -369,6 +372,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     // ------------------------------------------------------------------ lifecycle
 
     override fun onStart() {
+        declaredTypes.check(name(), codec)
         beginLiveness()
         checkCodecAgreement()
         declarations.codecDeclared = true

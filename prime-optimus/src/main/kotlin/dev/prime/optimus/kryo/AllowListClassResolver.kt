@@ -56,7 +56,7 @@ internal class AllowListClassResolver(
                     "$knownIds). The writer allowed a type this process has not: compare the two " +
                     "codecs' fingerprint(), and allow the same types in every process, e.g. " +
                     "KryoCodec.builder().allow(Pose.class) or .allowPackage(\"com.acme.robot\")" +
-                    (if (allowList.learnsRecordsAndEnums) " (a record or enum is learned only from values this process sends itself)" else ""),
+                    (if (allowList.learnsRecordsAndEnums) " (a record or enum is learned only from values this process sends itself, or from the types its block classes declare)" else ""),
             )
         }
     }
