@@ -131,8 +131,9 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
     override fun toString(): String = "KryoCodec(${fingerprint()})"
 
     /**
-     * Why a value of exactly [type] cannot be encoded (the message [encode] would give, from its
-     * lower-case start), or null if it can. A record or enum a default codec learns is admitted.
+     * Why a value of exactly [type] cannot be encoded (a sentence that starts "KryoCodec does not
+     * allow it" and shows the line to add), or null if it can. A record or enum a default codec
+     * learns is admitted by the lookup.
      */
     internal fun refusalOf(type: Class<*>): String? {
         val session = sessions.obtain()
@@ -140,7 +141,7 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
             session.registration(type)
         } catch (e: UnregisteredTypeException) {
             return "KryoCodec does not allow it" + howToAllow(e.type)
-        } catch (e: IllegalArgumentException) {
+        } catch (e: RuntimeException) {
             return e.message ?: e.toString()
         } finally {
             sessions.free(session)
