@@ -216,11 +216,12 @@ public final class ReaderAssert<T> {
   }
 
   /**
-   * Expects the reader to emit nothing for {@code quiet}; waits all of it.
+   * Expects the reader to emit nothing for {@code quiet}, and not to complete; waits all of it.
+   * The timeout of {@link #within(Duration)} does not apply.
    *
    * @param quiet how long nothing may come
    * @return this
-   * @throws AssertionFailedError if a value comes
+   * @throws AssertionFailedError if a value comes or the reader completes
    */
   public ReaderAssert<T> emitsNothingWithin(Duration quiet) {
     Objects.requireNonNull(quiet, "quiet must not be null");
@@ -229,7 +230,9 @@ public final class ReaderAssert<T> {
     try {
       got = reader.take(quiet);
     } catch (CoreClosedException e) {
-      return this; // a reader whose core closed emits nothing more
+      throw new AssertionFailedError(
+          "expected no value within " + show(quiet) + " but the reader completed (its core"
+              + " closed) after " + since(start) + "; expect that with completes()" + history(), e);
     } catch (InterruptedException e) {
       throw interrupted("no value within " + show(quiet), start, e);
     }

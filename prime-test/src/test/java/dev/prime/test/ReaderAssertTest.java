@@ -152,6 +152,17 @@ class ReaderAssertTest {
   }
 
   @PrimeTest
+  void emitsNothingWithinFailsWhenTheReaderCompletes(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+    core.close();
+
+    assertMatches(
+        "expected no value within 300 ms but the reader completed \\(its core closed\\) "
+            + AFTER + "; expect that with completes\\(\\) \\(no value taken before\\)",
+        failure(() -> assertThat(reader).emitsNothingWithin(SHORT)));
+  }
+
+  @PrimeTest
   void skipsUntilFailsWhenNoValueMatchesInTime(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1, 2);
