@@ -114,6 +114,26 @@ class PrimeTestExtensionTest {
     assertInstanceOf(LibertyCore.class, CORES.get(1));
   }
 
+  /** A team's own annotation, made of {@code @PrimeTest}. */
+  @java.lang.annotation.Retention(java.lang.annotation.RetentionPolicy.RUNTIME)
+  @PrimeTest(media = {Media.LIBERTY, Media.RADIANT})
+  @interface InMemoryMedia {}
+
+  static class WithComposedAnnotation {
+    @InMemoryMedia
+    void records(PrimeCore core) {
+      CORES.add(core);
+    }
+  }
+
+  @Test
+  void anAnnotationMadeOfPrimeTestRunsLikeIt() {
+    EngineExecutionResults results = run(WithComposedAnnotation.class);
+
+    assertEquals(List.of("Liberty", "Radiant"), names(results.testEvents().succeeded()));
+    assertEquals(2, CORES.size());
+  }
+
   // ------------------------------------------------------------------ setup
 
   static final class SmallRetention implements CoreSetup {
