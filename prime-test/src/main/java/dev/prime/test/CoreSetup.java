@@ -29,9 +29,10 @@ public interface CoreSetup {
 
   /**
    * Adjusts the settings of an invocation's core, before the core is made. Whatever name is set
-   * here, the extension then gives the core a name of its own, {@code <name>-<media>-<n>} ({@code
-   * test-<media>-<n>} if none was set), so that every invocation has its own namespace (on Optimus,
-   * its own Redis keys).
+   * here, the extension then gives the core a name of its own, {@code <name>-<media>-<n>-<jvm>}
+   * ({@code test-<media>-<n>-<jvm>} if none was set; {@code n} counts the cores of the JVM, {@code
+   * jvm} is random per JVM), so that every invocation has its own namespace (on Optimus, its own
+   * Redis keys), also on a Redis that several test JVMs share.
    *
    * <p>The default changes nothing.
    *

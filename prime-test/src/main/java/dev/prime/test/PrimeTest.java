@@ -38,7 +38,7 @@ import org.junit.jupiter.api.extension.ExtendWith;
  *       media and refused with a clear message on the others.
  *   <li>The core is made (not started) on first use and closed after the run, after the
  *       {@code @AfterEach} methods, whether the test passed or failed.
- *   <li>Every core has a name of its own ({@code test-liberty-1}, ...: see {@link
+ *   <li>Every core has a name of its own ({@code test-liberty-1-k3f9}, ...: see {@link
  *       CoreSetup#configure}), so runs never see each other's sources or Redis keys.
  *   <li>Optimus runs share one Redis per test class: an embedded {@code redis-server} started
  *       for the first Optimus run of the class and stopped when the class is done, or the Redis

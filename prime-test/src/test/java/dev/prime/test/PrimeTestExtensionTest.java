@@ -73,8 +73,8 @@ class PrimeTestExtensionTest {
         LOG);
     assertEquals(3, CORES.stream().map(PrimeCore::name).distinct().count(), names(CORES));
     assertTrue(CORES.stream().allMatch(PrimeCore::isClosed), "every core closed after its run");
-    assertTrue(CORES.get(0).name().matches("test-liberty-\\d+"), CORES.get(0).name());
-    assertTrue(CORES.get(2).name().matches("test-optimus-\\d+"), CORES.get(2).name());
+    assertTrue(CORES.get(0).name().matches("test-liberty-\\d+-[0-9a-z]{1,4}"), CORES.get(0).name());
+    assertTrue(CORES.get(2).name().matches("test-optimus-\\d+-[0-9a-z]{1,4}"), CORES.get(2).name());
   }
 
   static class FailsOnRadiant {
@@ -166,8 +166,8 @@ class PrimeTestExtensionTest {
     results.testEvents().assertStatistics(s -> s.started(2).succeeded(2));
     assertEquals(7, CORES.get(0).config().sourceRetention());
     assertEquals(7, CORES.get(1).config().sourceRetention());
-    assertTrue(CORES.get(0).name().matches("robot-radiant-\\d+"), CORES.get(0).name());
-    assertTrue(CORES.get(1).name().matches("robot-optimus-\\d+"), CORES.get(1).name());
+    assertTrue(CORES.get(0).name().matches("robot-radiant-\\d+-[0-9a-z]{1,4}"), CORES.get(0).name());
+    assertTrue(CORES.get(1).name().matches("robot-optimus-\\d+-[0-9a-z]{1,4}"), CORES.get(1).name());
     OptimusCore optimus = assertInstanceOf(OptimusCore.class, CORES.get(1));
     assertEquals(
         List.of("configure RADIANT", "configure OPTIMUS", "optimus redis://127.0.0.1:" + port(optimus)),

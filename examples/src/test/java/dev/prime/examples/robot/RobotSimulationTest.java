@@ -6,7 +6,6 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.liberty.LibertyCore;
-import dev.prime.test.CoreSetup;
 import dev.prime.test.PrimeTest;
 import java.io.ByteArrayOutputStream;
 import java.io.PrintStream;
@@ -105,14 +104,6 @@ class RobotSimulationTest {
 
       assertEquals(expected, trace.toString(StandardCharsets.UTF_8));
       assertEquals(liberty[0], result);
-    }
-  }
-
-  /** The robot's cores for {@link PrimeTest}: on Optimus, a codec that knows its types. */
-  static final class RobotCores implements CoreSetup {
-    @Override
-    public PrimeCore optimus(CoreConfig config, String redisUrl) {
-      return Media.optimus(config, redisUrl, null);
     }
   }
 }

@@ -31,6 +31,13 @@ import org.junit.jupiter.api.extension.TestTemplateInvocationContext;
 final class MediaRun implements TestTemplateInvocationContext {
   /** Numbers every core this JVM's runs make, so that no two share a name (a Redis namespace). */
   private static final AtomicLong CORES = new AtomicLong();
+
+  /**
+   * Tells this JVM's core names from those of other test JVMs (parallel forks, earlier builds)
+   * that use the same Redis ({@code prime.test.redis}).
+   */
+  private static final String JVM =
+      Long.toString(java.util.concurrent.ThreadLocalRandom.current().nextLong(36L * 36 * 36 * 36), 36);
   private static final int MAX_NAME = 64;
 
   private final Media media;
@@ -151,9 +158,10 @@ final class MediaRun implements TestTemplateInvocationContext {
       return made;
     }
 
-    /** {@code <base>-<media>-<n>}, cut to the longest core name. */
+    /** {@code <base>-<media>-<n>-<jvm>}, cut to the longest core name. */
     private String runName(String asked) {
-      String suffix = "-" + media.name().toLowerCase(java.util.Locale.ROOT) + "-" + CORES.incrementAndGet();
+      String suffix =
+          "-" + media.name().toLowerCase(java.util.Locale.ROOT) + "-" + CORES.incrementAndGet() + "-" + JVM;
       String base = asked == null ? "test" : asked;
       if (base.length() + suffix.length() > MAX_NAME) {
         base = base.substring(0, MAX_NAME - suffix.length());
