@@ -59,6 +59,13 @@ class PrimeTestExtensionTest {
     }
   }
 
+  /** Whether this JVM has a redis-server child (the embedded Redis of a test class). */
+  static boolean redisServerRuns() {
+    return ProcessHandle.current()
+        .descendants()
+        .anyMatch(p -> p.isAlive() && p.info().command().orElse("").contains("redis-server"));
+  }
+
   @Test
   void runsOncePerMediaInOrderEachWithAFreshCoreOfThatMediaClosedAfterwards() {
     EngineExecutionResults results = run(OnEveryMedia.class);
@@ -102,14 +109,26 @@ class PrimeTestExtensionTest {
     @PrimeTest(media = {Media.RADIANT, Media.LIBERTY})
     void records(PrimeCore core) {
       CORES.add(core);
+      LOG.add("redis-server runs=" + redisServerRuns());
+    }
+  }
+
+  static class OptimusOnly {
+    @PrimeTest(media = Media.OPTIMUS)
+    void records(PrimeCore core) {
+      LOG.add("redis-server runs=" + redisServerRuns());
     }
   }
 
   @Test
-  void runsOnlyOnTheMediaItNamesInTheirOrder() {
+  void runsOnlyOnTheMediaItNamesInTheirOrderAndStartsNoRedisWithoutOptimus() {
     EngineExecutionResults results = run(LibertyAndRadiant.class);
+    run(OptimusOnly.class).testEvents().assertStatistics(s -> s.succeeded(1));
 
     assertEquals(List.of("Radiant", "Liberty"), names(results.testEvents().succeeded()));
+    assertEquals(
+        List.of("redis-server runs=false", "redis-server runs=false", "redis-server runs=true"),
+        LOG);
     assertInstanceOf(RadiantCore.class, CORES.get(0));
     assertInstanceOf(LibertyCore.class, CORES.get(1));
   }
