@@ -47,7 +47,17 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
   @Override
   public final Block<I, O> toBlock() {
     consume();
-    Block<I, O> block = createBlock();
+    return copyingValues(createBlock());
+  }
+
+  /**
+   * {@code block} as {@link #toBlock()} hands it out: copying each input and result if the core
+   * copies values and this media does not already ({@link #copiesValuesItself()}).
+   *
+   * @param block a block of this chain
+   * @return {@code block}, or a block that copies around it
+   */
+  protected final Block<I, O> copyingValues(Block<I, O> block) {
     ValueCodec copies = core.config().valueCopies();
     return copies == null || copiesValuesItself() ? block : new CopyingBlock<>(name, block, copies);
   }
