@@ -92,7 +92,7 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
   /**
    * What this media compiled the chain to, that a link or template of the same core takes in
    * place of {@link #toBlock()} (Radiant: the chain's node tree; Optimus: its services); {@code
-   * null} (the default) if the media has no such form. See {@code PrimeCore.part}.
+   * null} (the default) if the media has no such form. See {@link ChainCompiler}.
    *
    * @return the compiled form, or {@code null}
    */
@@ -101,9 +101,9 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
   }
 
   /**
-   * For {@link PrimeCore}: consumes this chain as a part of a link or template of its own core and
-   * returns its {@linkplain #compiledForm() compiled form}, if that is a {@code form}; else
-   * consumes nothing and returns {@code null}.
+   * For the core's compiler of the topology model: consumes this chain as a part of a link or
+   * template of its own core and returns its {@linkplain #compiledForm() compiled form}, if that
+   * is a {@code form}; else consumes nothing and returns {@code null}.
    *
    * @param form the type the core wants
    * @param <F> that type
