@@ -59,11 +59,11 @@ import org.slf4j.LoggerFactory;
  * time before {@link #close()}; services declared after {@link #start()} start at once.
  *
  * <h2>For media authors</h2>
- * Every chain and template is recorded in the topology model ({@link TopologyRecorder}: the node
- * and its logic) and compiled at once by the media's {@link #chainCompiler()}, which a media
- * implements; templates it does not compile in its own way become the core's generic blocks.
- * Sources have in-memory defaults with one thread per service; a media overrides what it can do
- * better (Optimus re-routes Redis lists).
+ * A media is a compiler of the topology model. Every declaration is recorded as a node with its
+ * logic ({@link TopologyRecorder}) and compiled at once by the media's {@link #chainCompiler()},
+ * which a media implements; templates it does not compile in its own way become the core's
+ * generic blocks. Sources and their services are in memory, one thread per service, unless the
+ * media has a {@link #sourceCompiler()} (Optimus: Redis lists and services).
  */
 public abstract class PrimeCore implements AutoCloseable {
 
@@ -495,7 +495,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <T> Source<T> source(EventBlock<T> events) {
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return model().eventSource(topologyRecorder().eventSource(null, events), events);
+    return newSource(topologyRecorder().eventSource(null, events), events);
   }
 
   /**
@@ -510,7 +510,20 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return model().eventSource(topologyRecorder().eventSource(name, events), events);
+    return newSource(topologyRecorder().eventSource(name, events), events);
+  }
+
+  /**
+   * Makes the source of a node just recorded, fed by an event block: the media's own ({@link
+   * SourceCompiler#eventSource}) or an in-memory one.
+   *
+   * @param name the node's name
+   * @param events the event block
+   * @param <T> value type
+   * @return the source
+   */
+  protected final <T> Source<T> newSource(String name, EventBlock<T> events) {
+    return model().eventSource(name, events);
   }
 
   /**
