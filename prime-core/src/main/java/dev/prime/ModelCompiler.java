@@ -25,6 +25,9 @@ import java.util.Objects;
  *
  * <p>A node is compiled as soon as it is recorded, from the node, its {@link NodeLogic} and the
  * compiled forms of its parts (which it consumes): bottom-up, without recursion, each node once.
+ * Event sources and the services of the media's own sources go to its {@link SourceCompiler}, if
+ * it has one; otherwise (and for services of any other source) {@link PrimeCore} runs them in
+ * memory.
  *
  * @param <F> the media's compiled form
  */
@@ -117,16 +120,18 @@ final class ModelCompiler<F> {
     return new Part<>(node, media.foreign(node, block), null, block);
   }
 
-  /** The names of the chains a chain node runs, in the order its recorder was given them. */
+  /**
+   * The names of the chains a chain node is given, in the order its recorder was given them: its
+   * parts, except for the nodes whose part is a source (collectors) or a block they share (isolate's
+   * users), which are given no chain.
+   */
   private static List<String> chainParts(TopologyNode node) {
-    List<String> chains = new ArrayList<>();
-    for (TopologyNode.Part part : node.parts()) {
-      if (!(node instanceof TopologyNode.SyncCollector || node instanceof TopologyNode.AsyncCollector
-          || node instanceof TopologyNode.IsolatedUser)) {
-        chains.add(part.node());
-      }
+    if (node instanceof TopologyNode.SyncCollector
+        || node instanceof TopologyNode.AsyncCollector
+        || node instanceof TopologyNode.IsolatedUser) {
+      return List.of();
     }
-    return chains;
+    return node.parts().stream().map(TopologyNode.Part::node).toList();
   }
 
   private F compile(TopologyNode node, NodeLogic logic, List<Part<F>> parts) {
