@@ -412,14 +412,14 @@ public final class McapReader implements Closeable {
     long recordsOffset = chunk.fileOffset();
     if (crc != 0) {
       CRC32 actual = new CRC32();
-      actual.update(bytes, RECORD_PREFIX + recordsStart, (int) recordsLength);
+      actual.update(bytes, recordsStart, (int) recordsLength);
       if (actual.getValue() != crc) {
         throw problem(ref.offset, String.format(
             "bad CRC: the chunk's records have CRC32 %08X but the Chunk says %08X: the chunk is corrupt",
             actual.getValue(), crc));
       }
     }
-    RecordCursor records = new RecordCursor(bytes, RECORD_PREFIX + recordsStart, (int) recordsLength,
+    RecordCursor records = new RecordCursor(bytes, recordsStart, (int) recordsLength,
         recordsOffset, "records of the Chunk at byte " + ref.offset, this::problem);
     List<McapMessage> messages = new ArrayList<>();
     while (records.remaining() > 0) {
