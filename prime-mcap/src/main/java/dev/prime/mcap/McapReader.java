@@ -135,6 +135,9 @@ public final class McapReader implements Closeable {
   private void readStructure() throws IOException {
     byte[] start = read(0, Math.min(size, Opcode.MAGIC.length), "the leading magic");
     if (!Arrays.equals(start, Opcode.MAGIC)) {
+      if (size == 0) {
+        throw problem(0, "the file is empty (0 bytes): not an MCAP file");
+      }
       if (start.length < 8 && Arrays.equals(start, Arrays.copyOf(Opcode.MAGIC, start.length))) {
         throw problem(0, "truncated: only " + size + " bytes, a part of the MCAP magic");
       }
