@@ -10,6 +10,7 @@ public final class McapFormatException extends RuntimeException {
   private static final long serialVersionUID = 1L;
 
   private final transient Path path;
+  /** The byte offset where the problem is, or -1. */
   private final long offset;
 
   /**

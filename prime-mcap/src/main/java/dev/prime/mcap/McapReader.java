@@ -404,8 +404,8 @@ public final class McapReader implements Closeable {
     long recordsLength = chunk.u64("records length");
     if (!compression.isEmpty()) {
       throw problem(ref.offset, "the chunk is compressed with '" + compression + "': this reader reads"
-          + " uncompressed chunks only (prime-mcap writes them); convert the file with"
-          + " `mcap compress --compression none` or read it with another MCAP library");
+          + " uncompressed chunks only (prime-mcap writes them); decompress the file first"
+          + " (`mcap decompress` of the mcap command-line tool)");
     }
     if (recordsLength != uncompressedSize || recordsLength != chunk.remaining()) {
       throw problem(ref.offset, "the Chunk says its records are " + recordsLength + " bytes (uncompressed_size "

@@ -172,6 +172,9 @@ public final class JsonSchemaGenerator {
         required.add(component.getName());
       }
     }
+    if (required.isEmpty()) {
+      s.remove("required");
+    }
     s.put("additionalProperties", false);
     visiting.pop();
     if (recursive.contains(type) && !type.equals(root)) {
