@@ -202,6 +202,39 @@ class MalformedFileTest {
   }
 
   @Test
+  void compressedChunksAreRefusedSayingHowToReadThem() throws IOException {
+    RecordBuffer b = new RecordBuffer(256);
+    b.raw(Opcode.MAGIC, 0, 8);
+    int at = b.beginRecord(Opcode.HEADER);
+    b.string("");
+    b.string("");
+    b.endRecord(at);
+    long chunkAt = b.size();
+    at = b.beginRecord(Opcode.CHUNK);
+    b.u64(0);
+    b.u64(0);
+    b.u64(40);
+    b.u32(0);
+    b.string("zstd");
+    b.u64(5);
+    b.raw(new byte[] {1, 2, 3, 4, 5}, 0, 5);
+    b.endRecord(at);
+    at = b.beginRecord(Opcode.DATA_END);
+    b.u32(0);
+    b.endRecord(at);
+    at = b.beginRecord(Opcode.FOOTER);
+    b.u64(0);
+    b.u64(0);
+    b.u32(0);
+    b.endRecord(at);
+    b.raw(Opcode.MAGIC, 0, 8);
+    Path file = Files.write(dir.resolve("zstd.mcap"), b.toByteArray());
+    McapFormatException e = openFails(file);
+    assertTrue(e.getMessage().contains("at byte " + chunkAt + ": the chunk is compressed with 'zstd'"), e.getMessage());
+    assertTrue(e.getMessage().contains("mcap decompress"), e.getMessage());
+  }
+
+  @Test
   void aMessageOnAnUndefinedChannel() throws IOException {
     RecordBuffer b = new RecordBuffer(256);
     b.raw(Opcode.MAGIC, 0, 8);
