@@ -107,6 +107,22 @@ public final class McapReader implements Closeable {
     }
   }
 
+  /**
+   * The files of a recording that {@link McapWriter} may have rotated: {@code first}, then
+   * {@link McapWriter#rotatedPath}{@code (first, 1)}, {@code (first, 2)}, ... as long as they
+   * exist. Open each with {@link #open}.
+   *
+   * @param first the path the writer was opened with
+   * @return the existing files in order (empty if {@code first} does not exist)
+   */
+  public static List<Path> recordingFiles(Path first) {
+    List<Path> files = new ArrayList<>();
+    for (int index = 0; java.nio.file.Files.exists(McapWriter.rotatedPath(first, index)); index++) {
+      files.add(McapWriter.rotatedPath(first, index));
+    }
+    return files;
+  }
+
   private McapFormatException problem(long offset, String message) {
     return new McapFormatException(path, offset, message);
   }

@@ -25,11 +25,13 @@ import org.junit.jupiter.api.io.TempDir;
  * An independent reader: the Python {@code mcap} package (with {@code jsonschema}) reads a file
  * the Java writer wrote. It runs for real wherever python3 and pip can reach PyPI: the test
  * installs both packages, pinned, into {@code target/python-mcap} (once per build directory);
- * without python3, or when pip cannot install them, it is skipped with the reason.
+ * without python3, or when pip cannot install them, it is skipped with the reason. The system
+ * property {@code prime.mcap.python} names another interpreter.
  */
 class PythonMcapReaderTest {
   private static final String MCAP = "mcap==1.6.0";
   private static final String JSONSCHEMA = "jsonschema==4.26.0";
+  private static final String PYTHON = System.getProperty("prime.mcap.python", "python3");
 
   @TempDir Path dir;
 
@@ -116,7 +118,7 @@ class PythonMcapReaderTest {
     try (InputStream in = getClass().getResourceAsStream("check_mcap.py")) {
       Files.copy(in, script, StandardCopyOption.REPLACE_EXISTING);
     }
-    ProcessBuilder builder = new ProcessBuilder("python3", script.toString(), file.toString());
+    ProcessBuilder builder = new ProcessBuilder(PYTHON, script.toString(), file.toString());
     builder.environment().put("PYTHONPATH", packages.toString());
     Path output = dir.resolve("check.out");
     Path errors = dir.resolve("check.err");
@@ -135,16 +137,16 @@ class PythonMcapReaderTest {
   private static Path installPythonPackages() throws IOException, InterruptedException {
     Path target = Path.of(System.getProperty("basedir", ".")).resolve("target").resolve("python-mcap");
     Path marker = target.resolve(".installed-" + MCAP + "-" + JSONSCHEMA);
+    Process version = start(List.of(PYTHON, "--version"), null);
+    if (version == null || !version.waitFor(30, TimeUnit.SECONDS) || version.exitValue() != 0) {
+      Assumptions.abort(PYTHON + " is not on the PATH: the independent check with the Python mcap package is skipped");
+    }
     if (Files.exists(marker)) {
       return target;
     }
-    Process version = start(List.of("python3", "--version"), null);
-    if (version == null || !version.waitFor(30, TimeUnit.SECONDS) || version.exitValue() != 0) {
-      Assumptions.abort("python3 is not on the PATH: the independent check with the Python mcap package is skipped");
-    }
     Files.createDirectories(target);
     Path log = target.resolveSibling("python-mcap-pip.log");
-    Process pip = start(List.of("python3", "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
+    Process pip = start(List.of(PYTHON, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
         "--no-input", "--retries", "1", "--timeout", "30", "--upgrade", "--target", target.toString(),
         MCAP, JSONSCHEMA), log);
     boolean finished = pip.waitFor(300, TimeUnit.SECONDS);

@@ -174,6 +174,7 @@ class SummaryAndChunksTest {
     }
     List<Path> files = writer.files();
     assertTrue(files.size() >= 3, "rotated into " + files);
+    assertEquals(files, McapReader.recordingFiles(file));
     for (int k = 0; k < files.size(); k++) {
       assertEquals(McapWriter.rotatedPath(file, k), files.get(k));
       assertTrue(Files.exists(files.get(k)));
