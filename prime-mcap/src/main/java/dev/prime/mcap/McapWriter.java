@@ -18,6 +18,7 @@ import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.concurrent.atomic.LongAdder;
@@ -325,7 +326,15 @@ public final class McapWriter implements Closeable {
         break;
       }
       queuedBytes.addAndGet(-entry.data.length);
-      process(entry);
+      try {
+        process(entry);
+      } catch (RuntimeException | Error e) {
+        // A bug or an exhausted heap must not leave a dead thread behind a full queue.
+        if (failure == null) {
+          failure = new IOException("the MCAP writer thread failed: " + e, e);
+        }
+        drop(entry.channel);
+      }
     }
     finishFile();
   }
@@ -427,18 +436,21 @@ public final class McapWriter implements Closeable {
     // Writers that passed the closed check finish their offer (it never waits) before the
     // CLOSE mark goes in, so nothing is queued behind it unseen.
     while (inFlight.get() > 0) {
-      Thread.onSpinWait();
+      Thread.yield();
     }
     if (queue == null) {
       synchronized (syncLock) {
         finishFile();
       }
     } else {
+      // Waits for room for the CLOSE mark while the writer thread lives (a stalled disk makes
+      // close() wait; a writer thread that died does not make it hang).
       boolean interrupted = false;
-      while (true) {
+      while (thread.isAlive()) {
         try {
-          queue.put(CLOSE);
-          break;
+          if (queue.offer(CLOSE, 100, TimeUnit.MILLISECONDS)) {
+            break;
+          }
         } catch (InterruptedException e) {
           interrupted = true;
         }

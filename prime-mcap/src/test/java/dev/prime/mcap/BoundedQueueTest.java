@@ -177,6 +177,27 @@ class BoundedQueueTest {
   }
 
   @Test
+  void anUncheckedFailureInTheWriterThreadNeitherHangsCloseNorGoesUnreported() throws Exception {
+    Path file = dir.resolve("bug.mcap");
+    McapWriter writer = open(file, McapWriterOptions.defaults().chunkSize(1).queue(10, 1 << 20));
+    McapChannel<Sample> samples = writer.channel("samples", Sample.class);
+    output.failWith(new IllegalStateException("a bug below the writer"));
+    int accepted = 0;
+    for (int i = 0; i < 300; i++) {
+      if (samples.write(i, i, i, new Sample(i, ""))) {
+        accepted++;
+      }
+    }
+    IOException e = assertTimeoutPreemptively(Duration.ofSeconds(30), () -> assertThrows(IOException.class, writer::close));
+    assertTrue(e.getMessage().contains("the MCAP writer thread failed: java.lang.IllegalStateException: a bug below the writer"),
+        e.getMessage());
+    assertTrue(accepted >= 1, "the first write finds the queue empty");
+    assertEquals(300, writer.droppedCount(),
+        "the writes refused by the full queue, the one that met the failure and every one after it");
+    assertEquals(300, samples.droppedCount());
+  }
+
+  @Test
   void synchronousWritesNeverDropAndWriteInTheCallersThread() throws Exception {
     Path file = dir.resolve("sync.mcap");
     McapWriter writer = open(file, McapWriterOptions.defaults().synchronous().chunkSize(1));

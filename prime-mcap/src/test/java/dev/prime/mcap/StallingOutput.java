@@ -16,6 +16,7 @@ final class StallingOutput extends OutputStream {
   private final OutputStream file;
   private volatile boolean stalled;
   private volatile boolean failing;
+  private volatile RuntimeException bug;
   private final CountDownLatch blocked = new CountDownLatch(1);
   private final CountDownLatch released = new CountDownLatch(1);
 
@@ -33,6 +34,11 @@ final class StallingOutput extends OutputStream {
     failing = true;
   }
 
+  /** The next writes throw this unchecked exception, as a bug below the writer would. */
+  void failWith(RuntimeException exception) {
+    bug = exception;
+  }
+
   void release() {
     released.countDown();
   }
@@ -42,6 +48,9 @@ final class StallingOutput extends OutputStream {
   }
 
   private void gate() throws IOException {
+    if (bug != null) {
+      throw bug;
+    }
     if (failing) {
       throw new IOException("No space left on device (simulated)");
     }
