@@ -90,6 +90,9 @@ class PythonMcapReaderTest {
         "every message matches its channel's JSON Schema");
     assertTrue(result.get("log_time_sorted").asBoolean());
     assertTrue(result.get("summary_crc_ok").asBoolean());
+    // Schema, Channel, Statistics, ChunkIndex, MetadataIndex: each group spanned exactly
+    assertEquals(List.of(0x03, 0x04, 0x0B, 0x08, 0x0D),
+        new ObjectMapper().convertValue(result.get("summary_offset_groups"), List.class));
     assertEquals(result.get("chunk_count").asInt(), result.get("streamed_chunks").asInt());
     assertEquals(poses + statuses + 5 + 20, result.at("/stream_records/Message").asInt());
     assertEquals(1, result.at("/stream_records/DataEnd").asInt());

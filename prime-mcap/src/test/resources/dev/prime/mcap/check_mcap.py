@@ -71,7 +71,27 @@ def main(path):
     footer = len(data) - 8 - 29
     summary_start, summary_offset_start, summary_crc = struct.unpack_from("<QQI", data, footer + 9)
     result["summary_crc_ok"] = zlib.crc32(data[summary_start:footer + 25]) == summary_crc
+    result["summary_offset_groups"] = check_summary_offsets(data, summary_offset_start, footer)
     print(json.dumps(result))
+
+
+def check_summary_offsets(data, start, end):
+    """Each SummaryOffset record must span exactly the summary records of its opcode."""
+    groups = []
+    position = start
+    while position < end:
+        opcode, length = struct.unpack_from("<BQ", data, position)
+        assert opcode == 0x0E, "record %#x in the summary offset section" % opcode
+        group_opcode, group_start, group_length = struct.unpack_from("<BQQ", data, position + 9)
+        cursor = group_start
+        while cursor < group_start + group_length:
+            record_opcode, record_length = struct.unpack_from("<BQ", data, cursor)
+            assert record_opcode == group_opcode, "group %#x holds a %#x record" % (group_opcode, record_opcode)
+            cursor += 9 + record_length
+        assert cursor == group_start + group_length, "group %#x ends inside a record" % group_opcode
+        groups.append(group_opcode)
+        position += 9 + length
+    return groups
 
 
 if __name__ == "__main__":
