@@ -16,9 +16,7 @@ import java.util.Comparator;
 import java.util.Iterator;
 import java.util.List;
 import java.util.Map;
-import java.util.NoSuchElementException;
 import java.util.Optional;
-import java.util.PriorityQueue;
 import java.util.Set;
 import java.util.Spliterator;
 import java.util.Spliterators;
@@ -63,23 +61,6 @@ public final class McapReader implements Closeable {
   private McapStatistics statistics;
   private long summaryStart;
   private boolean summarised;
-
-  /** A chunk (or, in a file without chunk indexes, one message outside chunks) to load. */
-  private static final class ChunkRef {
-    final long startTime;
-    final long offset;
-    final long length;
-    final Set<Integer> channelIds;
-    final boolean loneMessage;
-
-    ChunkRef(long startTime, long offset, long length, Set<Integer> channelIds, boolean loneMessage) {
-      this.startTime = startTime;
-      this.offset = offset;
-      this.length = length;
-      this.channelIds = channelIds;
-      this.loneMessage = loneMessage;
-    }
-  }
 
   private McapReader(Path path, FileChannel file) throws IOException {
     this.path = path;
@@ -396,21 +377,21 @@ public final class McapReader implements Closeable {
 
   /** The messages of one chunk (or lone message) on the wanted channels, in log-time order. */
   private List<McapMessage> loadChunk(ChunkRef ref, IntPredicate wanted) throws IOException {
-    byte[] bytes = read(ref.offset, ref.length, ref.loneMessage ? "a Message record" : "a Chunk record");
-    RecordCursor chunk = cursor(bytes, ref.offset, ref.loneMessage ? "Message record" : "Chunk record");
+    byte[] bytes = read(ref.offset(), ref.length(), ref.loneMessage() ? "a Message record" : "a Chunk record");
+    RecordCursor chunk = cursor(bytes, ref.offset(), ref.loneMessage() ? "Message record" : "Chunk record");
     int opcode = chunk.u8("opcode");
     long length = chunk.u64("length");
-    if (ref.loneMessage) {
+    if (ref.loneMessage()) {
       McapMessage m = readMessage(chunk, (int) length, wanted);
       return m == null ? List.of() : List.of(m);
     }
     if (opcode != Opcode.CHUNK) {
-      throw problem(ref.offset, "a ChunkIndex points here but the record is " + Opcode.name(opcode)
+      throw problem(ref.offset(), "a ChunkIndex points here but the record is " + Opcode.name(opcode)
           + ", not a Chunk: the summary does not match the data");
     }
-    if (length != ref.length - RECORD_PREFIX) {
-      throw problem(ref.offset, "the Chunk's length " + length + " differs from its ChunkIndex's "
-          + (ref.length - RECORD_PREFIX));
+    if (length != ref.length() - RECORD_PREFIX) {
+      throw problem(ref.offset(), "the Chunk's length " + length + " differs from its ChunkIndex's "
+          + (ref.length() - RECORD_PREFIX));
     }
     chunk.u64("message_start_time");
     chunk.u64("message_end_time");
@@ -419,12 +400,12 @@ public final class McapReader implements Closeable {
     String compression = chunk.string("compression");
     long recordsLength = chunk.u64("records length");
     if (!compression.isEmpty()) {
-      throw problem(ref.offset, "the chunk is compressed with '" + compression + "': this reader reads"
+      throw problem(ref.offset(), "the chunk is compressed with '" + compression + "': this reader reads"
           + " uncompressed chunks only (prime-mcap writes them); decompress the file first"
           + " (`mcap decompress` of the mcap command-line tool)");
     }
     if (recordsLength != uncompressedSize || recordsLength != chunk.remaining()) {
-      throw problem(ref.offset, "the Chunk says its records are " + recordsLength + " bytes (uncompressed_size "
+      throw problem(ref.offset(), "the Chunk says its records are " + recordsLength + " bytes (uncompressed_size "
           + uncompressedSize + ") but " + chunk.remaining() + " bytes are left in the record");
     }
     int recordsStart = chunk.position();
@@ -433,13 +414,13 @@ public final class McapReader implements Closeable {
       CRC32 actual = new CRC32();
       actual.update(bytes, recordsStart, (int) recordsLength);
       if (actual.getValue() != crc) {
-        throw problem(ref.offset, String.format(
+        throw problem(ref.offset(), String.format(
             "bad CRC: the chunk's records have CRC32 %08X but the Chunk says %08X: the chunk is corrupt",
             actual.getValue(), crc));
       }
     }
     RecordCursor records = new RecordCursor(bytes, recordsStart, (int) recordsLength,
-        recordsOffset, "records of the Chunk at byte " + ref.offset, this::problem);
+        recordsOffset, "records of the Chunk at byte " + ref.offset(), this::problem);
     List<McapMessage> messages = new ArrayList<>();
     while (records.remaining() > 0) {
       long recordOffset = records.fileOffset();
@@ -593,7 +574,14 @@ public final class McapReader implements Closeable {
   }
 
   private Stream<McapMessage> stream(Integer channelId) {
-    Iterator<McapMessage> merge = new Merge(channelId);
+    IntPredicate wanted = channelId == null ? id -> true : id -> id == channelId;
+    Iterator<McapMessage> merge = new LogTimeMerge(chunks, channelId, ref -> {
+      try {
+        return loadChunk(ref, wanted);
+      } catch (IOException e) {
+        throw new UncheckedIOException("reading " + path + " at byte " + ref.offset(), e);
+      }
+    });
     return StreamSupport.stream(Spliterators.spliteratorUnknownSize(merge, Spliterator.ORDERED | Spliterator.NONNULL), false);
   }
 
@@ -655,79 +643,6 @@ public final class McapReader implements Closeable {
       offset += RECORD_PREFIX + length;
     }
     throw problem(offset, "the data section has no DataEnd record before the Footer");
-  }
-
-  /** K-way merge of chunks by log time; a chunk is loaded once the merge reaches its start. */
-  private final class Merge implements Iterator<McapMessage> {
-    private final Integer channelId;
-    private final List<ChunkRef> order;
-    private int nextChunk;
-    private final PriorityQueue<Cursor> heap = new PriorityQueue<>(
-        Comparator.comparingLong((Cursor c) -> c.current().logTime()).thenComparingLong(c -> c.rank));
-
-    private final class Cursor {
-      final List<McapMessage> messages;
-      final long rank;
-      int index;
-
-      Cursor(List<McapMessage> messages, long rank) {
-        this.messages = messages;
-        this.rank = rank;
-      }
-
-      McapMessage current() {
-        return messages.get(index);
-      }
-    }
-
-    Merge(Integer channelId) {
-      this.channelId = channelId;
-      List<ChunkRef> wanted = new ArrayList<>();
-      for (ChunkRef ref : chunks) {
-        if (channelId == null || ref.channelIds == null || ref.channelIds.contains(channelId)) {
-          wanted.add(ref);
-        }
-      }
-      wanted.sort(Comparator.comparingLong((ChunkRef r) -> r.startTime).thenComparingLong(r -> r.offset));
-      this.order = wanted;
-    }
-
-    private void fill() {
-      while (nextChunk < order.size()
-          && (heap.isEmpty() || order.get(nextChunk).startTime <= heap.peek().current().logTime())) {
-        ChunkRef ref = order.get(nextChunk++);
-        List<McapMessage> messages;
-        try {
-          messages = loadChunk(ref, channelId == null ? id -> true : id -> id == channelId);
-        } catch (IOException e) {
-          throw new UncheckedIOException("reading " + path + " at byte " + ref.offset, e);
-        }
-        if (!messages.isEmpty()) {
-          // file order breaks ties between chunks
-          heap.add(new Cursor(messages, ref.offset));
-        }
-      }
-    }
-
-    @Override
-    public boolean hasNext() {
-      fill();
-      return !heap.isEmpty();
-    }
-
-    @Override
-    public McapMessage next() {
-      if (!hasNext()) {
-        throw new NoSuchElementException();
-      }
-      Cursor cursor = heap.poll();
-      McapMessage message = cursor.current();
-      cursor.index++;
-      if (cursor.index < cursor.messages.size()) {
-        heap.add(cursor);
-      }
-      return message;
-    }
   }
 
   @Override
