@@ -60,6 +60,7 @@ public final class McapReader implements Closeable {
   private final List<long[]> metadataRecords = new ArrayList<>();
   private McapStatistics statistics;
   private long summaryStart;
+  private long recoveredUpTo = -1;
   private boolean summarised;
 
   private McapReader(Path path, FileChannel file) throws IOException {
@@ -81,6 +82,31 @@ public final class McapReader implements Closeable {
     try {
       McapReader reader = new McapReader(path, file);
       reader.readStructure();
+      return reader;
+    } catch (IOException | RuntimeException e) {
+      file.close();
+      throw e;
+    }
+  }
+
+  /**
+   * Opens what a writer that never finished left behind (the process was killed, the machine
+   * lost power): every complete record of the data section, read in one pass up to the first
+   * record that is cut short (or the DataEnd, for a finished file). prime-mcap's writer writes
+   * each chunk whole as it closes it, so this recovers every message but those of the chunk
+   * that was open and those still queued. Statistics are counted in that pass.
+   *
+   * @param path the file
+   * @return the reader
+   * @throws IOException if the file cannot be read
+   * @throws McapFormatException if it is not MCAP or a complete record in it is malformed
+   */
+  public static McapReader openUnfinished(Path path) throws IOException {
+    FileChannel file = FileChannel.open(path, StandardOpenOption.READ);
+    try {
+      McapReader reader = new McapReader(path, file);
+      reader.checkLeadingMagic();
+      reader.scanDataSection(reader.readHeader(), true);
       return reader;
     } catch (IOException | RuntimeException e) {
       file.close();
@@ -130,6 +156,19 @@ public final class McapReader implements Closeable {
   }
 
   private void readStructure() throws IOException {
+    checkLeadingMagic();
+    long headerEnd = readHeader();
+    long minimum = headerEnd + FOOTER_LENGTH + Opcode.MAGIC.length;
+    byte[] end = size >= minimum ? read(size - 8, 8, "the closing magic") : new byte[0];
+    if (!Arrays.equals(end, Opcode.MAGIC)) {
+      throw problem(Math.max(0, size - 8), "truncated or unfinished: the file does not end with the"
+          + " MCAP magic, so it has no footer (the writer was not closed: crashed or still writing);"
+          + " McapReader.openUnfinished reads the complete records it has");
+    }
+    readFooterAndSummary(headerEnd);
+  }
+
+  private void checkLeadingMagic() throws IOException {
     byte[] start = read(0, Math.min(size, Opcode.MAGIC.length), "the leading magic");
     if (!Arrays.equals(start, Opcode.MAGIC)) {
       if (size == 0) {
@@ -145,13 +184,9 @@ public final class McapReader implements Closeable {
       throw problem(0, "not an MCAP file: it starts with " + hex(start)
           + " instead of the magic 89 4D 43 41 50 30 0D 0A");
     }
-    long headerEnd = readHeader();
-    long minimum = headerEnd + FOOTER_LENGTH + Opcode.MAGIC.length;
-    byte[] end = size >= minimum ? read(size - 8, 8, "the closing magic") : new byte[0];
-    if (!Arrays.equals(end, Opcode.MAGIC)) {
-      throw problem(Math.max(0, size - 8), "truncated or unfinished: the file does not end with the"
-          + " MCAP magic, so it has no footer (the writer was not closed: crashed or still writing)");
-    }
+  }
+
+  private void readFooterAndSummary(long headerEnd) throws IOException {
     long footerOffset = size - 8 - FOOTER_LENGTH;
     RecordCursor footer = cursor(read(footerOffset, FOOTER_LENGTH, "the Footer record"), footerOffset, "Footer record");
     int opcode = footer.u8("opcode");
@@ -164,7 +199,7 @@ public final class McapReader implements Closeable {
     long summaryOffsetStart = footer.u64("summary_offset_start");
     long summaryCrc = footer.u32("summary_crc");
     if (summaryStart == 0) {
-      scanDataSection(headerEnd);
+      scanDataSection(headerEnd, false);
       return;
     }
     if (summaryStart < headerEnd || summaryStart > footerOffset
@@ -186,7 +221,7 @@ public final class McapReader implements Closeable {
     long summaryEnd = summaryOffsetStart != 0 ? summaryOffsetStart : footerOffset;
     readSummary(summary, (int) (summaryEnd - summaryStart));
     if (statistics == null) {
-      scanDataSection(headerEnd);
+      scanDataSection(headerEnd, false);
     }
   }
 
@@ -296,7 +331,7 @@ public final class McapReader implements Closeable {
   }
 
   /** One pass over the data section, for files without a summary (or without statistics). */
-  private void scanDataSection(long from) throws IOException {
+  private void scanDataSection(long from, boolean unfinished) throws IOException {
     if (summarised) {
       chunks.clear();
       metadataRecords.clear();
@@ -306,9 +341,14 @@ public final class McapReader implements Closeable {
     long first = Long.MAX_VALUE;
     long last = Long.MIN_VALUE;
     Map<Integer, Long> counts = new TreeMap<>();
-    long limit = size - 8 - FOOTER_LENGTH;
+    long limit = unfinished ? size : size - 8 - FOOTER_LENGTH;
     long offset = from;
+    boolean cut = false;
     while (offset < limit) {
+      if (unfinished && offset + RECORD_PREFIX > size) {
+        cut = true;
+        break;
+      }
       RecordCursor prefix = cursor(read(offset, RECORD_PREFIX, "a record's opcode and length"), offset, "record");
       int opcode = prefix.u8("opcode");
       long length = prefix.u64("length");
@@ -316,6 +356,11 @@ public final class McapReader implements Closeable {
         break;
       }
       long total = RECORD_PREFIX + length;
+      if (unfinished && (opcode == 0 || length < 0 || offset + total > size)) {
+        // the record the writer was writing when it stopped (or zeroes after it)
+        cut = true;
+        break;
+      }
       if (opcode == Opcode.CHUNK) {
         List<McapMessage> messages = loadChunk(new ChunkRef(0, offset, total, null, false), id -> true);
         Set<Integer> ids = messages.stream().map(m -> m.channel().id()).collect(Collectors.toSet());
@@ -348,9 +393,10 @@ public final class McapReader implements Closeable {
       }
       offset += total;
     }
-    if (offset >= limit) {
+    if (offset >= limit && !unfinished) {
       throw problem(offset, "the data section has no DataEnd record before the Footer");
     }
+    recoveredUpTo = cut || offset >= limit ? offset : -1;
     statistics = new McapStatistics(messageCount, schemas.size(), channels.size(), 0, metadataRecords.size(),
         chunkCount, messageCount == 0 ? 0 : first, messageCount == 0 ? 0 : last,
         Collections.unmodifiableMap(counts));
@@ -479,6 +525,14 @@ public final class McapReader implements Closeable {
   /** @return the statistics (from the summary; counted in one pass if the file has none) */
   public McapStatistics statistics() {
     return statistics;
+  }
+
+  /**
+   * @return for a reader from {@link #openUnfinished} of a file that was not finished, the
+   *     offset where its last complete record ends (what follows was cut off); -1 otherwise
+   */
+  public long unfinishedAt() {
+    return recoveredUpTo;
   }
 
   /** @return whether the channels and statistics came from a summary section, without a data scan */
