@@ -42,7 +42,8 @@ import java.util.zip.CRC32;
  * <p>Malformed files give a {@link McapFormatException} naming the file, the byte offset and
  * the problem: not MCAP (bad magic), truncated (no footer or closing magic: the writer did not
  * finish), a bad CRC (summary on open; a chunk when its messages are read; the whole data
- * section in {@link #verify()}), records cut short. Not thread-safe for concurrent streams.
+ * section in {@link #verify()}), records cut short. A file whose writer never finished is
+ * read with {@link #openUnfinished}. Not thread-safe for concurrent streams.
  */
 public final class McapReader implements Closeable {
   private static final int RECORD_PREFIX = 1 + 8;
