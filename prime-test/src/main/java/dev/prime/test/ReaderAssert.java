@@ -5,6 +5,7 @@ import dev.prime.Reader;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.Locale;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.function.Consumer;
@@ -337,7 +338,7 @@ public final class ReaderAssert<T> {
     if (millis < 1000) {
       return millis + " ms";
     }
-    return String.format(java.util.Locale.ROOT, "%.1f s", millis / 1000.0);
+    return String.format(Locale.ROOT, "%.1f s", millis / 1000.0);
   }
 
   private static String show(Object value) {

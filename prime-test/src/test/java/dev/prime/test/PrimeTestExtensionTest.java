@@ -11,9 +11,12 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.optimus.EmbeddedRedis;
 import dev.prime.optimus.OptimusCore;
 import dev.prime.radiant.RadiantCore;
 import java.io.IOException;
+import java.lang.annotation.Retention;
+import java.lang.annotation.RetentionPolicy;
 import java.net.ConnectException;
 import java.net.InetSocketAddress;
 import java.net.Socket;
@@ -21,6 +24,7 @@ import java.net.URI;
 import java.time.Duration;
 import java.util.List;
 import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.stream.Stream;
 import org.junit.jupiter.api.AfterEach;
 import org.junit.jupiter.api.BeforeEach;
 import org.junit.jupiter.api.MethodOrderer;
@@ -134,7 +138,7 @@ class PrimeTestExtensionTest {
   }
 
   /** A team's own annotation, made of {@code @PrimeTest}. */
-  @java.lang.annotation.Retention(java.lang.annotation.RetentionPolicy.RUNTIME)
+  @Retention(RetentionPolicy.RUNTIME)
   @PrimeTest(media = {Media.LIBERTY, Media.RADIANT})
   @interface InMemoryMedia {}
 
@@ -278,7 +282,7 @@ class PrimeTestExtensionTest {
     results.testEvents().assertStatistics(s -> s.started(2).succeeded(2));
     List<String> oneRun = List.of("before closed=false", "test same=true", "after same=true closed=false");
     assertEquals(
-        java.util.stream.Stream.concat(oneRun.stream(), oneRun.stream()).toList(), LOG);
+        Stream.concat(oneRun.stream(), oneRun.stream()).toList(), LOG);
     assertNotEquals(CORES.get(0), CORES.get(1));
     assertTrue(CORES.stream().allMatch(PrimeCore::isClosed));
   }
@@ -364,7 +368,7 @@ class PrimeTestExtensionTest {
   @Test
   void theRedisOfTheConfigurationParameterIsUsedAndLeftRunning() {
     String url;
-    try (var redis = dev.prime.optimus.EmbeddedRedis.start()) {
+    try (EmbeddedRedis redis = EmbeddedRedis.start()) {
       url = redis.getUri();
       EngineExecutionResults results =
           EngineTestKit.engine("junit-jupiter")

@@ -8,6 +8,8 @@ import java.lang.reflect.Executable;
 import java.lang.reflect.Method;
 import java.lang.reflect.Parameter;
 import java.util.List;
+import java.util.Locale;
+import java.util.concurrent.ThreadLocalRandom;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Supplier;
 import org.junit.jupiter.api.extension.AfterEachCallback;
@@ -37,7 +39,7 @@ final class MediaRun implements TestTemplateInvocationContext {
    * that use the same Redis ({@code prime.test.redis}).
    */
   private static final String JVM =
-      Long.toString(java.util.concurrent.ThreadLocalRandom.current().nextLong(36L * 36 * 36 * 36), 36);
+      Long.toString(ThreadLocalRandom.current().nextLong(36L * 36 * 36 * 36), 36);
   private static final int MAX_NAME = 64;
 
   private final Media media;
@@ -161,7 +163,7 @@ final class MediaRun implements TestTemplateInvocationContext {
     /** {@code <base>-<media>-<n>-<jvm>}, cut to the longest core name. */
     private String runName(String asked) {
       String suffix =
-          "-" + media.name().toLowerCase(java.util.Locale.ROOT) + "-" + CORES.incrementAndGet() + "-" + JVM;
+          "-" + media.name().toLowerCase(Locale.ROOT) + "-" + CORES.incrementAndGet() + "-" + JVM;
       String base = asked == null ? "test" : asked;
       if (base.length() + suffix.length() > MAX_NAME) {
         base = base.substring(0, MAX_NAME - suffix.length());
