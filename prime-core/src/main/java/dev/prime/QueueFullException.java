@@ -14,7 +14,10 @@ package dev.prime;
 public class QueueFullException extends PrimeException {
   private static final long serialVersionUID = 1L;
 
+  /** The service whose input is full, as the user named it. */
   private final String serviceName;
+
+  /** How many unprocessed values the service's input holds. */
   private final long capacity;
 
   /**
