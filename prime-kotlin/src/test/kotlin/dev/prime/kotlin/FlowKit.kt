@@ -121,7 +121,7 @@ internal abstract class FlowKit(private val media: Media) {
 
     private companion object {
         const val WAIT_MILLIS = 20_000L
-        const val PROMPT_MILLIS = 1_500L
+        const val PROMPT_MILLIS = 750L
     }
 }
 
