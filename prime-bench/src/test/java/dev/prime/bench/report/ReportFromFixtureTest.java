@@ -83,6 +83,10 @@ class ReportFromFixtureTest {
     String md = MarkdownTables.render(tables, ResultsFile.environment(fixture));
     assertTrue(md.startsWith("Run 2026-11-23T01:00:00Z on 2 CPUs (Test CPU)"), md);
     assertTrue(md.contains("load average 0.50 at start, 0.75 at end"), md);
+    int legend = md.indexOf("- **FOR**: the baseline row");
+    int polluted = md.indexOf("- **polluted**: ten other chains");
+    int firstTable = md.indexOf("### ");
+    assertTrue(legend > 0 && polluted > 0 && legend < firstTable && polluted < firstTable, md);
     assertTrue(md.contains(
         "### Synchronous mode (monomorphic), µs per transmission\n\n"
             + "| | 100 B | 1 KB |\n|---|---|---|\n"
