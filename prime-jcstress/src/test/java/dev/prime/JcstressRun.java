@@ -47,14 +47,15 @@ final class JcstressRun {
    * Runs the tests {@code filter} selects in jcstress's {@code mode} and reads their results.
    *
    * @param filter a regular expression over test class names
-   * @param mode sanity, quick, default, tough or stress
+   * @param mode jcstress options for the mode: {@code -m quick} and the like
    * @param report the directory for jcstress's HTML report
    * @return a verdict per test that reported results, by name
    */
-  static Map<String, Verdict> run(String filter, String mode, Path report) throws Exception {
+  static Map<String, Verdict> run(String filter, List<String> mode, Path report) throws Exception {
     Files.createDirectories(report);
-    Options options =
-        new Options(new String[] {"-t", filter, "-m", mode, "-r", report.toString()});
+    List<String> args = new ArrayList<>(List.of("-t", filter, "-r", report.toString()));
+    args.addAll(mode);
+    Options options = new Options(args.toArray(String[]::new));
     if (!options.parse()) {
       throw new IllegalArgumentException("jcstress refused its options");
     }
