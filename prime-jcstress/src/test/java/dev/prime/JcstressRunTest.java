@@ -37,15 +37,15 @@ class JcstressRunTest {
   }
 
   /**
-   * jcstress's options for this run. Short: its quick preset, one iteration of a second per fork,
-   * no split compilation (which would run each test in every pairing of interpreter, C1 and C2
-   * per actor); jcstress still runs each test with and without biased locking. Long: its default
-   * preset in every configuration it detects.
+   * jcstress's options for this run. Short: its quick preset, one iteration of half a second per
+   * fork, no split compilation (which would run each test in every pairing of interpreter, C1 and
+   * C2 per actor); jcstress still runs each test with and without biased locking. Long: its
+   * default preset in every configuration it detects.
    */
   private static List<String> mode() {
     return longMode()
         ? List.of("-m", "default")
-        : List.of("-m", "quick", "-sc", "false", "-iters", "1", "-time", "1000",
+        : List.of("-m", "quick", "-sc", "false", "-iters", "1", "-time", "500",
             "-jvmArgs", "-Xmx256m -XX:+UseSerialGC");
   }
 

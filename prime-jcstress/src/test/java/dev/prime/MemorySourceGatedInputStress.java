@@ -13,7 +13,8 @@ import org.openjdk.jcstress.infra.results.III_Result;
 /**
  * A service's input gates the publisher: with room for one value, publish(2) waits until the
  * service has taken 1, so the service reads 1 then 2 and misses nothing, where a plain reader
- * would be lapped. Result: first take, second take (0: waited {@link StressSources#BOUND}),
+ * would be lapped. Result: first take, second take (0: waited {@link StressSources#BOUND}, -8:
+ * woken only by that deadline),
  * missed.
  */
 @JCStressTest

@@ -16,7 +16,8 @@ import org.openjdk.jcstress.infra.results.I_Result;
  * the close) or ends with {@link CoreClosedException}; it never times out, and never sees anything
  * but the one value published.
  *
- * <p>Result: 1 (the value), -1 (CoreClosedException), 0 (waited {@link StressSources#BOUND}).
+ * <p>Result: 1 (the value), -1 (CoreClosedException), 0 (waited {@link StressSources#BOUND}), -8 (woken
+ * only by that deadline).
  */
 @JCStressTest
 @Description("publish(1), close() vs take(bound): the value or CoreClosedException, never a hang")

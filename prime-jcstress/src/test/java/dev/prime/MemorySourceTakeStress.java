@@ -12,7 +12,7 @@ import org.openjdk.jcstress.infra.results.II_Result;
 
 /**
  * One publisher publishes 1 then 2 while a reader takes twice (each take bounded: 0 if it waited
- * {@link StressSources#BOUND}). A take that finds nothing spins, then parks; the publish must wake
+ * {@link StressSources#BOUND}, -8 if the value came only at that deadline). A take that finds nothing spins, then parks; the publish must wake
  * it, and both values arrive in order.
  */
 @JCStressTest

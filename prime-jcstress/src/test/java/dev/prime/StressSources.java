@@ -33,12 +33,15 @@ final class StressSources {
   /**
    * A bounded take, as a number (jcstress actors throw no checked exceptions).
    *
-   * @return the value taken; 0 if none came within {@link #BOUND}; -1 if the source closed; -9 if
-   *     the taking thread was interrupted
+   * @return the value taken; 0 if none came within {@link #BOUND}; -8 if one came only when the
+   *     deadline was reached (the take re-reads then, so a lost wake-up would otherwise pass
+   *     unseen); -1 if the source closed; -9 if the taking thread was interrupted
    */
   static int take(Reader<Integer> reader) {
+    long start = System.nanoTime();
     try {
-      return reader.take(BOUND).orElse(0);
+      int value = reader.take(BOUND).orElse(0);
+      return System.nanoTime() - start >= BOUND.toNanos() ? -8 : value;
     } catch (CoreClosedException e) {
       return -1;
     } catch (InterruptedException e) {
