@@ -37,6 +37,7 @@ public final class CoreConfig {
   private final Duration shutdownTimeout;
   private final Duration publishTimeout;
   private final ValueCodec valueCopies;
+  private final PrimeClock clock;
 
   private CoreConfig(Builder b) {
     this.name = b.name;
@@ -45,6 +46,7 @@ public final class CoreConfig {
     this.shutdownTimeout = b.shutdownTimeout;
     this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
+    this.clock = b.clock;
   }
 
   /** {@return the default settings} */
@@ -99,6 +101,14 @@ public final class CoreConfig {
     return valueCopies;
   }
 
+  /**
+   * {@return the clock the core's timers and samplers run on: {@link PrimeClock#system()} unless
+   * {@link Builder#clock(PrimeClock)} set another}
+   */
+  public PrimeClock clock() {
+    return clock;
+  }
+
   /** {@return a builder starting from these settings} */
   public Builder toBuilder() {
     Builder b = new Builder();
@@ -108,6 +118,7 @@ public final class CoreConfig {
     b.shutdownTimeout = shutdownTimeout;
     b.publishTimeout = publishTimeout;
     b.valueCopies = valueCopies;
+    b.clock = clock;
     return b;
   }
 
@@ -116,7 +127,8 @@ public final class CoreConfig {
     return "CoreConfig[name=" + name + ", sourceRetention=" + sourceRetention
         + ", shutdownTimeout=" + shutdownTimeout
         + ", publishTimeout=" + publishTimeout
-        + (valueCopies == null ? "" : ", copyValues=" + valueCopies) + "]";
+        + (valueCopies == null ? "" : ", copyValues=" + valueCopies)
+        + (clock == PrimeClock.system() ? "" : ", clock=" + clock) + "]";
   }
 
   /** Builds a {@link CoreConfig}. Not thread-safe. */
@@ -127,6 +139,7 @@ public final class CoreConfig {
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
     private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
+    private PrimeClock clock = PrimeClock.system();
 
     private Builder() {}
 
@@ -237,6 +250,19 @@ public final class CoreConfig {
      */
     public Builder copyValues(ValueCodec codec) {
       this.valueCopies = codec;
+      return this;
+    }
+
+    /**
+     * Sets the clock the core's timers ({@link PrimeCore#timer}) and samplers ({@link
+     * Source#sample}) run on. The default is {@link PrimeClock#system()}; a {@link VirtualClock}
+     * makes them tick only as a test advances it, fast and the same every run.
+     *
+     * @param clock the clock
+     * @return this builder
+     */
+    public Builder clock(PrimeClock clock) {
+      this.clock = Objects.requireNonNull(clock, "clock must not be null");
       return this;
     }
 

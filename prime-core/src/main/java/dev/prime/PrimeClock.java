@@ -1,0 +1,82 @@
+package dev.prime;
+
+import java.time.Duration;
+import java.time.Instant;
+
+/**
+ * The time a core runs on: what its timers ({@link PrimeCore#timer}) and samplers ({@link
+ * Source#sample}) measure and wait by. Set it with {@link CoreConfig.Builder#clock(PrimeClock)};
+ * the default is {@link #system()}. Tests and simulations use a {@link VirtualClock}, whose time
+ * moves only when the test advances it, so a controller driven by timers runs as fast as the
+ * machine allows and gives the same ticks every run.
+ *
+ * <p>Implementations are thread-safe.
+ */
+public interface PrimeClock {
+
+  /**
+   * A monotonic reading in nanoseconds, for measuring elapsed time (like {@link
+   * System#nanoTime()}: only differences between readings mean something).
+   *
+   * @return the current reading
+   */
+  long nanoTime();
+
+  /**
+   * Waits until {@code nanos} nanoseconds of this clock's time have passed (returns at once for
+   * zero or less).
+   *
+   * @param nanos how long to wait, in this clock's nanoseconds
+   * @throws InterruptedException if the thread is interrupted while it waits (the interrupt flag
+   *     is cleared, as by {@link Thread#sleep(long)})
+   */
+  void sleepNanos(long nanos) throws InterruptedException;
+
+  /**
+   * The current wall-clock time of this clock, for time stamps.
+   *
+   * @return now
+   */
+  Instant now();
+
+  /**
+   * The real time of the machine: {@link System#nanoTime()}, {@link Thread#sleep} and {@link
+   * Instant#now()}.
+   *
+   * @return the system clock
+   */
+  static PrimeClock system() {
+    return SystemClock.INSTANCE;
+  }
+
+  /** The machine's clock; see {@link PrimeClock#system()}. */
+  final class SystemClock implements PrimeClock {
+    private static final SystemClock INSTANCE = new SystemClock();
+
+    private SystemClock() {}
+
+    @Override
+    public long nanoTime() {
+      return System.nanoTime();
+    }
+
+    @Override
+    public void sleepNanos(long nanos) throws InterruptedException {
+      if (nanos > 0) {
+        Thread.sleep(Duration.ofNanos(nanos).toMillis(), (int) (nanos % 1_000_000));
+      } else if (Thread.interrupted()) {
+        throw new InterruptedException();
+      }
+    }
+
+    @Override
+    public Instant now() {
+      return Instant.now();
+    }
+
+    @Override
+    public String toString() {
+      return "PrimeClock.system()";
+    }
+  }
+}
