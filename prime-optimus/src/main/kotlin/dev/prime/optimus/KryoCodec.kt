@@ -14,7 +14,7 @@ import dev.prime.optimus.kryo.UnregisteredTypeException
  * `Set` and `Map` (read back as `ArrayList`, `LinkedHashSet`, `LinkedHashMap`: equal to what was
  * written, though not of the same class), `Optional`, `UUID`, `Instant`, `Duration`,
  * `LocalDate`, `LocalTime`, `LocalDateTime`, and Prime's [dev.prime.Token] (decoded as
- * `Token.INSTANCE`), [dev.prime.Tuple2]..[dev.prime.Tuple5] and [dev.prime.Repeat]. The
+ * `Token.INSTANCE`), [dev.prime.Tuple2]..[dev.prime.Tuple5], [dev.prime.Repeat] and [dev.prime.Tick]. The
  * application registers its own records and classes with [builder]; every process that shares a
  * topology must register the same types in the same order, which [fingerprint] lets them check.
  *

@@ -11,6 +11,7 @@ import com.esotericsoftware.kryo.serializers.TimeSerializers
 import com.esotericsoftware.kryo.serializers.JavaSerializer
 import com.esotericsoftware.kryo.util.DefaultInstantiatorStrategy
 import dev.prime.Repeat
+import dev.prime.Tick
 import dev.prime.Token
 import dev.prime.Tuple2
 import dev.prime.Tuple3
@@ -145,6 +146,7 @@ internal class KryoRegistry(private val userTypes: List<Class<*>>, val maxDepth:
             Tuple4::class.java to { RecordSerializer(Tuple4::class.java) },
             Tuple5::class.java to { RecordSerializer(Tuple5::class.java) },
             Repeat::class.java to { RepeatSerializer() },
+            Tick::class.java to { RecordSerializer(Tick::class.java) },
         )
 
         private val KRYO_DEFAULTS: Set<Class<*>> = setOf(
