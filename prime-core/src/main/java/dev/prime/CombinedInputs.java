@@ -21,7 +21,9 @@ import java.util.function.Consumer;
  * service's ({@link SourceService}). A thread runs only if its process hosts the combinator
  * ({@link PrimeCore#isHostedHere}, asked when the thread starts, after {@code start()} decided the
  * hosting): elsewhere it closes its reader and ends at once, so two processes that declare the
- * same diagram never both emit.
+ * same diagram never both emit. It asks again for every value: a process that lost the hosting
+ * to another (Optimus: its host lease was taken over) stops emitting; the new host reads the
+ * inputs through readers of its own.
  */
 final class CombinedInputs {
   private CombinedInputs() {}
@@ -70,7 +72,15 @@ final class CombinedInputs {
       PrimeCore core, String name, Reader<?> reader, Consumer<Object> step) {
     SourceService<Object> service =
         new SourceService<>(
-            name, (Reader<Object>) reader, step, core.config().errorHandler(), core::isClosed);
+            name,
+            (Reader<Object>) reader,
+            value -> {
+              if (core.isHostedHere(name)) { // false once another process took the hosting over
+                step.accept(value);
+              }
+            },
+            core.config().errorHandler(),
+            core::isClosed);
     return () -> {
       if (!core.isHostedHere(name)) {
         reader.close(); // another process runs it: stop gating or filling this input

@@ -18,7 +18,8 @@ import org.slf4j.LoggerFactory;
  * again: a {@link VirtualClock} advanced by ten seconds gives exactly one thousand ticks of a 100
  * Hz timer. An action that throws goes to the error handler with the tick and the loop goes on;
  * an interrupt (the core closing) or the core's closing ends it. It runs only where the service
- * is hosted ({@link PrimeCore#isHostedHere}).
+ * is hosted ({@link PrimeCore#isHostedHere}), and skips the ticks due after its process lost the
+ * hosting to another.
  */
 final class Ticking implements Runnable {
   private static final Logger LOG = LoggerFactory.getLogger(Ticking.class);
@@ -73,6 +74,9 @@ final class Ticking implements Runnable {
         clock.sleepNanos(due - clock.nanoTime());
       } catch (InterruptedException e) {
         return;
+      }
+      if (!core.isHostedHere(name)) {
+        continue; // another process took the hosting over: it ticks now
       }
       Instant dueTime = time.plusNanos(count * periodNanos);
       try {

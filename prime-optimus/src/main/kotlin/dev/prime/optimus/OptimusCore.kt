@@ -380,7 +380,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${declared.sorted()}"
             }
         }
-        val hosted = services.keys.filter(::isHosted)
+        val hosted = (services.keys + coreThreadServices()).filter(::isHosted)
         try {
             claimHostLeases(hosted)
         } catch (e: IllegalStateException) {
@@ -389,6 +389,15 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
         services.values.forEach(::launchIfHosted)
     }
+
+    /**
+     * The services of the topology that run on the core's own threads rather than as Redis
+     * services: combinators of sources and timers. They get a host lease too, so one process at a
+     * time runs each (they stop emitting when [isHostedHere] turns false).
+     */
+    private fun coreThreadServices(): List<String> = topology().nodes()
+        .filter { it is TopologyNode.Combinator || it is TopologyNode.Timer }
+        .map { it.name() }
 
     override fun onClose() {
         // close() from a service's or listener's own thread must not wait for that thread
