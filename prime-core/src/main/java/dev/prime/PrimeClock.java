@@ -33,6 +33,19 @@ public interface PrimeClock {
   void sleepNanos(long nanos) throws InterruptedException;
 
   /**
+   * Waits until this clock's {@link #nanoTime()} reaches {@code deadline} (returns at once if it
+   * has). Unlike {@link #sleepNanos(long)} it does not oversleep when the clock moves between
+   * reading the time and starting to wait, which matters for a {@link VirtualClock} advanced by
+   * another thread: timers wait with it. The default sleeps for the difference.
+   *
+   * @param deadline a reading of {@link #nanoTime()}
+   * @throws InterruptedException if the thread is interrupted while it waits
+   */
+  default void sleepUntil(long deadline) throws InterruptedException {
+    sleepNanos(deadline - nanoTime());
+  }
+
+  /**
    * The current wall-clock time of this clock, for time stamps.
    *
    * @return now

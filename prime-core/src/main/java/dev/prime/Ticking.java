@@ -71,7 +71,7 @@ final class Ticking implements Runnable {
       count++;
       long due = origin + count * periodNanos;
       try {
-        clock.sleepNanos(due - clock.nanoTime());
+        clock.sleepUntil(due);
       } catch (InterruptedException e) {
         return;
       }

@@ -69,13 +69,23 @@ public final class VirtualClock implements PrimeClock {
   @Override
   public void sleepNanos(long duration) throws InterruptedException {
     synchronized (this) {
-      if (Thread.interrupted()) {
-        throw new InterruptedException();
-      }
-      long deadline = duration >= Long.MAX_VALUE - nanos ? Long.MAX_VALUE : nanos + Math.max(0, duration);
-      while (nanos < deadline) {
-        wait();
-      }
+      sleepUntil(duration >= Long.MAX_VALUE - nanos ? Long.MAX_VALUE : nanos + Math.max(0, duration));
+    }
+  }
+
+  /**
+   * Waits until the time reaches {@code deadline}: until {@link #advance} moves it there.
+   *
+   * @param deadline a reading of {@link #nanoTime()}
+   * @throws InterruptedException if the thread is interrupted while it waits
+   */
+  @Override
+  public synchronized void sleepUntil(long deadline) throws InterruptedException {
+    if (Thread.interrupted()) {
+      throw new InterruptedException();
+    }
+    while (nanos < deadline) {
+      wait();
     }
   }
 

@@ -15,15 +15,17 @@ import org.junit.jupiter.api.Test;
 /** The virtual clock: time moves only by advance, sleepers wake at their deadline, interrupts end sleeps. */
 class VirtualClockTest {
 
-  private static Thread sleeper(VirtualClock clock, long nanos, CountDownLatch woke, AtomicReference<Throwable> failure) {
+  /** Starts a daemon thread running {@code sleep}; {@code woke} counts down when it returns or fails. */
+  private static Thread sleeper(
+      InterruptibleAction sleep, CountDownLatch woke, AtomicReference<Throwable> failure) {
     Thread thread =
         new Thread(
             () -> {
               try {
-                clock.sleepNanos(nanos);
-                woke.countDown();
+                sleep.run();
               } catch (Throwable e) {
                 failure.set(e);
+              } finally {
                 woke.countDown();
               }
             });
@@ -32,20 +34,48 @@ class VirtualClockTest {
     return thread;
   }
 
+  private interface InterruptibleAction {
+    void run() throws InterruptedException;
+  }
+
   @Test
-  void sleepersWakeOnlyWhenVirtualTimePassesTheirDeadline() throws Exception {
+  void aSleeperUntilADeadlineWakesOnlyWhenVirtualTimeReachesIt() throws Exception {
     VirtualClock clock = new VirtualClock(Instant.parse("2030-01-01T00:00:00Z"));
     CountDownLatch woke = new CountDownLatch(1);
     AtomicReference<Throwable> failure = new AtomicReference<>();
-    Thread thread = sleeper(clock, Duration.ofSeconds(5).toNanos(), woke, failure);
+    long deadline = Duration.ofSeconds(5).toNanos();
+    Thread thread = sleeper(() -> clock.sleepUntil(deadline), woke, failure);
     clock.advance(Duration.ofSeconds(4));
     assertFalse(woke.await(200, TimeUnit.MILLISECONDS), "woke at 4 s of 5");
     clock.advance(Duration.ofSeconds(1));
     assertTrue(woke.await(10, TimeUnit.SECONDS), "did not wake at 5 s");
     thread.join(10_000);
     assertEquals(null, failure.get());
-    assertEquals(Duration.ofSeconds(5).toNanos(), clock.nanoTime());
+    assertEquals(deadline, clock.nanoTime());
     assertEquals(Instant.parse("2030-01-01T00:00:05Z"), clock.now());
+  }
+
+  @Test
+  void aSleepLastsAtLeastItsDurationInVirtualTime() throws Exception {
+    VirtualClock clock = new VirtualClock();
+    CountDownLatch woke = new CountDownLatch(1);
+    AtomicReference<Throwable> failure = new AtomicReference<>();
+    long[] slept = new long[1];
+    sleeper(
+        () -> {
+          long from = clock.nanoTime();
+          clock.sleepNanos(Duration.ofSeconds(5).toNanos());
+          slept[0] = clock.nanoTime() - from;
+        },
+        woke,
+        failure);
+    for (int second = 0; second < 30 && woke.getCount() > 0; second++) {
+      clock.advance(Duration.ofSeconds(1));
+      woke.await(50, TimeUnit.MILLISECONDS);
+    }
+    assertTrue(woke.await(10, TimeUnit.SECONDS), "never woke");
+    assertEquals(null, failure.get());
+    assertTrue(slept[0] >= Duration.ofSeconds(5).toNanos(), "slept " + slept[0] + " ns");
   }
 
   @Test
@@ -53,7 +83,7 @@ class VirtualClockTest {
     VirtualClock clock = new VirtualClock();
     CountDownLatch woke = new CountDownLatch(1);
     AtomicReference<Throwable> failure = new AtomicReference<>();
-    Thread thread = sleeper(clock, Long.MAX_VALUE, woke, failure);
+    Thread thread = sleeper(() -> clock.sleepNanos(Long.MAX_VALUE), woke, failure);
     thread.interrupt();
     assertTrue(woke.await(10, TimeUnit.SECONDS));
     assertTrue(failure.get() instanceof InterruptedException, String.valueOf(failure.get()));
