@@ -326,6 +326,9 @@ public interface CombinatorConformance extends ConformanceBase {
       assertTrue(mermaid.contains("n3[(\"combineLatest(a|b)\")]"), mermaid);
       assertTrue(mermaid.contains("n8([\"tick\"])"), mermaid);
       assertTrue(mermaid.contains("n1 --> n3\n  n2 --> n3\n"), mermaid);
+      String dot = topology.toDot();
+      assertTrue(dot.contains("n3 [label=\"combineLatest(a|b)\", shape=cylinder];"), dot);
+      assertTrue(dot.contains("n8 [label=\"tick\", shape=invhouse];"), dot);
     }
   }
 

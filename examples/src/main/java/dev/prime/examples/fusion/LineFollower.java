@@ -17,7 +17,7 @@ import java.util.List;
  * with the latest line reading ({@code withLatestFrom}) and a PD steering controller turns the
  * pair into a turn rate. The sensors are simulated from the time of their tick (the robot weaves
  * around the line), so the whole controller runs on a {@link VirtualClock}, as fast as the
- * machine allows and the same every run. The README shows the declaration between the fusion
+ * machine allows, with the same ticks every run. The README shows the declaration between the fusion
  * markers; a test checks that it is this code.
  */
 public final class LineFollower {

@@ -16,9 +16,10 @@ import java.time.Duration;
 import java.util.List;
 import java.util.function.Function;
 import java.util.stream.Stream;
+import org.junit.jupiter.api.Named;
+import org.junit.jupiter.api.Test;
 import org.junit.jupiter.params.ParameterizedTest;
 import org.junit.jupiter.params.provider.MethodSource;
-import org.junit.jupiter.api.Test;
 
 /**
  * The line follower's sensor fusion on a virtual clock: every gyro reading after the first line
@@ -27,8 +28,10 @@ import org.junit.jupiter.api.Test;
  */
 class LineFollowerTest {
 
-  static Stream<Function<CoreConfig, PrimeCore>> media() {
-    return Stream.of(LibertyCore::new, RadiantCore::new);
+  static Stream<Named<Function<CoreConfig, PrimeCore>>> media() {
+    return Stream.of(
+        Named.<Function<CoreConfig, PrimeCore>>of("Liberty", LibertyCore::new),
+        Named.<Function<CoreConfig, PrimeCore>>of("Radiant", RadiantCore::new));
   }
 
   @ParameterizedTest
