@@ -793,7 +793,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         /**
          * Runs only the named services in this process; the others run elsewhere. By default a
          * core hosts every service. Names are chain names (a linked chain's services are the
-         * chains it was linked from).
+         * chains it was linked from), and those of filters, listeners, combinators of sources
+         * (`combineLatest(a|b)`, ...) and timers: the services of [topology].
          */
         public fun hosts(vararg services: String): Builder = hosts(services.toList())
 
