@@ -8,6 +8,7 @@ import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.QueueFullException;
 import dev.prime.Reader;
 import dev.prime.Source;
 import dev.prime.Tick;
@@ -22,6 +23,11 @@ import java.time.Instant;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Optional;
+import java.util.concurrent.BlockingQueue;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.LinkedBlockingQueue;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicLong;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -263,6 +269,48 @@ public interface CombinatorConformance extends ConformanceBase {
             Duration.between(five.get(0).time(), five.get(i).time()),
             "ticks are due exactly one period apart");
       }
+    }
+  }
+
+  @Test
+  default void aTickThatCannotBePublishedGoesToTheErrorHandlerAndTheTimerGoesOn()
+      throws InterruptedException {
+    BlockingQueue<List<Object>> failures = new LinkedBlockingQueue<>();
+    CountDownLatch release = new CountDownLatch(1);
+    AtomicLong failedTick = new AtomicLong(Long.MAX_VALUE);
+    CountDownLatch laterTick = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(Duration.ofMillis(200))
+            .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, 2)) {
+      core.timer("beat", Duration.ofMillis(10))
+          .listen(
+              tick -> {
+                if (tick.count() > failedTick.get()) {
+                  laterTick.countDown();
+                }
+                try {
+                  release.await(); // stuck until the test lets it go: its input fills up
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              });
+      core.start();
+      try {
+        List<Object> failure = failures.poll(patience().toMillis(), TimeUnit.MILLISECONDS);
+        assertTrue(failure != null, "no tick failed within " + patience());
+        assertEquals("beat", failure.get(0), "the timer's name");
+        assertTrue(failure.get(1) instanceof Long, "the tick's count: " + failure.get(1));
+        assertTrue(failure.get(2) instanceof QueueFullException, String.valueOf(failure.get(2)));
+        failedTick.set((Long) failure.get(1));
+      } finally {
+        release.countDown();
+      }
+      assertTrue(
+          laterTick.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "the timer goes on after a tick it could not publish");
     }
   }
 
