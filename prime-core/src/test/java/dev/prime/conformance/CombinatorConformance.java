@@ -381,6 +381,30 @@ public interface CombinatorConformance extends ConformanceBase {
   }
 
   @Test
+  default void combinesASourceOfAnotherCore() throws InterruptedException {
+    try (PrimeCore other = newCore();
+        PrimeCore core = newCore()) {
+      EventBlock<Integer> remoteEvents = new EventBlock<>();
+      EventBlock<String> localEvents = new EventBlock<>();
+      Source<Integer> remote = other.source("remote", remoteEvents);
+      Source<Tuple2<String, Integer>> both =
+          core.combineLatest(core.source("local", localEvents), remote);
+      assertEquals("combineLatest(local|remote)", both.name());
+      assertEquals(
+          new TopologyNode.ForeignSource("from(" + other.name() + ":remote)", other.name(), "remote"),
+          core.topology().nodes().get(1));
+      Reader<Tuple2<String, Integer>> out = both.reader();
+      other.start();
+      core.start();
+      localEvents.publish("x");
+      remoteEvents.publish(1);
+      assertEquals(new Tuple2<>("x", 1), takeOrFail(out));
+      remoteEvents.publish(2);
+      assertEquals(new Tuple2<>("x", 2), takeOrFail(out));
+    }
+  }
+
+  @Test
   default void combinedSourcesFeedChainsLikeAnyOtherSource() throws InterruptedException {
     try (PrimeCore core = newCore()) {
       EventBlock<Integer> aEvents = new EventBlock<>();
