@@ -11,6 +11,13 @@ import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import java.time.Duration
 import java.util.Optional
+import java.util.concurrent.LinkedBlockingQueue
+import java.util.concurrent.TimeUnit
+import java.net.URI
+import java.nio.charset.StandardCharsets.UTF_8
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.params.SetParams
+import org.junit.jupiter.api.Assertions.fail
 
 /**
  * Combinators and timers run on the core's own threads, and on Optimus only in the process that
@@ -72,6 +79,41 @@ class CombinatorHostingTest {
             declared.a.publish(1)
             declared.b.publish("y")
             assertEquals(Tuple2(1, "y"), declared.combined.take(PATIENCE).orElseThrow(), "the first host goes on")
+        }
+    }
+
+    @Test
+    fun aHostThatFindsTheLeaseOfACombinatorOrTimerTakenStopsEmittingAndReportsIt() {
+        val name = "combinator-lease-taken"
+        val reports = LinkedBlockingQueue<Pair<String, Throwable>>()
+        val config = CoreConfig.builder().name(name)
+            .errorHandler { service, _, error -> reports.add(service to error) }
+            .build()
+        OptimusCore.builder().config(config).redis(TestRedis.url).leaseTime(LEASE).build().use { host ->
+            val declared = declare(host)
+            host.start()
+            declared.a.publish(1)
+            declared.b.publish("x")
+            assertEquals(Tuple2(1, "x"), declared.combined.take(PATIENCE).orElseThrow())
+            declared.ticks.take(PATIENCE).orElseThrow()
+
+            // another instance holds both leases now, as if this process had been frozen longer than the lease
+            Jedis(URI(TestRedis.url)).use { jedis ->
+                for (service in listOf("combineLatest(a|b)", "tick")) {
+                    jedis.set(Keys(name).hostLease(service), "intruder".toByteArray(UTF_8), SetParams().px(Duration.ofMinutes(1).toMillis()))
+                }
+            }
+            val stopped = (1..2).map { reports.poll(PATIENCE.seconds, TimeUnit.SECONDS) ?: fail("no report of a lost lease") }
+            assertEquals(setOf("combineLatest(a|b)", "tick"), stopped.map { it.first }.toSet())
+            assertTrue(stopped.all { it.second.message!!.contains("instance intruder") }, stopped.toString())
+            assertEquals(setOf<String>(), host.serviceNames(), "neither runs here now")
+
+            declared.ticks.drain() // ticks published before the lease was found taken
+            declared.a.publish(2)
+            assertEquals(Optional.empty<Any>(), declared.combined.take(Duration.ofSeconds(1)), "the combinator emits no more")
+            // a tick already on its way when the lease was found taken may still land; a running timer would give ten
+            val late = (1..10).mapNotNull { declared.ticks.take(Duration.ofMillis(300)).orElse(null) }
+            assertTrue(late.size <= 1, "the timer ticks no more: $late")
         }
     }
 
