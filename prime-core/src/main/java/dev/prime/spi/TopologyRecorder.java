@@ -321,7 +321,7 @@ public final class TopologyRecorder {
       preferred.append(i == 0 ? "" : "|").append(sources.get(i).name());
     }
     String name = names.derived(preferred.append(')').toString(), kind);
-    return add(new TopologyNode.Combinator(name, kind, parts));
+    return add(new TopologyNode.Combinator(name, kind, parts), NodeLogic.None.NONE);
   }
 
   /**
@@ -333,7 +333,7 @@ public final class TopologyRecorder {
    * @throws IllegalArgumentException if the name is invalid or taken
    */
   public synchronized String timer(String name, java.time.Duration period) {
-    return add(new TopologyNode.Timer(names.claim(name), period));
+    return add(new TopologyNode.Timer(names.claim(name), period), NodeLogic.None.NONE);
   }
 
   /**
