@@ -11,6 +11,7 @@ import dev.prime.Reader
 import dev.prime.Source
 import dev.prime.spi.ChainCompiler
 import dev.prime.spi.SourceCompiler
+import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
