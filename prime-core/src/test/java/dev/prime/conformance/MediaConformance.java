@@ -18,4 +18,5 @@ public interface MediaConformance
         InterruptConformance,
         ValueCopyConformance,
         LongChainConformance,
-        LoggingConformance {}
+        LoggingConformance,
+        RecordingConformance {}
