@@ -58,14 +58,23 @@ final class ModelCompiler<F> {
 
   /** Compiles a just recorded event source: the media's own, or an in-memory one. */
   <T> Source<T> eventSource(String name, EventBlock<T> events) {
-    Source<T> source =
-        sources == null
-            ? core.inProcessServices().eventSource(name, events)
-            : sources.eventSource(name, events);
-    if (recording != null) {
-      recording.source(name, events); // after the media's subscription: refused values are not
+    if (recording == null) {
+      return sources == null
+          ? core.inProcessServices().eventSource(name, events)
+          : sources.eventSource(name, events);
     }
-    return source;
+    RecordingPoints.SourcePoint point = recording.beforeSource(name, events);
+    try {
+      Source<T> source =
+          sources == null
+              ? core.inProcessServices().eventSource(name, events)
+              : sources.eventSource(name, events);
+      point.afterMedia();
+      return source;
+    } catch (RuntimeException | Error failed) {
+      point.cancel();
+      throw failed;
+    }
   }
 
   /** Whether {@code source} is one of the media's own sources, whose services it compiles. */

@@ -12,6 +12,9 @@ import java.util.function.Predicate;
  * thread published or ran the chain (a service thread, a caller of {@code toBlock()}, a coroutine
  * on Optimus); it stamps and stores the value under the monitor, so sequence numbers and both
  * time stamps grow together, and it notifies only when a reader waits in {@link #awaitLatest}.
+ * A source's values are stamped when the publish begins and stored once the media accepted them
+ * (the three-argument {@code record}), so their stamps follow the sequence numbers of each
+ * publishing thread, not across threads publishing to one event block at once.
  * Readers copy what they return under the same monitor. Slots are allocated as the ring fills, so
  * a name that records little costs little. A ring made by {@link #frozen} (a merged recording)
  * is never recorded into.
@@ -52,8 +55,13 @@ final class RecordingRing {
 
   /** Stamps and stores a value; the oldest falls out (counted) when the ring is full. */
   synchronized void record(Object value) {
+    record(value, Instant.now(), System.nanoTime());
+  }
+
+  /** Stores a value stamped before it was handed on (a source's publish); see {@link #record}. */
+  synchronized void record(Object value, Instant wallTime, long monotonicNanos) {
     RecordedValue<Object> entry =
-        new RecordedValue<>(service, pseudoname, written, Instant.now(), System.nanoTime(), value);
+        new RecordedValue<>(service, pseudoname, written, wallTime, monotonicNanos, value);
     if (slots.size() < capacity) {
       slots.add(entry);
     } else {
