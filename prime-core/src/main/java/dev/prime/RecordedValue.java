@@ -10,9 +10,9 @@ import java.util.Objects;
  * @param pseudoname the readable name given at creation, or {@code null} if none was given
  * @param sequence the value's number under its name in the recording process: 0, 1, 2, ...
  *     without gaps (values that fell out of the ring keep their numbers)
- * @param wallTime when it was recorded, by the wall clock (comparable across processes as far as
- *     their clocks agree)
- * @param monotonicNanos when it was recorded, by {@link System#nanoTime()} of the recording process
+ * @param wallTime by the wall clock, when the chain's block returned the value or the source's
+ *     publish of it began (comparable across processes as far as their clocks agree)
+ * @param monotonicNanos the same moment by {@link System#nanoTime()} of the recording process
  *     (meaningful only against other stamps of the same process)
  * @param value the value, as published or returned (not a copy)
  * @param <T> the value's type
