@@ -14,6 +14,7 @@ import java.util.NoSuchElementException;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.Set;
+import java.util.function.BooleanSupplier;
 
 /**
  * What a core recorded: every value each of its sources published and each of its chains made of
@@ -28,7 +29,8 @@ import java.util.Set;
  * <ul>
  *   <li>{@link #get(String)}: the latest value; if nothing was recorded under the name yet, waits
  *       for the first one up to {@link RecordingOptions#getTimeout()} ({@link #get(String,
- *       Duration)}: up to a given time), then throws {@link NoSuchElementException};
+ *       Duration)}: up to a given time), then throws {@link NoSuchElementException}; it does not
+ *       wait once the core is closed (nor on a merged recording): nothing more will come;
  *   <li>{@link #tryGet(String)}: the latest value if there is one, never waiting;
  *   <li>{@link #getRange(String, long, long)}: the values numbered {@code from} (inclusive) to
  *       {@code to} (exclusive) that the ring still holds, oldest first; {@link #getAll(String)}:
@@ -53,15 +55,21 @@ public final class Recording {
   private final String core;
   private final RecordingOptions options;
   private final Map<String, RecordingRing> rings; // guarded by itself
+  private final BooleanSupplier finished; // true: nothing more will be recorded
 
-  Recording(String core, RecordingOptions options) {
-    this(core, options, new LinkedHashMap<>());
+  Recording(String core, RecordingOptions options, BooleanSupplier finished) {
+    this(core, options, new LinkedHashMap<>(), finished);
   }
 
-  private Recording(String core, RecordingOptions options, Map<String, RecordingRing> rings) {
+  private Recording(
+      String core,
+      RecordingOptions options,
+      Map<String, RecordingRing> rings,
+      BooleanSupplier finished) {
     this.core = core;
     this.options = options;
     this.rings = rings;
+    this.finished = finished;
   }
 
   /** The ring of a name just recorded in the topology (the core's recording points call it). */
@@ -164,7 +172,13 @@ public final class Recording {
     } catch (ArithmeticException tooLong) {
       nanos = Long.MAX_VALUE / 2;
     }
-    RecordedValue<Object> latest = ring.awaitLatest(Math.min(nanos, Long.MAX_VALUE / 2));
+    RecordedValue<Object> latest =
+        ring.awaitLatest(Math.min(nanos, Long.MAX_VALUE / 2), finished);
+    if (latest == null && finished.getAsBoolean()) {
+      throw new NoSuchElementException(
+          "nothing was recorded under '" + name + "' in core '" + core + "', and nothing will be:"
+              + " the core is closed (or this is a merged recording)");
+    }
     if (latest == null) {
       throw new NoSuchElementException(
           "nothing was recorded under '" + name + "' in core '" + core + "' within " + timeout
@@ -331,7 +345,10 @@ public final class Recording {
         });
     RecordingOptions first = recordings.iterator().next().options;
     return new Recording(
-        "merged" + cores, RecordingOptions.ring(capacity).withGetTimeout(first.getTimeout()), rings);
+        "merged" + cores,
+        RecordingOptions.ring(capacity).withGetTimeout(first.getTimeout()),
+        rings,
+        () -> true);
   }
 
   private RecordingRing ring(String name) {

@@ -18,7 +18,7 @@ final class RecordingPoints {
 
   RecordingPoints(PrimeCore core, RecordingOptions options) {
     this.core = core;
-    this.recording = new Recording(core.name(), options);
+    this.recording = new Recording(core.name(), options, core::isClosed);
   }
 
   Recording recording() {

@@ -3,6 +3,7 @@ package dev.prime;
 import java.time.Instant;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.function.BooleanSupplier;
 import java.util.function.Predicate;
 
 /**
@@ -79,17 +80,22 @@ final class RecordingRing {
     return slots.isEmpty() ? null : slots.get((int) ((written - 1) % capacity));
   }
 
-  /** The latest entry, waiting up to {@code timeoutNanos} for a first one; {@code null} if none. */
-  synchronized RecordedValue<Object> awaitLatest(long timeoutNanos) throws InterruptedException {
+  /**
+   * The latest entry, waiting up to {@code timeoutNanos} for a first one while {@code stopped}
+   * says no (checked at least every 100 ms: a closed core records nothing more); {@code null} if
+   * none came.
+   */
+  synchronized RecordedValue<Object> awaitLatest(long timeoutNanos, BooleanSupplier stopped)
+      throws InterruptedException {
     long deadline = System.nanoTime() + timeoutNanos;
     waiters++;
     try {
       while (slots.isEmpty()) {
         long left = deadline - System.nanoTime();
-        if (left <= 0) {
+        if (left <= 0 || stopped.getAsBoolean()) {
           return null;
         }
-        wait(Math.max(1, left / 1_000_000), 0);
+        wait(Math.max(1, Math.min(100, left / 1_000_000)), 0);
       }
       return latest();
     } finally {
