@@ -38,6 +38,7 @@ public final class CoreConfig {
   private final Duration publishTimeout;
   private final ValueCodec valueCopies;
   private final PrimeClock clock;
+  private final RecordingOptions recording;
 
   private CoreConfig(Builder b) {
     this.name = b.name;
@@ -47,6 +48,7 @@ public final class CoreConfig {
     this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
     this.clock = b.clock;
+    this.recording = b.recording;
   }
 
   /** {@return the default settings} */
@@ -109,6 +111,14 @@ public final class CoreConfig {
     return clock;
   }
 
+  /**
+   * {@return how the core records what its sources publish and its chains return, or {@code
+   * null} (the default) if it records nothing} See {@link Builder#recording(RecordingOptions)}.
+   */
+  public RecordingOptions recording() {
+    return recording;
+  }
+
   /** {@return a builder starting from these settings} */
   public Builder toBuilder() {
     Builder b = new Builder();
@@ -119,6 +129,7 @@ public final class CoreConfig {
     b.publishTimeout = publishTimeout;
     b.valueCopies = valueCopies;
     b.clock = clock;
+    b.recording = recording;
     return b;
   }
 
@@ -128,7 +139,8 @@ public final class CoreConfig {
         + ", shutdownTimeout=" + shutdownTimeout
         + ", publishTimeout=" + publishTimeout
         + (valueCopies == null ? "" : ", copyValues=" + valueCopies)
-        + (clock == PrimeClock.system() ? "" : ", clock=" + clock) + "]";
+        + (clock == PrimeClock.system() ? "" : ", clock=" + clock)
+        + (recording == null ? "" : ", recording=" + recording) + "]";
   }
 
   /** Builds a {@link CoreConfig}. Not thread-safe. */
@@ -140,6 +152,7 @@ public final class CoreConfig {
     private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
     private PrimeClock clock = PrimeClock.system();
+    private RecordingOptions recording;
 
     private Builder() {}
 
@@ -263,6 +276,24 @@ public final class CoreConfig {
      */
     public Builder clock(PrimeClock clock) {
       this.clock = Objects.requireNonNull(clock, "clock must not be null");
+      return this;
+    }
+
+    /**
+     * Turns recording on: the core records every value each of its sources publishes and each of
+     * its chains made of a block returns, with time stamps, in a ring per name; read it with
+     * {@link PrimeCore#recording()}. Off by default, and then free: no recording code is compiled
+     * into any chain or subscribed to any source.
+     *
+     * <pre>{@code
+     * new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(10_000)).build())
+     * }</pre>
+     *
+     * @param options the ring size and read timeout; {@code null} to record nothing (the default)
+     * @return this builder
+     */
+    public Builder recording(RecordingOptions options) {
+      this.recording = options;
       return this;
     }
 

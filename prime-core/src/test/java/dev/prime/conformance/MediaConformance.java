@@ -20,4 +20,5 @@ public interface MediaConformance
         LongChainConformance,
         LoggingConformance,
         CombinatorConformance,
+        RecordingConformance,
         LifecycleHookConformance {}
