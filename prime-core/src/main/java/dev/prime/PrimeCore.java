@@ -172,7 +172,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Links two chains: the result feeds {@code first}'s output to {@code second}. Consumes both. A
-   * chain of another core is taken through its {@link Chain#toBlock()}.
+   * chain of another core is taken through its {@link Chain#toBlock()}. Like {@link
+   * Function#andThen}, {@code second} may take any supertype of {@code first}'s output.
    *
    * @param first runs first
    * @param second runs on the first chain's outputs
@@ -181,7 +182,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the combined chain, named {@code first>second}
    */
-  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
     requireChains(first, second);
     return newChain(
         topologyRecorder().link(first, second), new LinkBlock<>(first.toBlock(), second.toBlock()));
@@ -492,7 +493,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
-   * Values the chain maps to {@code null} are not published. The default runs the service on a
+   * The chain may take any supertype of the source's values. Values the chain maps to {@code
+   * null} are not published. The default runs the service on a
    * thread of this core and publishes to an in-memory source.
    *
    * @param source the input source (may belong to another core)
@@ -501,10 +503,10 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the source of outputs, named {@code source>chain}
    */
-  public <I, O> Source<O> link(Source<I> source, Chain<I, O> chain) {
+  public <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
     requireChains(chain);
-    Block<I, O> block = chain.toBlock();
+    Block<I, O> block = Block.narrow(chain.toBlock());
     return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
   }
 
@@ -549,6 +551,41 @@ public abstract class PrimeCore implements AutoCloseable {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
     inProcess.listen(topologyRecorder().listener(source), source, listener);
+  }
+
+  /**
+   * Declares a generic service: a long-running service fed by no source, such as a hardware driver
+   * or a poller, that {@linkplain GenericService#initialize() initializes} once and then
+   * {@linkplain GenericService#work() works} over and over on a thread of its own. It runs from
+   * {@link #start()} (at once if the core is started) until {@link #close()}, which interrupts it
+   * and waits for its {@link GenericService#shutdown() shutdown} within {@link
+   * CoreConfig#shutdownTimeout()}. Its failures go to the {@link ErrorHandler} under {@code name},
+   * with the {@link GenericService.Step} that failed as the input; see {@link GenericService} for
+   * the whole contract. It is a service of the {@linkplain #topology() topology}; a media that
+   * spreads services over processes runs it only in the process that hosts it.
+   *
+   * @param name unique in this core; 1 to 200 characters, no whitespace or braces
+   * @param service the service
+   * @throws IllegalArgumentException if the name is invalid or taken
+   * @throws CoreClosedException if the core is closed
+   */
+  public final void service(String name, GenericService service) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(service, "service must not be null");
+    ensureOpen();
+    runGenericService(topologyRecorder().genericService(name), service);
+  }
+
+  /**
+   * Runs a generic service, whose name is already claimed: by default on a thread of this core
+   * (started with the other services), through {@link dev.prime.spi.GenericServiceLoop}. A media
+   * that spreads services over processes overrides it to run the service only where it is hosted.
+   *
+   * @param name the service's name
+   * @param service the service
+   */
+  protected void runGenericService(String name, GenericService service) {
+    inProcess.generic(name, service);
   }
 
   /**

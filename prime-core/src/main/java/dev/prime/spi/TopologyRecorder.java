@@ -256,6 +256,17 @@ public final class TopologyRecorder {
   }
 
   /**
+   * Records a generic service.
+   *
+   * @param name the name the user gave
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String genericService(String name) {
+    return add(new TopologyNode.GenericServiceNode(names.claim(name)));
+  }
+
+  /**
    * Records a reader the program opened on a source of this core.
    *
    * @param source the source's name

@@ -112,8 +112,9 @@ public final class Topology {
 
   /**
    * The diagram as a Mermaid flowchart. Chains are boxes, templates hexagons, sources stadiums
-   * and cylinders, readers circles; solid arrows carry values, dashed arrows go from a template
-   * to the chains it runs, labelled with their role; services hosted elsewhere are dashed.
+   * and cylinders, readers circles, generic services double-sided boxes; solid arrows carry
+   * values, dashed arrows go from a template to the chains it runs, labelled with their role;
+   * services hosted elsewhere are dashed.
    * Deterministic: the same topology always gives the same text.
    *
    * @return the flowchart, ending with a newline

@@ -18,4 +18,6 @@ public interface MediaConformance
         InterruptConformance,
         ValueCopyConformance,
         LongChainConformance,
-        LoggingConformance {}
+        LoggingConformance,
+        GenericServiceConformance,
+        LinkVarianceConformance {}

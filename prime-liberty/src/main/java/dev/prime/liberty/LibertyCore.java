@@ -48,7 +48,7 @@ public final class LibertyCore extends PrimeCore {
    * {@link Chain#toBlock()}.
    */
   @Override
-  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
     requireChains(first, second);
     String name = topologyRecorder().link(first, second);
     StepSequence a = part(first, StepSequence.class, block -> new Step(null, block));

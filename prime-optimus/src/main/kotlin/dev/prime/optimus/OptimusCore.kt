@@ -6,9 +6,11 @@ import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.GenericService
 import dev.prime.PrimeCore
 import dev.prime.Reader
 import dev.prime.Source
+import dev.prime.spi.GenericServiceLoop
 import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
@@ -19,6 +21,7 @@ import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.cancel
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
+import kotlinx.coroutines.runInterruptible
 import kotlinx.coroutines.withTimeoutOrNull
 import org.slf4j.LoggerFactory
 import redis.clients.jedis.Jedis
@@ -158,6 +161,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val instance = UUID.randomUUID().toString()
 
     private val services = ConcurrentHashMap<String, StageService>()
+    private val genericServices = ConcurrentHashMap<String, GenericServiceLoop>() // hosted here only
     private val launched: MutableSet<String> = ConcurrentHashMap.newKeySet()
     private val readers: MutableSet<Pair<SourceKeys, ByteArray>> = ConcurrentHashMap.newKeySet()
     private val subscriptions = ConcurrentLinkedQueue<EventBlock.Subscription>()
@@ -217,7 +221,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     override fun <I, O> newChain(name: String, block: Block<I, O>): Chain<I, O> =
         OptimusChain(this, name, listOf(StageSpec(name, chainLogic(block))))
 
-    override fun <I, M, O> link(first: Chain<I, M>?, second: Chain<M, O>?): Chain<I, O> {
+    override fun <I, M, O> link(first: Chain<I, M>?, second: Chain<in M, O>?): Chain<I, O> {
         requireChains(first, second)
         val name = topologyRecorder().link(first, second)
         val link = topologyRecorder().node(name) as TopologyNode.Link
@@ -245,7 +249,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return source
     }
 
-    override fun <I, O> link(source: Source<I>?, chain: Chain<I, O>?): Source<O> {
+    override fun <I, O> link(source: Source<I>?, chain: Chain<in I, O>?): Source<O> {
         requireSource(source)
         requireChains(chain)
         if (source !is OptimusSource<I> || source.core() !== this) return super.link(source, chain)
@@ -311,6 +315,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             Envelope.value(ids.next(), encode(value))
         }
         if (envelopes.isNotEmpty()) publish(source.keys, envelopes)
+    }
+
+    // ------------------------------------------------------------------ generic services
+
+    /**
+     * Runs a generic service only if this process hosts it ([Builder.hosts]): like every service it
+     * has one host at a time (a host lease, claimed at [start]), so of several processes that
+     * declare it exactly one runs it. It runs on a thread of this core; [close], or losing its host
+     * lease, interrupts it.
+     */
+    override fun runGenericService(name: String, service: GenericService) {
+        if (!isHosted(name)) return // another process runs it
+        val loop = GenericServiceLoop(name, service, config().errorHandler()) { isClosed || name in notRunning }
+        genericServices[name] = loop
+        if (isStarted) launchHosted(name) { runInterruptible { loop.run() } }
     }
 
     // ------------------------------------------------------------------ dead letters
@@ -380,7 +399,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${declared.sorted()}"
             }
         }
-        val hosted = services.keys.filter(::isHosted)
+        val hosted = services.keys.filter(::isHosted) + genericServices.keys
         try {
             claimHostLeases(hosted)
         } catch (e: IllegalStateException) {
@@ -388,6 +407,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             throw e
         }
         services.values.forEach(::launchIfHosted)
+        genericServices.values.forEach { loop -> launchHosted(loop.name()) { runInterruptible { loop.run() } } }
     }
 
     override fun onClose() {
@@ -588,18 +608,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun isHosted(service: String) = hosts == null || service in hosts
 
-    private fun launchIfHosted(service: StageService) {
-        if (!isHosted(service.name) || !launched.add(service.name) || isClosed) return
-        if (service.name !in hostLeases.services) {
+    private fun launchIfHosted(service: StageService) = launchHosted(service.name) { service.run() }
+
+    /** Runs [body] as hosted service [name] once, if this process hosts it, holding its host lease. */
+    private fun launchHosted(name: String, body: suspend () -> Unit) {
+        if (!isHosted(name) || !launched.add(name) || isClosed) return
+        if (name !in hostLeases.services) {
             try {
-                claimHostLeases(listOf(service.name))
+                claimHostLeases(listOf(name))
             } catch (e: RuntimeException) {
-                launched -= service.name
-                if (e is IllegalStateException) notRunning += service.name
+                launched -= name
+                if (e is IllegalStateException) notRunning += name
                 throw e
             }
         }
-        hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { service.run() }
+        hostedJobs[name] = scope.launch(CoroutineName(name)) { body() }
     }
 
     /** Registers this process's liveness lease and starts its heartbeat, once. */

@@ -70,7 +70,7 @@ public final class RadiantCore extends PrimeCore {
    * PrimeCore#part}).
    */
   @Override
-  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
     requireChains(first, second);
     String name = topologyRecorder().link(first, second);
     Node a = part(first, Node.class, Node.Opaque::new);
