@@ -31,7 +31,9 @@ import java.time.Duration;
  *   <li><b>Failures.</b> Anything {@code initialize}, {@code work} or {@code shutdown} throws
  *       (but a {@link VirtualMachineError}, which ends the service) goes to the core's {@link
  *       ErrorHandler} with the service's name, the {@link Step} that failed as the input and the
- *       throwable itself. The service then goes on: a failed {@code initialize} is tried again,
+ *       throwable itself (as for every service, a {@link ChainFailedException} from a chain the
+ *       step called is reported under that chain's name, with its block's own throwable). The
+ *       service then goes on: a failed {@code initialize} is tried again,
  *       a failed {@code work} is followed by the next {@code work}, each after the {@link
  *       #backoff(int) back-off} (so a driver whose device is unplugged does not spin a core).
  *       The back-off starts again after a step that succeeds.

@@ -1,5 +1,6 @@
 package dev.prime.spi;
 
+import dev.prime.ChainFailedException;
 import dev.prime.ErrorHandler;
 import dev.prime.GenericService;
 import dev.prime.GenericService.Step;
@@ -160,13 +161,23 @@ public final class GenericServiceLoop implements Runnable {
     }
   }
 
+  /**
+   * Reports a failed step as every service does: a {@link ChainFailedException} (the step called a
+   * chain whose block failed) under the failing chain's name, with the block's own throwable.
+   */
   private void report(Step step, Throwable error) {
+    String service = name;
+    Throwable own = error;
+    if (error instanceof ChainFailedException failed && failed.getCause() != null) {
+      service = failed.chainName();
+      own = failed.getCause();
+    }
     try {
-      errors.handle(name, step, error);
+      errors.handle(service, step, own);
     } catch (VirtualMachineError e) {
       throw e;
     } catch (Throwable handlerFailure) {
-      handlerFailure.addSuppressed(error);
+      handlerFailure.addSuppressed(own);
       LOG.error("the error handler failed for generic service '{}'", name, handlerFailure);
     }
   }

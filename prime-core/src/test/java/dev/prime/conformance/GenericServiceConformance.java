@@ -8,6 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.Block;
 import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
@@ -187,6 +188,39 @@ public interface GenericServiceConformance extends ConformanceBase {
     assertSame(error, failures.get(1).error());
     assertEquals(1, driver.initializations.get());
     assertEquals(1, driver.shutdowns.get());
+  }
+
+  @Test
+  default void aChainThatFailsInAWorkStepIsReportedLikeInAnyService() throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    ErrorConformance.Boom boom = new ErrorConformance.Boom("cannot parse");
+    PrimeCore core = newCore(recordingFailures(failures));
+    try (core) {
+      Block<String, Integer> parse =
+          core.chain(
+                  "parse",
+                  (String text) -> {
+                    if (text.isEmpty()) {
+                      throw boom;
+                    }
+                    return text.length();
+                  })
+              .toBlock();
+      core.start();
+      Recording poller =
+          new Recording(3) {
+            @Override
+            void step(int n) throws Exception {
+              parse.process(n == 1 ? "" : "ok");
+            }
+          };
+      core.service("poller", poller);
+      assertTrue(await(poller.worked), "work goes on; it ran " + poller.works.get());
+    }
+    assertEquals(
+        List.of(new Failure("parse", GenericService.Step.WORK, boom)),
+        failures,
+        "the chain that failed, with its block's own throwable");
   }
 
   @Test
