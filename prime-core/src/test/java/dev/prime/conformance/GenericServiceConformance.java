@@ -381,6 +381,57 @@ public interface GenericServiceConformance extends ConformanceBase {
     assertEquals(List.of(), warnings, "no abandoned or still-running warnings");
   }
 
+  /**
+   * A generic service that closes its own core (it saw a stop command), next to another service,
+   * with a shutdown timeout far above the kit's patience: a close that waited for its own thread
+   * would take that long, and one cut short would complain about threads still running.
+   */
+  @Test
+  default void aGenericServiceMayCloseItsOwnCore() throws InterruptedException {
+    CountDownLatch closeReturned = new CountDownLatch(1);
+    CountDownLatch shutDown = new CountDownLatch(1);
+    AtomicBoolean interruptedAfterClose = new AtomicBoolean();
+    PrimeCore core =
+        newCore(CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build());
+    Recording stopper =
+        new Recording(1) {
+          @Override
+          void step(int n) {
+            if (n == 3) {
+              core.close();
+              interruptedAfterClose.set(Thread.currentThread().isInterrupted());
+              closeReturned.countDown();
+            }
+          }
+
+          @Override
+          public void shutdown() {
+            super.shutdown();
+            shutDown.countDown();
+          }
+        };
+    List<String> lines;
+    try (CapturedStderr err = new CapturedStderr()) {
+      core.service("stopper", stopper);
+      core.source(new EventBlock<Integer>()).listen(x -> {}); // another service, which it stops
+      core.start();
+      assertTrue(await(closeReturned), "close() from the service returned within " + patience());
+      assertTrue(await(shutDown), "the service shut down after closing its core");
+      lines = err.lines();
+    } finally {
+      core.close();
+    }
+    assertTrue(core.isClosed());
+    assertEquals(3, stopper.works.get(), "no work after the close");
+    assertEquals(1, stopper.initializations.get());
+    assertEquals(1, stopper.shutdowns.get());
+    assertFalse(interruptedAfterClose.get(), "closing its own core does not interrupt the caller");
+    for (String complaint : List.of("abandoned", "still running")) {
+      List<String> complaints = lines.stream().filter(l -> l.contains(complaint)).toList();
+      assertEquals(List.of(), complaints, "the core complained while closing itself");
+    }
+  }
+
   @Test
   default void aServiceNeverStartedIsNeitherInitializedNorShutDown() {
     Recording driver = new Recording(1);

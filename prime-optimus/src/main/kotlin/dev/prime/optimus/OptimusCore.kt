@@ -416,6 +416,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         subscriptions.forEach { it.close() }
         subscriptions.clear()
         scope.cancel()
+        // A generic service closing its own core was just interrupted by that cancel (it runs
+        // interruptibly). That interrupt only says "the core is closing", which the caller knows:
+        // cleared, it neither cuts this close's waits short nor reaches the code after close().
+        if (ownThread) Thread.interrupted()
         val cleanup = try {
             endpoint.connect("prime-${name()}-cleanup", CLEANUP_TIMEOUT, CLEANUP_TIMEOUT)
         } catch (_: Exception) {
