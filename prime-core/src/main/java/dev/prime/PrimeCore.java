@@ -494,8 +494,8 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
    * The chain may take any supertype of the source's values. Values the chain maps to {@code
-   * null} are not published. The default runs the service on a
-   * thread of this core and publishes to an in-memory source.
+   * null} are not published. The default runs the service on a thread of this core and publishes
+   * to an in-memory source.
    *
    * @param source the input source (may belong to another core)
    * @param chain the chain
