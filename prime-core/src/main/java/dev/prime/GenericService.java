@@ -51,7 +51,11 @@ import java.time.Duration;
  *       over processes (Optimus) it runs only in the process that hosts it, so several processes
  *       may declare it and exactly one runs it.
  * </ul>
+ *
+ * <p>Only {@link #work()} must be written, so a simple poller is a lambda: {@code
+ * core.service("poller", () -> { readings.publish(sensor.read()); Thread.sleep(100); })}.
  */
+@FunctionalInterface
 public interface GenericService {
 
   /**
