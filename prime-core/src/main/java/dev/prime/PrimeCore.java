@@ -1,17 +1,11 @@
 package dev.prime;
 
-import dev.prime.blocks.AsyncCollectorBlock;
-import dev.prime.blocks.ForEachBlock;
-import dev.prime.blocks.ForkBlock;
-import dev.prime.blocks.GuardBlock;
-import dev.prime.blocks.IfThenElseBlock;
 import dev.prime.blocks.IsolateBlock;
-import dev.prime.blocks.LinkBlock;
-import dev.prime.blocks.RepeaterLoopBlock;
-import dev.prime.blocks.SyncCollectorBlock;
-import dev.prime.blocks.UnionBlock;
 import dev.prime.internal.ServiceThreads;
 import dev.prime.spi.AbstractChain;
+import dev.prime.spi.ChainCompiler;
+import dev.prime.spi.MediaSource;
+import dev.prime.spi.SourceCompiler;
 import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.Topology;
 import java.util.Collections;
@@ -22,7 +16,6 @@ import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.function.Consumer;
-import java.util.function.Function;
 import java.util.function.Predicate;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
@@ -66,9 +59,11 @@ import org.slf4j.LoggerFactory;
  * time before {@link #close()}; services declared after {@link #start()} start at once.
  *
  * <h2>For media authors</h2>
- * A media implements {@link #newChain}; everything else has a generic implementation built on
- * {@code newChain}, {@link Chain#toBlock()} and in-memory sources with one thread per service.
- * A media overrides what it can do better (Optimus re-routes Redis lists, Radiant fuses chains).
+ * A media is a compiler of the topology model. Every declaration is recorded as a node with its
+ * logic ({@link TopologyRecorder}) and compiled at once by the media's {@link #chainCompiler()},
+ * which a media implements; templates it does not compile in its own way become the core's
+ * generic blocks. Sources and their services are in memory, one thread per service, unless the
+ * media has a {@link #sourceCompiler()} (Optimus: Redis lists and services).
  */
 public abstract class PrimeCore implements AutoCloseable {
 
@@ -86,6 +81,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private final String name;
   private final String media;
   private volatile TopologyRecorder recorder; // made on first use: it refers to this core
+  private volatile ModelCompiler<?> compiler; // made on first use: the media's compilers
   private final ServiceThreads services;
   private final InProcessServices inProcess;
   private final Object lifecycle = new Object();
@@ -139,7 +135,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, O> Chain<I, O> chain(Block<I, O> block) {
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return newChain(topologyRecorder().blockChain(null), block);
+    return compiled(topologyRecorder().blockChain(null, block));
   }
 
   /**
@@ -156,19 +152,76 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return newChain(topologyRecorder().blockChain(name), block);
+    return compiled(topologyRecorder().blockChain(name, block));
   }
 
   /**
-   * Creates this media's chain for a block. The name is already claimed.
+   * The media's compiler of the topology model's chain nodes: every chain of this core is
+   * recorded in the model and compiled by it at once (see {@link ChainCompiler}). Called once,
+   * when the first chain is made.
    *
-   * @param name the chain's name
-   * @param block the logic
-   * @param <I> input type
-   * @param <O> output type
-   * @return the chain
+   * @return the compiler
    */
-  protected abstract <I, O> Chain<I, O> newChain(String name, Block<I, O> block);
+  protected abstract ChainCompiler<?> chainCompiler();
+
+  /**
+   * Compiles a chain node just recorded, consuming the chains it is made of.
+   *
+   * @param name the node's name
+   * @param parts the chains given for its parts, in order, already checked
+   */
+  private <I, O> Chain<I, O> compiled(String name, Chain<?, ?>... parts) {
+    return model().chain(name, parts);
+  }
+
+  /**
+   * The media's compiler of the topology model's source nodes, or {@code null} (the default) for
+   * the core's in-memory sources and services (see {@link SourceCompiler}). Called once, when the
+   * first chain or source is made.
+   *
+   * @return the compiler, or {@code null}
+   */
+  protected SourceCompiler<?> sourceCompiler() {
+    return null;
+  }
+
+  /**
+   * This media's compiled form of a source, if it is one of this core's own in that form ({@link
+   * MediaSource#compiledForm()}); {@code null} for any other source. Consumes nothing.
+   *
+   * @param source a source
+   * @param form the type of this media's source form
+   * @param <S> that type
+   * @return the form, or {@code null}
+   */
+  protected final <S> S sourcePart(Source<?> source, Class<S> form) {
+    if (source.core() == this && source instanceof MediaSource<?> own) {
+      Object compiled = own.compiledForm();
+      if (form.isInstance(compiled)) {
+        return form.cast(compiled);
+      }
+    }
+    return null;
+  }
+
+  /** The in-memory sources and services of this core. */
+  InProcessServices inProcessServices() {
+    return inProcess;
+  }
+
+  private ModelCompiler<?> model() {
+    ModelCompiler<?> c = compiler;
+    if (c == null) {
+      synchronized (lifecycle) {
+        c = compiler;
+        if (c == null) {
+          c = new ModelCompiler<>(this, chainCompiler(), sourceCompiler());
+          compiler = c;
+        }
+      }
+    }
+    return c;
+  }
 
   /**
    * Links two chains: the result feeds {@code first}'s output to {@code second}. Consumes both. A
@@ -182,10 +235,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the combined chain, named {@code first>second}
    */
-  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
+  public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
     requireChains(first, second);
-    return newChain(
-        topologyRecorder().link(first, second), new LinkBlock<>(first.toBlock(), second.toBlock()));
+    return compiled(topologyRecorder().link(first, second), first, second);
   }
 
   // ---------------------------------------------------------------- templates
@@ -201,13 +253,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the combined chain
    */
-  public <I, O> Chain<I, O> ifThenElse(
+  public final <I, O> Chain<I, O> ifThenElse(
       Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
-    return newChain(
-        topologyRecorder().ifElse(then, otherwise),
-        new IfThenElseBlock<>(condition, then.toBlock(), otherwise.toBlock()));
+    return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
   }
 
   /**
@@ -218,10 +268,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> element type of the output
    * @return the combined chain
    */
-  public <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
+  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
     requireChains(body);
-    return newChain(
-        topologyRecorder().forEach(body), new ForEachBlock<>(body.toBlock()));
+    return compiled(topologyRecorder().forEach(body), body);
   }
 
   /**
@@ -234,9 +283,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <B> output of b
    * @return the union
    */
-  public <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
-    requireChains(a, b);
-    return newChain(topologyRecorder().union(a, b), UnionBlock.of(a.toBlock(), b.toBlock()));
+  public final <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
+    return unionOf(a, b);
   }
 
   /**
@@ -251,10 +299,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <C> output of c
    * @return the union
    */
-  public <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
+  public final <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
-    requireChains(a, b, c);
-    return newChain(topologyRecorder().union(a, b, c), UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock()));
+    return unionOf(a, b, c);
   }
 
   /**
@@ -271,12 +318,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <D> output of d
    * @return the union
    */
-  public <I, A, B, C, D> Chain<I, Tuple4<A, B, C, D>> union(
+  public final <I, A, B, C, D> Chain<I, Tuple4<A, B, C, D>> union(
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
-    requireChains(a, b, c, d);
-    return newChain(
-        topologyRecorder().union(a, b, c, d),
-        UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock()));
+    return unionOf(a, b, c, d);
   }
 
   /**
@@ -295,12 +339,15 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <E> output of e
    * @return the union
    */
-  public <I, A, B, C, D, E> Chain<I, Tuple5<A, B, C, D, E>> union(
+  public final <I, A, B, C, D, E> Chain<I, Tuple5<A, B, C, D, E>> union(
       Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
-    requireChains(a, b, c, d, e);
-    return newChain(
-        topologyRecorder().union(a, b, c, d, e),
-        UnionBlock.of(a.toBlock(), b.toBlock(), c.toBlock(), d.toBlock(), e.toBlock()));
+    return unionOf(a, b, c, d, e);
+  }
+
+  /** A union of 2 to 5 chains; the tuple type follows from the number of parts. */
+  private <I, T> Chain<I, T> unionOf(Chain<?, ?>... parts) {
+    requireChains(parts);
+    return compiled(topologyRecorder().union(parts), parts);
   }
 
   /**
@@ -313,11 +360,10 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the forked chain
    */
-  public <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
+  public final <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
     requireChains(chain);
-    return newChain(
-        topologyRecorder().fork(chain), new ForkBlock<>(chain.toBlock(), events));
+    return compiled(topologyRecorder().fork(chain, events), chain);
   }
 
   /**
@@ -331,14 +377,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the guarded chain
    */
-  public <I, O> Chain<I, O> guard(
+  public final <I, O> Chain<I, O> guard(
       Predicate<? super I> pass, Chain<I, O> chain, Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
-    return newChain(
-        topologyRecorder().guard(chain),
-        new GuardBlock<>(pass, chain.toBlock(), substitute));
+    return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
   }
 
   /**
@@ -349,7 +393,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return a factory of user chains
    */
-  public <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
+  public final <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
     requireChains(chain);
     String sharedName = chain.name();
     String sharedNode = topologyRecorder().isolate(chain);
@@ -364,9 +408,9 @@ public abstract class PrimeCore implements AutoCloseable {
       @Override
       public Chain<I, O> newUser() {
         ensureOpen();
-        return newChain(
-            topologyRecorder().isolatedUser(sharedNode, sharedName, users.incrementAndGet()),
-            shared);
+        return compiled(
+            topologyRecorder()
+                .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared));
       }
     };
   }
@@ -379,11 +423,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    * @return the collector chain
    */
-  public <T> Chain<Token, T> syncCollector(Source<T> source) {
+  public final <T> Chain<Token, T> syncCollector(Source<T> source) {
     requireSource(source);
-    return newChain(
-        topologyRecorder().syncCollector(source),
-        new SyncCollectorBlock<>(InProcessServices.serviceReader(source)));
+    return compiled(topologyRecorder().syncCollector(source));
   }
 
   /**
@@ -395,11 +437,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    * @return the collector chain
    */
-  public <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
+  public final <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
     requireSource(source);
-    return newChain(
-        topologyRecorder().asyncCollector(source),
-        new AsyncCollectorBlock<>(InProcessServices.serviceReader(source)));
+    return compiled(topologyRecorder().asyncCollector(source));
   }
 
   /**
@@ -413,13 +453,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type: the conclusion
    * @return the repeater chain
    */
-  public <I, R, O> Chain<I, O> repeater(
+  public final <I, R, O> Chain<I, O> repeater(
       Chain<I, R> inner, RepeaterBlock<I, R, Void, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
     requireChains(inner);
-    return newChain(
-        topologyRecorder().repeater(inner, null),
-        new RepeaterLoopBlock<>(inner.toBlock(), null, repeater, this::ensureOpen));
+    return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
   }
 
   /**
@@ -436,15 +474,14 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type: the conclusion
    * @return the repeater chain
    */
-  public <I, R, E, O> Chain<I, O> repeater(
+  public final <I, R, E, O> Chain<I, O> repeater(
       Chain<I, R> inner, Source<E> source, RepeaterBlock<I, R, E, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
     requireChains(inner);
     requireSource(source);
     Chain<Token, List<E>> collector = asyncCollector(source);
-    return newChain(
-        topologyRecorder().repeater(inner, collector.name()),
-        new RepeaterLoopBlock<>(inner.toBlock(), collector.toBlock(), repeater, this::ensureOpen));
+    return compiled(
+        topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
   }
 
   // ---------------------------------------------------------------- sources
@@ -459,7 +496,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <T> Source<T> source(EventBlock<T> events) {
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(topologyRecorder().eventSource(null), events);
+    return newSource(topologyRecorder().eventSource(null, events), events);
   }
 
   /**
@@ -474,28 +511,28 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(topologyRecorder().eventSource(name), events);
+    return newSource(topologyRecorder().eventSource(name, events), events);
   }
 
   /**
-   * Creates this media's source for an event block. The default is an in-memory broadcast
-   * source. The name is already claimed.
+   * Makes the source of a node just recorded, fed by an event block: the media's own ({@link
+   * SourceCompiler#eventSource}) or an in-memory one.
    *
-   * @param name the source's name
+   * @param name the node's name
    * @param events the event block
    * @param <T> value type
    * @return the source
    */
-  protected <T> Source<T> newSource(String name, EventBlock<T> events) {
-    return inProcess.eventSource(name, events);
+  protected final <T> Source<T> newSource(String name, EventBlock<T> events) {
+    return model().eventSource(name, events);
   }
-
 
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
    * The chain may take any supertype of the source's values. Values the chain maps to {@code
-   * null} are not published. The default runs the service on a thread of this core and publishes
-   * to an in-memory source.
+   * null} are not published. On a source of the media's own ({@link SourceCompiler}) the media
+   * compiles the service; otherwise it runs on a thread of this core and publishes to an in-memory
+   * source.
    *
    * @param source the input source (may belong to another core)
    * @param chain the chain
@@ -503,29 +540,41 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the source of outputs, named {@code source>chain}
    */
-  public <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
+  @SuppressWarnings("unchecked")
+  public final <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
     requireChains(chain);
+    ModelCompiler<?> model = model();
+    if (model.ownsSource(source)) {
+      return (Source<O>) model.service(topologyRecorder().sourceLink(source, chain), source, chain);
+    }
     Block<I, O> block = Block.narrow(chain.toBlock());
     return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
   }
 
   /**
-   * The default of {@link Source#filter}: a service that republishes the values that pass.
+   * {@link Source#filter}: a service that republishes the values that pass (compiled like {@link
+   * #link(Source, Chain)}).
    *
    * @param source the source
    * @param predicate decides
    * @param <T> value type
    * @return the filtered source
    */
-  protected <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
+  @SuppressWarnings("unchecked")
+  protected final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
-    return inProcess.filter(topologyRecorder().filter(source), source, predicate);
+    String name = topologyRecorder().filter(source, predicate);
+    ModelCompiler<?> model = model();
+    return model.ownsSource(source)
+        ? (Source<T>) model.service(name, source, null)
+        : inProcess.filter(name, source, predicate);
   }
 
   /**
-   * The default of {@link Source#flatMap}: a service that publishes every value made of each.
+   * {@link Source#flatMap}: a service that publishes every value made of each (compiled like
+   * {@link #link(Source, Chain)}).
    *
    * @param source the source
    * @param block makes the values
@@ -533,24 +582,36 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <R> output type
    * @return the flattened source
    */
-  protected <T, R> Source<R> flatMapSource(
+  @SuppressWarnings("unchecked")
+  protected final <T, R> Source<R> flatMapSource(
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
-    return inProcess.flatMap(topologyRecorder().flatMap(source), source, block);
+    String name = topologyRecorder().flatMap(source, block);
+    ModelCompiler<?> model = model();
+    return model.ownsSource(source)
+        ? (Source<R>) model.service(name, source, null)
+        : inProcess.flatMap(name, source, block);
   }
 
   /**
-   * The default of {@link Source#listen}: a service that calls the listener with each value.
+   * {@link Source#listen}: a service that calls the listener with each value (compiled like
+   * {@link #link(Source, Chain)}).
    *
    * @param source the source
    * @param listener the listener
    * @param <T> value type
    */
-  protected <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
+  protected final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
-    inProcess.listen(topologyRecorder().listener(source), source, listener);
+    String name = topologyRecorder().listener(source, listener);
+    ModelCompiler<?> model = model();
+    if (model.ownsSource(source)) {
+      model.service(name, source, null);
+    } else {
+      inProcess.listen(name, source, listener);
+    }
   }
 
   /**
@@ -573,7 +634,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(service, "service must not be null");
     ensureOpen();
-    runGenericService(topologyRecorder().genericService(name), service);
+    runGenericService(topologyRecorder().genericService(name, service), service);
   }
 
   /**
@@ -617,31 +678,6 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final Topology topology() {
     return topologyRecorder().snapshot(this::isHostedHere);
-  }
-
-  /**
-   * Consumes a chain given to a link or template and returns it in this media's compiled form.
-   * Which chains are this media's own is the topology's rule: a chain of this core gives the form
-   * its media compiled it to ({@link AbstractChain#compiledForm()}); any other chain (of another
-   * core, or of another media: a {@link dev.prime.topology.TopologyNode.ForeignChain} of the
-   * topology) is consumed through its {@link Chain#toBlock()}, and {@code foreign} turns that block
-   * into the form. A media never needs to recognise chains by their class.
-   *
-   * @param chain the chain, already checked by {@link #requireChains}
-   * @param form the type of this media's compiled form
-   * @param foreign makes the form of another core's chain from its block
-   * @param <F> the form
-   * @return the chain's form
-   */
-  protected final <F> F part(
-      Chain<?, ?> chain, Class<F> form, Function<Block<?, ?>, ? extends F> foreign) {
-    if (chain.core() == this && chain instanceof AbstractChain<?, ?> own) {
-      F compiled = own.consumeAsPart(form);
-      if (compiled != null) {
-        return compiled;
-      }
-    }
-    return foreign.apply(chain.toBlock());
   }
 
   /**

@@ -14,7 +14,10 @@ package dev.prime;
 public class QueueFullException extends PrimeException {
   private static final long serialVersionUID = 1L;
 
+  /** The service whose input is full. */
   private final String serviceName;
+
+  /** How many unprocessed values its input holds. */
   private final long capacity;
 
   /**

@@ -5,6 +5,8 @@ import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.conformance.CapturedStderr;
+import dev.prime.spi.ChainCompiler;
+import dev.prime.spi.GenericChainCompiler;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
@@ -25,8 +27,8 @@ class MemorySourceTest {
     }
 
     @Override
-    protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
-      throw new UnsupportedOperationException("not needed");
+    protected ChainCompiler<?> chainCompiler() {
+      return new GenericChainCompiler();
     }
   }
 

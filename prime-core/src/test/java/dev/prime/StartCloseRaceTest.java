@@ -4,6 +4,8 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.conformance.ConformanceBase;
+import dev.prime.spi.ChainCompiler;
+import dev.prime.spi.GenericChainCompiler;
 import dev.prime.spi.AbstractChain;
 import dev.prime.spi.FailureNamingBlock;
 import java.util.concurrent.CompletableFuture;
@@ -24,14 +26,8 @@ class StartCloseRaceTest {
     }
 
     @Override
-    protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
-      PrimeCore self = this;
-      return new AbstractChain<>(self, name) {
-        @Override
-        protected Block<I, O> createBlock() {
-          return new FailureNamingBlock<>(name, block);
-        }
-      };
+    protected ChainCompiler<?> chainCompiler() {
+      return new GenericChainCompiler();
     }
 
     @Override

@@ -47,7 +47,17 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
   @Override
   public final Block<I, O> toBlock() {
     consume();
-    Block<I, O> block = createBlock();
+    return copyingValues(createBlock());
+  }
+
+  /**
+   * {@code block} as {@link #toBlock()} hands it out: copying each input and result if the core
+   * copies values and this media does not already ({@link #copiesValuesItself()}).
+   *
+   * @param block a block of this chain
+   * @return {@code block}, or a block that copies around it
+   */
+  protected final Block<I, O> copyingValues(Block<I, O> block) {
     ValueCodec copies = core.config().valueCopies();
     return copies == null || copiesValuesItself() ? block : new CopyingBlock<>(name, block, copies);
   }
@@ -82,7 +92,7 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
   /**
    * What this media compiled the chain to, that a link or template of the same core takes in
    * place of {@link #toBlock()} (Radiant: the chain's node tree; Optimus: its services); {@code
-   * null} (the default) if the media has no such form. See {@code PrimeCore.part}.
+   * null} (the default) if the media has no such form. See {@link ChainCompiler}.
    *
    * @return the compiled form, or {@code null}
    */
@@ -91,9 +101,9 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
   }
 
   /**
-   * For {@link PrimeCore}: consumes this chain as a part of a link or template of its own core and
-   * returns its {@linkplain #compiledForm() compiled form}, if that is a {@code form}; else
-   * consumes nothing and returns {@code null}.
+   * For the core's compiler of the topology model: consumes this chain as a part of a link or
+   * template of its own core and returns its {@linkplain #compiledForm() compiled form}, if that
+   * is a {@code form}; else consumes nothing and returns {@code null}.
    *
    * @param form the type the core wants
    * @param <F> that type

@@ -20,4 +20,15 @@ public interface MediaSource<T> extends Source<T> {
    * @return a new reader
    */
   Reader<T> serviceReader();
+
+  /**
+   * What this media compiled the source to, that a service of the same core reads it through
+   * (Optimus: its Redis keys); {@code null} (the default) for a source the core's in-memory
+   * services read through readers. See {@link SourceCompiler}.
+   *
+   * @return the compiled form, or {@code null}
+   */
+  default Object compiledForm() {
+    return null;
+  }
 }

@@ -1,7 +1,11 @@
 package dev.prime.spi;
 
+import dev.prime.Block;
 import dev.prime.Chain;
+import dev.prime.EventBlock;
+import dev.prime.GenericService;
 import dev.prime.PrimeCore;
+import dev.prime.RepeaterBlock;
 import dev.prime.Source;
 import dev.prime.internal.Names;
 import dev.prime.topology.Topology;
@@ -11,6 +15,7 @@ import java.util.HashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Objects;
+import java.util.function.Consumer;
 import java.util.function.Predicate;
 
 /**
@@ -23,12 +28,18 @@ import java.util.function.Predicate;
  * here is recorded first as a {@link TopologyNode.ForeignChain} ({@code hosted(name)}) or {@link
  * TopologyNode.ForeignSource}, whose name is then the part's name. {@link PrimeCore} makes one
  * per core ({@link PrimeCore#topologyRecorder()} gives it to media). Thread-safe.
+ *
+ * <p>Each node is recorded with its {@link NodeLogic} (the block, predicate, event block, source
+ * or other core's chain it runs), which the public {@link TopologyNode} leaves out: a media
+ * compiles a node from the node and {@link #logic(String) its logic} (see {@link
+ * ChainCompiler}), so the model is the one description of the diagram every media compiles.
  */
 public final class TopologyRecorder {
   private final PrimeCore owner;
   private final Names names = new Names();
   private final List<TopologyNode> nodes = new ArrayList<>(); // guarded by this
   private final Map<String, TopologyNode> byName = new HashMap<>(); // guarded by this
+  private final Map<String, NodeLogic> logic = new HashMap<>(); // guarded by this
   private final Map<Object, String> foreign = new HashMap<>(); // guarded by this
   private final Map<String, Integer> readers = new HashMap<>(); // guarded by this
 
@@ -43,23 +54,29 @@ public final class TopologyRecorder {
    * Records a chain made of a block.
    *
    * @param name the name the user gave, or {@code null} for {@code chain-N}
+   * @param block the chain's block
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String blockChain(String name) {
-    return add(new TopologyNode.BlockChain(name == null ? names.fresh("chain") : names.claim(name)));
+  public synchronized String blockChain(String name, Block<?, ?> block) {
+    NodeLogic run = new NodeLogic.Run(block);
+    return add(
+        new TopologyNode.BlockChain(name == null ? names.fresh("chain") : names.claim(name)), run);
   }
 
   /**
    * Records a source fed by an event block.
    *
    * @param name the name the user gave, or {@code null} for {@code source-N}
+   * @param events what the source publishes
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String eventSource(String name) {
+  public synchronized String eventSource(String name, EventBlock<?> events) {
+    NodeLogic published = new NodeLogic.Events(events);
     return add(
-        new TopologyNode.EventSource(name == null ? names.fresh("source") : names.claim(name)));
+        new TopologyNode.EventSource(name == null ? names.fresh("source") : names.claim(name)),
+        published);
   }
 
   /**
@@ -73,7 +90,8 @@ public final class TopologyRecorder {
     String a = part(first);
     String b = part(second);
     return add(
-        new TopologyNode.Link(names.derived(first.name() + ">" + second.name(), "link"), a, b));
+        new TopologyNode.Link(names.derived(first.name() + ">" + second.name(), "link"), a, b),
+        NodeLogic.None.NONE);
   }
 
   /**
@@ -81,13 +99,16 @@ public final class TopologyRecorder {
    *
    * @param then the chain for inputs that satisfy the condition
    * @param otherwise the chain for the others
+   * @param condition chooses the branch
    * @return the template chain's name, {@code if(then|otherwise)}
    */
-  public synchronized String ifElse(Chain<?, ?> then, Chain<?, ?> otherwise) {
+  public synchronized String ifElse(
+      Chain<?, ?> then, Chain<?, ?> otherwise, Predicate<?> condition) {
+    NodeLogic chooses = new NodeLogic.Condition(condition);
     String a = part(then);
     String b = part(otherwise);
     String name = names.derived("if(" + then.name() + "|" + otherwise.name() + ")", "if");
-    return add(new TopologyNode.IfElse(name, a, b));
+    return add(new TopologyNode.IfElse(name, a, b), chooses);
   }
 
   /**
@@ -99,7 +120,8 @@ public final class TopologyRecorder {
   public synchronized String forEach(Chain<?, ?> body) {
     String b = part(body);
     return add(
-        new TopologyNode.ForEach(names.derived("forEach(" + body.name() + ")", "forEach"), b));
+        new TopologyNode.ForEach(names.derived("forEach(" + body.name() + ")", "forEach"), b),
+        NodeLogic.None.NONE);
   }
 
   /**
@@ -116,29 +138,37 @@ public final class TopologyRecorder {
       preferred.append(i == 0 ? "" : "|").append(chains[i].name());
     }
     String name = names.derived(preferred.append(')').toString(), "union");
-    return add(new TopologyNode.Union(name, parts));
+    return add(new TopologyNode.Union(name, parts), NodeLogic.None.NONE);
   }
 
   /**
    * Records the fork template.
    *
    * @param chain the forked chain
+   * @param events receives every output
    * @return the template chain's name, {@code fork(chain)}
    */
-  public synchronized String fork(Chain<?, ?> chain) {
+  public synchronized String fork(Chain<?, ?> chain, EventBlock<?> events) {
+    NodeLogic publishes = new NodeLogic.Events(events);
     String c = part(chain);
-    return add(new TopologyNode.Fork(names.derived("fork(" + chain.name() + ")", "fork"), c));
+    return add(
+        new TopologyNode.Fork(names.derived("fork(" + chain.name() + ")", "fork"), c), publishes);
   }
 
   /**
    * Records the guard template.
    *
    * @param chain the guarded chain
+   * @param pass decides which inputs run the chain
+   * @param substitute the output for the others
    * @return the template chain's name, {@code guard(chain)}
    */
-  public synchronized String guard(Chain<?, ?> chain) {
+  public synchronized String guard(
+      Chain<?, ?> chain, Predicate<?> pass, Block<?, ?> substitute) {
+    NodeLogic guarded = new NodeLogic.Guarded(pass, substitute);
     String c = part(chain);
-    return add(new TopologyNode.Guard(names.derived("guard(" + chain.name() + ")", "guard"), c));
+    return add(
+        new TopologyNode.Guard(names.derived("guard(" + chain.name() + ")", "guard"), c), guarded);
   }
 
   /**
@@ -157,11 +187,15 @@ public final class TopologyRecorder {
    * @param shared the shared chain's node, from {@link #isolate}
    * @param sharedName the shared chain's own name
    * @param user 1 for the first user, 2 for the next, ...
+   * @param block the block every user calls, which runs the shared chain one call at a time
    * @return the user chain's name, {@code shared@user}
    */
-  public synchronized String isolatedUser(String shared, String sharedName, int user) {
+  public synchronized String isolatedUser(
+      String shared, String sharedName, int user, Block<?, ?> block) {
+    NodeLogic calls = new NodeLogic.Shared(block);
     return add(
-        new TopologyNode.IsolatedUser(names.derived(sharedName + "@" + user, "isolated"), shared));
+        new TopologyNode.IsolatedUser(names.derived(sharedName + "@" + user, "isolated"), shared),
+        calls);
   }
 
   /**
@@ -174,7 +208,8 @@ public final class TopologyRecorder {
     String s = sourcePart(source);
     return add(
         new TopologyNode.SyncCollector(
-            names.derived("collect(" + source.name() + ")", "collect"), s));
+            names.derived("collect(" + source.name() + ")", "collect"), s),
+        new NodeLogic.Collect(source));
   }
 
   /**
@@ -187,7 +222,8 @@ public final class TopologyRecorder {
     String s = sourcePart(source);
     return add(
         new TopologyNode.AsyncCollector(
-            names.derived("collectAll(" + source.name() + ")", "collectAll"), s));
+            names.derived("collectAll(" + source.name() + ")", "collectAll"), s),
+        new NodeLogic.Collect(source));
   }
 
   /**
@@ -196,13 +232,17 @@ public final class TopologyRecorder {
    * @param inner the chain run each round
    * @param collector the async collector it reads between rounds (recorded before), or {@code
    *     null}
+   * @param repeater decides after each round
    * @return the repeater chain's name, {@code repeat(inner)}
    */
-  public synchronized String repeater(Chain<?, ?> inner, String collector) {
+  public synchronized String repeater(
+      Chain<?, ?> inner, String collector, RepeaterBlock<?, ?, ?, ?> repeater) {
+    NodeLogic decides = new NodeLogic.Repeat(repeater);
     String i = part(inner);
     return add(
         new TopologyNode.Repeater(
-            names.derived("repeat(" + inner.name() + ")", "repeat"), i, collector));
+            names.derived("repeat(" + inner.name() + ")", "repeat"), i, collector),
+        decides);
   }
 
   /**
@@ -217,53 +257,66 @@ public final class TopologyRecorder {
     String c = part(chain);
     return add(
         new TopologyNode.SourceLink(
-            names.derived(source.name() + ">" + chain.name(), "link"), s, c));
+            names.derived(source.name() + ">" + chain.name(), "link"), s, c),
+        NodeLogic.None.NONE);
   }
 
   /**
    * Records a filter of a source.
    *
    * @param source the input source
+   * @param predicate decides which values pass
    * @return the filtered source's name, {@code filter(source)}
    */
-  public synchronized String filter(Source<?> source) {
+  public synchronized String filter(Source<?> source, Predicate<?> predicate) {
+    NodeLogic passes = new NodeLogic.Condition(predicate);
     String s = sourcePart(source);
-    return add(new TopologyNode.Filter(names.derived("filter(" + source.name() + ")", "filter"), s));
+    return add(
+        new TopologyNode.Filter(names.derived("filter(" + source.name() + ")", "filter"), s),
+        passes);
   }
 
   /**
    * Records a flat-map of a source.
    *
    * @param source the input source
+   * @param block makes the values published for each input
    * @return the flattened source's name, {@code flatMap(source)}
    */
-  public synchronized String flatMap(Source<?> source) {
+  public synchronized String flatMap(Source<?> source, Block<?, ? extends Iterable<?>> block) {
+    NodeLogic expands = new NodeLogic.Expand(block);
     String s = sourcePart(source);
     return add(
-        new TopologyNode.FlatMap(names.derived("flatMap(" + source.name() + ")", "flatMap"), s));
+        new TopologyNode.FlatMap(names.derived("flatMap(" + source.name() + ")", "flatMap"), s),
+        expands);
   }
 
   /**
    * Records a listener of a source.
    *
    * @param source the source
+   * @param listener called with every value
    * @return the listener's name, {@code listen(source)}
    */
-  public synchronized String listener(Source<?> source) {
+  public synchronized String listener(Source<?> source, Consumer<?> listener) {
+    NodeLogic listens = new NodeLogic.Listen(listener);
     String s = sourcePart(source);
     return add(
-        new TopologyNode.Listener(names.derived("listen(" + source.name() + ")", "listen"), s));
+        new TopologyNode.Listener(names.derived("listen(" + source.name() + ")", "listen"), s),
+        listens);
   }
 
   /**
    * Records a generic service.
    *
    * @param name the name the user gave
+   * @param service what it runs
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String genericService(String name) {
-    return add(new TopologyNode.GenericServiceNode(names.claim(name)));
+  public synchronized String genericService(String name, GenericService service) {
+    NodeLogic works = new NodeLogic.Work(service);
+    return add(new TopologyNode.GenericServiceNode(names.claim(name)), works);
   }
 
   /**
@@ -275,7 +328,9 @@ public final class TopologyRecorder {
     if (!byName.containsKey(source)) {
       throw new IllegalStateException("no source named '" + source + "' was recorded");
     }
-    add(new TopologyNode.ReaderNode(source, readers.merge(source, 1, Integer::sum)));
+    add(
+        new TopologyNode.ReaderNode(source, readers.merge(source, 1, Integer::sum)),
+        NodeLogic.None.NONE);
   }
 
   /**
@@ -307,6 +362,18 @@ public final class TopologyRecorder {
   }
 
   /**
+   * The logic of the node with a name: what a media needs, besides the node, to compile it.
+   *
+   * @param name a recorded name
+   * @return the node's logic
+   * @throws IllegalArgumentException if nothing of that name was recorded
+   */
+  public synchronized NodeLogic logic(String name) {
+    node(name);
+    return logic.get(name);
+  }
+
+  /**
    * A snapshot of what was recorded.
    *
    * @param hostedHere whether this process runs a service
@@ -322,9 +389,10 @@ public final class TopologyRecorder {
     return Topology.of(nodes, elsewhere);
   }
 
-  private String add(TopologyNode node) {
+  private String add(TopologyNode node, NodeLogic runs) {
     nodes.add(node);
     byName.put(node.name(), node);
+    logic.put(node.name(), runs);
     return node.name();
   }
 
@@ -350,7 +418,9 @@ public final class TopologyRecorder {
     }
     String name = names.derived("hosted(" + chain.name() + ")", "hosted");
     foreign.put(chain, name);
-    return add(new TopologyNode.ForeignChain(name, chain.core().name(), chain.name()));
+    return add(
+        new TopologyNode.ForeignChain(name, chain.core().name(), chain.name()),
+        new NodeLogic.OtherChain(chain));
   }
 
   /** The node name of a source used as a part: its own, or a new foreign node's. */
@@ -365,6 +435,8 @@ public final class TopologyRecorder {
     String name =
         names.derived("from(" + source.core().name() + ":" + source.name() + ")", "foreign");
     foreign.put(source, name);
-    return add(new TopologyNode.ForeignSource(name, source.core().name(), source.name()));
+    return add(
+        new TopologyNode.ForeignSource(name, source.core().name(), source.name()),
+        new NodeLogic.OtherSource(source));
   }
 }

@@ -24,7 +24,12 @@ class TopologyRecorderTest {
     }
 
     @Override
-    protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
+    protected ChainCompiler<?> chainCompiler() {
+      return new GenericChainCompiler();
+    }
+
+    /** A chain of this core that a media made without recording it. */
+    <I, O> Chain<I, O> unrecorded(String name, Block<I, O> block) {
       PrimeCore self = this;
       return new AbstractChain<>(self, name) {
         @Override
@@ -32,10 +37,6 @@ class TopologyRecorderTest {
           return new FailureNamingBlock<>(name, block);
         }
       };
-    }
-
-    <I, O> Chain<I, O> unrecorded(String name, Block<I, O> block) {
-      return newChain(name, block);
     }
   }
 

@@ -1,9 +1,8 @@
 package dev.prime.liberty;
 
-import dev.prime.Block;
-import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
+import dev.prime.spi.ChainCompiler;
 
 /**
  * The Liberty media: a chain is a function, and linking chains composes their functions, so a
@@ -18,7 +17,7 @@ import dev.prime.PrimeCore;
  * }
  * }</pre>
  *
- * <p>Thread-safe. Templates use the generic implementations of {@link PrimeCore}.
+ * <p>Thread-safe. Templates other than links use the generic blocks of {@link PrimeCore}.
  */
 public final class LibertyCore extends PrimeCore {
 
@@ -36,23 +35,13 @@ public final class LibertyCore extends PrimeCore {
     super("liberty", config);
   }
 
-  @Override
-  protected <I, O> Chain<I, O> newChain(String name, Block<I, O> block) {
-    return LibertyChain.leaf(this, name, block);
-  }
-
   /**
-   * Links two chains by joining their steps: the linked chain's block is one flat composition of
-   * every block of both (no layer per link, no recursion, so chains of any length build and run
-   * on a default thread stack). Chains of another core are one step each, taken through their
-   * {@link Chain#toBlock()}.
+   * Compiles chains into flat compositions of their steps: a linked chain's block is one flat
+   * composition of every block of its parts (no layer per link, no recursion, so chains of any
+   * length build and run on a default thread stack).
    */
   @Override
-  public <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
-    requireChains(first, second);
-    String name = topologyRecorder().link(first, second);
-    StepSequence a = part(first, StepSequence.class, block -> new Step(null, block));
-    StepSequence b = part(second, StepSequence.class, block -> new Step(null, block));
-    return LibertyChain.linked(this, name, StepSequence.join(a, b));
+  protected ChainCompiler<?> chainCompiler() {
+    return new LibertyCompiler();
   }
 }

@@ -10,8 +10,9 @@ import dev.prime.GenericService
 import dev.prime.PrimeCore
 import dev.prime.Reader
 import dev.prime.Source
+import dev.prime.spi.ChainCompiler
 import dev.prime.spi.GenericServiceLoop
-import dev.prime.topology.TopologyNode
+import dev.prime.spi.SourceCompiler
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
@@ -31,15 +32,12 @@ import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
 import java.util.Collections
-import java.util.Objects
 import java.util.UUID
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.ExecutorService
 import java.util.concurrent.Executors
 import java.util.concurrent.atomic.AtomicInteger
-import java.util.function.Consumer
-import java.util.function.Predicate
 
 /**
  * The Optimus media: every chain is a real service over Redis lists, so parts of one topology can
@@ -216,28 +214,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** The Redis user this core logs in as (`null`: the default user), for messages. */
     internal val redisUser: String? get() = endpoint.user
 
-    // ------------------------------------------------------------------ chains
+    // ------------------------------------------------------------------ chains and sources
 
-    override fun <I, O> newChain(name: String, block: Block<I, O>): Chain<I, O> =
-        OptimusChain(this, name, listOf(StageSpec(name, chainLogic(block))))
+    /** Chains compile to the services they are made of ([OptimusChainCompiler]). */
+    override fun chainCompiler(): ChainCompiler<*> = OptimusChainCompiler(this)
 
-    override fun <I, M, O> link(first: Chain<I, M>?, second: Chain<in M, O>?): Chain<I, O> {
-        requireChains(first, second)
-        val name = topologyRecorder().link(first, second)
-        val link = topologyRecorder().node(name) as TopologyNode.Link
-        return OptimusChain(this, name, stagesOf(first!!, link.first()) + stagesOf(second!!, link.second()))
-    }
+    /** Sources are Redis lists, and services of them Redis services ([OptimusSourceCompiler]). */
+    override fun sourceCompiler(): SourceCompiler<*> = OptimusSourceCompiler(this)
 
-    /**
-     * The services of [chain], consuming it: a chain of this core gives its own; any other chain
-     * becomes one service, named as the topology names it ([node], `hosted(name)`), running its block.
-     */
-    private fun stagesOf(chain: Chain<*, *>, node: String): List<StageSpec> =
-        part(chain, Stages::class.java) { block -> Stages(listOf(StageSpec(node, chainLogic(block)))) }.specs
-
-    // ------------------------------------------------------------------ sources
-
-    override fun <T> newSource(name: String, events: EventBlock<T>): Source<T> {
+    /** A source of this core publishing what [events] publishes. */
+    internal fun <T> eventSource(name: String, events: EventBlock<T>): Source<T> {
         val source = OptimusSource<T>(this, name)
         subscriptions += events.subscribe { value ->
             try {
@@ -249,49 +235,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return source
     }
 
-    override fun <I, O> link(source: Source<I>?, chain: Chain<in I, O>?): Source<O> {
-        requireSource(source)
-        requireChains(chain)
-        if (source !is OptimusSource<I> || source.core() !== this) return super.link(source, chain)
-        val name = topologyRecorder().sourceLink(source, chain)
-        val stages = stagesOf(chain!!, (topologyRecorder().node(name) as TopologyNode.SourceLink).chain())
-        val output = OptimusSource<O>(this, name)
-        bindToSource(source, stages, output)
-        return output
-    }
-
-    @Suppress("UNCHECKED_CAST")
-    override fun <T> filterSource(source: Source<T>?, predicate: Predicate<in T>?): Source<T> {
-        Objects.requireNonNull(predicate, "predicate must not be null")
-        if (!isOwn(source)) return super.filterSource(source, predicate)
-        return serviceOn(source!!, topologyRecorder().filter(source), publishes = true) { input, emit -> if (predicate!!.test(input as T)) emit(input) }!!
-    }
-
-    @Suppress("UNCHECKED_CAST")
-    override fun <T, R> flatMapSource(source: Source<T>?, block: Block<in T, out Iterable<R>>?): Source<R> {
-        Objects.requireNonNull(block, "block must not be null")
-        if (!isOwn(source)) return super.flatMapSource(source, block)
-        return serviceOn(source!!, topologyRecorder().flatMap(source), publishes = true) { input, emit -> block!!.process(input as T)?.forEach(emit) }!!
-    }
-
-    @Suppress("UNCHECKED_CAST")
-    override fun <T> listenSource(source: Source<T>?, listener: Consumer<in T>?) {
-        Objects.requireNonNull(listener, "listener must not be null")
-        if (!isOwn(source)) return super.listenSource(source, listener)
-        serviceOn<Any>(source!!, topologyRecorder().listener(source), publishes = false) { input, _ -> listener!!.accept(input as T) }
-    }
-
-    /** Checks [source] like every link does; whether it is a source of this core (else the generic service is used). */
-    private fun isOwn(source: Source<*>?): Boolean {
-        requireSource(source)
-        return source is OptimusSource<*> && source.core() === this
-    }
-
-    /** One service reading [source] and running [logic], named [name]; its output source if it [publishes]. */
-    private fun <R> serviceOn(source: Source<*>, name: String, publishes: Boolean, logic: StageLogic): OptimusSource<R>? {
-        val output = if (publishes) OptimusSource<R>(this, name) else null
-        bindToSource(source as OptimusSource<*>, listOf(StageSpec(name, logic)), output)
-        return output
+    /**
+     * Binds [stages] (one service, or a linked chain's services) to read [source]; returns their
+     * output source, named [output], or `null` if they publish nothing (a listener).
+     */
+    internal fun serviceOn(source: OptimusSource<*>, stages: List<StageSpec>, output: String?): OptimusSource<Any>? {
+        val published = output?.let { OptimusSource<Any>(this, it) }
+        bindToSource(source, stages, published)
+        return published
     }
 
     /**
@@ -309,12 +260,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
-        require(source is OptimusSource<T> && source.core() === this) { "$source is not a source of $this" }
+        val keys = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }.keys
         val envelopes = values.map { value ->
             requireNotNull(value) { "sources carry no null values" }
             Envelope.value(ids.next(), encode(value))
         }
-        if (envelopes.isNotEmpty()) publish(source.keys, envelopes)
+        if (envelopes.isNotEmpty()) publish(keys, envelopes)
     }
 
     // ------------------------------------------------------------------ generic services
@@ -781,9 +732,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    private fun <I, O> chainLogic(block: Block<I, O>) = StageLogic { input, emit ->
+    /** A service's logic that runs [block] on each input and emits its output. */
+    internal fun chainLogic(block: Block<*, *>) = StageLogic { input, emit ->
         @Suppress("UNCHECKED_CAST")
-        emit(block.process(input as I))
+        emit((block as Block<Any?, Any?>).process(input))
     }
 
     /** Settings of an [OptimusCore]; [build] makes the core. */

@@ -27,5 +27,8 @@ internal class OptimusSource<T>(private val core: OptimusCore, private val name:
 
     override fun serviceReader(): Reader<T> = core.newReader(this)
 
+    /** Itself: the form its core's services read it through ([OptimusSourceCompiler]). */
+    override fun compiledForm(): Any = this
+
     override fun toString(): String = "OptimusSource[$name]"
 }

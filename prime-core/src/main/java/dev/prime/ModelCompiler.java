@@ -1,0 +1,215 @@
+package dev.prime;
+
+import dev.prime.blocks.AsyncCollectorBlock;
+import dev.prime.blocks.ForEachBlock;
+import dev.prime.blocks.ForkBlock;
+import dev.prime.blocks.GuardBlock;
+import dev.prime.blocks.IfThenElseBlock;
+import dev.prime.blocks.LinkBlock;
+import dev.prime.blocks.RepeaterLoopBlock;
+import dev.prime.blocks.SyncCollectorBlock;
+import dev.prime.blocks.UnionBlock;
+import dev.prime.spi.ChainCompiler;
+import dev.prime.spi.NodeLogic;
+import dev.prime.spi.SourceCompiler;
+import dev.prime.spi.TopologyRecorder;
+import dev.prime.topology.TopologyNode;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Objects;
+
+/**
+ * Compiles the chain nodes of a core's topology model with its media's {@link ChainCompiler}: the
+ * one place that says what each kind of chain node is made of and, for the templates a media does
+ * not compile in its own way, which generic block of {@code dev.prime.blocks} runs it.
+ *
+ * <p>A node is compiled as soon as it is recorded, from the node, its {@link NodeLogic} and the
+ * compiled forms of its parts (which it consumes): bottom-up, without recursion, each node once.
+ * Event sources and the services of the media's own sources go to its {@link SourceCompiler}, if
+ * it has one; otherwise (and for services of any other source) {@link PrimeCore} runs them in
+ * memory.
+ *
+ * @param <F> the media's compiled form
+ */
+final class ModelCompiler<F> {
+  private final PrimeCore core;
+  private final ChainCompiler<F> media;
+  private final SourceCompiler<?> sources; // null: in-memory sources
+
+  ModelCompiler(PrimeCore core, ChainCompiler<F> media, SourceCompiler<?> sources) {
+    this.core = core;
+    this.media = Objects.requireNonNull(media, "the media's chain compiler");
+    this.sources = sources;
+  }
+
+  /** Compiles a just recorded event source: the media's own, or an in-memory one. */
+  <T> Source<T> eventSource(String name, EventBlock<T> events) {
+    return sources == null
+        ? core.inProcessServices().eventSource(name, events)
+        : sources.eventSource(name, events);
+  }
+
+  /** Whether {@code source} is one of the media's own sources, whose services it compiles. */
+  boolean ownsSource(Source<?> source) {
+    return sources != null && core.sourcePart(source, sources.form()) != null;
+  }
+
+  /**
+   * Compiles a just recorded service of one of the media's own sources ({@link #ownsSource}),
+   * consuming {@code chain} (a source link's; {@code null} for the other services).
+   */
+  Source<?> service(String name, Source<?> input, Chain<?, ?> chain) {
+    TopologyRecorder model = core.topologyRecorder();
+    TopologyNode node = model.node(name);
+    Object chainForm = null;
+    if (node instanceof TopologyNode.SourceLink link) {
+      chainForm = part(chain, link.chain(), model).form();
+    }
+    return service(sources, node, model.logic(name), input, chainForm);
+  }
+
+  private <S> Source<?> service(
+      SourceCompiler<S> media, TopologyNode node, NodeLogic logic, Source<?> input, Object chain) {
+    return media.service(node, logic, core.sourcePart(input, media.form()), chain);
+  }
+
+  /**
+   * Compiles the recorded chain node {@code name}, consuming the chains it is made of.
+   *
+   * @param name a chain node's name, just recorded
+   * @param parts the chains given for its parts, in the order of the node's chain parts (checked
+   *     by {@link PrimeCore#requireChains})
+   * @return the chain
+   */
+  <I, O> Chain<I, O> chain(String name, Chain<?, ?>... parts) {
+    TopologyRecorder model = core.topologyRecorder();
+    TopologyNode node = model.node(name);
+    NodeLogic logic = model.logic(name);
+    List<String> partNodes = chainParts(node);
+    if (partNodes.size() != parts.length) {
+      throw new IllegalStateException(
+          "node '" + name + "' runs " + partNodes.size() + " chains, given " + parts.length);
+    }
+    List<Part<F>> compiled = new ArrayList<>(parts.length);
+    for (int i = 0; i < parts.length; i++) {
+      compiled.add(part(parts[i], partNodes.get(i), model));
+    }
+    return new ModelChain<>(core, name, compile(node, logic, compiled), media);
+  }
+
+  /** A compiled part: its node, its form, and the block a generic template calls. */
+  private record Part<F>(String node, F form, ModelChain<?, ?, ?> own, Block<?, ?> foreign) {
+    Block<?, ?> block() {
+      return own != null ? own.partBlock() : foreign;
+    }
+  }
+
+  /** Consumes a chain given as a part and compiles it (if another core's) as its node says. */
+  private Part<F> part(Chain<?, ?> chain, String node, TopologyRecorder model) {
+    if (chain.core() == core && chain instanceof ModelChain<?, ?, ?> mine) {
+      F form = mine.consumeAsPart(media.form());
+      if (form != null) {
+        return new Part<>(node, form, mine, null);
+      }
+    }
+    // another core's chain (recorded as a ForeignChain whose logic is that chain), or a chain of
+    // this core that is not in this media's form: taken through its toBlock()
+    NodeLogic logic = model.logic(node);
+    Chain<?, ?> other = logic instanceof NodeLogic.OtherChain foreign ? foreign.chain() : chain;
+    Block<?, ?> block = other.toBlock();
+    return new Part<>(node, media.foreign(node, block), null, block);
+  }
+
+  /**
+   * The names of the chains a chain node is given, in the order its recorder was given them: its
+   * parts, except for the nodes whose part is a source (collectors) or a block they share (isolate's
+   * users), which are given no chain.
+   */
+  private static List<String> chainParts(TopologyNode node) {
+    if (node instanceof TopologyNode.SyncCollector
+        || node instanceof TopologyNode.AsyncCollector
+        || node instanceof TopologyNode.IsolatedUser) {
+      return List.of();
+    }
+    return node.parts().stream().map(TopologyNode.Part::node).toList();
+  }
+
+  private F compile(TopologyNode node, NodeLogic logic, List<Part<F>> parts) {
+    String name = node.name();
+    if (logic instanceof NodeLogic.Run run) {
+      return media.block(name, run.block());
+    }
+    if (logic instanceof NodeLogic.Shared shared) {
+      return media.block(name, shared.block());
+    }
+    if (node instanceof TopologyNode.SyncCollector) {
+      return media.block(name, syncCollector(((NodeLogic.Collect) logic).source()));
+    }
+    if (node instanceof TopologyNode.AsyncCollector) {
+      return media.block(name, asyncCollector(((NodeLogic.Collect) logic).source()));
+    }
+    if (node instanceof TopologyNode.Repeater) {
+      return media.block(name, repeater((NodeLogic.Repeat) logic, parts));
+    }
+    List<F> forms = new ArrayList<>(parts.size());
+    for (Part<F> part : parts) {
+      forms.add(part.form());
+    }
+    F own = media.template(node, logic, forms);
+    return own != null ? own : media.block(name, generic(node, logic, parts));
+  }
+
+  private static <T> Block<Token, T> syncCollector(Source<T> source) {
+    return new SyncCollectorBlock<>(InProcessServices.serviceReader(source));
+  }
+
+  private static <T> Block<Token, List<T>> asyncCollector(Source<T> source) {
+    return new AsyncCollectorBlock<>(InProcessServices.serviceReader(source));
+  }
+
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  private Block<?, ?> repeater(NodeLogic.Repeat logic, List<Part<F>> parts) {
+    Block collector = parts.size() > 1 ? parts.get(1).block() : null;
+    return new RepeaterLoopBlock(
+        parts.get(0).block(), collector, logic.repeater(), core::ensureOpen);
+  }
+
+  /** The generic block of a template, calling its parts' blocks. */
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  private static Block<?, ?> generic(TopologyNode node, NodeLogic logic, List<? extends Part<?>> p) {
+    if (node instanceof TopologyNode.Link) {
+      return new LinkBlock(p.get(0).block(), p.get(1).block());
+    }
+    if (node instanceof TopologyNode.IfElse) {
+      return new IfThenElseBlock(
+          ((NodeLogic.Condition) logic).condition(), p.get(0).block(), p.get(1).block());
+    }
+    if (node instanceof TopologyNode.ForEach) {
+      return new ForEachBlock(p.get(0).block());
+    }
+    if (node instanceof TopologyNode.Fork) {
+      return new ForkBlock(p.get(0).block(), ((NodeLogic.Events) logic).events());
+    }
+    if (node instanceof TopologyNode.Guard) {
+      NodeLogic.Guarded guarded = (NodeLogic.Guarded) logic;
+      return new GuardBlock(guarded.pass(), p.get(0).block(), guarded.substitute());
+    }
+    if (node instanceof TopologyNode.Union) {
+      Block[] b = new Block[p.size()];
+      for (int i = 0; i < b.length; i++) {
+        b[i] = p.get(i).block();
+      }
+      switch (b.length) {
+        case 2:
+          return UnionBlock.of(b[0], b[1]);
+        case 3:
+          return UnionBlock.of(b[0], b[1], b[2]);
+        case 4:
+          return UnionBlock.of(b[0], b[1], b[2], b[3]);
+        default:
+          return UnionBlock.of(b[0], b[1], b[2], b[3], b[4]);
+      }
+    }
+    throw new IllegalStateException("not a chain template: " + node);
+  }
+}

@@ -1,0 +1,473 @@
+package dev.prime.mcap;
+
+import dev.prime.mcap.internal.McapFileWriter;
+import java.io.Closeable;
+import java.io.IOException;
+import java.io.InterruptedIOException;
+import java.io.UncheckedIOException;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Path;
+import java.util.ArrayList;
+import java.util.HashMap;
+import java.util.LinkedHashMap;
+import java.util.List;
+import java.util.Map;
+import java.util.Objects;
+import java.util.TreeMap;
+import java.util.concurrent.ArrayBlockingQueue;
+import java.util.concurrent.BlockingQueue;
+import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicInteger;
+import java.util.concurrent.atomic.AtomicLong;
+import java.util.concurrent.atomic.LongAdder;
+
+/**
+ * Writes MCAP files (mcap.dev): one channel per topic, JSON messages, a JSON Schema per value
+ * type, uncompressed chunks with message indexes, and a summary section (schemas, channels,
+ * statistics, chunk indexes, metadata indexes, summary offsets) so readers can seek.
+ *
+ * <pre>{@code
+ * try (McapWriter writer = McapWriter.open(Path.of("run.mcap"))) {
+ *   McapChannel<Pose> poses = writer.channel("odometry", Pose.class);
+ *   poses.write(logTime, publishTime, sequence, pose);
+ * }
+ * }</pre>
+ *
+ * <h2>Design note: threading and memory</h2>
+ *
+ * The caller is a robot controller that must never wait for a disk. So, by default, a write
+ * encodes the value to JSON in the caller's thread (a snapshot: mutable values may change right
+ * after) and offers the bytes to a queue bounded both in messages and in bytes; one background
+ * thread (a daemon, one per writer) takes them, batches them into chunks and writes the files.
+ * A write that finds the queue full does not wait: the message is dropped, counted in
+ * {@link #droppedCount()} and per channel, and the loss is reported in the file itself (a
+ * {@code prime.mcap} Metadata record per file: {@code dropped_messages} and
+ * {@code dropped.<topic>} counts). If the disk fails, the writer thread stops writing, the
+ * messages after it count as dropped, and {@link #close()} throws the failure.
+ *
+ * <p>Memory is bounded by the queue's byte bound, plus the open chunk (about the chunk size),
+ * plus a chunk index (about 70 bytes, and 10 per channel in the chunk) per chunk of the current
+ * file: rotation by size bounds that last term and the disk used per file.
+ *
+ * <p>Channels are defined from any thread; the writer thread adds a channel's Schema and
+ * Channel records to a file before its first message there, and every file's summary lists
+ * every channel defined so far (with zero messages if none came), so each rotated file stands
+ * alone. {@link #close()} waits for the queue to drain, then writes the summary and footer.
+ * With {@link McapWriterOptions#synchronous()} there is no queue and no thread: writes happen
+ * in the caller's thread under a lock and never drop.
+ *
+ * <h2>Rotation naming</h2>
+ *
+ * With {@link McapWriterOptions#rotateAtSize(long)}, the first file is the path given; the
+ * n-th next one inserts {@code -NNNN} (n, at least 4 digits) before the last dot of the file
+ * name: {@code run.mcap}, {@code run-0001.mcap}, {@code run-0002.mcap}, ... (no dot: the suffix
+ * goes at the end). Existing files of those names are overwritten. See {@link #rotatedPath}.
+ */
+public final class McapWriter implements Closeable {
+  /** The message encoding of every channel this writer makes. */
+  public static final String MESSAGE_ENCODING = "json";
+  /** The schema encoding of every schema this writer makes. */
+  public static final String SCHEMA_ENCODING = "jsonschema";
+  /** The name of the Metadata record that reports losses, one per file. */
+  public static final String LOSS_METADATA = "prime.mcap";
+
+  private static final int MAX_ID = 0xFFFF;
+
+  private final Path firstPath;
+  private final McapWriterOptions options;
+  private final OutputOpener opener;
+
+  private final Object definitions = new Object();
+  private final Map<String, McapChannel<?>> channelsByTopic = new LinkedHashMap<>();
+  private final Map<ValueType<?>, Integer> schemaIds = new HashMap<>();
+  private final Map<Integer, McapChannel<?>> channelsById = new ConcurrentHashMap<>();
+  private final Map<Integer, Integer> schemaOfChannel = new ConcurrentHashMap<>();
+  private final Map<Integer, Map<String, String>> channelMetadata = new ConcurrentHashMap<>();
+
+  private final BlockingQueue<Entry> queue;
+  private final AtomicLong queuedBytes = new AtomicLong();
+  private final LongAdder dropped = new LongAdder();
+  private final AtomicInteger inFlight = new AtomicInteger();
+  private volatile boolean closed;
+  private final Thread thread;
+  private final Object syncLock = new Object();
+
+  // Owned by the writer thread (or, when synchronous, by whoever holds syncLock).
+  private McapFileWriter file;
+  private int fileIndex;
+  private long droppedAtFileStart;
+  private final Map<Integer, Long> channelDroppedAtFileStart = new HashMap<>();
+  private volatile IOException failure;
+  private final List<Path> files = new CopyOnWriteArrayList<>();
+
+  private static final class Entry {
+    final McapChannel<?> channel;
+    final long sequence;
+    final long logTime;
+    final long publishTime;
+    final byte[] data;
+
+    Entry(McapChannel<?> channel, long sequence, long logTime, long publishTime, byte[] data) {
+      this.channel = channel;
+      this.sequence = sequence;
+      this.logTime = logTime;
+      this.publishTime = publishTime;
+      this.data = data;
+    }
+  }
+
+  private static final Entry CLOSE = new Entry(null, 0, 0, 0, new byte[0]);
+
+  private McapWriter(Path path, McapWriterOptions options, OutputOpener opener) throws IOException {
+    this.firstPath = path;
+    this.options = options;
+    this.opener = opener;
+    openFile(path);
+    if (options.isSynchronous()) {
+      queue = null;
+      thread = null;
+    } else {
+      queue = new ArrayBlockingQueue<>(options.queueMessages());
+      thread = new Thread(this::drain, "prime-mcap-writer " + path.getFileName());
+      thread.setDaemon(true);
+      thread.start();
+    }
+  }
+
+  /**
+   * Opens a writer with {@link McapWriterOptions#defaults()}.
+   *
+   * @param path the (first) file; created or overwritten
+   * @return the writer
+   * @throws IOException if the file cannot be created
+   */
+  public static McapWriter open(Path path) throws IOException {
+    return open(path, McapWriterOptions.defaults());
+  }
+
+  /**
+   * Opens a writer.
+   *
+   * @param path the (first) file; created or overwritten
+   * @param options chunk size, rotation, queue
+   * @return the writer
+   * @throws IOException if the file cannot be created
+   */
+  public static McapWriter open(Path path, McapWriterOptions options) throws IOException {
+    return open(path, options, OutputOpener.FILES);
+  }
+
+  static McapWriter open(Path path, McapWriterOptions options, OutputOpener opener) throws IOException {
+    Objects.requireNonNull(path, "path");
+    Objects.requireNonNull(options, "options");
+    return new McapWriter(path, options, opener);
+  }
+
+  /**
+   * The name of the {@code index}-th file of a rotated recording.
+   *
+   * @param first the path given to {@link #open}
+   * @param index 0 for the first file, n for the n-th rotation
+   * @return {@code first} for 0, else {@code first} with {@code -NNNN} before its extension
+   */
+  public static Path rotatedPath(Path first, int index) {
+    if (index < 0) {
+      throw new IllegalArgumentException("rotation index must not be negative, was " + index);
+    }
+    if (index == 0) {
+      return first;
+    }
+    String name = first.getFileName().toString();
+    int dot = name.lastIndexOf('.');
+    String stem = dot > 0 ? name.substring(0, dot) : name;
+    String extension = dot > 0 ? name.substring(dot) : "";
+    return first.resolveSibling(String.format("%s-%04d%s", stem, index, extension));
+  }
+
+  /**
+   * Defines a channel for a non-generic type.
+   *
+   * @param topic the topic (one channel per topic)
+   * @param type the values' class
+   * @param <T> the values' type
+   * @return the channel; the same one if the topic was defined before with the same type
+   * @throws IllegalArgumentException if the type is not supported, or the topic has another type
+   */
+  public <T> McapChannel<T> channel(String topic, Class<T> type) {
+    return channel(topic, ValueType.of(type), Map.of());
+  }
+
+  /**
+   * Defines a channel.
+   *
+   * @param topic the topic (one channel per topic)
+   * @param type the values' type, e.g. {@code new ValueType<Tuple2<Double, String>>() {}}
+   * @param <T> the values' type
+   * @return the channel; the same one if the topic was defined before with the same type
+   * @throws IllegalArgumentException if the topic has another type
+   */
+  public <T> McapChannel<T> channel(String topic, ValueType<T> type) {
+    return channel(topic, type, Map.of());
+  }
+
+  /**
+   * Defines a channel with metadata (stored in its Channel record).
+   *
+   * @param topic the topic (one channel per topic)
+   * @param type the values' type
+   * @param metadata key/value pairs for the Channel record
+   * @param <T> the values' type
+   * @return the channel; the same one if the topic was defined before with the same type
+   * @throws IllegalArgumentException if the topic has another type or 65535 channels exist
+   */
+  public <T> McapChannel<T> channel(String topic, ValueType<T> type, Map<String, String> metadata) {
+    Objects.requireNonNull(topic, "topic");
+    Objects.requireNonNull(type, "type");
+    if (topic.isEmpty()) {
+      throw new IllegalArgumentException("an MCAP topic must not be empty");
+    }
+    synchronized (definitions) {
+      if (closed) {
+        throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
+      }
+      McapChannel<?> existing = channelsByTopic.get(topic);
+      if (existing != null) {
+        if (!existing.type().equals(type)) {
+          throw new IllegalArgumentException(
+              "topic '" + topic + "' already records " + existing.type().name() + ", not "
+                  + type.name() + ": one topic, one type");
+        }
+        @SuppressWarnings("unchecked")
+        McapChannel<T> same = (McapChannel<T>) existing;
+        return same;
+      }
+      if (channelsByTopic.size() >= MAX_ID) {
+        throw new IllegalArgumentException("an MCAP file holds at most 65535 channels");
+      }
+      Integer schemaId = schemaIds.get(type);
+      if (schemaId == null) {
+        schemaId = schemaIds.size() + 1;
+        schemaIds.put(type, schemaId);
+      }
+      McapChannel<T> channel = new McapChannel<>(this, channelsByTopic.size() + 1, topic, type);
+      channelMetadata.put(channel.id(), new TreeMap<>(metadata));
+      schemaOfChannel.put(channel.id(), schemaId);
+      channelsById.put(channel.id(), channel);
+      channelsByTopic.put(topic, channel);
+      return channel;
+    }
+  }
+
+  /** @return messages dropped so far, on every channel */
+  public long droppedCount() {
+    return dropped.sum();
+  }
+
+  /** @return the files started so far, in order (more than one with rotation) */
+  public List<Path> files() {
+    return List.copyOf(files);
+  }
+
+  /** @return the options */
+  public McapWriterOptions options() {
+    return options;
+  }
+
+  boolean submit(McapChannel<?> channel, long sequence, long logTime, long publishTime, byte[] data) {
+    inFlight.incrementAndGet();
+    try {
+      if (closed) {
+        throw new IllegalStateException(
+            "MCAP writer for " + firstPath + " is closed: '" + channel.topic() + "' cannot record");
+      }
+      Entry entry = new Entry(channel, sequence, logTime, publishTime, data);
+      if (queue == null) {
+        synchronized (syncLock) {
+          process(entry);
+          if (failure != null) {
+            throw new UncheckedIOException("writing " + currentPath() + " failed", failure);
+          }
+        }
+        return true;
+      }
+      long bytes = data.length;
+      if (queuedBytes.addAndGet(bytes) > options.queueBytes()) {
+        queuedBytes.addAndGet(-bytes);
+        return drop(channel);
+      }
+      if (!queue.offer(entry)) {
+        queuedBytes.addAndGet(-bytes);
+        return drop(channel);
+      }
+      return true;
+    } finally {
+      inFlight.decrementAndGet();
+    }
+  }
+
+  private boolean drop(McapChannel<?> channel) {
+    dropped.increment();
+    channel.countDrop();
+    return false;
+  }
+
+  private void drain() {
+    while (true) {
+      Entry entry;
+      try {
+        entry = queue.take();
+      } catch (InterruptedException e) {
+        // Nobody else holds this thread: an interrupt does not end the recording; close() does.
+        continue;
+      }
+      if (entry == CLOSE) {
+        break;
+      }
+      queuedBytes.addAndGet(-entry.data.length);
+      try {
+        process(entry);
+      } catch (RuntimeException | Error e) {
+        // A bug or an exhausted heap must not leave a dead thread behind a full queue.
+        if (failure == null) {
+          failure = new IOException("the MCAP writer thread failed: " + e, e);
+        }
+        drop(entry.channel);
+      }
+    }
+    finishFile();
+  }
+
+  private void process(Entry entry) {
+    if (failure != null) {
+      drop(entry.channel);
+      return;
+    }
+    try {
+      int channelId = entry.channel.id();
+      if (!file.hasChannel(channelId)) {
+        defineInFile(channelId);
+      }
+      file.addMessage(channelId, entry.sequence, entry.logTime, entry.publishTime, entry.data);
+      if (options.rotateAtSize() > 0 && file.size() >= options.rotateAtSize()) {
+        finishFile();
+        if (failure == null) {
+          openFile(rotatedPath(firstPath, fileIndex + 1));
+          fileIndex++;
+        }
+      }
+    } catch (IOException e) {
+      failure = e;
+      drop(entry.channel);
+    }
+  }
+
+  private void defineInFile(int channelId) {
+    McapChannel<?> channel = channelsById.get(channelId);
+    int schemaId = schemaOfChannel.get(channelId);
+    if (!file.hasSchema(schemaId)) {
+      ValueType<?> type = channel.type();
+      file.addSchema(schemaId, type.name(), SCHEMA_ENCODING, type.jsonSchema().getBytes(StandardCharsets.UTF_8));
+    }
+    file.addChannel(channelId, schemaId, channel.topic(), MESSAGE_ENCODING, channelMetadata.get(channelId));
+  }
+
+  private void openFile(Path path) throws IOException {
+    file = new McapFileWriter(opener.open(path), options.library(), options.chunkSize());
+    files.add(path);
+    droppedAtFileStart = dropped.sum();
+    channelDroppedAtFileStart.clear();
+    for (McapChannel<?> channel : channelsById.values()) {
+      channelDroppedAtFileStart.put(channel.id(), channel.droppedCount());
+    }
+  }
+
+  private Path currentPath() {
+    return files.get(files.size() - 1);
+  }
+
+  /** Every channel defined so far, the loss report, the summary and the footer. */
+  private void finishFile() {
+    if (failure != null) {
+      try {
+        file.abandon();
+      } catch (IOException e) {
+        failure.addSuppressed(e);
+      }
+      return;
+    }
+    try {
+      List<Integer> ids = new ArrayList<>(new TreeMap<>(channelsById).keySet());
+      for (int id : ids) {
+        if (!file.hasChannel(id)) {
+          defineInFile(id);
+        }
+      }
+      Map<String, String> loss = new TreeMap<>();
+      loss.put("dropped_messages", Long.toString(dropped.sum() - droppedAtFileStart));
+      for (int id : ids) {
+        McapChannel<?> channel = channelsById.get(id);
+        long lost = channel.droppedCount() - channelDroppedAtFileStart.getOrDefault(id, 0L);
+        loss.put("dropped." + channel.topic(), Long.toString(lost));
+      }
+      file.addMetadata(LOSS_METADATA, loss);
+      file.finish();
+    } catch (IOException e) {
+      failure = e;
+    }
+  }
+
+  /**
+   * Waits for the queued messages to be written, then finishes the file: the channels with no
+   * message yet, the loss report, the summary and the footer. Writes after this throw.
+   *
+   * @throws IOException if writing failed at any point (the first failure; the file is then
+   *     incomplete)
+   */
+  @Override
+  public void close() throws IOException {
+    synchronized (definitions) {
+      if (closed) {
+        return;
+      }
+      closed = true;
+    }
+    // Writers that passed the closed check finish their offer (it never waits) before the
+    // CLOSE mark goes in, so nothing is queued behind it unseen.
+    while (inFlight.get() > 0) {
+      Thread.yield();
+    }
+    if (queue == null) {
+      synchronized (syncLock) {
+        finishFile();
+      }
+    } else {
+      // Waits for room for the CLOSE mark while the writer thread lives (a stalled disk makes
+      // close() wait; a writer thread that died does not make it hang).
+      boolean interrupted = false;
+      while (thread.isAlive()) {
+        try {
+          if (queue.offer(CLOSE, 100, TimeUnit.MILLISECONDS)) {
+            break;
+          }
+        } catch (InterruptedException e) {
+          interrupted = true;
+        }
+      }
+      if (interrupted) {
+        Thread.currentThread().interrupt();
+      }
+      try {
+        thread.join();
+      } catch (InterruptedException e) {
+        Thread.currentThread().interrupt();
+        throw new InterruptedIOException(
+            "interrupted while closing MCAP writer for " + firstPath + "; the writer thread goes on and finishes the file");
+      }
+    }
+    if (failure != null) {
+      throw new IOException("writing MCAP file " + currentPath() + " failed: " + failure.getMessage(), failure);
+    }
+  }
+}

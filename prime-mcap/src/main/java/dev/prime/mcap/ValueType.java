@@ -1,0 +1,160 @@
+package dev.prime.mcap;
+
+import com.fasterxml.jackson.databind.JavaType;
+import com.fasterxml.jackson.databind.ObjectReader;
+import com.fasterxml.jackson.databind.ObjectWriter;
+import com.fasterxml.jackson.databind.node.ObjectNode;
+import dev.prime.mcap.internal.JsonCodec;
+import dev.prime.mcap.internal.JsonSchemaGenerator;
+import java.lang.reflect.ParameterizedType;
+import java.lang.reflect.Type;
+import java.nio.charset.StandardCharsets;
+
+/**
+ * The Java type of the values on one MCAP channel, with the JSON Schema that describes them.
+ * The type decides how values are written and read; nothing in a file names a Java class.
+ *
+ * <p>For a plain class use {@link #of(Class)}; for a generic type, an anonymous subclass keeps
+ * the type arguments: {@code new ValueType<Tuple2<Double, String>>() {}}.
+ *
+ * <p>Supported: records (one JSON property per component), enums (their constant names),
+ * primitives and their boxes, {@code String}, {@code BigInteger}, {@code BigDecimal},
+ * {@code byte[]} (base64), arrays, {@code List}/{@code Set}/{@code Collection}, {@code Map}
+ * with String, enum or integer keys, {@code Optional} (the value or null) and Jackson's
+ * {@code JsonNode} (any JSON), nested freely. Prime's {@code Tuple2..5} are records and its
+ * {@code Token} an enum, so they are covered. Anything else (an interface, {@code Object}, a
+ * class that is not a record) is refused when the {@code ValueType} is made, with the path to
+ * the offending part.
+ *
+ * @param <T> the Java type
+ */
+public abstract class ValueType<T> {
+  private final Type type;
+  private final JavaType javaType;
+  private final String jsonSchema;
+  private final ObjectWriter writer;
+  private final ObjectReader reader;
+
+  /**
+   * For an anonymous subclass: {@code new ValueType<List<Pose>>() {}} captures
+   * {@code List<Pose>}.
+   *
+   * @throws IllegalArgumentException if the type is not supported (the message says which part)
+   */
+  protected ValueType() {
+    Type superclass = getClass().getGenericSuperclass();
+    if (!(superclass instanceof ParameterizedType)) {
+      throw new IllegalArgumentException(
+          "new ValueType<...>() {} needs a type argument: write new ValueType<MyType>() {}");
+    }
+    this.type = ((ParameterizedType) superclass).getActualTypeArguments()[0];
+    this.javaType = JsonCodec.javaType(type);
+    this.jsonSchema = schemaText(javaType);
+    this.writer = JsonCodec.MAPPER.writerFor(javaType);
+    this.reader = JsonCodec.MAPPER.readerFor(javaType);
+  }
+
+  private ValueType(Type type) {
+    this.type = type;
+    this.javaType = JsonCodec.javaType(type);
+    this.jsonSchema = schemaText(javaType);
+    this.writer = JsonCodec.MAPPER.writerFor(javaType);
+    this.reader = JsonCodec.MAPPER.readerFor(javaType);
+  }
+
+  private static final class Plain<T> extends ValueType<T> {
+    Plain(Type type) {
+      super(type);
+    }
+  }
+
+  private static String schemaText(JavaType javaType) {
+    ObjectNode schema = JsonSchemaGenerator.schemaOf(javaType);
+    return schema.toPrettyString();
+  }
+
+  /**
+   * @param type a non-generic class (for generic types use an anonymous subclass)
+   * @param <T> the type
+   * @return its value type
+   * @throws IllegalArgumentException if the type is not supported (the message says which part)
+   */
+  public static <T> ValueType<T> of(Class<T> type) {
+    if (type.getTypeParameters().length > 0) {
+      throw new IllegalArgumentException(
+          type.getName() + " is generic: name its type arguments with new ValueType<"
+              + type.getSimpleName() + "<...>>() {}");
+    }
+    return new Plain<>(type);
+  }
+
+  /**
+   * @param type any {@link Type} (for instance a record component's generic type)
+   * @return its value type
+   * @throws IllegalArgumentException if the type is not supported (the message says which part)
+   */
+  public static ValueType<?> ofType(Type type) {
+    return new Plain<>(type);
+  }
+
+  /** @return the Java type */
+  public Type type() {
+    return type;
+  }
+
+  /** @return the type's name with its type arguments, the MCAP schema name */
+  public String name() {
+    return javaType.toCanonical();
+  }
+
+  /** @return the JSON Schema (draft 2020-12) of the values, as JSON text */
+  public String jsonSchema() {
+    return jsonSchema;
+  }
+
+  /**
+   * @param value a value
+   * @return its JSON, UTF-8
+   * @throws IllegalArgumentException if Jackson cannot write it
+   */
+  public byte[] toJson(T value) {
+    try {
+      return writer.writeValueAsBytes(value);
+    } catch (java.io.IOException e) {
+      throw new IllegalArgumentException("cannot write " + name() + " as JSON: " + e.getMessage(), e);
+    }
+  }
+
+  /**
+   * @param json UTF-8 JSON of one value
+   * @return the value
+   * @throws IllegalArgumentException if the JSON is not a value of this type (the message says why)
+   */
+  public T fromJson(byte[] json) {
+    try {
+      return reader.readValue(json);
+    } catch (com.fasterxml.jackson.core.JsonProcessingException e) {
+      String text = new String(json, 0, Math.min(json.length, 200), StandardCharsets.UTF_8);
+      throw new IllegalArgumentException(
+          "JSON " + text + (json.length > 200 ? "..." : "") + " is not a " + name() + ": "
+              + e.getOriginalMessage(), e);
+    } catch (java.io.IOException e) {
+      throw new java.io.UncheckedIOException(e);
+    }
+  }
+
+  @Override
+  public boolean equals(Object o) {
+    return o instanceof ValueType && ((ValueType<?>) o).javaType.equals(javaType);
+  }
+
+  @Override
+  public int hashCode() {
+    return javaType.hashCode();
+  }
+
+  @Override
+  public String toString() {
+    return "ValueType[" + name() + "]";
+  }
+}

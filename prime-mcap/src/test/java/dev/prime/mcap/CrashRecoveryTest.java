@@ -1,0 +1,101 @@
+package dev.prime.mcap;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import java.io.BufferedReader;
+import java.io.File;
+import java.io.IOException;
+import java.io.InputStreamReader;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.List;
+import java.util.concurrent.TimeUnit;
+import java.util.stream.Collectors;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+
+/**
+ * A recorder JVM killed with SIGKILL while its file is open: the file has no footer, the normal
+ * reader says it is unfinished, and {@link McapReader#openUnfinished} recovers every message of
+ * the chunks written whole, in order, without a gap.
+ */
+class CrashRecoveryTest {
+  @TempDir Path dir;
+
+  /** Runs the recorder, waits for it to report its writes, kills it with SIGKILL. */
+  private Path recordAndKill(String name, int count, long chunkSize) throws IOException, InterruptedException {
+    Path file = dir.resolve(name);
+    String java = new File(System.getProperty("java.home"), "bin/java").getPath();
+    Process recorder = new ProcessBuilder(java, "-cp", System.getProperty("java.class.path"),
+        CrashingRecorder.class.getName(), file.toString(), String.valueOf(count), String.valueOf(chunkSize))
+        .redirectError(ProcessBuilder.Redirect.INHERIT)
+        .start();
+    try (BufferedReader out = new BufferedReader(new InputStreamReader(recorder.getInputStream(), StandardCharsets.UTF_8))) {
+      assertEquals("WROTE " + count, out.readLine(), "the recorder reports its writes");
+      recorder.destroyForcibly(); // SIGKILL: no shutdown hook, no close()
+      assertTrue(recorder.waitFor(30, TimeUnit.SECONDS), "the recorder died");
+    }
+    assertEquals(137, recorder.exitValue(), "killed by SIGKILL");
+    return file;
+  }
+
+  private static List<Long> sequences(McapReader reader) {
+    return reader.messages("ticks", CrashingRecorder.Tick.class)
+        .map(TypedMessage::sequence).collect(Collectors.toList());
+  }
+
+  @Test
+  void everyChunkWrittenBeforeAKillIsRecovered() throws Exception {
+    int count = 500;
+    Path file = recordAndKill("one-per-chunk.mcap", count, 1); // every message closes its chunk
+    McapFormatException e = assertThrows(McapFormatException.class, () -> McapReader.open(file).close());
+    assertTrue(e.getMessage().contains("McapReader.openUnfinished"), e.getMessage());
+    try (McapReader reader = McapReader.openUnfinished(file)) {
+      assertEquals(count, reader.messageCount("ticks"), "not one written message lost");
+      List<Long> sequences = sequences(reader);
+      for (int i = 0; i < count; i++) {
+        assertEquals(i, sequences.get(i));
+      }
+      assertEquals(Files.size(file), reader.unfinishedAt(), "the file ends with a complete record");
+    }
+  }
+
+  @Test
+  void theOpenChunkIsWhatAKillLoses() throws Exception {
+    int count = 2_000;
+    Path file = recordAndKill("big-chunks.mcap", count, 8_192);
+    try (McapReader reader = McapReader.openUnfinished(file)) {
+      long recovered = reader.messageCount("ticks");
+      long perChunk = count / reader.statistics().chunkCount();
+      assertTrue(reader.statistics().chunkCount() >= 5, "chunks: " + reader.statistics().chunkCount());
+      assertTrue(recovered < count && recovered >= count - 2 * perChunk,
+          recovered + " of " + count + " recovered; at most the open chunk (about " + perChunk + ") is lost");
+      List<Long> sequences = sequences(reader);
+      assertEquals(recovered, sequences.size());
+      for (int i = 0; i < sequences.size(); i++) {
+        assertEquals(i, sequences.get(i), "a prefix of the writes, without a gap");
+      }
+    }
+  }
+
+  @Test
+  void aFinishedFileReadsTheSameEitherWay() throws IOException {
+    Path file = dir.resolve("finished.mcap");
+    try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().chunkSize(512))) {
+      McapChannel<CrashingRecorder.Tick> ticks = writer.channel("ticks", CrashingRecorder.Tick.class);
+      for (int i = 0; i < 300; i++) {
+        ticks.write(i, i, i, new CrashingRecorder.Tick(i, ""));
+      }
+    }
+    try (McapReader summary = McapReader.open(file); McapReader scan = McapReader.openUnfinished(file)) {
+      assertEquals(-1, scan.unfinishedAt());
+      assertEquals(summary.statistics().messageCount(), scan.statistics().messageCount());
+      assertEquals(summary.statistics().chunkCount(), scan.statistics().chunkCount());
+      assertEquals(sequences(summary), sequences(scan));
+      assertEquals(summary.metadata(McapWriter.LOSS_METADATA), scan.metadata(McapWriter.LOSS_METADATA));
+    }
+  }
+}
