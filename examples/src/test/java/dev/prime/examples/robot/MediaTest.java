@@ -9,6 +9,7 @@ import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.liberty.LibertyCore;
 import dev.prime.optimus.OptimusCore;
+import dev.prime.test.PrimeTest;
 import java.util.Set;
 import org.junit.jupiter.api.Test;
 
@@ -33,19 +34,24 @@ class MediaTest {
   }
 
   @Test
-  void optimusIsAnOptimusCoreHostingTheRobotsServices() {
+  void optimusIsAnOptimusCore() {
     try (PrimeCore core = Media.byName("optimus").create(CoreConfig.defaults())) {
       assertInstanceOf(OptimusCore.class, core);
-      RobotController.wire(
-          core,
-          new WheelEncoders(RobotSpec.SMALL_INDOOR),
-          RobotSpec.SMALL_INDOOR,
-          new Goal(1, 1),
-          Mission.DT);
-      core.start();
-      // the names a --remote option and a RobotWorker's --hosts choose from
-      assertEquals(Set.copyOf(RobotController.SERVICES), core.serviceNames());
     }
+  }
+
+  /** The names a --remote option and a RobotWorker's --hosts choose from, the same on every media. */
+  @PrimeTest(setup = RobotCores.class)
+  void everyMediaHostsTheRobotsServices(PrimeCore core) {
+    RobotController.wire(
+        core,
+        new WheelEncoders(RobotSpec.SMALL_INDOOR),
+        RobotSpec.SMALL_INDOOR,
+        new Goal(1, 1),
+        Mission.DT);
+    core.start();
+
+    assertEquals(Set.copyOf(RobotController.SERVICES), core.serviceNames());
   }
 
   @Test

@@ -6,15 +6,22 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.test.PrimeTest;
 import java.io.ByteArrayOutputStream;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
+import org.junit.jupiter.api.Nested;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.params.Parameter;
+import org.junit.jupiter.params.ParameterizedClass;
 import org.junit.jupiter.params.ParameterizedTest;
 import org.junit.jupiter.params.provider.MethodSource;
 
-/** The whole controller, wired by {@link RobotController}, on a real {@link LibertyCore}. */
+/**
+ * The whole controller, wired by {@link RobotController}, on a real {@link LibertyCore}, and on
+ * every media ({@link OnEveryMedia}).
+ */
 class RobotSimulationTest {
   private static final String CORE = "robot-test";
 
@@ -72,15 +79,31 @@ class RobotSimulationTest {
     assertEquals(List.of(), left);
   }
 
-  @ParameterizedTest
-  @MethodSource("goals")
-  void everyMediaGivesTheSameTraceAndSummaryAsLiberty(Goal goal) {
-    SimulationResult[] liberty = new SimulationResult[1];
-    String expected = run(Media.LIBERTY, goal, liberty);
-    for (Media media : Media.values()) {
-      SimulationResult[] other = new SimulationResult[1];
-      assertEquals(expected, run(media, goal, other), media.cliName());
-      assertEquals(liberty[0], other[0], media.cliName());
+  /**
+   * Every goal on every media ({@link PrimeTest}: one run per media, each with a fresh core)
+   * gives the trace and the summary Liberty gives.
+   */
+  @Nested
+  @ParameterizedClass
+  @MethodSource("dev.prime.examples.robot.RobotSimulationTest#goals")
+  class OnEveryMedia {
+    @Parameter Goal goal;
+
+    @PrimeTest(setup = RobotCores.class)
+    void givesTheSameTraceAndSummaryAsLiberty(PrimeCore core) {
+      SimulationResult[] liberty = new SimulationResult[1];
+      String expected = run(Media.LIBERTY, goal, liberty);
+      ByteArrayOutputStream trace = new ByteArrayOutputStream();
+
+      SimulationResult result =
+          new RobotSimulation(RobotSpec.SMALL_INDOOR)
+              .run(
+                  core,
+                  new Mission(goal, 4000, 50),
+                  new PrintStream(trace, true, StandardCharsets.UTF_8));
+
+      assertEquals(expected, trace.toString(StandardCharsets.UTF_8));
+      assertEquals(liberty[0], result);
     }
   }
 }
