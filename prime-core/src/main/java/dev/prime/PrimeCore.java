@@ -244,7 +244,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * A chain that runs {@code then} for inputs that satisfy {@code condition}, else
-   * {@code otherwise}. Consumes both chains.
+   * {@code otherwise}. Consumes both chains. Each branch may take a supertype of the input and
+   * return a subtype of the output (as {@link Function#andThen} allows).
    *
    * @param condition chooses the branch
    * @param then the chain for inputs that satisfy it
@@ -254,27 +255,31 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<I, O> ifThenElse(
-      Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
+      Predicate<? super I> condition,
+      Chain<? super I, ? extends O> then,
+      Chain<? super I, ? extends O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
     return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
   }
 
   /**
-   * A chain that runs {@code body} on each element of a list. Consumes {@code body}.
+   * A chain that runs {@code body} on each element of a list. Consumes {@code body}, which may
+   * take a supertype of the elements and return a subtype of the output elements.
    *
    * @param body the chain for one element
    * @param <I> element type of the input
    * @param <O> element type of the output
    * @return the combined chain
    */
-  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
+  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<? super I, ? extends O> body) {
     requireChains(body);
     return compiled(topologyRecorder().forEach(body), body);
   }
 
   /**
-   * A chain that gives each input to both chains and returns both outputs. Consumes them.
+   * A chain that gives each input to both chains and returns both outputs. Consumes them. Each
+   * chain may take a supertype of the input, as with every union.
    *
    * @param a first chain
    * @param b second chain
@@ -283,7 +288,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <B> output of b
    * @return the union
    */
-  public final <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
+  public final <I, A, B> Chain<I, Tuple2<A, B>> union(
+      Chain<? super I, A> a, Chain<? super I, B> b) {
     return unionOf(a, b);
   }
 
@@ -300,7 +306,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
+      Chain<? super I, A> a, Chain<? super I, B> b, Chain<? super I, C> c) {
     return unionOf(a, b, c);
   }
 
@@ -319,7 +325,10 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C, D> Chain<I, Tuple4<A, B, C, D>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
+      Chain<? super I, A> a,
+      Chain<? super I, B> b,
+      Chain<? super I, C> c,
+      Chain<? super I, D> d) {
     return unionOf(a, b, c, d);
   }
 
@@ -340,7 +349,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C, D, E> Chain<I, Tuple5<A, B, C, D, E>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
+      Chain<? super I, A> a,
+      Chain<? super I, B> b,
+      Chain<? super I, C> c,
+      Chain<? super I, D> d,
+      Chain<? super I, E> e) {
     return unionOf(a, b, c, d, e);
   }
 
@@ -368,7 +381,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * A chain that runs {@code chain} only for inputs that pass {@code pass}; the others get
-   * {@code substitute}'s output without running the chain. Consumes the chain.
+   * {@code substitute}'s output without running the chain. Consumes the chain, which may take a
+   * supertype of the input and return a subtype of the output.
    *
    * @param pass decides which inputs run the chain
    * @param chain the guarded chain
@@ -378,7 +392,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the guarded chain
    */
   public final <I, O> Chain<I, O> guard(
-      Predicate<? super I> pass, Chain<I, O> chain, Block<? super I, ? extends O> substitute) {
+      Predicate<? super I> pass,
+      Chain<? super I, ? extends O> chain,
+      Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);

@@ -44,6 +44,10 @@ class LinkVarianceCompileTest {
           + "    Source<Number> g = numbers.then(floor);\n"
           + "    Source<String> h = core.link(numbers, describeChain);\n"
           + "    Block<Integer, CharSequence> i = Block.narrow(describe);\n"
+          + "    Chain<Integer, CharSequence> j = core.ifThenElse(x -> x > 0, describeChain, inc.then(describe));\n"
+          + "    Chain<java.util.List<Integer>, java.util.List<Number>> k = core.forEach(inc.then(floor));\n"
+          + "    Chain<Integer, Tuple2<String, Integer>> l = core.union(describeChain, inc);\n"
+          + "    Chain<Integer, Number> m = core.guard(x -> x > 0, inc.then(floor), x -> 0L);\n"
           + "  }\n"
           + "}\n";
 
@@ -71,6 +75,14 @@ class LinkVarianceCompileTest {
         "CoreLinkOfMismatchedChains",
         "void f(PrimeCore core, Chain<Integer, Number> numbers, Chain<Integer, String> ints) {"
             + " core.link(numbers, ints); }");
+    UNSOUND.put(
+        "BranchTakesLess",
+        "void f(PrimeCore core, Chain<Number, String> numbers, Chain<Integer, String> ints) {"
+            + " Chain<Number, String> r = core.ifThenElse(x -> true, numbers, ints); }");
+    UNSOUND.put(
+        "UnionOutputWiderThanTyped",
+        "void f(PrimeCore core, Chain<Integer, Object> any, Chain<Integer, Integer> ints) {"
+            + " Chain<Integer, Tuple2<String, Integer>> r = core.union(any, ints); }");
     UNSOUND.put(
         "NarrowToAWiderInput",
         "void f(Block<Integer, String> onlyIntegers) {"

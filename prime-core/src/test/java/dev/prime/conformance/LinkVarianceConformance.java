@@ -8,6 +8,7 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import dev.prime.Tuple2;
 import java.util.List;
 import org.junit.jupiter.api.Test;
 
@@ -50,6 +51,32 @@ public interface LinkVarianceConformance extends ConformanceBase {
       core.start();
       assertEquals(2, floored.toBlock().process(5.0));
       assertEquals("<2.5>", described.toBlock().process(5.0));
+    }
+  }
+
+  @Test
+  default void templatesTakeChainsOfASupertypeInputAndASubtypeOutput() {
+    try (PrimeCore core = newCore()) {
+      Chain<Object, String> describe = core.chain("describe", DESCRIBE);
+      Chain<Integer, String> count = core.chain("count", (Integer x) -> "n=" + x);
+      Chain<Integer, CharSequence> branched =
+          core.ifThenElse((Integer x) -> x > 0, describe, count);
+      Chain<Number, Integer> floor = core.chain("floor", (Number n) -> n.intValue());
+      Chain<List<Double>, List<Number>> floors = core.forEach(floor);
+      Chain<Object, String> describe2 = core.chain("describe2", DESCRIBE);
+      Chain<Integer, Integer> twice = core.chain("twice", (Integer x) -> 2 * x);
+      Chain<Integer, Tuple2<String, Integer>> both = core.union(describe2, twice);
+      Chain<Number, Integer> floor2 = core.chain("floor2", (Number n) -> n.intValue());
+      Chain<Double, Number> guarded = core.guard((Double x) -> x >= 0, floor2, x -> -1L);
+      core.start();
+      Block<Integer, CharSequence> branchedBlock = branched.toBlock();
+      assertEquals("<5>", branchedBlock.process(5));
+      assertEquals("n=-5", branchedBlock.process(-5));
+      assertEquals(List.of(1, 2), floors.toBlock().process(List.of(1.5, 2.5)));
+      assertEquals(new Tuple2<>("<3>", 6), both.toBlock().process(3));
+      Block<Double, Number> guardedBlock = guarded.toBlock();
+      assertEquals(2, guardedBlock.process(2.7));
+      assertEquals(-1L, guardedBlock.process(-2.7));
     }
   }
 
