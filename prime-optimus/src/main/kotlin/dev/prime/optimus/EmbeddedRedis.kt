@@ -16,8 +16,9 @@ import java.util.concurrent.TimeUnit
  *
  * [OptimusCore] starts one when it is given no Redis URL, so examples and tests run on a machine
  * with nothing installed. The server binary is a `redis-server` found on the `PATH` (version 6.2
- * or newer), else the static binary shipped for Linux and macOS (x86-64 and arm64) by the
- * `org.signal:embedded-redis` artifact, extracted once into a directory of the temporary
+ * or newer), else the static binary for Linux and macOS (x86-64 and arm64) that the optional
+ * `dev.prime:prime-redis-embedded` artifact puts on the class path (without it, [Builder.start]
+ * fails with a message naming that dependency), extracted once into a directory of the temporary
  * directory that only the current user can write, and checked against its pinned SHA-256 before
  * every start (see [RedisServerBinary]): a planted or changed file is refused, never run.
  *

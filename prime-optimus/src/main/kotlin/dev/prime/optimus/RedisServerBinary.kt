@@ -18,8 +18,12 @@ import java.util.concurrent.TimeUnit
 
 /**
  * Finds a `redis-server` able to run Optimus (6.2 or newer, for `LMOVE`/`BLMOVE`): the one on the
- * `PATH` if it is new enough, else the binary bundled for this OS and CPU by the
- * `org.signal:embedded-redis` artifact.
+ * `PATH` if it is new enough, else the binary for this OS and CPU that the optional
+ * `dev.prime:prime-redis-embedded` artifact puts on the class path (through
+ * `org.signal:embedded-redis`), found by its well-known resource name
+ * (`redis-server-<version>-<os>-<arch>`): prime-optimus does not depend on that artifact, which
+ * depends on no Prime module either, so its own tests can use it without a build cycle. Without
+ * it (and with nothing on the `PATH`) the failure names the dependency to add.
  *
  * Design note (safety). A file in a shared temporary directory can be planted or replaced by any
  * local user, so the bundled binary is extracted into a directory only the current user can
@@ -36,6 +40,8 @@ internal object RedisServerBinary {
     private val MINIMUM = listOf(6, 2)
     private val LOG = LoggerFactory.getLogger(RedisServerBinary::class.java)
     private val OWNER_ONLY = PosixFilePermissions.fromString("rwx------")
+    private const val ARTIFACT = "dev.prime:prime-redis-embedded"
+    private const val MARKER = "META-INF/dev.prime/redis-embedded.properties"
 
     /** SHA-256 of the binaries of `org.signal:embedded-redis` 0.9.1, by resource name. */
     private val PINS = mapOf(
@@ -73,12 +79,16 @@ internal object RedisServerBinary {
     /** The name of the resource bundled for this OS and CPU. */
     fun bundledResource(): String = "redis-server-$BUNDLED_VERSION-${os()}-${arch()}"
 
-    /** The bundled binary, extracted (if needed) into a private directory under [tmpRoot]. */
-    fun bundled(tmpRoot: Path): Binary {
+    /**
+     * The bundled binary, read through [loader] and extracted (if needed) into a private directory
+     * under [tmpRoot]. A class loader, not a class, looks the resource up: resources at the top of
+     * another jar are not visible to a class of a named module (prime-optimus on the module path).
+     */
+    fun bundled(tmpRoot: Path, loader: ClassLoader = RedisServerBinary::class.java.classLoader): Binary {
         val resource = bundledResource()
         val pin = PINS[resource] ?: throw noBinary("no pinned SHA-256 for '$resource'")
-        val bytes = RedisServerBinary::class.java.getResourceAsStream("/$resource")?.use { it.readAllBytes() }
-            ?: throw noBinary("no bundled redis-server for this machine (looked for resource '$resource')")
+        val bytes = loader.getResourceAsStream(resource)?.use { it.readAllBytes() }
+            ?: throw missingBinary(resource, loader)
         if (sha256(bytes) != pin) throw noBinary("the bundled '$resource' does not have its pinned SHA-256 (an altered jar?)")
         val dir = privateDirectory(tmpRoot)
         val target = dir.resolve(resource)
@@ -139,6 +149,21 @@ internal object RedisServerBinary {
     }
 
     private fun hex(bytes: ByteArray) = bytes.joinToString("") { "%02x".format(it) }
+
+    /** The resource is missing: say whether the artifact is absent (name it) or lacks this platform. */
+    private fun missingBinary(resource: String, loader: ClassLoader): PrimeException {
+        val marker = loader.getResource(MARKER) ?: return PrimeException(
+            "OptimusCore was given no Redis URL, so it starts a redis-server of its own, but found none: there is no " +
+                "redis-server 6.2+ on the PATH and no embedded one on the class path. Add the dependency " +
+                "$ARTIFACT (Maven: <dependency><groupId>dev.prime</groupId><artifactId>prime-redis-embedded" +
+                "</artifactId></dependency>, version from prime-bom; Gradle: runtimeOnly(\"$ARTIFACT\")), or put " +
+                "redis-server 6.2+ on the PATH, or give OptimusCore a redis:// URL (OptimusCore.builder().redis(url))",
+        )
+        return noBinary(
+            "$ARTIFACT is on the class path ($marker) but has no redis-server for this machine (looked for resource " +
+                "'$resource'; is its version the one prime-bom names?)",
+        )
+    }
 
     private fun noBinary(why: String) = PrimeException(
         "$why; install Redis 6.2+ and put redis-server on the PATH, or give OptimusCore a redis:// URL",

@@ -5,74 +5,25 @@ import java.nio.file.Path;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Locale;
-import org.knowm.xchart.BitmapEncoder;
-import org.knowm.xchart.BitmapEncoder.BitmapFormat;
-import org.knowm.xchart.CategoryChart;
-import org.knowm.xchart.CategoryChartBuilder;
-import org.knowm.xchart.style.Styler.LegendPosition;
 
 /**
- * Draws result tables as bar charts with XChart: one chart per table, a group of bars per payload
- * size, a bar per row, microseconds per transmission on a logarithmic axis (the rows span four
- * orders of magnitude). Needs no display: call with {@code -Djava.awt.headless=true} on servers.
+ * One PNG chart per result table: payload columns along the bottom, a mark per row with the JMH
+ * error bar (99.9 % confidence interval). A table whose times stay within
+ * {@value ChartModel#LOG_SPREAD}× of each other gets bars on a linear axis from zero; a wider one
+ * gets points on a log axis (see {@link ChartModel}). Drawn with Java2D: call with
+ * {@code -Djava.awt.headless=true} on servers.
  */
 public final class Charts {
-  private static final int WIDTH = 1000;
-  private static final int HEIGHT = 560;
-
   private Charts() {}
 
   /**
-   * The chart of one table. Rows without any measured cell are left out; a missing cell is drawn
-   * as no bar.
+   * The chart of one table, as a model (what {@link #writePng} draws).
    *
    * @param table the table
-   * @return the chart
+   * @return the chart's model
    */
-  public static CategoryChart chart(ResultTable table) {
-    CategoryChart chart =
-        new CategoryChartBuilder()
-            .width(WIDTH)
-            .height(HEIGHT)
-            .title(table.title() + ": µs per transmission (log scale)")
-            .xAxisTitle("payload")
-            .yAxisTitle("µs per transmission")
-            .build();
-    chart.getStyler().setYAxisLogarithmic(true);
-    chart.getStyler().setLegendPosition(LegendPosition.OutsideE);
-    chart.getStyler().setYAxisDecimalPattern("0.####");
-    // bar charts start their axis at 0, which a log axis cannot show: bound it by decades
-    double min = Double.POSITIVE_INFINITY;
-    double max = 0;
-    for (ResultTable.Row row : table.rows()) {
-      for (ResultTable.Cell cell : row.cells()) {
-        if (cell != null && cell.micros() > 0) {
-          min = Math.min(min, cell.micros());
-          max = Math.max(max, cell.micros());
-        }
-      }
-    }
-    if (max > 0) {
-      chart.getStyler().setYAxisMin(Math.pow(10, Math.floor(Math.log10(min))));
-      chart.getStyler().setYAxisMax(Math.pow(10, Math.ceil(Math.log10(max))));
-    }
-    List<String> categories = new ArrayList<>();
-    for (String column : table.columns()) {
-      categories.add(ResultTable.columnLabel(column));
-    }
-    for (ResultTable.Row row : table.rows()) {
-      List<Double> values = new ArrayList<>();
-      boolean any = false;
-      for (ResultTable.Cell cell : row.cells()) {
-        // a log axis cannot draw 0: a missing cell becomes no bar (null)
-        values.add(cell == null ? null : cell.micros());
-        any |= cell != null;
-      }
-      if (any) {
-        chart.addSeries(row.label(), categories, values);
-      }
-    }
-    return chart;
+  public static ChartModel chart(ResultTable table) {
+    return ChartModel.of(table);
   }
 
   /**
@@ -87,7 +38,7 @@ public final class Charts {
     List<Path> files = new ArrayList<>();
     for (ResultTable table : tables) {
       Path file = directory.resolve(fileName(table) + ".png");
-      BitmapEncoder.saveBitmap(chart(table), file.toString(), BitmapFormat.PNG);
+      ChartPainter.writePng(chart(table), file);
       files.add(file);
     }
     return files;

@@ -11,10 +11,39 @@ import java.util.Locale;
  * allocation per transmission.
  */
 public final class MarkdownTables {
+  /**
+   * The plain-words legend written above the tables: what a transmission, FOR, the scenarios, the
+   * error and the allocation mean.
+   */
+  public static final String LEGEND =
+      """
+      How to read the tables:
+
+      - **transmission**: one packet going in at the start of a chain of 4 blocks (each adds a \
+      number to the packet) and coming out at its end. A cell is the mean time of one, in µs. In \
+      the asynchronous hand-off rows (Prime sources, Kotlin Channels, Reactor publishOn, LMAX \
+      Disruptor) a producer and a consumer thread overlap, so it is time per packet at full \
+      throughput; in the Optimus tables it is one synchronous call through 1 or 4 services over \
+      Redis.
+      - **FOR**: the baseline row, the same 4 blocks called by hand-written Java \
+      (`a4.process(a3.process(a2.process(a1.process(p))))`), no library at all. The ratio after \
+      each time compares it with the baseline in the same column: 3.00× is three times as slow. \
+      The Optimus tables' baseline is a raw Jedis echo loop on the same Redis.
+      - **monomorphic**: the measured chain is the only chain in the JVM, so the JIT sees one \
+      block class at every call site and can inline it all.
+      - **polluted**: ten other chains (other lengths and block classes) are run in the same JVM \
+      before and between the measurements, as in a controller with many chains, so call sites \
+      that chains share have seen several block classes. Closer to a real program.
+      - **payload**: bytes each packet carries (100 B, 1 KB, 10 KB); nothing local copies them.
+      - **± error**: JMH's 99.9 % confidence interval of the mean. When it is as large as the \
+      time itself, the cell is noise: read the rows that agree across the three columns.
+      - **bytes allocated**: heap bytes allocated per transmission (JMH's `-prof gc`).
+      """;
+
   private MarkdownTables() {}
 
   /**
-   * The whole report: the environment, then every table.
+   * The whole report: the environment, the legend ({@link #LEGEND}), then every table.
    *
    * @param tables the tables
    * @param environment where and when, or {@code null} if unknown
@@ -28,6 +57,7 @@ public final class MarkdownTables {
           environment.date(), environment.cpus(), environment.cpuModel(), environment.os(),
           environment.jdk(), environment.loadBefore(), environment.loadAfter()));
     }
+    md.append(LEGEND).append('\n');
     for (ResultTable table : tables) {
       md.append(render(table)).append('\n');
     }

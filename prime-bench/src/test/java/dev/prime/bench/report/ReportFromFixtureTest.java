@@ -1,6 +1,5 @@
 package dev.prime.bench.report;
 
-import static org.junit.jupiter.api.Assertions.assertArrayEquals;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNull;
@@ -17,8 +16,6 @@ import javax.imageio.ImageIO;
 import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
-import org.knowm.xchart.CategoryChart;
-import org.knowm.xchart.CategorySeries;
 
 /** The tables and charts of a small, hand-written results file (table1-fixture.json). */
 class ReportFromFixtureTest {
@@ -86,6 +83,10 @@ class ReportFromFixtureTest {
     String md = MarkdownTables.render(tables, ResultsFile.environment(fixture));
     assertTrue(md.startsWith("Run 2026-11-23T01:00:00Z on 2 CPUs (Test CPU)"), md);
     assertTrue(md.contains("load average 0.50 at start, 0.75 at end"), md);
+    int legend = md.indexOf("- **FOR**: the baseline row");
+    int polluted = md.indexOf("- **polluted**: ten other chains");
+    int firstTable = md.indexOf("### ");
+    assertTrue(legend > 0 && polluted > 0 && legend < firstTable && polluted < firstTable, md);
     assertTrue(md.contains(
         "### Synchronous mode (monomorphic), µs per transmission\n\n"
             + "| | 100 B | 1 KB |\n|---|---|---|\n"
@@ -103,20 +104,27 @@ class ReportFromFixtureTest {
   }
 
   @Test
-  void chartsEveryMeasuredRowOnALogAxis() throws IOException {
-    CategoryChart chart = Charts.chart(tables().get(0));
-    assertTrue(chart.getStyler().isYAxisLogarithmic());
+  void chartsEveryMeasuredRowAsPointsOnALogAxisWithItsErrorBar() throws IOException {
+    ChartModel chart = Charts.chart(tables().get(0));
+    assertEquals(ChartModel.Scale.LOG, chart.scale()); // 0.001 to 0.5 µs: 500× apart
     assertEquals(
-        List.of("FOR", "Radiant chains", "Liberty chains", "Kotlin Flow"),
-        List.copyOf(chart.getSeriesMap().keySet()));
-    CategorySeries radiant = chart.getSeriesMap().get("Radiant chains");
-    assertArrayEquals(
-        new double[] {0.0015, 0.001},
-        radiant.getYData().stream().mapToDouble(Number::doubleValue).toArray(),
-        1e-12);
-    assertEquals(List.of("100 B", "1 KB"), List.copyOf(radiant.getXData()));
-    assertEquals(0.001, chart.getStyler().getYAxisMin(), 1e-12);
-    assertEquals(1.0, chart.getStyler().getYAxisMax(), 1e-12);
+        List.of("FOR (baseline)", "Radiant chains", "Liberty chains", "Kotlin Flow"),
+        chart.series().stream().map(ChartModel.Series::label).toList());
+    assertEquals(List.of("100 B", "1 KB"), chart.groups());
+    ChartModel.Series radiant = chart.series().get(1);
+    ChartModel.Mark measured = radiant.marks().get(0); // 1.5 ± 0.2 ns
+    assertEquals(0.0015, measured.value(), 1e-12);
+    assertEquals(0.0013, measured.low(), 1e-12);
+    assertEquals(0.0017, measured.high(), 1e-12);
+    assertTrue(measured.hasError());
+    ChartModel.Mark single = radiant.marks().get(1); // 1.0 ns, error NaN
+    assertFalse(single.hasError());
+    assertEquals(single.value(), single.low(), 0);
+    assertEquals(single.value(), single.high(), 0);
+    assertNull(chart.series().get(2).marks().get(1)); // Liberty, 1 KB: not measured
+    assertEquals(0.001, chart.axisMin(), 1e-12);
+    assertEquals(1.0, chart.axisMax(), 1e-12);
+    assertEquals(List.of(0.001, 0.01, 0.1, 1.0), chart.ticks());
   }
 
   @Test
