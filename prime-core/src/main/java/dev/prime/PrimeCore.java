@@ -226,7 +226,8 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * Links two chains: the result feeds {@code first}'s output to {@code second}. Consumes both. A
    * chain of another core is taken through its {@link Chain#toBlock()}. Like {@link
-   * Function#andThen}, {@code second} may take any supertype of {@code first}'s output.
+   * java.util.function.Function#andThen}, {@code second} may take any supertype of {@code
+   * first}'s output.
    *
    * @param first runs first
    * @param second runs on the first chain's outputs
@@ -245,7 +246,7 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * A chain that runs {@code then} for inputs that satisfy {@code condition}, else
    * {@code otherwise}. Consumes both chains. Each branch may take a supertype of the input and
-   * return a subtype of the output (as {@link Function#andThen} allows).
+   * return a subtype of the output (as {@link java.util.function.Function#andThen} allows).
    *
    * @param condition chooses the branch
    * @param then the chain for inputs that satisfy it
