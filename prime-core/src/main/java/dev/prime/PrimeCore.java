@@ -84,6 +84,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private volatile ModelCompiler<?> compiler; // made on first use: the media's compilers
   private final ServiceThreads services;
   private final InProcessServices inProcess;
+  private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
 
@@ -749,6 +750,7 @@ public abstract class PrimeCore implements AutoCloseable {
     }
     onStart();
     services.startAll();
+    hooks.started();
     List<String> hosted = serviceNames().stream().filter(this::isHostedHere).toList();
     LOG.info(
         "core '{}' started on {}{}, hosting services {}{}",
@@ -784,10 +786,29 @@ public abstract class PrimeCore implements AutoCloseable {
       }
       state = State.CLOSED;
     }
+    hooks.closing();
     inProcess.close();
     services.stopAll(config.shutdownTimeout());
     onClose();
     config.flushErrorSummaries();
+  }
+
+  /**
+   * Ties work that runs beside the diagram to this core's lifecycle, such as a Kotlin flow that
+   * feeds a source: {@code onStart} runs when the core starts, after its services (at once, on
+   * the calling thread, if the core has started), and {@code onClose} once when it closes, before
+   * its sources close (also if it never started). Both must return quickly; an exception from
+   * either goes to the error handler under {@code name}, with {@code "start"} or {@code "close"}
+   * as the input.
+   *
+   * @param name names the work in the error handler, such as the source it feeds
+   * @param onStart starts the work
+   * @param onClose stops it; may run before {@code onStart} finished if {@code close()} races
+   *     with this call on a started core
+   * @throws CoreClosedException if the core is closed
+   */
+  public final void whenRunning(String name, Runnable onStart, Runnable onClose) {
+    hooks.add(name, onStart, onClose);
   }
 
   /** Called by {@link #start()} before the in-process services start. */

@@ -19,5 +19,6 @@ public interface MediaConformance
         ValueCopyConformance,
         LongChainConformance,
         LoggingConformance,
+        LifecycleHookConformance,
         GenericServiceConformance,
         LinkVarianceConformance {}

@@ -3,6 +3,7 @@ package dev.prime.optimus
 import dev.prime.CoreClosedException
 import dev.prime.Reader
 import org.slf4j.LoggerFactory
+import java.nio.channels.ClosedByInterruptException
 import java.time.Duration
 import java.util.Optional
 import java.util.concurrent.atomic.AtomicBoolean
@@ -16,10 +17,10 @@ import java.util.concurrent.atomic.AtomicBoolean
  * reader receiving it loses nothing: after reconnecting the reader reads its processing list
  * again and skips, by id, what it had already handed out. All reads synchronise on the reader
  * (the [Reader] contract allows concurrent calls); a blocked [take] is woken by closing the
- * core or the reader, which close its connection, and notices an interrupt within a second (it
- * asks Redis for at most one second at a time; on a network that stopped answering, only when
- * the socket times out, after at most ten seconds). A value taken from Redis but not handed out
- * when an interrupt ends a take stays buffered for the next one.
+ * core or the reader, which close its connection, and by an interrupt, which aborts the
+ * connection of its blocking wait at once ([InterruptibleWait]). A value taken from Redis but not
+ * handed out when an interrupt ends a take stays for the next one (buffered, or read back from
+ * the processing list after the aborted connection).
  *
  * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
  * deadline (connecting and every socket wait are bounded by it) with
@@ -149,7 +150,15 @@ internal class OptimusReader<T>(
                 if (!wait) return null
                 if (deadline != null && deadline - System.nanoTime() <= 0) return null
                 if (Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
-                session.blockingMove(deadline, list, processing)?.let(buffer::add)
+                val moved = try {
+                    InterruptibleWait(session).run { session.blockingMove(deadline, list, processing) }
+                } catch (_: ClosedByInterruptException) {
+                    // the wait was cut off: a value Redis moved meanwhile is in the processing list
+                    recovering = true
+                    Thread.interrupted()
+                    throw InterruptedException("interrupted while waiting for a value of an Optimus source")
+                }
+                moved?.let(buffer::add)
                 backoff.reset()
             } catch (e: InterruptedException) {
                 throw e

@@ -3,6 +3,7 @@ package dev.prime.optimus
 import dev.prime.Block
 import dev.prime.ChainFailedException
 import dev.prime.PrimeException
+import java.nio.channels.ClosedByInterruptException
 
 /**
  * The block of an Optimus chain: a remote call. Pushes the input, with a fresh id and the
@@ -43,8 +44,10 @@ internal class RemoteCall<I, O>(
  * removing it (`BLMOVE reply reply`, a rotation), so it is not lost either when the connection
  * breaks while it travels; it stays until the next call's first attempt clears the list. A reply
  * of an earlier call that gave up is recognised by its id and removed (so the wait does not spin
- * on it); a call that gives up also takes its request back if no service took it yet. Calls cost
- * two round trips, like a bare push and pop.
+ * on it); a call that gives up also takes its request back if no service took it yet. An
+ * interrupt ends the wait at once ([InterruptibleWait] aborts the blocked connection), so a
+ * cancelled caller (a coroutine's `withTimeout`) gives up within a round trip, not a poll slice.
+ * Calls cost two round trips, like a bare push and pop.
  *
  * With a call timeout every Redis operation of the call, connecting included, ends by the
  * deadline ([RedisSession.retryingUntil]): the call fails with [RedisUnavailableException] if
@@ -83,8 +86,12 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
                         "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
                 )
             }
-            val reply = session.blockingMoveUntil(deadline, what, replyKey, replyKey)
-                ?: continue
+            val reply = try {
+                InterruptibleWait(session).run { session.blockingMoveUntil(deadline, what, replyKey, replyKey) }
+            } catch (_: ClosedByInterruptException) {
+                Thread.currentThread().interrupt() // the flag is set; say so should a wait have cleared it
+                continue // the check above withdraws the request and ends the call
+            } ?: continue
             val envelope = Envelope.parse(reply)
             if (envelope.id != id) {
                 session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call

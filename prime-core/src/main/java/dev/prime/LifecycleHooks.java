@@ -1,0 +1,81 @@
+package dev.prime;
+
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Objects;
+
+/**
+ * The hooks of {@link PrimeCore#whenRunning}: work tied to a core's lifecycle that is not a
+ * service of its diagram (a Kotlin flow feeding a source).
+ *
+ * <p>Design note. The list and the two flags are guarded by this object; hooks run outside the
+ * lock, so a hook may call the core. A hook added after the core started runs its start at once
+ * on the adding thread; a hook added after the core closed is refused. If {@code close()} races
+ * with adding a hook to a started core, the hook's close may run before its start: the close is
+ * still called exactly once, and a hook must tolerate that order (cancel first, launch later is a
+ * no-op on a cancelled coroutine scope). A hook that throws goes to the core's error handler.
+ */
+final class LifecycleHooks {
+  private record Hook(String name, Runnable onStart, Runnable onClose) {}
+
+  private final PrimeCore core;
+  private final List<Hook> hooks = new ArrayList<>(); // guarded by this
+  private boolean started; // guarded by this
+  private boolean closed; // guarded by this
+
+  LifecycleHooks(PrimeCore core) {
+    this.core = core;
+  }
+
+  void add(String name, Runnable onStart, Runnable onClose) {
+    Hook hook =
+        new Hook(
+            Objects.requireNonNull(name, "name must not be null"),
+            Objects.requireNonNull(onStart, "onStart must not be null"),
+            Objects.requireNonNull(onClose, "onClose must not be null"));
+    boolean startNow;
+    synchronized (this) {
+      if (closed) {
+        throw new CoreClosedException(core.name());
+      }
+      hooks.add(hook);
+      startNow = started;
+    }
+    if (startNow) {
+      run(hook.name(), "start", hook.onStart());
+    }
+  }
+
+  void started() {
+    List<Hook> starting;
+    synchronized (this) {
+      if (closed) {
+        return;
+      }
+      started = true;
+      starting = List.copyOf(hooks);
+    }
+    starting.forEach(hook -> run(hook.name(), "start", hook.onStart()));
+  }
+
+  void closing() {
+    List<Hook> closing;
+    synchronized (this) {
+      closed = true;
+      closing = List.copyOf(hooks);
+      hooks.clear();
+    }
+    closing.forEach(hook -> run(hook.name(), "close", hook.onClose()));
+  }
+
+  private void run(String name, String phase, Runnable action) {
+    try {
+      action.run();
+    } catch (RuntimeException | Error e) {
+      if (e instanceof VirtualMachineError fatal) {
+        throw fatal;
+      }
+      core.config().errorHandler().handle(name, phase, e);
+    }
+  }
+}

@@ -1,0 +1,104 @@
+@file:JvmName("FlowSources")
+
+package dev.prime.kotlin
+
+import dev.prime.EventBlock
+import dev.prime.PrimeCore
+import dev.prime.Source
+import kotlinx.coroutines.CancellationException
+import kotlinx.coroutines.CoroutineName
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.cancel
+import kotlinx.coroutines.currentCoroutineContext
+import kotlinx.coroutines.ensureActive
+import kotlinx.coroutines.flow.Flow
+import kotlinx.coroutines.launch
+import kotlinx.coroutines.runInterruptible
+
+/**
+ * A source, named `source-N`, that publishes the values of [flow]; see [source] with a name.
+ *
+ * @param flow the values to publish, collected while the core runs
+ * @return a new source of this core
+ */
+public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBlock(), flow) { source(it) }
+
+/**
+ * A source named [name] that publishes the values of [flow]: an event block fed by the flow. The
+ * flow is collected once, on [Dispatchers.IO], in a coroutine scope tied to this core: collection
+ * begins when the core starts (at once if it has started) and is cancelled when the core closes.
+ * When the flow completes, the source publishes nothing more; the source itself stays (sources do
+ * not complete).
+ *
+ * Failures go to the core's error handler under the source's name: a value that cannot be
+ * published (such as a value an Optimus codec refuses) with that value as the input, after which
+ * collection carries on with the next value; a failure of the flow itself with the flow as the
+ * input, after which the source publishes nothing more.
+ *
+ * @param name the source's name, unique in this core
+ * @param flow the values to publish, collected while the core runs
+ * @return a new source of this core
+ * @throws dev.prime.CoreClosedException if the core is closed
+ */
+public fun <T : Any> PrimeCore.source(name: String, flow: Flow<T>): Source<T> =
+    feed(EventBlock(), flow) { source(name, it) }
+
+private inline fun <T : Any> PrimeCore.feed(
+    events: EventBlock<T>,
+    flow: Flow<T>,
+    declare: (EventBlock<T>) -> Source<T>,
+): Source<T> {
+    val source = declare(events)
+    val feed = FlowFeed(this, source.name(), flow, events)
+    whenRunning(source.name(), feed::start, feed::stop)
+    return source
+}
+
+/**
+ * Collects a flow into an event block while a core runs.
+ *
+ * Design note. The scope has its own [SupervisorJob], cancelled by the core's close hook; a
+ * launch on a cancelled scope does nothing, so a close that overtakes the start leaves nothing
+ * running. Publishing may wait (an Optimus source publishes over the network), so it runs
+ * interruptibly on [Dispatchers.IO], and a cancellation during a publish ends it at once.
+ */
+private class FlowFeed<T : Any>(
+    private val core: PrimeCore,
+    private val name: String,
+    private val flow: Flow<T>,
+    private val events: EventBlock<T>,
+) {
+    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.IO + CoroutineName("prime-${core.name()}-$name"))
+
+    fun start() {
+        scope.launch { collect() }
+    }
+
+    fun stop() {
+        scope.cancel("core '${core.name()}' closed")
+    }
+
+    private suspend fun collect() {
+        val errors = core.config().errorHandler()
+        try {
+            flow.collect { value ->
+                try {
+                    runInterruptible { events.publish(value) }
+                } catch (cancelled: CancellationException) {
+                    throw cancelled
+                } catch (failure: Exception) {
+                    currentCoroutineContext().ensureActive() // the core closed during the publish
+                    errors.handle(name, value, failure)
+                }
+            }
+        } catch (cancelled: CancellationException) {
+            throw cancelled
+        } catch (fatal: VirtualMachineError) {
+            throw fatal
+        } catch (failure: Throwable) {
+            errors.handle(name, flow, failure)
+        }
+    }
+}

@@ -1,0 +1,132 @@
+package dev.prime.kotlin
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.async
+import kotlinx.coroutines.awaitCancellation
+import kotlinx.coroutines.channels.Channel
+import kotlinx.coroutines.flow.flow
+import kotlinx.coroutines.flow.flowOf
+import kotlinx.coroutines.flow.onEach
+import kotlinx.coroutines.flow.take
+import kotlinx.coroutines.flow.toList
+import kotlinx.coroutines.runBlocking
+import kotlinx.coroutines.withTimeout
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertSame
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import java.time.Duration
+import java.util.concurrent.ArrayBlockingQueue
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+
+/** Sources as flows and flows as sources, on one media. */
+internal abstract class FlowKit(private val media: Media) {
+
+    @Test
+    fun `a source's flow emits every value in order and completes normally when the core closes`() = runBlocking {
+        val core = media.newCore()
+        val events = EventBlock<Int>()
+        val source = core.source("numbers", events)
+        core.start()
+        val seen = Channel<Int>(Channel.UNLIMITED)
+        val all = async(Dispatchers.IO) { source.asFlow().onEach { seen.send(it) }.toList() }
+        (1..5).forEach(events::publish)
+        repeat(5) { assertEquals(it + 1, withTimeout(WAIT_MILLIS) { seen.receive() }) }
+        core.close()
+        assertEquals((1..5).toList(), withTimeout(WAIT_MILLIS) { all.await() }) // not CoreClosedException
+        assertEquals(emptyList<Int>(), source.asFlow().toList(), "a closed core's source flows nothing")
+    }
+
+    @Test
+    fun `cancelling a source's collector ends its blocked take promptly, and the source flows again`() = runBlocking {
+        media.newCore().use { core ->
+            val events = EventBlock<Int>()
+            val source = core.source("numbers", events)
+            core.start()
+            val seen = Channel<Int>(Channel.UNLIMITED)
+            val collector = async(Dispatchers.IO) { source.asFlow().collect { seen.send(it) } }
+            events.publish(1)
+            assertEquals(1, withTimeout(WAIT_MILLIS) { seen.receive() })
+            val began = System.nanoTime()
+            collector.cancel() // its reader waits in take() for a second value
+            withTimeout(WAIT_MILLIS) { collector.join() }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < PROMPT_MILLIS, "the cancelled collector stopped after $millis ms")
+            events.publish(2)
+            assertEquals(listOf(1, 2), withTimeout(WAIT_MILLIS) { source.asFlow().take(2).toList() })
+        }
+    }
+
+    @Test
+    fun `a flow feeds a source from the core's start, on every reader`() = runBlocking {
+        media.newCore().use { core ->
+            val ticks = core.source("ticks", flowOf(1, 2, 3))
+            val doubled = ticks.then(core.chain("double") { x: Int -> x * 2 })
+            core.start()
+            doubled.reader().use { reader ->
+                assertEquals(listOf(2, 4, 6), List(3) { reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+            }
+            // declared on a started core: collected at once
+            val late = core.source(flowOf("a", "b"))
+            late.reader().use { reader ->
+                assertEquals(listOf("a", "b"), List(2) { reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+            }
+        }
+    }
+
+    @Test
+    fun `closing the core cancels the flow that feeds a source`() = runBlocking {
+        val collecting = CountDownLatch(1)
+        val cancelled = CountDownLatch(1)
+        val endless = flow {
+            try {
+                emit(1)
+                collecting.countDown()
+                awaitCancellation()
+            } finally {
+                cancelled.countDown()
+            }
+        }
+        val core = media.newCore()
+        val source = core.source("endless", endless)
+        core.start()
+        source.reader().use { assertEquals(1, it.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow()) }
+        assertTrue(collecting.await(WAIT_MILLIS, TimeUnit.MILLISECONDS))
+        core.close()
+        assertTrue(cancelled.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "the flow was not cancelled by close()")
+    }
+
+    @Test
+    fun `a failing flow goes to the core's error handler under the source's name`() = runBlocking {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val config = CoreConfig.builder().errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }.build()
+        media.newCore(config).use { core ->
+            val boom = IllegalStateException("sensor unplugged")
+            val failing = flow {
+                emit(1)
+                throw boom
+            }
+            val source = core.source("sensor", failing)
+            core.start()
+            source.reader().use { assertEquals(1, it.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow()) }
+            val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("no failure reached the error handler")
+            assertEquals("sensor", failure.first)
+            assertSame(failing, failure.second)
+            assertSame(boom, failure.third)
+        }
+    }
+
+    private companion object {
+        const val WAIT_MILLIS = 20_000L
+        const val PROMPT_MILLIS = 750L
+    }
+}
+
+internal class LibertyFlowTest : FlowKit(Liberty)
+
+internal class RadiantFlowTest : FlowKit(Radiant)
+
+internal class OptimusFlowTest : FlowKit(Optimus)

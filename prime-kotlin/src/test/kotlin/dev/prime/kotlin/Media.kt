@@ -1,0 +1,38 @@
+package dev.prime.kotlin
+
+import dev.prime.CoreConfig
+import dev.prime.PrimeCore
+import dev.prime.liberty.LibertyCore
+import dev.prime.optimus.EmbeddedRedis
+import dev.prime.optimus.OptimusCore
+import dev.prime.radiant.RadiantCore
+
+/** The media the kits of this module run on: each makes a new, not yet started core. */
+internal interface Media {
+    fun newCore(config: CoreConfig = CoreConfig.defaults()): PrimeCore
+
+    /**
+     * Whether a chain's block runs in a service that takes one call after the other (Optimus),
+     * so a call made while the service is busy waits in its input; otherwise each call runs the
+     * block on its caller's thread at once (Liberty, Radiant).
+     */
+    val callsQueueAtTheService: Boolean get() = false
+}
+
+internal object Liberty : Media {
+    override fun newCore(config: CoreConfig): PrimeCore = LibertyCore(config)
+}
+
+internal object Radiant : Media {
+    override fun newCore(config: CoreConfig): PrimeCore = RadiantCore(config)
+}
+
+/** Optimus on one embedded Redis for this test JVM (each core is its own namespace on it). */
+internal object Optimus : Media {
+    private val redis: EmbeddedRedis by lazy { EmbeddedRedis.start() }
+
+    override fun newCore(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(redis.uri).build()
+
+    override val callsQueueAtTheService: Boolean get() = true
+}

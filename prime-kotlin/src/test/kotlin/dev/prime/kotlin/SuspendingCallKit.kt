@@ -1,0 +1,175 @@
+package dev.prime.kotlin
+
+import dev.prime.ChainFailedException
+import kotlinx.coroutines.CancellationException
+import kotlinx.coroutines.CompletableDeferred
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.TimeoutCancellationException
+import kotlinx.coroutines.async
+import kotlinx.coroutines.runBlocking
+import kotlinx.coroutines.withTimeout
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.assertThrows
+import java.util.concurrent.ConcurrentHashMap
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicInteger
+
+/**
+ * `processSuspending` on one media: a cancelled call (by `withTimeout` or by `cancel()`) ends
+ * promptly with the coroutine's cancellation, is abandoned cleanly (its value never reaches a
+ * later call), and the calls that actually ran are counted.
+ */
+internal abstract class SuspendingCallKit(private val media: Media) {
+
+    /** A chain's logic: inputs below zero wait for [release], the others return at once; runs are counted per input. */
+    private class Gate {
+        val release = CountDownLatch(1)
+        val runs = ConcurrentHashMap<Int, AtomicInteger>()
+        val started = ConcurrentHashMap<Int, CountDownLatch>()
+
+        fun startedLatch(input: Int): CountDownLatch = started.computeIfAbsent(input) { CountDownLatch(1) }
+
+        fun runs(input: Int): Int = runs[input]?.get() ?: 0
+
+        fun process(input: Int): Int {
+            runs.computeIfAbsent(input) { AtomicInteger() }.incrementAndGet()
+            startedLatch(input).countDown()
+            if (input < 0) check(release.await(WAIT_SECONDS, TimeUnit.SECONDS)) { "never released" }
+            return input * 10
+        }
+    }
+
+    @Test
+    fun `a call cut off by withTimeout throws TimeoutCancellationException promptly and the next call gets its own value`() = runBlocking {
+        media.newCore().use { core ->
+            val gate = Gate()
+            val block = core.chain("gated", gate::process).toBlock()
+            core.start()
+            assertEquals(10, block.processSuspending(1)) // warm: connections, threads, classes
+
+            val began = System.nanoTime()
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { block.processSuspending(-1) } } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < PROMPT_MILLIS, "the timed-out call ended after $millis ms")
+
+            // the next call, while the abandoned one may still be held by the service, gets its own value
+            val next = async(Dispatchers.IO) { block.processSuspending(2) }
+            gate.release.countDown()
+            assertEquals(20, withTimeout(WAIT_SECONDS * 1000) { next.await() })
+            assertEquals(30, block.processSuspending(3))
+            assertTrue(gate.runs(-1) <= 1, "the abandoned call ran ${gate.runs(-1)} times")
+            assertEquals(1, gate.runs(1))
+            assertEquals(1, gate.runs(2))
+            assertEquals(1, gate.runs(3))
+        }
+    }
+
+    @Test
+    fun `a call cancelled while its block runs ends at once, and its late value is discarded, not given to the next call`() = runBlocking {
+        media.newCore().use { core ->
+            val gate = Gate()
+            val block = core.chain("gated", gate::process).toBlock()
+            core.start()
+            val abandoned = async(Dispatchers.IO) { block.processSuspending(-1) }
+            assertTrue(gate.startedLatch(-1).await(WAIT_SECONDS, TimeUnit.SECONDS), "the call never reached its block")
+
+            val began = System.nanoTime()
+            abandoned.cancel()
+            assertThrows<CancellationException> { runBlocking { abandoned.await() } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < PROMPT_MILLIS, "the cancelled call ended after $millis ms")
+
+            // Optimus: the service still runs -1; call 2 waits behind it on the same reply list,
+            // receives -1's late reply first and must skip it by id
+            val next = async(Dispatchers.IO) { block.processSuspending(2) }
+            gate.release.countDown()
+            assertEquals(20, withTimeout(WAIT_SECONDS * 1000) { next.await() })
+            assertEquals(30, block.processSuspending(3))
+            assertEquals(1, gate.runs(-1), "the cancelled call's block ran once (it had started)")
+            assertEquals(1, gate.runs(2))
+            assertEquals(1, gate.runs(3))
+        }
+    }
+
+    @Test
+    fun `a call cancelled before its block ran is withdrawn where calls queue, and never run twice`() = runBlocking {
+        media.newCore().use { core ->
+            val gate = Gate()
+            val block = core.chain("gated", gate::process).toBlock()
+            core.start()
+            val first = async(Dispatchers.IO) { block.processSuspending(-1) }
+            assertTrue(gate.startedLatch(-1).await(WAIT_SECONDS, TimeUnit.SECONDS), "the first call never reached its block")
+            val second = async(Dispatchers.IO) { block.processSuspending(-2) } // queued behind -1 where calls queue
+            if (!media.callsQueueAtTheService) {
+                assertTrue(gate.startedLatch(-2).await(WAIT_SECONDS, TimeUnit.SECONDS), "the second call never ran")
+            }
+            second.cancel()
+            assertThrows<CancellationException> { runBlocking { second.await() } }
+
+            gate.release.countDown()
+            assertEquals(-10, withTimeout(WAIT_SECONDS * 1000) { first.await() })
+            assertEquals(30, block.processSuspending(3))
+            assertEquals(1, gate.runs(-1))
+            assertEquals(if (media.callsQueueAtTheService) 0 else 1, gate.runs(-2), "runs of the cancelled call")
+            assertEquals(1, gate.runs(3))
+        }
+    }
+
+    @Test
+    fun `a failure of a call that was not cancelled reaches the caller as the media reports it`() = runBlocking {
+        media.newCore().use { core ->
+            val block = core.chain("negate") { x: Int -> require(x != 0) { "zero" }; -x }.toBlock()
+            core.start()
+            assertEquals(-7, block.processSuspending(7))
+            val failure = assertThrows<ChainFailedException> { runBlocking { block.processSuspending(0) } }
+            assertEquals("negate", failure.chainName())
+            assertEquals(-8, block.processSuspending(8))
+        }
+    }
+
+    @Test
+    fun `a suspending block runs in a chain and is cancelled when its thread is interrupted`() = runBlocking {
+        media.newCore().use { core ->
+            val runs = AtomicInteger()
+            val release = CompletableDeferred<Unit>()
+            val block = core.chain("suspending", suspendingBlock { x: Int ->
+                runs.incrementAndGet()
+                if (x < 0) withTimeout(WAIT_SECONDS * 1000) { release.await() }
+                x + 1
+            }).toBlock()
+            core.start()
+            assertEquals(42, block.processSuspending(41))
+            // warm: the first cancellation also starts the coroutines' timer thread
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { block.processSuspending(-1) } } }
+            val began = System.nanoTime()
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { block.processSuspending(-1) } } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < PROMPT_MILLIS, "the timed-out call ended after $millis ms")
+            release.complete(Unit)
+            assertEquals(43, block.processSuspending(42))
+            if (media.callsQueueAtTheService) {
+                // the first cancelled call held the service (its block is not interrupted there);
+                // the second waited behind it and was withdrawn, unless the first was withdrawn too
+                assertTrue(runs.get() in 2..3, "runs: ${runs.get()}")
+            } else {
+                assertEquals(4, runs.get(), "runs: two values and two interrupted calls")
+            }
+        }
+    }
+
+    private companion object {
+        const val WAIT_SECONDS = 20L
+
+        /** Well under the one-second slices a network wait used to poll in, with room for a loaded machine. */
+        const val PROMPT_MILLIS = 750L
+    }
+}
+
+internal class LibertySuspendingCallTest : SuspendingCallKit(Liberty)
+
+internal class RadiantSuspendingCallTest : SuspendingCallKit(Radiant)
+
+internal class OptimusSuspendingCallTest : SuspendingCallKit(Optimus)
