@@ -19,6 +19,7 @@ public interface MediaConformance
         ValueCopyConformance,
         LongChainConformance,
         LoggingConformance,
+        RecordingConformance,
         LifecycleHookConformance,
         GenericServiceConformance,
         LinkVarianceConformance {}
