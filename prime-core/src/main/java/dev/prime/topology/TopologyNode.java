@@ -11,7 +11,8 @@ import java.util.Objects;
  * <p>Which nodes are <em>services</em> ({@link #isService()}): the places where a block of the
  * diagram runs. Every chain made of a block, every template chain (if/else, for-each, union, fork,
  * guard, each user of an isolated chain, the collectors, the repeater), every chain of another
- * core used here, and every filter, flat-map and listener of a source. Links are not services:
+ * core used here, every filter, flat-map and listener of a source, and every generic service
+ * ({@code core.service(name, service)}). Links are not services:
  * a linked chain is made of the services of its parts. Sources and readers are not services
  * either: a source is a stream that services publish to.
  */
@@ -34,7 +35,8 @@ public sealed interface TopologyNode
         TopologyNode.Filter,
         TopologyNode.FlatMap,
         TopologyNode.Listener,
-        TopologyNode.ReaderNode {
+        TopologyNode.ReaderNode,
+        TopologyNode.GenericServiceNode {
 
   /** {@return the node's name: unique among the nodes of a topology} */
   String name();
@@ -749,6 +751,39 @@ public sealed interface TopologyNode
     @Override
     public boolean isService() {
       return false;
+    }
+
+    @Override
+    public boolean isChain() {
+      return false;
+    }
+  }
+
+  /**
+   * A generic service ({@code core.service(name, service)}): a service of its own, fed by no
+   * source, that runs an initialize step and then its work step over and over (see {@link
+   * dev.prime.GenericService}).
+   *
+   * @param name the service's name
+   */
+  record GenericServiceNode(String name) implements TopologyNode {
+    /**
+     * Checks the components.
+     *
+     * @param name the service's name
+     */
+    public GenericServiceNode {
+      Objects.requireNonNull(name, "name");
+    }
+
+    @Override
+    public List<Part> parts() {
+      return List.of();
+    }
+
+    @Override
+    public boolean isService() {
+      return true;
     }
 
     @Override

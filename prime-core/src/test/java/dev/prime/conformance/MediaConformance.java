@@ -20,4 +20,6 @@ public interface MediaConformance
         LongChainConformance,
         LoggingConformance,
         RecordingConformance,
-        LifecycleHookConformance {}
+        LifecycleHookConformance,
+        GenericServiceConformance,
+        LinkVarianceConformance {}
