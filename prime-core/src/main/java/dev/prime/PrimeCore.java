@@ -249,7 +249,9 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Links two chains: the result feeds {@code first}'s output to {@code second}. Consumes both. A
-   * chain of another core is taken through its {@link Chain#toBlock()}.
+   * chain of another core is taken through its {@link Chain#toBlock()}. Like {@link
+   * java.util.function.Function#andThen}, {@code second} may take any supertype of {@code
+   * first}'s output.
    *
    * @param first runs first
    * @param second runs on the first chain's outputs
@@ -258,7 +260,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the combined chain, named {@code first>second}
    */
-  public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+  public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
     requireChains(first, second);
     return compiled(topologyRecorder().link(first, second), first, second);
   }
@@ -267,7 +269,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * A chain that runs {@code then} for inputs that satisfy {@code condition}, else
-   * {@code otherwise}. Consumes both chains.
+   * {@code otherwise}. Consumes both chains. Each branch may take a supertype of the input and
+   * return a subtype of the output (as {@link java.util.function.Function#andThen} allows).
    *
    * @param condition chooses the branch
    * @param then the chain for inputs that satisfy it
@@ -277,27 +280,31 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<I, O> ifThenElse(
-      Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
+      Predicate<? super I> condition,
+      Chain<? super I, ? extends O> then,
+      Chain<? super I, ? extends O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
     requireChains(then, otherwise);
     return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
   }
 
   /**
-   * A chain that runs {@code body} on each element of a list. Consumes {@code body}.
+   * A chain that runs {@code body} on each element of a list. Consumes {@code body}, which may
+   * take a supertype of the elements and return a subtype of the output elements.
    *
    * @param body the chain for one element
    * @param <I> element type of the input
    * @param <O> element type of the output
    * @return the combined chain
    */
-  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
+  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<? super I, ? extends O> body) {
     requireChains(body);
     return compiled(topologyRecorder().forEach(body), body);
   }
 
   /**
-   * A chain that gives each input to both chains and returns both outputs. Consumes them.
+   * A chain that gives each input to both chains and returns both outputs. Consumes them. Each
+   * chain may take a supertype of the input, as with every union.
    *
    * @param a first chain
    * @param b second chain
@@ -306,7 +313,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <B> output of b
    * @return the union
    */
-  public final <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
+  public final <I, A, B> Chain<I, Tuple2<A, B>> union(
+      Chain<? super I, A> a, Chain<? super I, B> b) {
     return unionOf(a, b);
   }
 
@@ -323,7 +331,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
+      Chain<? super I, A> a, Chain<? super I, B> b, Chain<? super I, C> c) {
     return unionOf(a, b, c);
   }
 
@@ -342,7 +350,10 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C, D> Chain<I, Tuple4<A, B, C, D>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
+      Chain<? super I, A> a,
+      Chain<? super I, B> b,
+      Chain<? super I, C> c,
+      Chain<? super I, D> d) {
     return unionOf(a, b, c, d);
   }
 
@@ -363,7 +374,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C, D, E> Chain<I, Tuple5<A, B, C, D, E>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
+      Chain<? super I, A> a,
+      Chain<? super I, B> b,
+      Chain<? super I, C> c,
+      Chain<? super I, D> d,
+      Chain<? super I, E> e) {
     return unionOf(a, b, c, d, e);
   }
 
@@ -391,7 +406,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * A chain that runs {@code chain} only for inputs that pass {@code pass}; the others get
-   * {@code substitute}'s output without running the chain. Consumes the chain.
+   * {@code substitute}'s output without running the chain. Consumes the chain, which may take a
+   * supertype of the input and return a subtype of the output.
    *
    * @param pass decides which inputs run the chain
    * @param chain the guarded chain
@@ -401,7 +417,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the guarded chain
    */
   public final <I, O> Chain<I, O> guard(
-      Predicate<? super I> pass, Chain<I, O> chain, Block<? super I, ? extends O> substitute) {
+      Predicate<? super I> pass,
+      Chain<? super I, ? extends O> chain,
+      Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
     requireChains(chain);
@@ -753,9 +771,10 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
-   * Values the chain maps to {@code null} are not published. On a source of the media's own
-   * ({@link SourceCompiler}) the media compiles the service; otherwise it runs on a thread of this
-   * core and publishes to an in-memory source.
+   * The chain may take any supertype of the source's values. Values the chain maps to {@code
+   * null} are not published. On a source of the media's own ({@link SourceCompiler}) the media
+   * compiles the service; otherwise it runs on a thread of this core and publishes to an in-memory
+   * source.
    *
    * @param source the input source (may belong to another core)
    * @param chain the chain
@@ -764,14 +783,14 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the source of outputs, named {@code source>chain}
    */
   @SuppressWarnings("unchecked")
-  public final <I, O> Source<O> link(Source<I> source, Chain<I, O> chain) {
+  public final <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
     requireChains(chain);
     ModelCompiler<?> model = model();
     if (model.ownsSource(source)) {
       return (Source<O>) model.service(topologyRecorder().sourceLink(source, chain), source, chain);
     }
-    Block<I, O> block = chain.toBlock();
+    Block<I, O> block = Block.narrow(chain.toBlock());
     return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
   }
 
@@ -835,6 +854,41 @@ public abstract class PrimeCore implements AutoCloseable {
     } else {
       inProcess.listen(name, source, listener);
     }
+  }
+
+  /**
+   * Declares a generic service: a long-running service fed by no source, such as a hardware driver
+   * or a poller, that {@linkplain GenericService#initialize() initializes} once and then
+   * {@linkplain GenericService#work() works} over and over on a thread of its own. It runs from
+   * {@link #start()} (at once if the core is started) until {@link #close()}, which interrupts it
+   * and waits for its {@link GenericService#shutdown() shutdown} within {@link
+   * CoreConfig#shutdownTimeout()}. Its failures go to the {@link ErrorHandler} under {@code name},
+   * with the {@link GenericService.Step} that failed as the input; see {@link GenericService} for
+   * the whole contract. It is a service of the {@linkplain #topology() topology}; a media that
+   * spreads services over processes runs it only in the process that hosts it.
+   *
+   * @param name unique in this core; 1 to 200 characters, no whitespace or braces
+   * @param service the service
+   * @throws IllegalArgumentException if the name is invalid or taken
+   * @throws CoreClosedException if the core is closed
+   */
+  public final void service(String name, GenericService service) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(service, "service must not be null");
+    ensureOpen();
+    runGenericService(topologyRecorder().genericService(name, service), service);
+  }
+
+  /**
+   * Runs a generic service, whose name is already claimed: by default on a thread of this core
+   * (started with the other services), through {@link dev.prime.spi.GenericServiceLoop}. A media
+   * that spreads services over processes overrides it to run the service only where it is hosted.
+   *
+   * @param name the service's name
+   * @param service the service
+   */
+  protected void runGenericService(String name, GenericService service) {
+    inProcess.generic(name, service);
   }
 
   /**

@@ -32,26 +32,28 @@ public interface Source<T> {
   Reader<T> reader();
 
   /**
-   * Runs {@code chain} on every value of this source, as a service, consuming the chain.
+   * Runs {@code chain} on every value of this source, as a service, consuming the chain. The
+   * chain may take any supertype of the source's values.
    *
    * @param chain the chain to run
    * @param <R> output type
    * @return the source of the chain's outputs
    * @see PrimeCore#link(Source, Chain)
    */
-  default <R> Source<R> then(Chain<T, R> chain) {
+  default <R> Source<R> then(Chain<? super T, R> chain) {
     return core().link(this, chain);
   }
 
   /**
-   * Runs {@code block} on every value of this source, as a service.
+   * Runs {@code block} on every value of this source, as a service. The block may take any
+   * supertype of the source's values and return any subtype of {@code R}.
    *
    * @param block the block to run
    * @param <R> output type
    * @return the source of the block's outputs
    */
-  default <R> Source<R> then(Block<T, R> block) {
-    return core().link(this, core().chain(block));
+  default <R> Source<R> then(Block<? super T, ? extends R> block) {
+    return core().link(this, core().chain(Block.<T, R>narrow(block)));
   }
 
   /**

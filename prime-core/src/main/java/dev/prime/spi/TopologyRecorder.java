@@ -3,6 +3,7 @@ package dev.prime.spi;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.EventBlock;
+import dev.prime.GenericService;
 import dev.prime.PrimeCore;
 import dev.prime.RepeaterBlock;
 import dev.prime.Source;
@@ -304,6 +305,19 @@ public final class TopologyRecorder {
     return add(
         new TopologyNode.Listener(names.derived("listen(" + source.name() + ")", "listen"), s),
         listens);
+  }
+
+  /**
+   * Records a generic service.
+   *
+   * @param name the name the user gave
+   * @param service what it runs
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String genericService(String name, GenericService service) {
+    NodeLogic works = new NodeLogic.Work(service);
+    return add(new TopologyNode.GenericServiceNode(names.claim(name)), works);
   }
 
   /**

@@ -135,6 +135,8 @@ final class Drawing {
       return new String[] {">", "]"};
     } else if (node instanceof TopologyNode.ReaderNode) {
       return new String[] {"((", "))"};
+    } else if (node instanceof TopologyNode.GenericServiceNode) {
+      return new String[] {"[[", "]]"};
     }
     return new String[] {"{{", "}}"}; // templates and collectors
   }
@@ -207,6 +209,8 @@ final class Drawing {
       return "cds";
     } else if (node instanceof TopologyNode.ReaderNode) {
       return "circle";
+    } else if (node instanceof TopologyNode.GenericServiceNode) {
+      return "component";
     }
     return "hexagon";
   }

@@ -11,8 +11,9 @@ import java.util.Objects;
  * <p>Which nodes are <em>services</em> ({@link #isService()}): the places where a block of the
  * diagram runs. Every chain made of a block, every template chain (if/else, for-each, union, fork,
  * guard, each user of an isolated chain, the collectors, the repeater), every chain of another
- * core used here, every filter, flat-map and listener of a source, every combinator of sources
- * and every timer. Links are not services:
+ * core used here, every filter, flat-map and listener of a source, every generic service
+ * ({@code core.service(name, service)}), every combinator of sources and every timer. Links are
+ * not services:
  * a linked chain is made of the services of its parts. Sources and readers are not services
  * either: a source is a stream that services publish to.
  */
@@ -36,6 +37,7 @@ public sealed interface TopologyNode
         TopologyNode.FlatMap,
         TopologyNode.Listener,
         TopologyNode.ReaderNode,
+        TopologyNode.GenericServiceNode,
         TopologyNode.Combinator,
         TopologyNode.Timer {
 
@@ -752,6 +754,39 @@ public sealed interface TopologyNode
     @Override
     public boolean isService() {
       return false;
+    }
+
+    @Override
+    public boolean isChain() {
+      return false;
+    }
+  }
+
+  /**
+   * A generic service ({@code core.service(name, service)}): a service of its own, fed by no
+   * source, that runs an initialize step and then its work step over and over (see {@link
+   * dev.prime.GenericService}).
+   *
+   * @param name the service's name
+   */
+  record GenericServiceNode(String name) implements TopologyNode {
+    /**
+     * Checks the components.
+     *
+     * @param name the service's name
+     */
+    public GenericServiceNode {
+      Objects.requireNonNull(name, "name");
+    }
+
+    @Override
+    public List<Part> parts() {
+      return List.of();
+    }
+
+    @Override
+    public boolean isService() {
+      return true;
     }
 
     @Override

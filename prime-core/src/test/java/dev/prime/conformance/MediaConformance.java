@@ -21,4 +21,6 @@ public interface MediaConformance
         LoggingConformance,
         CombinatorConformance,
         RecordingConformance,
-        LifecycleHookConformance {}
+        LifecycleHookConformance,
+        GenericServiceConformance,
+        LinkVarianceConformance {}
