@@ -84,6 +84,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private volatile ModelCompiler<?> compiler; // made on first use: the media's compilers
   private final ServiceThreads services;
   private final InProcessServices inProcess;
+  private final Combinators combinators;
   private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
@@ -101,6 +102,7 @@ public abstract class PrimeCore implements AutoCloseable {
             : media + "-" + CORE_COUNTERS.computeIfAbsent(media, k -> new AtomicInteger()).incrementAndGet();
     this.services = new ServiceThreads(name);
     this.inProcess = new InProcessServices(this, services);
+    this.combinators = new Combinators(this, services);
   }
 
   /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
@@ -523,6 +525,189 @@ public abstract class PrimeCore implements AutoCloseable {
         topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
   }
 
+  // ---------------------------------------------------------------- combinators and timers
+
+  /**
+   * A source that pairs every new value of either source with the latest value of the other,
+   * once both have one. Values published before every source has one only update the latest;
+   * after that each value of either source emits one tuple. A service of this core, named {@code
+   * combineLatest(a|b)}; its outputs leave in the order it took its inputs (each source's values
+   * in their order). See {@link #zip(Source, Source)} to pair values one to one.
+   *
+   * @param a first source
+   * @param b second source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @return the source of the pairs
+   */
+  public final <A, B> Source<Tuple2<A, B>> combineLatest(Source<A> a, Source<B> b) {
+    return combinators.combineLatest(v -> new Tuple2<>(v[0], v[1]), a, b);
+  }
+
+  /**
+   * Like {@link #combineLatest(Source, Source)}, for three sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @return the source of the tuples
+   */
+  public final <A, B, C> Source<Tuple3<A, B, C>> combineLatest(
+      Source<A> a, Source<B> b, Source<C> c) {
+    return combinators.combineLatest(v -> new Tuple3<>(v[0], v[1], v[2]), a, b, c);
+  }
+
+  /**
+   * Like {@link #combineLatest(Source, Source)}, for four sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D> Source<Tuple4<A, B, C, D>> combineLatest(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d) {
+    return combinators.combineLatest(v -> new Tuple4<>(v[0], v[1], v[2], v[3]), a, b, c, d);
+  }
+
+  /**
+   * Like {@link #combineLatest(Source, Source)}, for five sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param e fifth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @param <E> values of e
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D, E> Source<Tuple5<A, B, C, D, E>> combineLatest(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d, Source<E> e) {
+    return combinators.combineLatest(
+        v -> new Tuple5<>(v[0], v[1], v[2], v[3], v[4]), a, b, c, d, e);
+  }
+
+  /**
+   * A source that pairs the n-th value of {@code a} with the n-th value of {@code b}: one tuple as
+   * soon as both have a value not yet paired. A source that runs ahead waits in the zip: each keeps
+   * at most {@link CoreConfig#sourceRetention()} unpaired values, and a value that finds its
+   * source's buffer full drops that source's oldest unpaired value (logged at WARN, rate-limited),
+   * so the pairing is n-th with n-th among the values kept. A service of this core, named {@code
+   * zip(a|b)}.
+   *
+   * @param a first source
+   * @param b second source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @return the source of the pairs
+   */
+  public final <A, B> Source<Tuple2<A, B>> zip(Source<A> a, Source<B> b) {
+    return combinators.zip(v -> new Tuple2<>(v[0], v[1]), a, b);
+  }
+
+  /**
+   * Like {@link #zip(Source, Source)}, for three sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @return the source of the tuples
+   */
+  public final <A, B, C> Source<Tuple3<A, B, C>> zip(Source<A> a, Source<B> b, Source<C> c) {
+    return combinators.zip(v -> new Tuple3<>(v[0], v[1], v[2]), a, b, c);
+  }
+
+  /**
+   * Like {@link #zip(Source, Source)}, for four sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D> Source<Tuple4<A, B, C, D>> zip(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d) {
+    return combinators.zip(v -> new Tuple4<>(v[0], v[1], v[2], v[3]), a, b, c, d);
+  }
+
+  /**
+   * Like {@link #zip(Source, Source)}, for five sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param e fifth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @param <E> values of e
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D, E> Source<Tuple5<A, B, C, D, E>> zip(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d, Source<E> e) {
+    return combinators.zip(v -> new Tuple5<>(v[0], v[1], v[2], v[3], v[4]), a, b, c, d, e);
+  }
+
+  /**
+   * A source of every value of every one of {@code sources}, as the merge takes them: the values
+   * of each source stay in their order; values of different sources interleave as they arrive. A
+   * service of this core, named {@code merge(a|b|...)}.
+   *
+   * @param sources one or more sources of one type
+   * @param <T> value type
+   * @return the merged source
+   */
+  @SafeVarargs
+  public final <T> Source<T> merge(Source<? extends T>... sources) {
+    return combinators.merge(sources);
+  }
+
+  /**
+   * A source of ticks of the core's clock ({@link CoreConfig#clock()}): tick {@code n} is due
+   * {@code n} periods after the core starts (or after this call, on a started core), and is
+   * published then with its count and due time. A timer that falls behind (a slow publish, a
+   * virtual clock advanced by many periods) publishes every tick that is due, in order, and never
+   * drifts. A tick whose publish fails (a full service input, see {@link QueueFullException})
+   * goes to the error handler with its count and is not retried. A service of this core: on a
+   * media that spreads services over processes only the process that hosts it ticks.
+   *
+   * @param name the timer's name, unique in this core (like a chain's)
+   * @param period the time between two ticks, positive
+   * @return the source of the ticks
+   * @throws IllegalArgumentException if the name is invalid or taken, or the period is not
+   *     positive
+   */
+  public final Source<Tick> timer(String name, java.time.Duration period) {
+    return combinators.timer(name, period);
+  }
+
+  /** The combinators of this core, for {@link Source}'s default methods. */
+  final Combinators combinators() {
+    return combinators;
+  }
+
   // ---------------------------------------------------------------- sources
 
   /**
@@ -800,6 +985,7 @@ public abstract class PrimeCore implements AutoCloseable {
       state = State.STARTED;
     }
     onStart();
+    combinators.started();
     services.startAll();
     hooks.started();
     List<String> hosted = serviceNames().stream().filter(this::isHostedHere).toList();

@@ -85,4 +85,49 @@ public interface Source<T> {
   default void listen(Consumer<? super T> listener) {
     core().listenSource(this, listener);
   }
+
+  /**
+   * A source that pairs each value of this source with the latest value of {@code latest}: the
+   * sensor-fusion case (a fast gyro enriched with the latest reading of a slow line sensor).
+   * Values of this source published before {@code latest} has any value are dropped (nothing to
+   * pair them with); values of {@code latest} only update the latest and emit nothing. A service of
+   * this source's core, named {@code withLatestFrom(this|latest)}; its outputs keep this source's
+   * order. To emit on the values of both, use {@link PrimeCore#combineLatest(Source, Source)}.
+   *
+   * @param latest the source whose latest value each value is paired with
+   * @param <U> values of {@code latest}
+   * @return the source of the pairs: this source's value first
+   */
+  default <U> Source<Tuple2<T, U>> withLatestFrom(Source<U> latest) {
+    return core().combinators().withLatestFrom(this, latest);
+  }
+
+  /**
+   * A source that publishes, once every {@code period} of the core's clock ({@link
+   * CoreConfig#clock()}), the latest value of this source if one arrived since the previous
+   * period, and nothing if none did: a fast sensor read at the rate of a slow controller, always
+   * its freshest value. Periods count from the core's start. A service of this source's core,
+   * named {@code sample(this)}.
+   *
+   * @param period how often to publish, positive
+   * @return the sampled source
+   * @throws IllegalArgumentException if the period is not positive
+   */
+  default Source<T> sample(java.time.Duration period) {
+    return core().combinators().sample(this, period);
+  }
+
+  /**
+   * A reader that always returns the newest value, skipping the older ones it has not read (the
+   * latest value only: conflation). {@link Reader#take()} waits for a value newer than the last
+   * one it returned and returns the newest published by then; {@link Reader#poll()} returns the
+   * newest unread value, if any; {@link Reader#drain()} returns at most one value, the newest.
+   * Skipped values are not counted in {@link Reader#missed()}, which counts only what the source's
+   * retention dropped. Not a service: the conflation happens as the reader reads.
+   *
+   * @return a new reader, recorded in the topology like {@link #reader()}
+   */
+  default Reader<T> conflatedReader() {
+    return new ConflatedReader<>(reader());
+  }
 }

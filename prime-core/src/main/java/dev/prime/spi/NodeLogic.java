@@ -38,6 +38,8 @@ import java.util.function.Predicate;
  *   <tr><td>{@code ForeignSource}</td><td>{@link OtherSource}: the other core's source</td></tr>
  *   <tr><td>{@code ReaderNode}</td><td>{@link None}</td></tr>
  *   <tr><td>{@code GenericServiceNode}</td><td>{@link Work}: the generic service</td></tr>
+ *   <tr><td>{@code Combinator}, {@code Timer}</td><td>{@link None}: the node says all (its kind,
+ *       inputs and period); the core runs them on its own threads, no media compiles them</td></tr>
  * </table>
  */
 public sealed interface NodeLogic {

@@ -19,6 +19,7 @@ public interface MediaConformance
         ValueCopyConformance,
         LongChainConformance,
         LoggingConformance,
+        CombinatorConformance,
         RecordingConformance,
         LifecycleHookConformance,
         GenericServiceConformance,

@@ -13,6 +13,7 @@ import dev.prime.Source
 import dev.prime.spi.ChainCompiler
 import dev.prime.spi.GenericServiceLoop
 import dev.prime.spi.SourceCompiler
+import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
@@ -352,7 +353,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${declared.sorted()}"
             }
         }
-        val hosted = services.keys.filter(::isHosted) + genericServices.keys
+        val hosted = (services.keys + coreThreadServices()).filter(::isHosted) + genericServices.keys
         try {
             claimHostLeases(hosted)
         } catch (e: IllegalStateException) {
@@ -362,6 +363,15 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         services.values.forEach(::launchIfHosted)
         genericServices.values.forEach { loop -> launchHosted(loop.name()) { runInterruptible { loop.run() } } }
     }
+
+    /**
+     * The services of the topology that run on the core's own threads rather than as Redis
+     * services: combinators of sources and timers. They get a host lease too, so one process at a
+     * time runs each (they stop emitting when [isHostedHere] turns false).
+     */
+    private fun coreThreadServices(): List<String> = topology().nodes()
+        .filter { it is TopologyNode.Combinator || it is TopologyNode.Timer }
+        .map { it.name() }
 
     override fun onClose() {
         // close() from a service's or listener's own thread must not wait for that thread
@@ -765,7 +775,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         /**
          * Runs only the named services in this process; the others run elsewhere. By default a
          * core hosts every service. Names are chain names (a linked chain's services are the
-         * chains it was linked from).
+         * chains it was linked from), and those of filters, listeners, combinators of sources
+         * (`combineLatest(a|b)`, ...) and timers: the services of [topology].
          */
         public fun hosts(vararg services: String): Builder = hosts(services.toList())
 
