@@ -37,6 +37,8 @@ public final class CoreConfig {
   private final Duration shutdownTimeout;
   private final Duration publishTimeout;
   private final ValueCodec valueCopies;
+  private final PrimeClock clock;
+  private final RecordingOptions recording;
 
   private CoreConfig(Builder b) {
     this.name = b.name;
@@ -45,6 +47,8 @@ public final class CoreConfig {
     this.shutdownTimeout = b.shutdownTimeout;
     this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
+    this.clock = b.clock;
+    this.recording = b.recording;
   }
 
   /** {@return the default settings} */
@@ -99,6 +103,22 @@ public final class CoreConfig {
     return valueCopies;
   }
 
+  /**
+   * {@return the clock the core's timers and samplers run on: {@link PrimeClock#system()} unless
+   * {@link Builder#clock(PrimeClock)} set another}
+   */
+  public PrimeClock clock() {
+    return clock;
+  }
+
+  /**
+   * {@return how the core records what its sources publish and its chains return, or {@code
+   * null} (the default) if it records nothing} See {@link Builder#recording(RecordingOptions)}.
+   */
+  public RecordingOptions recording() {
+    return recording;
+  }
+
   /** {@return a builder starting from these settings} */
   public Builder toBuilder() {
     Builder b = new Builder();
@@ -108,6 +128,8 @@ public final class CoreConfig {
     b.shutdownTimeout = shutdownTimeout;
     b.publishTimeout = publishTimeout;
     b.valueCopies = valueCopies;
+    b.clock = clock;
+    b.recording = recording;
     return b;
   }
 
@@ -116,7 +138,9 @@ public final class CoreConfig {
     return "CoreConfig[name=" + name + ", sourceRetention=" + sourceRetention
         + ", shutdownTimeout=" + shutdownTimeout
         + ", publishTimeout=" + publishTimeout
-        + (valueCopies == null ? "" : ", copyValues=" + valueCopies) + "]";
+        + (valueCopies == null ? "" : ", copyValues=" + valueCopies)
+        + (clock == PrimeClock.system() ? "" : ", clock=" + clock)
+        + (recording == null ? "" : ", recording=" + recording) + "]";
   }
 
   /** Builds a {@link CoreConfig}. Not thread-safe. */
@@ -127,6 +151,8 @@ public final class CoreConfig {
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
     private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
+    private PrimeClock clock = PrimeClock.system();
+    private RecordingOptions recording;
 
     private Builder() {}
 
@@ -237,6 +263,37 @@ public final class CoreConfig {
      */
     public Builder copyValues(ValueCodec codec) {
       this.valueCopies = codec;
+      return this;
+    }
+
+    /**
+     * Sets the clock the core's timers ({@link PrimeCore#timer}) and samplers ({@link
+     * Source#sample}) run on. The default is {@link PrimeClock#system()}; a {@link VirtualClock}
+     * makes them tick only as a test advances it, fast and the same every run.
+     *
+     * @param clock the clock
+     * @return this builder
+     */
+    public Builder clock(PrimeClock clock) {
+      this.clock = Objects.requireNonNull(clock, "clock must not be null");
+      return this;
+    }
+
+    /**
+     * Turns recording on: the core records every value each of its sources publishes and each of
+     * its chains made of a block returns, with time stamps, in a ring per name; read it with
+     * {@link PrimeCore#recording()}. Off by default, and then free: no recording code is compiled
+     * into any chain or subscribed to any source.
+     *
+     * <pre>{@code
+     * new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(10_000)).build())
+     * }</pre>
+     *
+     * @param options the ring size and read timeout; {@code null} to record nothing (the default)
+     * @return this builder
+     */
+    public Builder recording(RecordingOptions options) {
+      this.recording = options;
       return this;
     }
 

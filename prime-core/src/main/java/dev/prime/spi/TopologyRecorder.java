@@ -3,6 +3,7 @@ package dev.prime.spi;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.EventBlock;
+import dev.prime.GenericService;
 import dev.prime.PrimeCore;
 import dev.prime.RepeaterBlock;
 import dev.prime.Source;
@@ -41,6 +42,7 @@ public final class TopologyRecorder {
   private final Map<String, NodeLogic> logic = new HashMap<>(); // guarded by this
   private final Map<Object, String> foreign = new HashMap<>(); // guarded by this
   private final Map<String, Integer> readers = new HashMap<>(); // guarded by this
+  private final Map<String, String> pseudonames = new HashMap<>(); // guarded by this
 
   /**
    * @param owner the core whose diagram this records
@@ -306,6 +308,50 @@ public final class TopologyRecorder {
   }
 
   /**
+   * Records a generic service.
+   *
+   * @param name the name the user gave
+   * @param service what it runs
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String genericService(String name, GenericService service) {
+    NodeLogic works = new NodeLogic.Work(service);
+    return add(new TopologyNode.GenericServiceNode(names.claim(name)), works);
+  }
+
+  /**
+   * Records a combinator of sources: {@code combineLatest}, {@code zip}, {@code merge}, {@code
+   * withLatestFrom} or {@code sample}.
+   *
+   * @param kind which combinator
+   * @param sources its inputs, in order
+   * @return the output source's name, {@code kind(a|b|...)}
+   */
+  public synchronized String combinator(String kind, List<? extends Source<?>> sources) {
+    List<String> parts = new ArrayList<>(sources.size());
+    StringBuilder preferred = new StringBuilder(kind).append('(');
+    for (int i = 0; i < sources.size(); i++) {
+      parts.add(sourcePart(sources.get(i)));
+      preferred.append(i == 0 ? "" : "|").append(sources.get(i).name());
+    }
+    String name = names.derived(preferred.append(')').toString(), kind);
+    return add(new TopologyNode.Combinator(name, kind, parts), NodeLogic.None.NONE);
+  }
+
+  /**
+   * Records a timer.
+   *
+   * @param name the name the user gave
+   * @param period its period
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String timer(String name, java.time.Duration period) {
+    return add(new TopologyNode.Timer(names.claim(name), period), NodeLogic.None.NONE);
+  }
+
+  /**
    * Records a reader the program opened on a source of this core.
    *
    * @param source the source's name
@@ -360,6 +406,47 @@ public final class TopologyRecorder {
   }
 
   /**
+   * Gives a recorded chain or source a pseudoname: a readable name for drawings and recordings
+   * (see {@link #checkPseudoname}).
+   *
+   * @param name a recorded node's name
+   * @param pseudoname the readable name, checked
+   */
+  public synchronized void pseudoname(String name, String pseudoname) {
+    own(name);
+    pseudonames.put(name, checkPseudoname(pseudoname));
+  }
+
+  /**
+   * The pseudoname of a node.
+   *
+   * @param name a node's name
+   * @return its pseudoname, or {@code null} if it has none
+   */
+  public synchronized String pseudoname(String name) {
+    return pseudonames.get(name);
+  }
+
+  /**
+   * Checks a pseudoname before anything is recorded with it: 1 to 120 characters, not only
+   * whitespace, no control characters.
+   *
+   * @param pseudoname the readable name
+   * @return it
+   * @throws IllegalArgumentException if it is not a valid pseudoname
+   */
+  public static String checkPseudoname(String pseudoname) {
+    Objects.requireNonNull(pseudoname, "pseudoname must not be null");
+    boolean control = pseudoname.chars().anyMatch(Character::isISOControl);
+    if (pseudoname.isBlank() || pseudoname.length() > 120 || control) {
+      throw new IllegalArgumentException(
+          "pseudoname '" + pseudoname + "' is invalid: use 1 to 120 characters, not only"
+              + " whitespace, without control characters (line breaks, tabs)");
+    }
+    return pseudoname;
+  }
+
+  /**
    * A snapshot of what was recorded.
    *
    * @param hostedHere whether this process runs a service
@@ -372,7 +459,7 @@ public final class TopologyRecorder {
         elsewhere.add(node.name());
       }
     }
-    return Topology.of(nodes, elsewhere);
+    return Topology.of(nodes, elsewhere, pseudonames);
   }
 
   private String add(TopologyNode node, NodeLogic runs) {

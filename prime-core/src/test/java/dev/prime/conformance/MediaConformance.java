@@ -19,4 +19,8 @@ public interface MediaConformance
         ValueCopyConformance,
         LongChainConformance,
         LoggingConformance,
-        LifecycleHookConformance {}
+        CombinatorConformance,
+        RecordingConformance,
+        LifecycleHookConformance,
+        GenericServiceConformance,
+        LinkVarianceConformance {}
