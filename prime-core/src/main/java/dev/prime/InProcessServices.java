@@ -1,6 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
+import dev.prime.spi.GenericServiceLoop;
 import dev.prime.spi.MediaSource;
 import java.util.ArrayList;
 import java.util.List;
@@ -97,6 +98,13 @@ final class InProcessServices {
   /** A service calling {@code listener} with every value of {@code input}. */
   <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
     run(name, serviceInput(name, input), listener);
+  }
+
+  /** A generic service on a thread of the core; it stops when the core closes. */
+  void generic(String name, GenericService service) {
+    threads.add(
+        name,
+        new GenericServiceLoop(name, service, core.config().errorHandler(), core::isClosed));
   }
 
   /** A service on a thread of the core: each value of {@code reader} goes to {@code step}. */
