@@ -1,5 +1,6 @@
 package dev.prime.mcap;
 
+import dev.prime.PrimeClock;
 import java.util.Objects;
 import java.util.Optional;
 
@@ -11,9 +12,9 @@ import java.util.Optional;
 public final class ReplayOptions {
   private static final ReplayOptions FAST = new ReplayOptions(null);
 
-  private final ReplayClock clock;
+  private final PrimeClock clock;
 
-  private ReplayOptions(ReplayClock clock) {
+  private ReplayOptions(PrimeClock clock) {
     this.clock = clock;
   }
 
@@ -24,21 +25,22 @@ public final class ReplayOptions {
 
   /** {@return options that keep the recorded intervals between values, on the system's clock} */
   public static ReplayOptions recordedSpeed() {
-    return recordedSpeed(ReplayClock.system());
+    return recordedSpeed(PrimeClock.system());
   }
 
   /**
    * Keeps the recorded intervals between values, measured and waited on {@code clock}.
    *
-   * @param clock the clock (a test's own makes the replay instant)
+   * @param clock the clock (a test's own, whose sleep only moves its time, makes the replay
+   *     instant)
    * @return the options
    */
-  public static ReplayOptions recordedSpeed(ReplayClock clock) {
+  public static ReplayOptions recordedSpeed(PrimeClock clock) {
     return new ReplayOptions(Objects.requireNonNull(clock, "clock must not be null"));
   }
 
   /** {@return the clock a replay at recorded speed paces itself by; empty: as fast as possible} */
-  public Optional<ReplayClock> pacing() {
+  public Optional<PrimeClock> pacing() {
     return Optional.ofNullable(clock);
   }
 

@@ -1,5 +1,6 @@
 package dev.prime.mcap;
 
+import dev.prime.PrimeClock;
 import java.io.Closeable;
 import java.io.IOException;
 import java.nio.file.Path;
@@ -135,11 +136,11 @@ public final class ReplaySession implements Closeable {
   }
 
   private void pace(long logTime) throws InterruptedException {
-    Optional<ReplayClock> pacing = options.pacing();
+    Optional<PrimeClock> pacing = options.pacing();
     if (pacing.isEmpty()) {
       return;
     }
-    ReplayClock clock = pacing.get();
+    PrimeClock clock = pacing.get();
     if (firstLogTime < 0) {
       firstLogTime = logTime;
       startNanos = clock.nanoTime();

@@ -7,12 +7,14 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
+import dev.prime.PrimeClock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.RecordingOptions;
 import dev.prime.liberty.LibertyCore;
 import java.nio.file.Path;
 import java.time.Duration;
+import java.time.Instant;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Map;
@@ -29,7 +31,7 @@ class McapReplayTest {
   record Heading(double degrees, boolean valid) {}
 
   /** A clock whose sleep only moves its own time: a replay at recorded speed takes no real time. */
-  static final class InstantClock implements ReplayClock {
+  static final class InstantClock implements PrimeClock {
     long now = 1_000;
     final List<Long> sleeps = new ArrayList<>();
 
@@ -42,6 +44,11 @@ class McapReplayTest {
     public void sleepNanos(long nanos) {
       sleeps.add(nanos);
       now += nanos;
+    }
+
+    @Override
+    public Instant now() {
+      return Instant.ofEpochSecond(0, now);
     }
   }
 
