@@ -7,33 +7,21 @@ import com.fasterxml.jackson.databind.JsonNode;
 import com.fasterxml.jackson.databind.ObjectMapper;
 import dev.prime.Token;
 import dev.prime.Tuple2;
-import java.io.IOException;
-import java.io.InputStream;
-import java.nio.charset.StandardCharsets;
-import java.nio.file.Files;
 import java.nio.file.Path;
-import java.nio.file.StandardCopyOption;
 import java.util.List;
 import java.util.Map;
 import java.util.Optional;
 import java.util.concurrent.TimeUnit;
-import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
 import org.junit.jupiter.api.io.TempDir;
 
 /**
  * An independent reader: the Python {@code mcap} package (with {@code jsonschema}) reads a file
- * the Java writer wrote. It runs for real wherever python3 and pip can reach PyPI: the test
- * installs both packages, pinned, into {@code target/python-mcap} (once per build directory);
- * without python3, or when pip cannot install them, it is skipped with the reason. The system
- * property {@code prime.mcap.python} names another interpreter.
+ * the Java writer wrote. It runs for real wherever python3 and pip can reach PyPI (see {@link
+ * PythonMcapCheck}); otherwise it is skipped with the reason.
  */
 class PythonMcapReaderTest {
-  private static final String MCAP = "mcap==1.6.0";
-  private static final String JSONSCHEMA = "jsonschema==4.26.0";
-  private static final String PYTHON = System.getProperty("prime.mcap.python", "python3");
-
   @TempDir Path dir;
 
   enum Mode { IDLE, DRIVING }
@@ -45,7 +33,7 @@ class PythonMcapReaderTest {
   @Test
   @Timeout(value = 6, unit = TimeUnit.MINUTES) // a first pip install may take minutes; then it is skipped
   void pythonMcapReadsOneChannelPerTopicWithTheRightCountsAndValidJson() throws Exception {
-    Path packages = installPythonPackages();
+    PythonMcapCheck python = PythonMcapCheck.installOrSkip();
     Path file = dir.resolve("robot.mcap");
     int poses = 500;
     int statuses = 120;
@@ -77,7 +65,7 @@ class PythonMcapReaderTest {
       assertEquals(0, writer.droppedCount());
     }
 
-    JsonNode result = runCheck(packages, file);
+    JsonNode result = python.check(file, dir);
     JsonNode channels = result.get("channels");
     assertEquals(5, channels.size(), result.toString());
     assertCounts(channels, "odometry", poses);
@@ -116,68 +104,5 @@ class PythonMcapReaderTest {
     assertTrue(channel.get("rejects_probe").asBoolean(), topic + "'s schema rejects a wrong value");
     assertEquals(expected, channel.get("statistics_count").asInt(), topic + " in the statistics");
     assertEquals(expected, channel.get("read_count").asInt(), topic + " read by iter_messages");
-  }
-
-  private JsonNode runCheck(Path packages, Path file) throws IOException, InterruptedException {
-    Path script = dir.resolve("check_mcap.py");
-    try (InputStream in = getClass().getResourceAsStream("check_mcap.py")) {
-      Files.copy(in, script, StandardCopyOption.REPLACE_EXISTING);
-    }
-    ProcessBuilder builder = new ProcessBuilder(PYTHON, script.toString(), file.toString());
-    builder.environment().put("PYTHONPATH", packages.toString());
-    Path output = dir.resolve("check.out");
-    Path errors = dir.resolve("check.err");
-    builder.redirectOutput(output.toFile()).redirectError(errors.toFile());
-    Process process = builder.start();
-    if (!process.waitFor(90, TimeUnit.SECONDS)) {
-      process.destroyForcibly();
-      throw new AssertionError("the Python check did not finish in 90 s");
-    }
-    String err = Files.readString(errors, StandardCharsets.UTF_8);
-    assertEquals(0, process.exitValue(), "the Python mcap reader failed on the Java writer's file:\n" + err);
-    return new ObjectMapper().readTree(Files.readString(output, StandardCharsets.UTF_8));
-  }
-
-  /** Installs mcap and jsonschema into target/python-mcap, or skips the test saying why. */
-  private static Path installPythonPackages() throws IOException, InterruptedException {
-    Path target = Path.of(System.getProperty("basedir", ".")).resolve("target").resolve("python-mcap");
-    Path marker = target.resolve(".installed-" + MCAP + "-" + JSONSCHEMA);
-    Process version = start(List.of(PYTHON, "--version"), null);
-    if (version == null || !version.waitFor(30, TimeUnit.SECONDS) || version.exitValue() != 0) {
-      Assumptions.abort(PYTHON + " is not on the PATH: the independent check with the Python mcap package is skipped");
-    }
-    if (Files.exists(marker)) {
-      return target;
-    }
-    Files.createDirectories(target);
-    Path log = target.resolveSibling("python-mcap-pip.log");
-    Process pip = start(List.of(PYTHON, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
-        "--no-input", "--retries", "1", "--timeout", "30", "--upgrade", "--target", target.toString(),
-        MCAP, JSONSCHEMA), log);
-    boolean finished = pip.waitFor(240, TimeUnit.SECONDS);
-    if (!finished) {
-      pip.destroyForcibly();
-    }
-    if (!finished || pip.exitValue() != 0) {
-      String output = Files.exists(log) ? Files.readString(log, StandardCharsets.UTF_8) : "";
-      Assumptions.abort("pip could not install " + MCAP + " and " + JSONSCHEMA + " (no pip, or PyPI"
-          + " unreachable), so the independent check is skipped; pip said:\n" + output);
-    }
-    Files.createFile(marker);
-    return target;
-  }
-
-  private static Process start(List<String> command, Path log) throws IOException {
-    ProcessBuilder builder = new ProcessBuilder(command).redirectErrorStream(true);
-    if (log != null) {
-      builder.redirectOutput(log.toFile());
-    } else {
-      builder.redirectOutput(ProcessBuilder.Redirect.DISCARD);
-    }
-    try {
-      return builder.start();
-    } catch (IOException e) {
-      return null;
-    }
   }
 }

@@ -21,6 +21,9 @@ import java.util.Objects;
  */
 public final class RobotController {
 
+  /** The name of the encoders' source: its recorded values are what a replay feeds back. */
+  public static final String ENCODERS = "encoders";
+
   /** How close to the goal counts as arrived, metres. */
   public static final double TOLERANCE = 0.03;
 
@@ -51,7 +54,7 @@ public final class RobotController {
     Objects.requireNonNull(encoders, "encoders must not be null");
 
     // A source linked to a chain: odometry runs as a service on every encoder reading.
-    Source<EncoderReading> ticks = core.source("encoders", encoders.events());
+    Source<EncoderReading> ticks = core.source(ENCODERS, encoders.events());
     Source<Estimate> estimates =
         ticks.then(core.chain("odometry", new Odometry(spec, dt, Pose.ORIGIN)));
 

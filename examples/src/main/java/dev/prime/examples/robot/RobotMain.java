@@ -2,17 +2,26 @@ package dev.prime.examples.robot;
 
 import dev.prime.PrimeCore;
 import dev.prime.PrimeException;
+import dev.prime.Recording;
+import dev.prime.mcap.RecordingMcap;
+import java.io.IOException;
 import java.io.PrintStream;
+import java.io.UncheckedIOException;
+import java.nio.file.Path;
 import java.util.Locale;
+import java.util.stream.Collectors;
 
 /**
  * Runs the differential-drive robot example: {@code robot [--media liberty] [--goal X,Y]}. On
  * {@code --media optimus --redis URL --remote planner} the planner runs in another process, a
- * {@link RobotWorker} on the same Redis.
+ * {@link RobotWorker} on the same Redis. {@code --record run.mcap} writes what every source and
+ * chain produced to an MCAP file; {@code --replay run.mcap} drives a fresh controller, on any
+ * media, with the encoder readings of such a file and prints the recorded run's trace (see {@link
+ * RobotSimulation#replay}).
  *
  * <p>Exit codes: 0 the goal was reached (or help was printed), 1 it was not reached in the
- * allowed steps, 2 the command line is wrong, 3 the Redis given by {@code --redis} cannot be
- * reached.
+ * allowed steps (or in the replayed readings), 2 the command line is wrong, 3 the Redis given by
+ * {@code --redis} cannot be reached, 4 the recording cannot be written or replayed.
  */
 public final class RobotMain {
 
@@ -52,14 +61,26 @@ public final class RobotMain {
       return 0;
     }
     Mission mission = options.mission();
-    out.printf(
-        Locale.ROOT,
-        "robot on media %s: driving from %s to %s, dt %.0f ms, at most %d steps%n",
-        options.media().cliName(),
-        Pose.ORIGIN,
-        mission.goal(),
-        Mission.DT * 1000,
-        mission.maxSteps());
+    if (options.replay() != null) {
+      out.printf(
+          Locale.ROOT,
+          "robot on media %s: replaying the %s of %s, driving from %s to %s, dt %.0f ms%n",
+          options.media().cliName(),
+          RobotController.ENCODERS,
+          options.replay(),
+          Pose.ORIGIN,
+          mission.goal(),
+          Mission.DT * 1000);
+    } else {
+      out.printf(
+          Locale.ROOT,
+          "robot on media %s: driving from %s to %s, dt %.0f ms, at most %d steps%n",
+          options.media().cliName(),
+          Pose.ORIGIN,
+          mission.goal(),
+          Mission.DT * 1000,
+          mission.maxSteps());
+    }
     PrimeCore created;
     try {
       created = createCore(options);
@@ -78,11 +99,71 @@ public final class RobotMain {
                   ? ""
                   : ", leaving " + options.remote() + " to a robot worker"));
     }
+    if (options.replay() != null) {
+      return replay(created, options.replay(), mission, out, err);
+    }
     SimulationResult result;
     try (PrimeCore core = created) {
       result = new RobotSimulation(RobotSpec.SMALL_INDOOR).run(core, mission, out);
+      if (options.record() != null && !record(core.recording(), options.record(), out, err)) {
+        return 4;
+      }
     }
     out.println(summary(result, mission));
+    return result.reached() ? 0 : 1;
+  }
+
+  private static boolean record(Recording recording, Path file, PrintStream out, PrintStream err) {
+    long written;
+    try {
+      written = RecordingMcap.write(recording, file);
+    } catch (IOException | UncheckedIOException | IllegalArgumentException e) {
+      err.println("error: cannot write the recording to " + file + ": " + e.getMessage());
+      return false;
+    }
+    out.println(
+        "recorded "
+            + written
+            + " values to "
+            + file
+            + ": "
+            + recording.names().stream()
+                .filter(name -> recording.recorded(name) > 0)
+                .map(name -> name + " " + recording.recorded(name))
+                .collect(Collectors.joining(", ")));
+    return true;
+  }
+
+  private static int replay(
+      PrimeCore created, Path file, Mission mission, PrintStream out, PrintStream err) {
+    ReplayedRun result;
+    try (PrimeCore core = created) {
+      result = new RobotSimulation(RobotSpec.SMALL_INDOOR).replay(core, mission, file, out);
+    } catch (IOException | IllegalArgumentException e) {
+      err.println("error: cannot replay " + file + ": " + e.getMessage());
+      return 4;
+    } catch (InterruptedException e) {
+      Thread.currentThread().interrupt();
+      err.println("error: interrupted while replaying " + file);
+      return 4;
+    }
+    out.println(
+        String.join(
+            System.lineSeparator(),
+            String.format(
+                Locale.ROOT,
+                "%s goal %s after %d of %d recorded encoder readings (%.2f s simulated)",
+                result.reached() ? "reached" : "did NOT reach",
+                mission.goal(),
+                result.steps(),
+                result.readings(),
+                result.steps() * Mission.DT),
+            "  pose (odometry)   " + result.estimated(),
+            String.format(
+                Locale.ROOT,
+                "  distance error to goal: %.4f m by odometry (tolerance %.2f m)",
+                result.estimatedError(),
+                RobotController.TOLERANCE)));
     return result.reached() ? 0 : 1;
   }
 

@@ -1,7 +1,10 @@
 package dev.prime.examples.robot;
 
 import dev.prime.CoreConfig;
+import dev.prime.RecordingOptions;
 import dev.prime.optimus.OptimusCore;
+import java.nio.file.Files;
+import java.nio.file.Path;
 import java.util.ArrayList;
 import java.util.LinkedHashSet;
 import java.util.List;
@@ -18,6 +21,9 @@ import java.util.Set;
  * @param redisUrl the Redis the Optimus media uses, or {@code null} for an embedded one
  * @param remote the services another process runs (see {@link RobotWorker}); empty: none
  * @param name the core's name; processes that share a topology on one Redis use the same one
+ * @param record write the run's recording to this MCAP file at the end, or {@code null}
+ * @param replay feed the encoder readings recorded in this MCAP file instead of the simulated
+ *     plant's, or {@code null}
  */
 public record RobotOptions(
     Media media,
@@ -27,14 +33,17 @@ public record RobotOptions(
     boolean help,
     String redisUrl,
     List<String> remote,
-    String name) {
+    String name,
+    Path record,
+    Path replay) {
 
   /** The usage text. */
   public static final String USAGE =
       String.join(
           System.lineSeparator(),
           "usage: robot [--media NAME] [--goal X,Y] [--steps N] [--trace-every N]"
-              + " [--redis URL [--remote SERVICE,...]] [--name NAME] [--help]",
+              + " [--redis URL [--remote SERVICE,...]] [--name NAME]"
+              + " [--record FILE | --replay FILE] [--help]",
           "  --media NAME      the media to run on: " + Media.knownNames() + " (default liberty)",
           "  --goal X,Y        where to drive, in metres from the start (default 2,1)",
           "  --steps N         give up after N steps of 10 ms simulated time (default 3000)",
@@ -44,12 +53,17 @@ public record RobotOptions(
           "  --remote S,...    optimus with --redis only: leave these services to a robot worker"
               + " process; services: " + String.join(", ", RobotController.SERVICES),
           "  --name NAME       the core's name, shared with the worker (default robot)",
+          "  --record FILE     record every source and chain and write them to the MCAP file FILE"
+              + " at the end (one channel per recorded service)",
+          "  --replay FILE     drive the controller with the encoder readings recorded in FILE"
+              + " instead of the simulated robot (give the recorded run's --goal)",
           "with Maven: ./mvnw -q -pl examples -am test-compile exec:java"
               + " -Dexec.args=\"--goal 1.5,-0.5\"");
 
   /** The defaults: Liberty, goal (2, 1), at most 3000 steps, a trace line every 100. */
   public static final RobotOptions DEFAULTS =
-      new RobotOptions(Media.LIBERTY, new Goal(2, 1), 3000, 100, false, null, List.of(), "robot");
+      new RobotOptions(
+          Media.LIBERTY, new Goal(2, 1), 3000, 100, false, null, List.of(), "robot", null, null);
 
   /**
    * Copies {@code remote}.
@@ -62,6 +76,8 @@ public record RobotOptions(
    * @param redisUrl the Redis the Optimus media uses, or {@code null} for an embedded one
    * @param remote the services another process runs (see {@link RobotWorker}); empty: none
    * @param name the core's name; processes that share a topology on one Redis use the same one
+   * @param record write the run's recording to this MCAP file at the end, or {@code null}
+   * @param replay feed the encoder readings recorded in this MCAP file, or {@code null}
    */
   public RobotOptions {
     remote = List.copyOf(remote);
@@ -72,9 +88,16 @@ public record RobotOptions(
     return new Mission(goal, maxSteps, traceEvery);
   }
 
-  /** {@return the core's settings: its name} */
+  /**
+   * {@return the core's settings: its name and, with {@link #record}, a recording whose ring
+   * holds every value of the run (one per step and recorded service)}
+   */
   public CoreConfig coreConfig() {
-    return CoreConfig.builder().name(name).build();
+    CoreConfig.Builder builder = CoreConfig.builder().name(name);
+    if (record != null) {
+      builder.recording(RecordingOptions.ring(maxSteps + 1));
+    }
+    return builder.build();
   }
 
   /**
@@ -106,6 +129,8 @@ public record RobotOptions(
     String redisUrl = null;
     List<String> remote = List.of();
     String name = DEFAULTS.name;
+    Path record = null;
+    Path replay = null;
     for (int i = 0; i < args.length; i++) {
       String arg = args[i];
       if (arg.equals("--help") || arg.equals("-h")) {
@@ -119,7 +144,8 @@ public record RobotOptions(
         value = arg.substring(eq + 1);
       }
       switch (option) {
-        case "--media", "--goal", "--steps", "--trace-every", "--redis", "--remote", "--name" -> {
+        case "--media", "--goal", "--steps", "--trace-every", "--redis", "--remote", "--name",
+            "--record", "--replay" -> {
           if (value == null) {
             if (i + 1 >= args.length) {
               throw new UsageException(option + " needs a value");
@@ -136,6 +162,8 @@ public record RobotOptions(
         case "--redis" -> redisUrl = redisUrl(value);
         case "--remote" -> remote = services(option, value);
         case "--name" -> name = coreName(value);
+        case "--record" -> record = recordFile(value);
+        case "--replay" -> replay = replayFile(value);
         default -> traceEvery = positive(option, value);
       }
     }
@@ -147,11 +175,36 @@ public record RobotOptions(
           "--remote needs --redis URL (and --media optimus): the worker that runs those services"
               + " must reach the same Redis");
     }
-    return new RobotOptions(media, goal, maxSteps, traceEvery, false, redisUrl, remote, name);
+    if (record != null && replay != null) {
+      throw new UsageException(
+          "--record and --replay cannot be combined: record a run first, then replay its file");
+    }
+    return new RobotOptions(
+        media, goal, maxSteps, traceEvery, false, redisUrl, remote, name, record, replay);
   }
 
   private RobotOptions withHelp() {
-    return new RobotOptions(media, goal, maxSteps, traceEvery, true, redisUrl, remote, name);
+    return new RobotOptions(
+        media, goal, maxSteps, traceEvery, true, redisUrl, remote, name, record, replay);
+  }
+
+  static Path recordFile(String value) {
+    Path file = Path.of(value);
+    Path parent = file.toAbsolutePath().getParent();
+    if (value.isBlank() || Files.isDirectory(file) || parent == null || !Files.isDirectory(parent)) {
+      throw new UsageException(
+          "--record wants a file in an existing directory, like run.mcap; got '" + value + "'");
+    }
+    return file;
+  }
+
+  static Path replayFile(String value) {
+    Path file = Path.of(value);
+    if (!Files.isRegularFile(file)) {
+      throw new UsageException(
+          "--replay: no file '" + value + "'; give an MCAP file written with --record");
+    }
+    return file;
   }
 
   private static Media media(String value) {

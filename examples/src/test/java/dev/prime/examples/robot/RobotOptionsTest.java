@@ -5,8 +5,11 @@ import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import java.nio.file.Files;
+import java.nio.file.Path;
 import java.util.List;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
 
 class RobotOptionsTest {
 
@@ -24,7 +27,7 @@ class RobotOptionsTest {
 
     assertEquals(
         new RobotOptions(
-            Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false, null, List.of(), "robot"),
+            Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false, null, List.of(), "robot", null, null),
         options);
   }
 
@@ -101,5 +104,32 @@ class RobotOptionsTest {
     assertEquals(
         "--steps wants a whole number of at least 1; got '0'",
         assertThrows(UsageException.class, () -> RobotOptions.parse("--steps", "0")).getMessage());
+  }
+
+  @Test
+  void recordTurnsRecordingOnAndReplayWantsAnExistingFile(@TempDir Path dir) throws Exception {
+    RobotOptions record = RobotOptions.parse("--record", dir.resolve("run.mcap").toString(), "--steps", "40");
+    assertEquals(dir.resolve("run.mcap"), record.record());
+    assertEquals(41, record.coreConfig().recording().capacity());
+    assertNull(RobotOptions.parse().coreConfig().recording(), "off by default");
+
+    Path file = Files.writeString(dir.resolve("run.mcap"), "x");
+    assertEquals(file, RobotOptions.parse("--replay=" + file).replay());
+    assertEquals(
+        "--replay: no file 'nothing.mcap'; give an MCAP file written with --record",
+        assertThrows(UsageException.class, () -> RobotOptions.parse("--replay", "nothing.mcap"))
+            .getMessage());
+    assertTrue(
+        assertThrows(
+                UsageException.class,
+                () -> RobotOptions.parse("--record", dir.resolve("no/such/dir.mcap").toString()))
+            .getMessage()
+            .startsWith("--record wants a file in an existing directory"));
+    assertTrue(
+        assertThrows(
+                UsageException.class,
+                () -> RobotOptions.parse("--record", "a.mcap", "--replay", file.toString()))
+            .getMessage()
+            .startsWith("--record and --replay cannot be combined"));
   }
 }
