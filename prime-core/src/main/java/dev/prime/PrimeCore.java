@@ -397,7 +397,7 @@ public abstract class PrimeCore implements AutoCloseable {
     requireChains(chain);
     String sharedName = chain.name();
     String sharedNode = topologyRecorder().isolate(chain);
-    Block<I, O> shared = new IsolateBlock<>(chain.toBlock());
+    Block<I, O> shared = new IsolateBlock<>(chain.toBlock(), this::ensureOpen);
     AtomicInteger users = new AtomicInteger();
     return new Isolated<>() {
       @Override
