@@ -17,6 +17,7 @@ import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
+import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 
@@ -136,7 +137,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, O> Chain<I, O> chain(Block<I, O> block) {
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return compiled(topologyRecorder().blockChain(null, block));
+    return declared(() -> compiled(topologyRecorder().blockChain(null, block)));
   }
 
   /**
@@ -153,7 +154,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return compiled(topologyRecorder().blockChain(name, block));
+    return declared(() -> compiled(topologyRecorder().blockChain(name, block)));
   }
 
   /**
@@ -210,6 +211,14 @@ public abstract class PrimeCore implements AutoCloseable {
     return inProcess;
   }
 
+  /**
+   * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes
+   * ({@link TopologyRecorder#declare}).
+   */
+  private <T> T declared(Supplier<T> declaration) {
+    return topologyRecorder().declare(declaration);
+  }
+
   private ModelCompiler<?> model() {
     ModelCompiler<?> c = compiler;
     if (c == null) {
@@ -236,8 +245,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain, named {@code first>second}
    */
   public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
-    requireChains(first, second);
-    return compiled(topologyRecorder().link(first, second), first, second);
+    return declared(
+        () -> {
+          requireChains(first, second);
+          return compiled(topologyRecorder().link(first, second), first, second);
+        });
   }
 
   // ---------------------------------------------------------------- templates
@@ -256,8 +268,11 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, O> Chain<I, O> ifThenElse(
       Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
-    requireChains(then, otherwise);
-    return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
+    return declared(
+        () -> {
+          requireChains(then, otherwise);
+          return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
+        });
   }
 
   /**
@@ -269,8 +284,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
-    requireChains(body);
-    return compiled(topologyRecorder().forEach(body), body);
+    return declared(
+        () -> {
+          requireChains(body);
+          return compiled(topologyRecorder().forEach(body), body);
+        });
   }
 
   /**
@@ -346,8 +364,11 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /** A union of 2 to 5 chains; the tuple type follows from the number of parts. */
   private <I, T> Chain<I, T> unionOf(Chain<?, ?>... parts) {
-    requireChains(parts);
-    return compiled(topologyRecorder().union(parts), parts);
+    return declared(
+        () -> {
+          requireChains(parts);
+          return compiled(topologyRecorder().union(parts), parts);
+        });
   }
 
   /**
@@ -362,8 +383,11 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
-    requireChains(chain);
-    return compiled(topologyRecorder().fork(chain, events), chain);
+    return declared(
+        () -> {
+          requireChains(chain);
+          return compiled(topologyRecorder().fork(chain, events), chain);
+        });
   }
 
   /**
@@ -381,8 +405,11 @@ public abstract class PrimeCore implements AutoCloseable {
       Predicate<? super I> pass, Chain<I, O> chain, Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
-    requireChains(chain);
-    return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
+    return declared(
+        () -> {
+          requireChains(chain);
+          return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
+        });
   }
 
   /**
@@ -394,10 +421,15 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a factory of user chains
    */
   public final <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
-    requireChains(chain);
-    String sharedName = chain.name();
+    String sharedName = chain == null ? null : chain.name();
+    Block<I, O> shared =
+        declared(
+            () -> {
+              requireChains(chain);
+              topologyRecorder().isolate(chain);
+              return new IsolateBlock<>(chain.toBlock(), this::ensureOpen);
+            });
     String sharedNode = topologyRecorder().isolate(chain);
-    Block<I, O> shared = new IsolateBlock<>(chain.toBlock(), this::ensureOpen);
     AtomicInteger users = new AtomicInteger();
     return new Isolated<>() {
       @Override
@@ -408,9 +440,11 @@ public abstract class PrimeCore implements AutoCloseable {
       @Override
       public Chain<I, O> newUser() {
         ensureOpen();
-        return compiled(
-            topologyRecorder()
-                .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared));
+        return declared(
+            () ->
+                compiled(
+                    topologyRecorder()
+                        .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared)));
       }
     };
   }
@@ -425,7 +459,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <T> Chain<Token, T> syncCollector(Source<T> source) {
     requireSource(source);
-    return compiled(topologyRecorder().syncCollector(source));
+    return declared(() -> compiled(topologyRecorder().syncCollector(source)));
   }
 
   /**
@@ -439,7 +473,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
     requireSource(source);
-    return compiled(topologyRecorder().asyncCollector(source));
+    return declared(() -> compiled(topologyRecorder().asyncCollector(source)));
   }
 
   /**
@@ -456,8 +490,11 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, R, O> Chain<I, O> repeater(
       Chain<I, R> inner, RepeaterBlock<I, R, Void, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
-    requireChains(inner);
-    return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
+    return declared(
+        () -> {
+          requireChains(inner);
+          return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
+        });
   }
 
   /**
@@ -477,11 +514,14 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, R, E, O> Chain<I, O> repeater(
       Chain<I, R> inner, Source<E> source, RepeaterBlock<I, R, E, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
-    requireChains(inner);
     requireSource(source);
-    Chain<Token, List<E>> collector = asyncCollector(source);
-    return compiled(
-        topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
+    return declared(
+        () -> {
+          requireChains(inner);
+          Chain<Token, List<E>> collector = asyncCollector(source);
+          return compiled(
+              topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
+        });
   }
 
   // ---------------------------------------------------------------- sources
@@ -496,7 +536,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <T> Source<T> source(EventBlock<T> events) {
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(topologyRecorder().eventSource(null, events), events);
+    return declared(() -> model().eventSource(topologyRecorder().eventSource(null, events), events));
   }
 
   /**
@@ -511,7 +551,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(topologyRecorder().eventSource(name, events), events);
+    return declared(() -> model().eventSource(topologyRecorder().eventSource(name, events), events));
   }
 
   /**
@@ -542,13 +582,15 @@ public abstract class PrimeCore implements AutoCloseable {
   @SuppressWarnings("unchecked")
   public final <I, O> Source<O> link(Source<I> source, Chain<I, O> chain) {
     requireSource(source);
-    requireChains(chain);
-    ModelCompiler<?> model = model();
-    if (model.ownsSource(source)) {
-      return (Source<O>) model.service(topologyRecorder().sourceLink(source, chain), source, chain);
-    }
-    Block<I, O> block = chain.toBlock();
-    return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
+    return declared(
+        () -> {
+          requireChains(chain);
+          String name = topologyRecorder().sourceLink(source, chain);
+          ModelCompiler<?> model = model();
+          return model.ownsSource(source)
+              ? (Source<O>) model.service(name, source, chain)
+              : inProcess.link(name, source, chain);
+        });
   }
 
   /**
@@ -564,11 +606,14 @@ public abstract class PrimeCore implements AutoCloseable {
   protected final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
-    String name = topologyRecorder().filter(source, predicate);
-    ModelCompiler<?> model = model();
-    return model.ownsSource(source)
-        ? (Source<T>) model.service(name, source, null)
-        : inProcess.filter(name, source, predicate);
+    return declared(
+        () -> {
+          String name = topologyRecorder().filter(source, predicate);
+          ModelCompiler<?> model = model();
+          return model.ownsSource(source)
+              ? (Source<T>) model.service(name, source, null)
+              : inProcess.filter(name, source, predicate);
+        });
   }
 
   /**
@@ -586,11 +631,14 @@ public abstract class PrimeCore implements AutoCloseable {
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
-    String name = topologyRecorder().flatMap(source, block);
-    ModelCompiler<?> model = model();
-    return model.ownsSource(source)
-        ? (Source<R>) model.service(name, source, null)
-        : inProcess.flatMap(name, source, block);
+    return declared(
+        () -> {
+          String name = topologyRecorder().flatMap(source, block);
+          ModelCompiler<?> model = model();
+          return model.ownsSource(source)
+              ? (Source<R>) model.service(name, source, null)
+              : inProcess.flatMap(name, source, block);
+        });
   }
 
   /**
@@ -604,13 +652,17 @@ public abstract class PrimeCore implements AutoCloseable {
   protected final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
-    String name = topologyRecorder().listener(source, listener);
-    ModelCompiler<?> model = model();
-    if (model.ownsSource(source)) {
-      model.service(name, source, null);
-    } else {
-      inProcess.listen(name, source, listener);
-    }
+    declared(
+        () -> {
+          String name = topologyRecorder().listener(source, listener);
+          ModelCompiler<?> model = model();
+          if (model.ownsSource(source)) {
+            model.service(name, source, null);
+          } else {
+            inProcess.listen(name, source, listener);
+          }
+          return null;
+        });
   }
 
   /**

@@ -16,6 +16,7 @@ import java.util.Map;
 import java.util.Objects;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
+import java.util.function.Supplier;
 
 /**
  * Records the diagram declared on one core as {@link TopologyNode}s, and makes every name: the one
@@ -357,6 +358,42 @@ public final class TopologyRecorder {
   public synchronized NodeLogic logic(String name) {
     node(name);
     return logic.get(name);
+  }
+
+  /**
+   * Runs one declaration (a link, template or service: its checks, the nodes it records and the
+   * chains it consumes) atomically: declarations of this core run one at a time (a declaration
+   * made inside another joins it), and if {@code declaration} throws, every node recorded during
+   * it is forgotten and its name released, so a failed declaration leaves no node behind.
+   *
+   * @param declaration checks, records and compiles
+   * @param <T> what it makes
+   * @return what it made
+   */
+  public synchronized <T> T declare(Supplier<T> declaration) {
+    int mark = nodes.size();
+    try {
+      return declaration.get();
+    } catch (RuntimeException | Error e) {
+      forgetSince(mark);
+      throw e;
+    }
+  }
+
+  /** Forgets the nodes recorded after the first {@code mark}, latest first. */
+  private void forgetSince(int mark) {
+    for (int i = nodes.size() - 1; i >= mark; i--) {
+      TopologyNode node = nodes.remove(i);
+      String name = node.name();
+      byName.remove(name);
+      logic.remove(name);
+      if (node instanceof TopologyNode.ReaderNode reader) {
+        readers.merge(reader.source(), -1, Integer::sum); // a reader's name is not claimed
+      } else {
+        foreign.values().remove(name);
+        names.release(name);
+      }
+    }
   }
 
   /**
