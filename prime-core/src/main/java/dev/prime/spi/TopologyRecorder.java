@@ -349,22 +349,34 @@ public final class TopologyRecorder {
   }
 
   /**
-   * The logic of the node with a name: what a media needs, besides the node, to compile it.
+   * The logic of the node with a name: what a media needs, besides the node, to compile it. It
+   * is kept only while the declaration that recorded the node runs ({@link #declare}): the node
+   * is compiled then, and another core's chain is consumed then.
    *
    * @param name a recorded name
    * @return the node's logic
    * @throws IllegalArgumentException if nothing of that name was recorded
+   * @throws IllegalStateException if the node was compiled and its logic released
    */
   public synchronized NodeLogic logic(String name) {
     node(name);
-    return logic.get(name);
+    NodeLogic kept = logic.get(name);
+    if (kept == null) {
+      throw new IllegalStateException(
+          "the logic of '" + name + "' was released once its declaration compiled it; a media"
+              + " compiles a node from the logic it is given while the node is declared");
+    }
+    return kept;
   }
 
   /**
    * Runs one declaration (a link, template or service: its checks, the nodes it records and the
    * chains it consumes) atomically: declarations of this core run one at a time (a declaration
    * made inside another joins it), and if {@code declaration} throws, every node recorded during
-   * it is forgotten and its name released, so a failed declaration leaves no node behind.
+   * it is forgotten and its name released, so a failed declaration leaves no node behind. Once
+   * it succeeded, the logic of the nodes it recorded is released ({@link #logic}): the media
+   * compiled them, and the recorder must not keep the user's blocks alive for the core's
+   * lifetime.
    *
    * @param declaration checks, records and compiles
    * @param <T> what it makes
@@ -372,12 +384,17 @@ public final class TopologyRecorder {
    */
   public synchronized <T> T declare(Supplier<T> declaration) {
     int mark = nodes.size();
+    T made;
     try {
-      return declaration.get();
+      made = declaration.get();
     } catch (RuntimeException | Error e) {
       forgetSince(mark);
       throw e;
     }
+    for (int i = mark; i < nodes.size(); i++) {
+      logic.remove(nodes.get(i).name());
+    }
+    return made;
   }
 
   /** Forgets the nodes recorded after the first {@code mark}, latest first. */
@@ -436,8 +453,8 @@ public final class TopologyRecorder {
       return own(chain.name());
     }
     String known = foreign.get(chain);
-    if (known != null) {
-      return known;
+    if (known != null && logic.containsKey(known)) {
+      return known; // given again in the declaration that recorded it
     }
     String name = names.derived("hosted(" + chain.name() + ")", "hosted");
     foreign.put(chain, name);
