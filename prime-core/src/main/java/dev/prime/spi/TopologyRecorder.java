@@ -436,13 +436,18 @@ public final class TopologyRecorder {
     return node.name();
   }
 
-  /** A chain or source of the owning core: recorded when it was made, or a media's mistake. */
-  private String own(String name) {
+  /**
+   * The node of a chain or source whose {@code core()} is the owning core: recorded when the core
+   * made it; anything else is an implementation of {@link Chain} or {@link Source} of the user's
+   * own, which the core cannot compile.
+   */
+  private String own(String name, String kind, String maker) {
     if (!byName.containsKey(name)) {
-      throw new IllegalStateException(
-          "'" + name + "' belongs to core '" + owner.name() + "' but was never recorded in its"
-              + " topology: a media must name every chain and source it makes through"
-              + " PrimeCore.topologyRecorder()");
+      throw new IllegalArgumentException(
+          "the " + kind + " '" + name + "' says it belongs to core '" + owner.name() + "' but was"
+              + " not made by this core's " + maker + ": a " + kind + " of your own implementation"
+              + " cannot be linked. Make it with core." + maker + " and give it your logic"
+              + ("chain".equals(kind) ? " as a Block" : " through an EventBlock"));
     }
     return name;
   }
@@ -450,7 +455,7 @@ public final class TopologyRecorder {
   /** The node name of a chain used as a part: its own, or a new foreign node's. */
   private String part(Chain<?, ?> chain) {
     if (chain.core() == owner) {
-      return own(chain.name());
+      return own(chain.name(), "chain", "chain(name, block)");
     }
     String known = foreign.get(chain);
     if (known != null && logic.containsKey(known)) {
@@ -466,7 +471,7 @@ public final class TopologyRecorder {
   /** The node name of a source used as a part: its own, or a new foreign node's. */
   private String sourcePart(Source<?> source) {
     if (source.core() == owner) {
-      return own(source.name());
+      return own(source.name(), "source", "source(name, events)");
     }
     String known = foreign.get(source);
     if (known != null) {
