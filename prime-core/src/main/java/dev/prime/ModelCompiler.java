@@ -29,6 +29,12 @@ import java.util.Objects;
  * it has one; otherwise (and for services of any other source) {@link PrimeCore} runs them in
  * memory.
  *
+ * <p>Design note. Stateless apart from its final references to the core and the media's
+ * compilers: every call reads what it needs from the recorder and runs inside the declaration
+ * that recorded the node ({@link TopologyRecorder#declare}), which makes it atomic. It takes
+ * this core's parts without consuming them, takes other cores' chains last (their {@link
+ * Chain#toBlock()} consumes them), compiles, and only then claims this core's parts.
+ *
  * @param <F> the media's compiled form
  */
 final class ModelCompiler<F> {

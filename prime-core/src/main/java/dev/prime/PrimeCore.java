@@ -2,7 +2,6 @@ package dev.prime;
 
 import dev.prime.blocks.IsolateBlock;
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.AbstractChain;
 import dev.prime.spi.ChainCompiler;
 import dev.prime.spi.MediaSource;
 import dev.prime.spi.SourceCompiler;
@@ -555,19 +554,6 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Makes the source of a node just recorded, fed by an event block: the media's own ({@link
-   * SourceCompiler#eventSource}) or an in-memory one.
-   *
-   * @param name the node's name
-   * @param events the event block
-   * @param <T> value type
-   * @return the source
-   */
-  protected final <T> Source<T> newSource(String name, EventBlock<T> events) {
-    return model().eventSource(name, events);
-  }
-
-  /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
    * Values the chain maps to {@code null} are not published. On a source of the media's own
    * ({@link SourceCompiler}) the media compiles the service; otherwise it runs on a thread of this
@@ -834,17 +820,6 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Claims a name derived from others, such as {@code a>b}; see the class docs of the names.
-   *
-   * @param preferred the derived name
-   * @param kind the fallback prefix if it is too long
-   * @return a unique name
-   */
-  protected final String derivedName(String preferred, String kind) {
-    return topologyRecorder().derived(preferred, kind);
-  }
-
-  /**
    * Checks that chains given to a link or template are usable, before anything is consumed: a
    * link or template that fails changes nothing (every chain given to it stays usable). Call it
    * first, then consume the chains.
@@ -868,7 +843,7 @@ public abstract class PrimeCore implements AutoCloseable {
       if (chain.core().isClosed()) {
         throw new CoreClosedException(chain.core().name());
       }
-      if (chain instanceof AbstractChain<?, ?> known && known.isUsed()) {
+      if (chain instanceof ModelChain<?, ?, ?> known && known.used()) {
         throw new ChainAlreadyUsedException(chain.name());
       }
     }
@@ -885,18 +860,5 @@ public abstract class PrimeCore implements AutoCloseable {
     if (source.core().isClosed()) {
       throw new CoreClosedException(source.core().name());
     }
-  }
-
-  /**
-   * Runs a service on a thread of this core: take each value of {@code reader} and give it to
-   * {@code step}; failures go to the error handler.
-   *
-   * @param name the service's name
-   * @param reader its input
-   * @param step what it does with each value
-   * @param <T> value type
-   */
-  protected final <T> void runService(String name, Reader<T> reader, Consumer<? super T> step) {
-    inProcess.run(name, reader, step);
   }
 }

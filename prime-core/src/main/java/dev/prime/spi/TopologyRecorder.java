@@ -33,6 +33,15 @@ import java.util.function.Supplier;
  * or other core's chain it runs), which the public {@link TopologyNode} leaves out: a media
  * compiles a node from the node and {@link #logic(String) its logic} (see {@link
  * ChainCompiler}), so the model is the one description of the diagram every media compiles.
+ *
+ * <p>Design note (threading). Every method synchronises on the recorder; {@link #declare} holds
+ * that monitor for a whole declaration (checks, recording, compiling and consuming the parts), so
+ * two declarations of one core never interleave, and a declaration made inside another (a
+ * repeater's collector) joins it (the monitor is reentrant). A declaration that throws forgets
+ * the nodes it recorded and releases their names; one that succeeds releases their logic, so the
+ * recorder holds the user's blocks only while they are compiled. Snapshots and readers wait for a
+ * declaration under way; nothing here waits for another thread while holding the monitor, except
+ * what a media's compiler does in a declaration.
  */
 public final class TopologyRecorder {
   private final PrimeCore owner;
