@@ -37,6 +37,7 @@ public final class CoreConfig {
   private final Duration shutdownTimeout;
   private final Duration publishTimeout;
   private final ValueCodec valueCopies;
+  private final RecordingOptions recording;
 
   private CoreConfig(Builder b) {
     this.name = b.name;
@@ -45,6 +46,7 @@ public final class CoreConfig {
     this.shutdownTimeout = b.shutdownTimeout;
     this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
+    this.recording = b.recording;
   }
 
   /** {@return the default settings} */
@@ -99,6 +101,14 @@ public final class CoreConfig {
     return valueCopies;
   }
 
+  /**
+   * {@return how the core records what its sources publish and its chains return, or {@code
+   * null} (the default) if it records nothing} See {@link Builder#recording(RecordingOptions)}.
+   */
+  public RecordingOptions recording() {
+    return recording;
+  }
+
   /** {@return a builder starting from these settings} */
   public Builder toBuilder() {
     Builder b = new Builder();
@@ -108,6 +118,7 @@ public final class CoreConfig {
     b.shutdownTimeout = shutdownTimeout;
     b.publishTimeout = publishTimeout;
     b.valueCopies = valueCopies;
+    b.recording = recording;
     return b;
   }
 
@@ -116,7 +127,8 @@ public final class CoreConfig {
     return "CoreConfig[name=" + name + ", sourceRetention=" + sourceRetention
         + ", shutdownTimeout=" + shutdownTimeout
         + ", publishTimeout=" + publishTimeout
-        + (valueCopies == null ? "" : ", copyValues=" + valueCopies) + "]";
+        + (valueCopies == null ? "" : ", copyValues=" + valueCopies)
+        + (recording == null ? "" : ", recording=" + recording) + "]";
   }
 
   /** Builds a {@link CoreConfig}. Not thread-safe. */
@@ -127,6 +139,7 @@ public final class CoreConfig {
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
     private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
+    private RecordingOptions recording;
 
     private Builder() {}
 
@@ -237,6 +250,24 @@ public final class CoreConfig {
      */
     public Builder copyValues(ValueCodec codec) {
       this.valueCopies = codec;
+      return this;
+    }
+
+    /**
+     * Turns recording on: the core records every value each of its sources publishes and each of
+     * its chains made of a block returns, with time stamps, in a ring per name; read it with
+     * {@link PrimeCore#recording()}. Off by default, and then free: no recording code is compiled
+     * into any chain or subscribed to any source.
+     *
+     * <pre>{@code
+     * new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(10_000)).build())
+     * }</pre>
+     *
+     * @param options the ring size and read timeout; {@code null} to record nothing (the default)
+     * @return this builder
+     */
+    public Builder recording(RecordingOptions options) {
+      this.recording = options;
       return this;
     }
 

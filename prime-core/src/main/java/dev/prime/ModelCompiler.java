@@ -29,8 +29,8 @@ import java.util.Objects;
  * it has one; otherwise (and for services of any other source) {@link PrimeCore} runs them in
  * memory.
  *
- * <p>Design note. Stateless apart from its final references to the core and the media's
- * compilers: every call reads what it needs from the recorder and runs inside the declaration
+ * <p>Design note. Stateless apart from its final references to the core, the media's compilers
+ * and the core's recording points (which keep their own state): every call reads what it needs from the recorder and runs inside the declaration
  * that recorded the node ({@link TopologyRecorder#declare}), which makes it atomic. It takes
  * this core's parts without consuming them, takes other cores' chains last (their {@link
  * Chain#toBlock()} consumes them), compiles, and only then claims this core's parts.
@@ -41,18 +41,46 @@ final class ModelCompiler<F> {
   private final PrimeCore core;
   private final ChainCompiler<F> media;
   private final SourceCompiler<?> sources; // null: in-memory sources
+  private final RecordingPoints recording; // null: recording is off
 
   ModelCompiler(PrimeCore core, ChainCompiler<F> media, SourceCompiler<?> sources) {
     this.core = core;
     this.media = Objects.requireNonNull(media, "the media's chain compiler");
     this.sources = sources;
+    RecordingOptions options = core.config().recording();
+    this.recording = options == null ? null : new RecordingPoints(core, options);
+  }
+
+  /** The core's recording; throws if recording is off. */
+  Recording recording() {
+    if (recording == null) {
+      throw new IllegalStateException(
+          "recording is off in core '" + core.name() + "': turn it on with"
+              + " CoreConfig.builder().recording(RecordingOptions.ring(10_000)) given to the"
+              + " core's constructor");
+    }
+    return recording.recording();
   }
 
   /** Compiles a just recorded event source: the media's own, or an in-memory one. */
   <T> Source<T> eventSource(String name, EventBlock<T> events) {
-    return sources == null
-        ? core.inProcessServices().eventSource(name, events)
-        : sources.eventSource(name, events);
+    if (recording == null) {
+      return sources == null
+          ? core.inProcessServices().eventSource(name, events)
+          : sources.eventSource(name, events);
+    }
+    RecordingPoints.SourcePoint point = recording.beforeSource(name, events);
+    try {
+      Source<T> source =
+          sources == null
+              ? core.inProcessServices().eventSource(name, events)
+              : sources.eventSource(name, events);
+      point.afterMedia();
+      return source;
+    } catch (RuntimeException | Error failed) {
+      point.cancel();
+      throw failed;
+    }
   }
 
   /** Whether {@code source} is one of the media's own sources, whose services it compiles. */
@@ -182,7 +210,7 @@ final class ModelCompiler<F> {
   private F compile(TopologyNode node, NodeLogic logic, List<Part<F>> parts) {
     String name = node.name();
     if (logic instanceof NodeLogic.Run run) {
-      return media.block(name, run.block());
+      return media.block(name, recorded(node, run.block()));
     }
     if (logic instanceof NodeLogic.Shared shared) {
       return media.block(name, shared.block());
@@ -202,6 +230,13 @@ final class ModelCompiler<F> {
     }
     F own = media.template(node, logic, forms);
     return own != null ? own : media.block(name, generic(node, logic, parts));
+  }
+
+  /** A chain's block, with a recording tap if recording is on and the node is recorded. */
+  private Block<?, ?> recorded(TopologyNode node, Block<?, ?> block) {
+    return recording != null && node instanceof TopologyNode.BlockChain
+        ? recording.chain(node.name(), block)
+        : block;
   }
 
   private static <T> Block<Token, T> syncCollector(Source<T> source) {

@@ -157,6 +157,27 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
+   * Creates a named chain with a pseudoname: a readable name shown in the drawings of the
+   * topology ({@code Wheel odometry (odometry)}) and given with every value the chain's outputs
+   * record ({@link RecordedValue#pseudoname()}). The name stays what identifies the chain.
+   *
+   * @param name unique in this core; 1 to 200 characters, no whitespace or braces
+   * @param pseudoname 1 to 120 characters, not only whitespace, no control characters
+   * @param block the logic
+   * @param <I> input type
+   * @param <O> output type
+   * @return a new chain of this core
+   * @throws IllegalArgumentException if the name is invalid or taken or the pseudoname invalid
+   */
+  public final <I, O> Chain<I, O> chain(String name, String pseudoname, Block<I, O> block) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(block, "block must not be null");
+    TopologyRecorder.checkPseudoname(pseudoname);
+    ensureOpen();
+    return declared(() -> compiled(Pseudonames.record(topologyRecorder(), name, pseudoname, block)));
+  }
+
+  /**
    * The media's compiler of the topology model's chain nodes: every chain of this core is
    * recorded in the model and compiled by it at once (see {@link ChainCompiler}). Called once,
    * when the first chain is made.
@@ -554,6 +575,28 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
+   * Creates a named source with a pseudoname (see {@link #chain(String, String, Block)}).
+   *
+   * @param name unique in this core
+   * @param pseudoname 1 to 120 characters, not only whitespace, no control characters
+   * @param events the event block
+   * @param <T> value type
+   * @return a new source
+   * @throws IllegalArgumentException if the name is invalid or taken or the pseudoname invalid
+   */
+  public final <T> Source<T> source(String name, String pseudoname, EventBlock<T> events) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(events, "events must not be null");
+    TopologyRecorder.checkPseudoname(pseudoname);
+    ensureOpen();
+    return declared(
+        () ->
+            model()
+                .eventSource(
+                    Pseudonames.record(topologyRecorder(), name, pseudoname, events), events));
+  }
+
+  /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
    * Values the chain maps to {@code null} are not published. On a source of the media's own
    * ({@link SourceCompiler}) the media compiles the service; otherwise it runs on a thread of this
@@ -680,6 +723,18 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final Topology topology() {
     return topologyRecorder().snapshot(this::isHostedHere);
+  }
+
+  /**
+   * What this core recorded: every value its sources published and its chains made of a block
+   * returned, with time stamps (see {@link Recording}). On Optimus, what this process published
+   * and the chains it hosts returned.
+   *
+   * @return the recording, the same object on every call
+   * @throws IllegalStateException if recording is off ({@link CoreConfig.Builder#recording})
+   */
+  public final Recording recording() {
+    return model().recording();
   }
 
   /**

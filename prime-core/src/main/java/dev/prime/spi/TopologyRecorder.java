@@ -51,6 +51,7 @@ public final class TopologyRecorder {
   private final Map<String, NodeLogic> logic = new HashMap<>(); // guarded by this
   private final Map<Object, String> foreign = new HashMap<>(); // guarded by this
   private final Map<String, Integer> readers = new HashMap<>(); // guarded by this
+  private final Map<String, String> pseudonames = new HashMap<>(); // guarded by this
 
   /**
    * @param owner the core whose diagram this records
@@ -417,9 +418,51 @@ public final class TopologyRecorder {
         readers.merge(reader.source(), -1, Integer::sum); // a reader's name is not claimed
       } else {
         foreign.values().remove(name);
+        pseudonames.remove(name);
         names.release(name);
       }
     }
+  }
+
+  /**
+   * Gives a recorded chain or source a pseudoname: a readable name for drawings and recordings
+   * (see {@link #checkPseudoname}).
+   *
+   * @param name a recorded node's name
+   * @param pseudoname the readable name, checked
+   */
+  public synchronized void pseudoname(String name, String pseudoname) {
+    node(name);
+    pseudonames.put(name, checkPseudoname(pseudoname));
+  }
+
+  /**
+   * The pseudoname of a node.
+   *
+   * @param name a node's name
+   * @return its pseudoname, or {@code null} if it has none
+   */
+  public synchronized String pseudoname(String name) {
+    return pseudonames.get(name);
+  }
+
+  /**
+   * Checks a pseudoname before anything is recorded with it: 1 to 120 characters, not only
+   * whitespace, no control characters.
+   *
+   * @param pseudoname the readable name
+   * @return it
+   * @throws IllegalArgumentException if it is not a valid pseudoname
+   */
+  public static String checkPseudoname(String pseudoname) {
+    Objects.requireNonNull(pseudoname, "pseudoname must not be null");
+    boolean control = pseudoname.chars().anyMatch(Character::isISOControl);
+    if (pseudoname.isBlank() || pseudoname.length() > 120 || control) {
+      throw new IllegalArgumentException(
+          "pseudoname '" + pseudoname + "' is invalid: use 1 to 120 characters, not only"
+              + " whitespace, without control characters (line breaks, tabs)");
+    }
+    return pseudoname;
   }
 
   /**
@@ -435,7 +478,7 @@ public final class TopologyRecorder {
         elsewhere.add(node.name());
       }
     }
-    return Topology.of(nodes, elsewhere);
+    return Topology.of(nodes, elsewhere, pseudonames);
   }
 
   private String add(TopologyNode node, NodeLogic runs) {

@@ -68,10 +68,11 @@ final class Drawing {
     return ids.get(node.name());
   }
 
-  private static String label(TopologyNode node) {
-    return node instanceof TopologyNode.ReaderNode reader
-        ? "reader " + reader.number()
-        : node.name();
+  private String label(TopologyNode node) {
+    if (node instanceof TopologyNode.ReaderNode reader) {
+      return "reader " + reader.number();
+    }
+    return topology.pseudoname(node.name()).map(p -> p + " (" + node.name() + ")").orElse(node.name());
   }
 
   private boolean elsewhere(TopologyNode node) {

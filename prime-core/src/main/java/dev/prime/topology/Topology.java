@@ -9,6 +9,7 @@ import java.util.List;
 import java.util.Map;
 import java.util.Optional;
 import java.util.Set;
+import java.util.TreeMap;
 import java.util.TreeSet;
 
 /**
@@ -30,8 +31,10 @@ public final class Topology {
   private final Map<String, TopologyNode> byName;
   private final Set<String> services;
   private final Set<String> hostedElsewhere;
+  private final Map<String, String> pseudonames;
 
-  private Topology(List<TopologyNode> nodes, Set<String> hostedElsewhere) {
+  private Topology(
+      List<TopologyNode> nodes, Set<String> hostedElsewhere, Map<String, String> pseudonames) {
     this.nodes = List.copyOf(nodes);
     Map<String, TopologyNode> index = new HashMap<>();
     Set<String> serviceNames = new LinkedHashSet<>();
@@ -60,6 +63,13 @@ public final class Topology {
     this.byName = index;
     this.services = Collections.unmodifiableSet(serviceNames);
     this.hostedElsewhere = Collections.unmodifiableSet(new TreeSet<>(hostedElsewhere));
+    for (String named : pseudonames.keySet()) {
+      if (!index.containsKey(named)) {
+        throw new IllegalArgumentException(
+            "'" + named + "' has a pseudoname but is not a node of this topology");
+      }
+    }
+    this.pseudonames = Collections.unmodifiableMap(new TreeMap<>(pseudonames));
   }
 
   /**
@@ -72,7 +82,39 @@ public final class Topology {
    *     node using it, or a name in {@code hostedElsewhere} is not a service
    */
   public static Topology of(List<TopologyNode> nodes, Collection<String> hostedElsewhere) {
-    return new Topology(nodes, new LinkedHashSet<>(hostedElsewhere));
+    return new Topology(nodes, new LinkedHashSet<>(hostedElsewhere), Map.of());
+  }
+
+  /**
+   * A topology of {@code nodes} whose chains and sources may have pseudonames.
+   *
+   * @param nodes in declaration order; each node's parts must come before it
+   * @param hostedElsewhere the services this process does not run (empty: it runs all)
+   * @param pseudonames readable names by node name (see {@link #pseudoname(String)})
+   * @return the topology
+   * @throws IllegalArgumentException as {@link #of(List, Collection)}, or if a pseudoname names
+   *     no node
+   */
+  public static Topology of(
+      List<TopologyNode> nodes, Collection<String> hostedElsewhere, Map<String, String> pseudonames) {
+    return new Topology(nodes, new LinkedHashSet<>(hostedElsewhere), Map.copyOf(pseudonames));
+  }
+
+  /**
+   * The pseudoname of a node: the readable name the user gave a chain or source at creation
+   * ({@code core.chain("odometry", "Wheel odometry", block)}), shown in the drawings and the
+   * recordings next to the node's name.
+   *
+   * @param name a node's name
+   * @return its pseudoname, or empty if it has none
+   */
+  public Optional<String> pseudoname(String name) {
+    return Optional.ofNullable(pseudonames.get(name));
+  }
+
+  /** {@return the pseudonames by node name, sorted by name} */
+  public Map<String, String> pseudonames() {
+    return pseudonames;
   }
 
   /** {@return every node, in declaration order} */
@@ -114,7 +156,8 @@ public final class Topology {
    * The diagram as a Mermaid flowchart. Chains are boxes, templates hexagons, sources stadiums
    * and cylinders, readers circles; solid arrows carry values, dashed arrows go from a template
    * to the chains it runs, labelled with their role; services hosted elsewhere are dashed.
-   * Deterministic: the same topology always gives the same text.
+   * A node with a {@linkplain #pseudoname(String) pseudoname} is labelled {@code pseudoname
+   * (name)}. Deterministic: the same topology always gives the same text.
    *
    * @return the flowchart, ending with a newline
    */
@@ -136,7 +179,8 @@ public final class Topology {
   public boolean equals(Object other) {
     return other instanceof Topology that
         && nodes.equals(that.nodes)
-        && hostedElsewhere.equals(that.hostedElsewhere);
+        && hostedElsewhere.equals(that.hostedElsewhere)
+        && pseudonames.equals(that.pseudonames);
   }
 
   @Override

@@ -19,4 +19,5 @@ public interface MediaConformance
         ValueCopyConformance,
         LongChainConformance,
         LoggingConformance,
+        RecordingConformance,
         LifecycleHookConformance {}

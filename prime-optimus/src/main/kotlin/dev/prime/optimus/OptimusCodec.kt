@@ -6,8 +6,8 @@ import dev.prime.spi.ValueCodec
  * Turns the values that travel between Optimus services into bytes and back.
  *
  * Every value that crosses Redis (a chain's input and output, a source's values) goes through
- * the core's codec. All processes that share a topology must use codecs that agree: same
- * registered types, in the same order. [fingerprint] lets the core check that at start.
+ * the core's codec. All processes that share a topology must use codecs that agree: the same
+ * allowed types. [fingerprint] lets the core check that at start.
  *
  * ## Contract
  * - **Threading.** Both methods are called concurrently from many threads; implementations are
@@ -42,7 +42,7 @@ public interface OptimusCodec : ValueCodec {
 
     /**
      * A short text that is equal for two codecs exactly when they read each other's bytes, such
-     * as a hash of the registered type names in order.
+     * as a hash of the allowed type names with their ids.
      */
     public fun fingerprint(): String
 }

@@ -24,7 +24,10 @@ internal class Stages(val specs: List<StageSpec>)
 internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompiler<Stages> {
     override fun form(): Class<Stages> = Stages::class.java
 
-    override fun block(chain: String, block: Block<*, *>): Stages = Stages(listOf(StageSpec(chain, core.chainLogic(block))))
+    override fun block(chain: String, block: Block<*, *>): Stages {
+        core.declaredTypes.note(chain, block) // checked against the codec at start
+        return Stages(listOf(StageSpec(chain, core.chainLogic(block))))
+    }
 
     override fun foreign(node: String, block: Block<*, *>): Stages = block(node, block)
 

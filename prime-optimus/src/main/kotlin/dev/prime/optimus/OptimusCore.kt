@@ -135,6 +135,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val endpoint: RedisEndpoint
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
+    internal val declaredTypes: DeclaredTypes = DeclaredTypes()
     internal val connections: RedisConnections
     internal val ids: ValueIds = ValueIds()
     internal val retries: Int = settings.retries
@@ -320,6 +321,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     // ------------------------------------------------------------------ lifecycle
 
     override fun onStart() {
+        declaredTypes.check(name(), codec)
         beginLiveness()
         checkCodecAgreement()
         declarations.codecDeclared = true
@@ -707,8 +709,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         check(theirs == null || theirs == mine) {
-            "core '${name()}' uses a codec with fingerprint $mine, but this topology's processes use $theirs: register " +
-                "the same types in the same order in every process (or delete the Redis key " +
+            "core '${name()}' uses a codec with fingerprint $mine, but this topology's processes use $theirs: allow " +
+                "the same types (classes, sealed types, packages) in every process's KryoCodec (or delete the Redis key " +
                 "'${keys.codec.toString(UTF_8)}' if the types changed on purpose)"
         }
     }

@@ -11,10 +11,36 @@ internal class KryoCodecEncodeErrorTest {
 
     private fun assertUnregistered(value: Any, missing: Class<*>) {
         val e = assertThrows(IllegalArgumentException::class.java) { codec.encode(value) }
-        val message = e.message!!
-        assertTrue(message.contains(value.javaClass.name), message)
-        assertTrue(message.contains(missing.name), message)
-        assertTrue(message.contains("KryoCodec.builder().register(${missing.canonicalName}.class)"), message)
+        val what = if (value.javaClass == missing) "the type is not allowed" else "it contains a ${missing.name}, which is not allowed"
+        assertEquals(
+            "KryoCodec cannot encode a value of type ${value.javaClass.name}: $what (records and enums are accepted " +
+                "without configuration; Stranger is neither). Allow it where the codec is built: " +
+                "KryoCodec.builder().allow(Stranger.class) (Kotlin: allow(Stranger::class.java)), or allow its whole " +
+                "package: KryoCodec.builder().allowPackage(\"dev.prime.optimus\"). Every process of the topology must " +
+                "allow the same types",
+            e.message,
+        )
+    }
+
+    @Test
+    fun `a nested class is named as in source, and a strict codec does not mention records`() {
+        val e = assertThrows(IllegalArgumentException::class.java) {
+            KryoCodec.builder().learnRecordsAndEnums(false).build().encode(Outer.Inner(1))
+        }
+        assertEquals(
+            "KryoCodec cannot encode a value of type dev.prime.optimus.KryoCodecEncodeErrorTest\$Outer\$Inner: the type " +
+                "is not allowed. Allow it where the codec is built: " +
+                "KryoCodec.builder().allow(KryoCodecEncodeErrorTest.Outer.Inner.class) (Kotlin: " +
+                "allow(KryoCodecEncodeErrorTest.Outer.Inner::class.java)), or allow its whole package: " +
+                "KryoCodec.builder().allowPackage(\"dev.prime.optimus\"). Every process of the topology must allow " +
+                "the same types",
+            e.message,
+        )
+    }
+
+    internal class Outer {
+        @JvmRecord
+        internal data class Inner(val x: Int)
     }
 
     @Test

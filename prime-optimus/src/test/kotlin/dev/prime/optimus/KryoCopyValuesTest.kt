@@ -41,7 +41,7 @@ class KryoCopyValuesTest {
             val chain = core.chain("count") { u: Unregistered -> u.count }
             core.start()
             val published = assertThrows(IllegalArgumentException::class.java) { events.publish(Unregistered(1)) }
-            assertTrue(published.message!!.contains("register"), published.message)
+            assertTrue(published.message!!.contains("allow(KryoCopyValuesTest.Unregistered.class)"), published.message)
             val block = chain.toBlock()
             assertThrows(IllegalArgumentException::class.java) { block.process(Unregistered(1)) }
         }

@@ -4,13 +4,15 @@ import dev.prime.optimus.KryoCodec;
 import java.util.List;
 
 /**
- * The robot's types that cross Redis on the Optimus media, in the one order every process
- * registers them (the codec's fingerprint depends on it, and the processes of one topology must
- * agree). A type added to a chain's input or output, or nested in one, is added here, at the end.
+ * The robot's types that cross Redis on the Optimus media, allowed by every process of a topology
+ * spread over several (the processes must agree, which the codec's fingerprint checks; the order
+ * does not matter). A type added to a chain's input or output, or nested in one, is added here.
+ * One process alone needs none of this: a plain {@code new OptimusCore()} carries the robot's
+ * records.
  */
 public final class RobotTypes {
 
-  /** Every type a chain or source of the robot carries, nested types included, in fixed order. */
+  /** Every type a chain or source of the robot carries, nested types included. */
   public static final List<Class<?>> ALL =
       List.of(
           EncoderReading.class,
@@ -22,11 +24,11 @@ public final class RobotTypes {
 
   private RobotTypes() {}
 
-  /** {@return A codec that knows every type of {@link #ALL}, registered in that order} */
+  /** {@return A codec that allows every type of {@link #ALL}} */
   public static KryoCodec codec() {
     KryoCodec.Builder builder = KryoCodec.builder();
     for (Class<?> type : ALL) {
-      builder.register(type);
+      builder.allow(type);
     }
     return builder.build();
   }

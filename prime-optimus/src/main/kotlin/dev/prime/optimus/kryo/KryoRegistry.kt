@@ -1,6 +1,7 @@
 package dev.prime.optimus.kryo
 
 import com.esotericsoftware.kryo.Kryo
+import com.esotericsoftware.kryo.Registration
 import com.esotericsoftware.kryo.Serializer
 import com.esotericsoftware.kryo.serializers.DefaultArraySerializers
 import com.esotericsoftware.kryo.serializers.DefaultSerializers
@@ -31,19 +32,24 @@ import java.util.UUID
 /**
  * The registration table of one codec, and the factory of its [Kryo] instances.
  *
- * Ids are fixed so that every process that registers the same application types in the same
- * order assigns the same ids:
+ * Ids are fixed so that every process that allows the same application types assigns the same
+ * ids, whatever the order they were declared or first seen in:
  * - 0..8: Kryo's own (`int`, `String`, `float`, `boolean`, `byte`, `char`, `short`, `long`,
  *   `double`; each boxed type shares its primitive's registration);
  * - [FIRST_BUILT_IN_ID]..: [BUILT_INS], in list order;
- * - [FIRST_USER_ID]..: the application's types, in registration order (a gap above the
- *   built-ins, so adding a built-in later does not move the application's ids).
+ * - [AllowList.FIRST_USER_ID]..: the declared application types, sorted by class name (a gap
+ *   above the built-ins, so adding a built-in later does not move the application's ids);
+ * - [AllowList.FIRST_HASH_ID]..: types admitted lazily (a class of an allowed package, a
+ *   record or enum this process sends), each under a hash of its name (see [AllowList]).
  *
  * Immutable and thread-safe; [newKryo] builds a fresh, unshared Kryo each time.
  */
-internal class KryoRegistry(private val userTypes: List<Class<*>>, val maxDepth: Int) {
+internal class KryoRegistry(val allowList: AllowList, val maxDepth: Int) {
 
-    /** `"id class-name"` for every registration, ordered by id. */
+    /**
+     * `"id class-name"` for every registration made when the codec is built, ordered by id, then
+     * the rules that admit types lazily (`"package com.acme"`, `"records and enums sent"`).
+     */
     val typeNames: List<String>
 
     /** A short hash of [typeNames] and the wire-format version. */
@@ -51,9 +57,9 @@ internal class KryoRegistry(private val userTypes: List<Class<*>>, val maxDepth:
 
     init {
         val kryo = newKryo()
-        typeNames = (0 until FIRST_USER_ID + userTypes.size).mapNotNull { id ->
+        typeNames = (0 until AllowList.FIRST_USER_ID + allowList.declared.size).mapNotNull { id ->
             kryo.classResolver.getRegistration(id)?.let { "$id ${it.type.name}" }
-        }
+        } + allowList.rules
         val digest = MessageDigest.getInstance("SHA-256")
             .digest((listOf(FORMAT) + typeNames).joinToString("\n").toByteArray(Charsets.UTF_8))
         fingerprint = "kryo-" + digest.take(FINGERPRINT_BYTES).joinToString("") { "%02x".format(it) }
@@ -66,7 +72,7 @@ internal class KryoRegistry(private val userTypes: List<Class<*>>, val maxDepth:
      * @throws IllegalArgumentException if an application type cannot be registered safely
      */
     fun newKryo(): Kryo {
-        val kryo = AllowListKryo(AllowListClassResolver(knownIds()))
+        val kryo = AllowListKryo(AllowListClassResolver(allowList, knownIds()))
         kryo.isRegistrationRequired = true
         kryo.warnUnregisteredClasses = false
         kryo.references = false
@@ -82,40 +88,51 @@ internal class KryoRegistry(private val userTypes: List<Class<*>>, val maxDepth:
             val id = FIRST_BUILT_IN_ID + index
             kryo.register(type, serializer(), id)
         }
-        userTypes.forEachIndexed { index, type ->
+        allowList.declared.forEach { (id, type) ->
             val registration = try {
-                kryo.register(type, FIRST_USER_ID + index)
+                kryo.register(type, id)
             } catch (e: RuntimeException) {
                 throw IllegalArgumentException(
-                    "KryoCodec cannot register ${type.name}: ${e.message}. Register records or " +
+                    "KryoCodec cannot register ${type.name}: ${e.message}. Allow records or " +
                         "classes whose fields Kryo can read and write",
                     e,
                 )
             }
-            val serializer = registration.serializer
-            require(serializer !is JavaSerializer && serializer !is ExternalizableSerializer) {
-                "KryoCodec does not register ${type.name}: it asks for " +
-                    "${serializer.javaClass.simpleName} (Java serialization), which the codec " +
-                    "never runs on bytes from Redis. Remove its @DefaultSerializer annotation"
-            }
+            refuseJavaSerialization(registration)
         }
         return kryo
     }
 
     private fun knownIds(): String {
         val lastBuiltIn = FIRST_BUILT_IN_ID + BUILT_INS.size - 1
-        val user = if (userTypes.isEmpty()) "no application types" else
-            "application types $FIRST_USER_ID-${FIRST_USER_ID + userTypes.size - 1}"
-        return "0-8 (Kryo's), $FIRST_BUILT_IN_ID-$lastBuiltIn (built in) and $user"
+        val declared = allowList.declared.size
+        val user = if (declared == 0) "no declared application types" else
+            "declared application types ${AllowList.FIRST_USER_ID}-${AllowList.FIRST_USER_ID + declared - 1}"
+        val lazily = if (allowList.rules.isEmpty()) "" else ", and by name hash: " + allowList.rules.joinToString()
+        return "0-8 (Kryo's), $FIRST_BUILT_IN_ID-$lastBuiltIn (built in), $user$lazily"
     }
 
     companion object {
+        /**
+         * Refuses a registration whose serializer is Java serialization (a type annotated
+         * `@DefaultSerializer(JavaSerializer::class)` or the like).
+         *
+         * @throws IllegalArgumentException naming the type and what to change
+         */
+        fun refuseJavaSerialization(registration: Registration) {
+            val serializer = registration.serializer
+            require(serializer !is JavaSerializer && serializer !is ExternalizableSerializer) {
+                "KryoCodec does not allow ${registration.type.name}: it asks for " +
+                    "${serializer.javaClass.simpleName} (Java serialization), which the codec " +
+                    "never runs on bytes from Redis. Remove its @DefaultSerializer annotation"
+            }
+        }
+
         /** Wire-format version of this codec's own serializers; part of the fingerprint. */
-        private const val FORMAT = "optimus-kryo5-v2"
+        private const val FORMAT = "optimus-kryo5-v3"
         private const val FINGERPRINT_BYTES = 8
         const val FIRST_BUILT_IN_ID = 10
         private const val STRING_ID = 1
-        const val FIRST_USER_ID = 100
 
         /** Built-in types in id order, each with the factory of its (stateless) serializer. */
         private val BUILT_INS: List<Pair<Class<*>, () -> Serializer<*>>> = listOf(

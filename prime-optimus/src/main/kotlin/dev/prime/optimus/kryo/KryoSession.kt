@@ -1,6 +1,7 @@
 package dev.prime.optimus.kryo
 
 import com.esotericsoftware.kryo.Kryo
+import com.esotericsoftware.kryo.Registration
 import com.esotericsoftware.kryo.io.Output
 import com.esotericsoftware.kryo.util.Pool
 
@@ -24,6 +25,14 @@ internal class KryoSession(private val kryo: Kryo) {
         if (output.buffer.size > RETAINED_OUTPUT_BYTES) output.setBuffer(ByteArray(INITIAL_OUTPUT_BYTES), -1)
         return bytes
     }
+
+    /**
+     * The registration a value of exactly [type] is written under, admitting the type if a lazy
+     * rule allows it.
+     *
+     * @throws UnregisteredTypeException if the codec does not allow [type]
+     */
+    fun registration(type: Class<*>): Registration = kryo.getRegistration(type)
 
     /**
      * The value [bytes] hold, or null if they hold Kryo's null marker.

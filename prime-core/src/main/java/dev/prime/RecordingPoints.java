@@ -1,0 +1,107 @@
+package dev.prime;
+
+import java.time.Instant;
+
+/**
+ * Where a core records (see {@link Recording}): the model compiler asks it for a tap at each
+ * recorded point of the model as the point is compiled. A core whose recording is off has no
+ * {@code RecordingPoints}, so nothing is compiled in and nothing runs per value.
+ *
+ * <p>Recorded points: every {@code BlockChain} (the tap wraps the chain's block, so it runs
+ * wherever the media runs that block: in the caller's thread, in a fused class, or in the Optimus
+ * process hosting the service) and every {@code EventSource} (subscribers to its event block
+ * around the media's: see {@link #beforeSource}).
+ */
+final class RecordingPoints {
+  private final PrimeCore core;
+  private final Recording recording;
+
+  RecordingPoints(PrimeCore core, RecordingOptions options) {
+    this.core = core;
+    this.recording = new Recording(core.name(), options, core::isClosed);
+  }
+
+  Recording recording() {
+    return recording;
+  }
+
+  /** The block of a recorded chain: runs {@code block} and records each non-null output. */
+  <I, O> Block<I, O> chain(String name, Block<I, O> block) {
+    return new Tap<>(recording.ring(name, core.topologyRecorder().pseudoname(name)), block);
+  }
+
+  /**
+   * Starts recording what {@code events} publishes, around the media's own subscriber: call it
+   * before the media subscribes, then {@link SourcePoint#afterMedia()} once it has (or {@link
+   * SourcePoint#cancel()} if the media made no source). Each value is stamped as its publish
+   * begins and stored, with that stamp, after the media accepted it (a publish the media refuses
+   * is not recorded). Stamping first keeps causality across processes: a value that a service
+   * elsewhere computed from this one is stamped after it.
+   */
+  <T> SourcePoint beforeSource(String name, EventBlock<T> events) {
+    return new SourcePoint(name, events);
+  }
+
+  /** The recording of one event source; see {@link #beforeSource}. */
+  final class SourcePoint {
+    private final String name;
+    private final EventBlock<?> events;
+    private final ThreadLocal<Stamp> stamps = ThreadLocal.withInitial(Stamp::new);
+    private final EventBlock.Subscription stamping;
+
+    private SourcePoint(String name, EventBlock<?> events) {
+      this.name = name;
+      this.events = events;
+      this.stamping =
+          events.subscribe(
+              value -> {
+                Stamp stamp = stamps.get();
+                stamp.value = value;
+                stamp.wallTime = Instant.now();
+                stamp.monotonicNanos = System.nanoTime();
+              });
+    }
+
+    /** Subscribes the recording subscriber, after the media's. */
+    void afterMedia() {
+      RecordingRing ring = recording.ring(name, core.topologyRecorder().pseudoname(name));
+      events.subscribe(
+          value -> {
+            if (core.isClosed()) {
+              return;
+            }
+            Stamp stamp = stamps.get();
+            if (stamp.value == value) { // not overwritten by a nested publish of this thread
+              stamp.value = null;
+              ring.record(value, stamp.wallTime, stamp.monotonicNanos);
+            } else {
+              ring.record(value);
+            }
+          });
+    }
+
+    /** Stops stamping: the media made no source. */
+    void cancel() {
+      stamping.close();
+    }
+  }
+
+  /** When this thread's current publish began. */
+  private static final class Stamp {
+    Object value;
+    Instant wallTime;
+    long monotonicNanos;
+  }
+
+  /** A chain's block with its output recorded. */
+  private record Tap<I, O>(RecordingRing ring, Block<I, O> block) implements Block<I, O> {
+    @Override
+    public O process(I input) {
+      O output = block.process(input);
+      if (output != null) {
+        ring.record(output);
+      }
+      return output;
+    }
+  }
+}

@@ -1,0 +1,421 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertNull;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.RecordedValue;
+import dev.prime.Recording;
+import dev.prime.RecordingOptions;
+import dev.prime.Source;
+import dev.prime.Reader;
+import java.time.Duration;
+import java.time.Instant;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.NoSuchElementException;
+import java.util.Optional;
+import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.stream.LongStream;
+import org.junit.jupiter.api.Test;
+
+/**
+ * Recording (docs/architecture.md, "Recording"): what sources publish and chains made of blocks
+ * return is recorded per name with pseudoname, time stamps and gap-free sequence numbers, read back
+ * with get / tryGet / getRange / getAll with or without time stamps, bounded by a ring whose losses
+ * are counted; off by default, and then nothing is compiled in.
+ */
+public interface RecordingConformance extends ConformanceBase {
+
+  /** A core recording with a ring of {@code capacity} values per name. */
+  default PrimeCore recordingCore(int capacity) {
+    return newCore(CoreConfig.builder().recording(RecordingOptions.ring(capacity)).build());
+  }
+
+  @Test
+  default void recordsWhatSourcesPublishAndChainsReturn() throws Exception {
+    try (PrimeCore core = recordingCore(100)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> doubled =
+          core.source("numbers", events).then(core.chain("double", (Integer x) -> x * 2));
+      Reader<Integer> reader = doubled.reader();
+      Block<String, Integer> length = core.chain("length", String::length).toBlock();
+      core.start();
+      Instant before = Instant.now();
+      for (int i = 1; i <= 5; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 4, 6, 8, 10), takeOrFail(reader, 5));
+      assertEquals(3, length.process("abc"));
+      Instant after = Instant.now();
+
+      Recording recording = core.recording();
+      assertTrue(recording.names().containsAll(List.of("numbers", "double", "length")),
+          "recorded names: " + recording.names());
+      assertEquals(List.of(1, 2, 3, 4, 5), recording.getAll("numbers"));
+      assertEquals(List.of(2, 4, 6, 8, 10), recording.getAll("double"));
+      assertEquals(List.of(3), recording.getAll("length"));
+      int latest = recording.get("numbers");
+      assertEquals(5, latest);
+      assertEquals(Optional.of(10), recording.tryGet("double"));
+      assertEquals(List.of(2, 3), recording.getRange("numbers", 1, 3));
+      assertEquals(List.of(), recording.getRange("numbers", 5, 9));
+
+      List<RecordedValue<Integer>> stamped = recording.getAllStamped("double");
+      assertEquals(5, stamped.size());
+      for (int i = 0; i < 5; i++) {
+        RecordedValue<Integer> entry = stamped.get(i);
+        assertEquals("double", entry.service());
+        assertNull(entry.pseudoname());
+        assertEquals("double", entry.label());
+        assertEquals(i, entry.sequence());
+        assertEquals(2 * (i + 1), entry.value());
+        assertFalse(entry.wallTime().isBefore(before), entry + " before " + before);
+        assertFalse(entry.wallTime().isAfter(after), entry + " after " + after);
+        if (i > 0) {
+          assertTrue(entry.monotonicNanos() >= stamped.get(i - 1).monotonicNanos());
+        }
+      }
+      RecordedValue<Integer> last = recording.getStamped("numbers");
+      assertEquals(4, last.sequence());
+      assertEquals(5, last.value());
+      assertEquals(last, recording.<Integer>tryGetStamped("numbers").orElseThrow());
+      List<RecordedValue<Integer>> range = recording.getRangeStamped("numbers", 3, 100);
+      assertEquals(List.of(3L, 4L), range.stream().map(RecordedValue::sequence).toList());
+      assertEquals(0, recording.dropped("numbers"));
+      assertEquals(5, recording.recorded("numbers"));
+      assertTrue(core.recording() == recording, "one recording per core");
+    }
+  }
+
+  @Test
+  default void pseudonamesNameTheRecordingAndTheDrawing() throws Exception {
+    try (PrimeCore core = recordingCore(10)) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Source<Integer> estimates =
+          core.source("encoders", "Wheel encoders", ticks)
+              .then(core.chain("odometry", "Wheel odometry", (Integer t) -> t + 1));
+      Reader<Integer> reader = estimates.reader();
+      core.start();
+      ticks.publish(41);
+      assertEquals(42, takeOrFail(reader));
+
+      Recording recording = core.recording();
+      RecordedValue<Integer> odometry = recording.getStamped("odometry");
+      assertEquals("Wheel odometry", odometry.pseudoname());
+      assertEquals("Wheel odometry", odometry.label());
+      assertEquals("Wheel encoders", recording.<Integer>getStamped("encoders").pseudoname());
+      assertEquals(Optional.of("Wheel odometry"), recording.pseudoname("odometry"));
+
+      assertEquals(Optional.of("Wheel encoders"), core.topology().pseudoname("encoders"));
+      String mermaid = core.topology().toMermaid();
+      assertTrue(mermaid.contains("Wheel odometry (odometry)"), mermaid);
+      assertTrue(mermaid.contains("Wheel encoders (encoders)"), mermaid);
+      assertTrue(core.topology().toDot().contains("\"Wheel odometry (odometry)\""),
+          core.topology().toDot());
+    }
+  }
+
+  @Test
+  default void anInvalidPseudonameIsRefusedAndRecordsNothing() {
+    try (PrimeCore core = recordingCore(10)) {
+      IllegalArgumentException e =
+          assertThrows(
+              IllegalArgumentException.class,
+              () -> core.chain("planner", "two\nlines", (Integer x) -> x));
+      assertTrue(e.getMessage().contains("pseudoname"), e.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> core.source("s", " ", new EventBlock<>()));
+      assertEquals(List.of(), core.topology().nodes(), "a refused declaration records nothing");
+      core.chain("planner", "Planner", (Integer x) -> x); // the name is still free
+    }
+  }
+
+  @Test
+  default void anUnknownNameListsTheRecordedOnes() {
+    try (PrimeCore core = recordingCore(10)) {
+      core.source("numbers", new EventBlock<Integer>());
+      core.chain("double", (Integer x) -> x * 2);
+      Recording recording = core.recording();
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> recording.tryGet("nubmers"));
+      assertTrue(e.getMessage().contains("'nubmers'"), e.getMessage());
+      assertTrue(e.getMessage().contains("numbers") && e.getMessage().contains("double"),
+          e.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> recording.get("nubmers"));
+      assertThrows(IllegalArgumentException.class, () -> recording.getAll("nubmers"));
+      assertThrows(IllegalArgumentException.class, () -> recording.getRange("nubmers", 0, 1));
+      assertThrows(IllegalArgumentException.class, () -> recording.getRange("numbers", 2, 1));
+    }
+  }
+
+  @Test
+  default void recordingOffSaysHowToTurnItOn() {
+    try (PrimeCore core = newCore()) {
+      core.chain("double", (Integer x) -> x * 2);
+      IllegalStateException e = assertThrows(IllegalStateException.class, core::recording);
+      assertTrue(e.getMessage().contains("recording is off"), e.getMessage());
+      assertTrue(e.getMessage().contains("CoreConfig.builder().recording("), e.getMessage());
+    }
+  }
+
+  @Test
+  default void recordingOffCompilesNoTapIntoAChain() throws Exception {
+    for (boolean on : new boolean[] {false, true}) {
+      CoreConfig.Builder config = CoreConfig.builder();
+      if (on) {
+        config.recording(RecordingOptions.ring(10));
+      }
+      try (PrimeCore core = newCore(config.build())) {
+        Block<Integer, List<String>> frames =
+            core.chain(
+                    "frames",
+                    (Integer x) -> {
+                      List<String> classes = new ArrayList<>();
+                      for (StackTraceElement frame : Thread.currentThread().getStackTrace()) {
+                        classes.add(frame.getClassName());
+                      }
+                      return classes;
+                    })
+                .toBlock();
+        core.start();
+        List<String> stack = frames.process(1);
+        boolean tapped = stack.stream().anyMatch(c -> c.startsWith("dev.prime.Recording"));
+        assertEquals(on, tapped, "recording " + (on ? "on" : "off") + ", stack " + stack);
+      }
+    }
+  }
+
+  @Test
+  default void getWaitsForAFirstValueUpToItsTimeout() throws Exception {
+    try (PrimeCore core = recordingCore(10)) {
+      EventBlock<String> events = new EventBlock<>();
+      core.source("words", events);
+      core.start();
+      Recording recording = core.recording();
+      assertEquals(Optional.empty(), recording.tryGet("words"));
+      long start = System.nanoTime();
+      NoSuchElementException none =
+          assertThrows(
+              NoSuchElementException.class,
+              () -> recording.get("words", Duration.ofMillis(200)));
+      assertTrue(System.nanoTime() - start >= TimeUnit.MILLISECONDS.toNanos(200));
+      assertTrue(none.getMessage().contains("'words'"), none.getMessage());
+
+      CountDownLatch waiting = new CountDownLatch(1);
+      CompletableFuture<String> got =
+          CompletableFuture.supplyAsync(
+              () -> {
+                waiting.countDown();
+                try {
+                  return recording.get("words", patience());
+                } catch (InterruptedException e) {
+                  throw new IllegalStateException(e);
+                }
+              });
+      assertTrue(waiting.await(patience().toSeconds(), TimeUnit.SECONDS));
+      events.publish("hello");
+      assertEquals("hello", got.get(patience().toSeconds(), TimeUnit.SECONDS));
+    }
+  }
+
+  @Test
+  default void getDoesNotWaitOnAClosedCoreAndItsRecordingStaysReadable() throws Exception {
+    PrimeCore core = recordingCore(10);
+    Recording recording;
+    try {
+      EventBlock<String> events = new EventBlock<>();
+      core.source("words", events);
+      core.chain("never", (Integer x) -> x);
+      core.start();
+      events.publish("hello");
+      recording = core.recording();
+    } finally {
+      core.close();
+    }
+    long closedAt = System.nanoTime();
+    NoSuchElementException closed =
+        assertThrows(NoSuchElementException.class, () -> recording.get("never", patience()));
+    assertTrue(System.nanoTime() - closedAt < TimeUnit.SECONDS.toNanos(5), "get waited");
+    assertTrue(closed.getMessage().contains("closed"), closed.getMessage());
+    assertEquals("hello", recording.get("words"), "a closed core's recording can be read");
+  }
+
+  @Test
+  default void sequenceNumbersAreGapFreeAndInOrderUnderConcurrentPublishers() throws Exception {
+    int threads = 4;
+    int each = 100;
+    try (PrimeCore core = recordingCore(threads * each)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source("concurrent", events);
+      core.start();
+      CountDownLatch go = new CountDownLatch(1);
+      List<CompletableFuture<Void>> publishers = new ArrayList<>();
+      for (int t = 0; t < threads; t++) {
+        int base = t * each;
+        publishers.add(
+            CompletableFuture.runAsync(
+                () -> {
+                  try {
+                    assertTrue(go.await(patience().toSeconds(), TimeUnit.SECONDS));
+                  } catch (InterruptedException e) {
+                    throw new IllegalStateException(e);
+                  }
+                  for (int i = 0; i < each; i++) {
+                    events.publish(base + i);
+                  }
+                }));
+      }
+      go.countDown();
+      CompletableFuture.allOf(publishers.toArray(CompletableFuture[]::new))
+          .get(patience().toSeconds(), TimeUnit.SECONDS);
+
+      List<RecordedValue<Integer>> all = core.recording().getAllStamped("concurrent");
+      assertEquals(
+          LongStream.range(0, threads * each).boxed().toList(),
+          all.stream().map(RecordedValue::sequence).toList());
+      for (int t = 0; t < threads; t++) { // each publisher's values in its order, stamps growing
+        int base = t * each;
+        List<RecordedValue<Integer>> own =
+            all.stream().filter(e -> e.value() >= base && e.value() < base + each).toList();
+        assertEquals(each, own.size());
+        for (int i = 0; i < each; i++) {
+          assertEquals(base + i, own.get(i).value());
+          if (i > 0) {
+            assertTrue(own.get(i).monotonicNanos() >= own.get(i - 1).monotonicNanos(), "at " + i);
+            assertFalse(own.get(i).wallTime().isBefore(own.get(i - 1).wallTime()), "at " + i);
+          }
+        }
+      }
+    }
+  }
+
+  @Test
+  default void aFullRingKeepsTheLatestAndCountsWhatItDropped() throws Exception {
+    try (PrimeCore core = recordingCore(5)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.source("numbers", events).then(core.chain("same", (Integer x) -> x)).reader();
+      core.start();
+      for (int i = 1; i <= 12; i++) {
+        events.publish(i);
+      }
+      assertEquals(12, takeOrFail(out, 12).get(11));
+      Recording recording = core.recording();
+      for (String name : List.of("numbers", "same")) {
+        assertEquals(List.of(8, 9, 10, 11, 12), recording.getAll(name), name);
+        assertEquals(7, recording.dropped(name), name);
+        assertEquals(12, recording.recorded(name), name);
+        assertEquals(
+            List.of(7L, 8L, 9L, 10L, 11L),
+            recording.getAllStamped(name).stream().map(RecordedValue::sequence).toList());
+        assertEquals(List.of(), recording.getRange(name, 0, 7), name);
+        assertEquals(List.of(8, 9), recording.getRange(name, 5, 9), name);
+        assertEquals(12, (int) recording.get(name));
+      }
+    }
+  }
+
+  @Test
+  default void aPublishTheMediaRefusesIsNotRecorded() throws Exception {
+    int capacity = 2;
+    CountDownLatch firstInside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(Duration.ofMillis(200))
+            .recording(RecordingOptions.ring(100))
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.source("numbers", events)
+              .then(
+                  core.chain(
+                      "stuck",
+                      (Integer x) -> {
+                        firstInside.countDown();
+                        try {
+                          release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                        } catch (InterruptedException e) {
+                          Thread.currentThread().interrupt();
+                        }
+                        return x;
+                      }))
+              .reader();
+      core.start();
+      events.publish(0);
+      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      for (int i = 1; i <= capacity; i++) {
+        events.publish(i); // fills the stuck service's input
+      }
+      assertThrows(dev.prime.QueueFullException.class, () -> events.publish(999));
+      release.countDown();
+      events.publish(3);
+      int last = -1;
+      for (int i = 0; i < 5 && last != 3; i++) { // a plain reader may miss the oldest outputs
+        last = takeOrFail(out);
+      }
+      assertEquals(3, last, "the last output arrived");
+      Recording recording = core.recording();
+      assertEquals(List.of(0, 1, 2, 3), recording.getAll("numbers"), "the refused 999 is not");
+      assertEquals(
+          List.of(0L, 1L, 2L, 3L),
+          recording.getAllStamped("numbers").stream().map(RecordedValue::sequence).toList());
+      assertEquals(List.of(0, 1, 2, 3), recording.getAll("stuck"));
+    }
+  }
+
+  @Test
+  default void recordingsOfTwoCoresMergeByWallClockTime() throws Exception {
+    try (PrimeCore first = recordingCore(10);
+        PrimeCore second = recordingCore(10)) {
+      EventBlock<String> a = new EventBlock<>();
+      EventBlock<String> b = new EventBlock<>();
+      first.source("pose", a);
+      second.source("pose", "Pose", b);
+      Chain<String, String> upper = second.chain("upper", (String s) -> s.toUpperCase());
+      Block<String, String> upperBlock = upper.toBlock();
+      first.start();
+      second.start();
+      List<EventBlock<String>> order = List.of(a, b, a, b);
+      for (int i = 0; i < order.size(); i++) {
+        awaitNextMicrosecond(Instant.now());
+        order.get(i).publish("p" + i);
+      }
+      assertEquals("X", upperBlock.process("x"));
+
+      Recording merged = Recording.merge(first.recording(), second.recording());
+      assertEquals(List.of("pose", "upper"), List.copyOf(merged.names()));
+      assertEquals(List.of("p0", "p1", "p2", "p3"), merged.getAll("pose"));
+      assertEquals(
+          List.of(0L, 0L, 1L, 1L),
+          merged.getAllStamped("pose").stream().map(RecordedValue::sequence).toList(),
+          "each entry keeps the sequence number of the core that recorded it");
+      assertEquals(Optional.of("Pose"), merged.pseudoname("pose"));
+      assertEquals("X", merged.get("upper"));
+      assertEquals(4, merged.recorded("pose"));
+      b.publish("later");
+      assertEquals("p3", merged.get("pose"), "a merged recording is a copy");
+    }
+  }
+
+  /** Waits (busily, at most 1 s) until the wall clock has moved past {@code then}. */
+  private static void awaitNextMicrosecond(Instant then) {
+    long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(1);
+    for (int i = 0; i < 10_000_000 && System.nanoTime() < deadline; i++) {
+      if (Instant.now().isAfter(then)) {
+        return;
+      }
+    }
+    throw new AssertionError("the wall clock did not move for 1 s");
+  }
+}

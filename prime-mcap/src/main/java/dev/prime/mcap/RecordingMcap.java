@@ -1,0 +1,133 @@
+package dev.prime.mcap;
+
+import dev.prime.RecordedValue;
+import dev.prime.Recording;
+import java.io.IOException;
+import java.nio.file.Path;
+import java.time.Instant;
+import java.util.ArrayList;
+import java.util.Comparator;
+import java.util.LinkedHashMap;
+import java.util.List;
+import java.util.Map;
+import java.util.Objects;
+
+/**
+ * Writes a core's {@link Recording} to an MCAP file: one channel per recorded name (the topic is
+ * the name in the topology), a message per recorded value with the value's wall-clock time stamp
+ * as log and publish time (nanoseconds since the Unix epoch) and its sequence number, in
+ * wall-clock order across channels. Each channel's metadata holds {@code prime.service}, {@code
+ * prime.pseudoname} (if one was given) and {@code prime.dropped} (values that fell out of the
+ * recording's ring before it was written).
+ *
+ * <p>This adapter lives here, not in {@code prime-core}, so that the core stays free of Jackson:
+ * {@code prime-mcap} depends on {@code prime-core}, never the other way round.
+ *
+ * <pre>{@code
+ * RecordingMcap.write(core.recording(), Path.of("run.mcap"));
+ * }</pre>
+ */
+public final class RecordingMcap {
+  private RecordingMcap() {}
+
+  /**
+   * Writes what {@code recording} holds now, typing each channel by the class of its first value
+   * (a record, an enum, a boxed primitive, a String...). Names with nothing recorded get no
+   * channel.
+   *
+   * @param recording the recording
+   * @param path the file; overwritten if it exists
+   * @return the number of messages written
+   * @throws IOException if the file cannot be written
+   * @throws IllegalArgumentException if a value's class cannot be a channel's type by itself (a
+   *     generic class such as a {@code List}): give its type with {@link #write(Recording, Path,
+   *     Map)}
+   */
+  public static long write(Recording recording, Path path) throws IOException {
+    return write(recording, path, Map.of());
+  }
+
+  /**
+   * Writes what {@code recording} holds now, with the channel types given for some names.
+   *
+   * @param recording the recording
+   * @param path the file; overwritten if it exists
+   * @param types the value type of a name's channel, e.g. {@code Map.of("plan", new
+   *     ValueType<List<Pose>>() {})}; names not in it are typed by their first value's class
+   * @return the number of messages written
+   * @throws IOException if the file cannot be written
+   * @throws IllegalArgumentException if {@code types} names a name that is not recorded, or a
+   *     channel's type cannot be made from its first value's class
+   */
+  public static long write(Recording recording, Path path, Map<String, ValueType<?>> types)
+      throws IOException {
+    Objects.requireNonNull(recording, "recording must not be null");
+    Objects.requireNonNull(path, "path must not be null");
+    Objects.requireNonNull(types, "types must not be null");
+    for (String name : types.keySet()) {
+      if (!recording.names().contains(name)) {
+        throw new IllegalArgumentException(
+            "a type is given for '" + name + "', which is not recorded; recorded names: "
+                + recording.names());
+      }
+    }
+    Map<String, List<RecordedValue<Object>>> byName = new LinkedHashMap<>();
+    List<RecordedValue<Object>> all = new ArrayList<>();
+    for (String name : recording.names()) {
+      List<RecordedValue<Object>> entries = recording.getAllStamped(name);
+      if (!entries.isEmpty()) {
+        byName.put(name, entries);
+        all.addAll(entries);
+      }
+    }
+    all.sort(Comparator.comparing(RecordedValue::wallTime));
+    long written = 0;
+    try (McapWriter writer = McapWriter.open(path, McapWriterOptions.defaults().synchronous())) {
+      Map<String, McapChannel<Object>> channels = new LinkedHashMap<>();
+      byName.forEach(
+          (name, entries) ->
+              channels.put(
+                  name,
+                  writer.channel(
+                      name, type(name, types.get(name), entries.get(0)),
+                      metadata(recording, name))));
+      for (RecordedValue<Object> entry : all) {
+        long time = epochNanos(entry.wallTime());
+        if (channels.get(entry.service()).write(time, time, entry.sequence(), entry.value())) {
+          written++;
+        }
+      }
+    }
+    return written;
+  }
+
+  private static Map<String, String> metadata(Recording recording, String name) {
+    Map<String, String> metadata = new LinkedHashMap<>();
+    metadata.put("prime.service", name);
+    recording.pseudoname(name).ifPresent(p -> metadata.put("prime.pseudoname", p));
+    metadata.put("prime.dropped", Long.toString(recording.dropped(name)));
+    return metadata;
+  }
+
+  @SuppressWarnings("unchecked")
+  private static ValueType<Object> type(
+      String name, ValueType<?> given, RecordedValue<Object> first) {
+    if (given != null) {
+      return (ValueType<Object>) given;
+    }
+    Class<?> type = first.value().getClass();
+    try {
+      return (ValueType<Object>) ValueType.of(type);
+    } catch (IllegalArgumentException unsupported) {
+      throw new IllegalArgumentException(
+          "the values recorded under '" + name + "' are " + type.getName() + ", which is not a"
+              + " channel type by itself (" + unsupported.getMessage() + "); give the type of '"
+              + name + "' in RecordingMcap.write(recording, path, types)",
+          unsupported);
+    }
+  }
+
+  private static long epochNanos(Instant time) {
+    return Math.addExact(Math.multiplyExact(time.getEpochSecond(), 1_000_000_000L), time.getNano());
+  }
+}

@@ -1,0 +1,101 @@
+package dev.prime.mcap;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.RecordedValue;
+import dev.prime.Recording;
+import dev.prime.RecordingOptions;
+import dev.prime.liberty.LibertyCore;
+import java.nio.file.Path;
+import java.time.Duration;
+import java.time.Instant;
+import java.util.List;
+import java.util.Map;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+
+/** A core's recording written with {@link RecordingMcap} and read back with {@link McapReader}. */
+class RecordingMcapTest {
+  @TempDir Path dir;
+
+  record Pose(double x, double y) {}
+
+  @Test
+  void writesOneChannelPerRecordedNameWithItsValuesTimesAndSequences() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    CoreConfig config = CoreConfig.builder().recording(RecordingOptions.ring(4)).build();
+    try (PrimeCore core = new LibertyCore(config)) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Reader<Pose> poses =
+          core.source("ticks", "Wheel ticks", ticks)
+              .then(core.chain("odometry", (Integer t) -> new Pose(t, -t)))
+              .reader();
+      core.chain("unused", (String s) -> s); // recorded, but nothing ran: no channel
+      core.start();
+      for (int i = 1; i <= 6; i++) {
+        ticks.publish(i);
+      }
+      for (int i = 1; i <= 6; i++) {
+        assertTrue(poses.take(Duration.ofSeconds(20)).isPresent());
+      }
+      Recording recording = core.recording();
+      assertEquals(8, RecordingMcap.write(recording, file)); // two rings of 4
+
+      try (McapReader reader = McapReader.open(file)) {
+        assertEquals(
+            List.of("ticks", "odometry"),
+            reader.channels().stream().map(ChannelInfo::topic).toList());
+        assertEquals(4, reader.messageCount("ticks"));
+        assertEquals(4, reader.messageCount("odometry"));
+        ChannelInfo ticksChannel = reader.channel("ticks").orElseThrow();
+        assertEquals("Wheel ticks", ticksChannel.metadata().get("prime.pseudoname"));
+        assertEquals("2", ticksChannel.metadata().get("prime.dropped"));
+        assertEquals("odometry", reader.channel("odometry").orElseThrow().metadata().get("prime.service"));
+
+        List<TypedMessage<Pose>> read = reader.messages("odometry", Pose.class).toList();
+        List<RecordedValue<Pose>> recorded = recording.getAllStamped("odometry");
+        assertEquals(recorded.stream().map(RecordedValue::value).toList(),
+            read.stream().map(TypedMessage::value).toList());
+        assertEquals(List.of(2L, 3L, 4L, 5L), read.stream().map(TypedMessage::sequence).toList());
+        for (int i = 0; i < read.size(); i++) {
+          Instant wall = recorded.get(i).wallTime();
+          assertEquals(wall.getEpochSecond() * 1_000_000_000L + wall.getNano(), read.get(i).logTime());
+        }
+        assertEquals(List.of(3, 4, 5, 6),
+            reader.messages("ticks", Integer.class).map(TypedMessage::value).toList());
+      }
+    }
+  }
+
+  @Test
+  void aGenericValueNeedsItsTypeGivenAndThenIsWritten() throws Exception {
+    CoreConfig config = CoreConfig.builder().recording(RecordingOptions.ring(10)).build();
+    try (PrimeCore core = new LibertyCore(config)) {
+      var pair = core.chain("pair", (Integer x) -> List.of(x, x + 1)).toBlock();
+      core.start();
+      pair.process(1);
+      Recording recording = core.recording();
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class,
+              () -> RecordingMcap.write(recording, dir.resolve("a.mcap")));
+      assertTrue(e.getMessage().contains("'pair'") && e.getMessage().contains("types"), e.getMessage());
+      assertThrows(IllegalArgumentException.class,
+          () -> RecordingMcap.write(recording, dir.resolve("b.mcap"),
+              Map.of("nope", ValueType.of(Integer.class))));
+
+      Path file = dir.resolve("c.mcap");
+      assertEquals(1, RecordingMcap.write(recording, file,
+          Map.of("pair", new ValueType<List<Integer>>() {})));
+      try (McapReader reader = McapReader.open(file)) {
+        assertEquals(List.of(List.of(1, 2)),
+            reader.messages("pair", new ValueType<List<Integer>>() {}).map(TypedMessage::value).toList());
+      }
+    }
+  }
+}
