@@ -56,4 +56,25 @@ public interface Block<I, O> {
    * @return the output value
    */
   O process(I input);
+
+  /**
+   * The same block, seen with narrower types: a block that takes any supertype of {@code I} and
+   * returns a subtype of {@code O} is a {@code Block<I, O>}, since a block only takes inputs and
+   * only gives outputs. No wrapper: the very object given is returned, so a media that fuses
+   * chains still calls the user's block through a call site of its own.
+   *
+   * <pre>{@code
+   * Block<Object, String> describe = String::valueOf;
+   * Block<Integer, CharSequence> typed = Block.narrow(describe);
+   * }</pre>
+   *
+   * @param block the block
+   * @param <I> the input type wanted
+   * @param <O> the output type wanted
+   * @return {@code block} itself
+   */
+  @SuppressWarnings("unchecked") // sound: I is only consumed and O only produced
+  static <I, O> Block<I, O> narrow(Block<? super I, ? extends O> block) {
+    return (Block<I, O>) block;
+  }
 }

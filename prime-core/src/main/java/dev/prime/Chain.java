@@ -42,25 +42,29 @@ public interface Chain<I, O> {
   Block<I, O> toBlock();
 
   /**
-   * Links this chain's output to {@code next}'s input, consuming both.
+   * Links this chain's output to {@code next}'s input, consuming both. Like {@link
+   * java.util.function.Function#andThen}, {@code next} may take any supertype of this chain's
+   * output: a {@code Chain<Integer, Integer>} links to a {@code Chain<Object, String>}.
    *
    * @param next the chain that processes this chain's outputs
    * @param <R> output type of the combined chain
    * @return the combined chain
    * @see PrimeCore#link(Chain, Chain)
    */
-  default <R> Chain<I, R> then(Chain<O, R> next) {
+  default <R> Chain<I, R> then(Chain<? super O, R> next) {
     return core().link(this, next);
   }
 
   /**
-   * Links this chain to a new chain made of {@code next}, consuming this chain.
+   * Links this chain to a new chain made of {@code next}, consuming this chain. Like {@link
+   * java.util.function.Function#andThen}, {@code next} may take any supertype of this chain's
+   * output and return any subtype of {@code R}.
    *
    * @param next the block that processes this chain's outputs
    * @param <R> output type of the combined chain
    * @return the combined chain
    */
-  default <R> Chain<I, R> then(Block<O, R> next) {
-    return core().link(this, core().chain(next));
+  default <R> Chain<I, R> then(Block<? super O, ? extends R> next) {
+    return core().link(this, core().chain(Block.<O, R>narrow(next)));
   }
 }

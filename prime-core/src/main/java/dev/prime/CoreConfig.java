@@ -37,6 +37,7 @@ public final class CoreConfig {
   private final Duration shutdownTimeout;
   private final Duration publishTimeout;
   private final ValueCodec valueCopies;
+  private final PrimeClock clock;
   private final RecordingOptions recording;
 
   private CoreConfig(Builder b) {
@@ -46,6 +47,7 @@ public final class CoreConfig {
     this.shutdownTimeout = b.shutdownTimeout;
     this.publishTimeout = b.publishTimeout;
     this.valueCopies = b.valueCopies;
+    this.clock = b.clock;
     this.recording = b.recording;
   }
 
@@ -102,6 +104,14 @@ public final class CoreConfig {
   }
 
   /**
+   * {@return the clock the core's timers and samplers run on: {@link PrimeClock#system()} unless
+   * {@link Builder#clock(PrimeClock)} set another}
+   */
+  public PrimeClock clock() {
+    return clock;
+  }
+
+  /**
    * {@return how the core records what its sources publish and its chains return, or {@code
    * null} (the default) if it records nothing} See {@link Builder#recording(RecordingOptions)}.
    */
@@ -118,6 +128,7 @@ public final class CoreConfig {
     b.shutdownTimeout = shutdownTimeout;
     b.publishTimeout = publishTimeout;
     b.valueCopies = valueCopies;
+    b.clock = clock;
     b.recording = recording;
     return b;
   }
@@ -128,6 +139,7 @@ public final class CoreConfig {
         + ", shutdownTimeout=" + shutdownTimeout
         + ", publishTimeout=" + publishTimeout
         + (valueCopies == null ? "" : ", copyValues=" + valueCopies)
+        + (clock == PrimeClock.system() ? "" : ", clock=" + clock)
         + (recording == null ? "" : ", recording=" + recording) + "]";
   }
 
@@ -139,6 +151,7 @@ public final class CoreConfig {
     private Duration shutdownTimeout = DEFAULT_SHUTDOWN_TIMEOUT;
     private Duration publishTimeout = DEFAULT_PUBLISH_TIMEOUT;
     private ValueCodec valueCopies;
+    private PrimeClock clock = PrimeClock.system();
     private RecordingOptions recording;
 
     private Builder() {}
@@ -250,6 +263,19 @@ public final class CoreConfig {
      */
     public Builder copyValues(ValueCodec codec) {
       this.valueCopies = codec;
+      return this;
+    }
+
+    /**
+     * Sets the clock the core's timers ({@link PrimeCore#timer}) and samplers ({@link
+     * Source#sample}) run on. The default is {@link PrimeClock#system()}; a {@link VirtualClock}
+     * makes them tick only as a test advances it, fast and the same every run.
+     *
+     * @param clock the clock
+     * @return this builder
+     */
+    public Builder clock(PrimeClock clock) {
+      this.clock = Objects.requireNonNull(clock, "clock must not be null");
       return this;
     }
 

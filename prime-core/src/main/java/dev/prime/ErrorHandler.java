@@ -2,7 +2,8 @@ package dev.prime;
 
 /**
  * Receives the failures of asynchronous services: a block that threw while processing a value
- * of a source. After the handler returns, the service goes on with the next value.
+ * of a source, or a step of a {@link GenericService} that threw. After the handler returns, the
+ * service goes on with the next value (a generic service: with its next step, after its back-off).
  *
  * <p>Called on the service's thread; must be thread-safe if shared. An exception thrown by the
  * handler itself is logged and ignored.
@@ -14,12 +15,14 @@ public interface ErrorHandler {
    * @param service the name of the chain whose block failed, as the user named it: for a chain
    *     linked to a source, the chain's name (not the name of the source it makes); for a linked
    *     chain, the innermost chain that failed; for a filter, flat-map or listener, its service
-   *     name ({@code filter(source)}, ...)
+   *     name ({@code filter(source)}, ...); for a generic service, the name it was declared with
    * @param input the value being processed (never {@code null}): the value the service took from
    *     its source. Media that fuse linked chains into one service (Liberty, Radiant) give the value
    *     that entered the linked chain; Optimus, which runs each chain as a service of its own, the
-   *     value that entered the failing chain
-   * @param error the block's own throwable, never a {@link ChainFailedException} wrapper: any
+   *     value that entered the failing chain. For a generic service, the {@link
+   *     GenericService.Step} that failed
+   * @param error the block's (or generic service's step's) own throwable, never a {@link
+   *     ChainFailedException} wrapper around a block's: any
    *     {@link Exception} or {@link Error} but a {@link VirtualMachineError}, which ends the service
    */
   void handle(String service, Object input, Throwable error);

@@ -1,6 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
+import dev.prime.spi.GenericServiceLoop;
 import dev.prime.spi.MediaSource;
 import java.util.ArrayList;
 import java.util.List;
@@ -50,11 +51,11 @@ final class InProcessServices {
    * chain is consumed only once the service's input is open, so a link whose input fails leaves
    * the chain usable.
    */
-  <I, O> Source<O> link(String name, Source<I> input, Chain<I, O> chain) {
+  <I, O> Source<O> link(String name, Source<I> input, Chain<? super I, O> chain) {
     Reader<I> values = serviceInput(name, input);
     Block<I, O> block;
     try {
-      block = chain.toBlock();
+      block = Block.narrow(chain.toBlock());
     } catch (RuntimeException | Error e) {
       values.close();
       throw e;
@@ -109,6 +110,13 @@ final class InProcessServices {
   /** A service calling {@code listener} with every value of {@code input}. */
   <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
     run(name, serviceInput(name, input), listener);
+  }
+
+  /** A generic service on a thread of the core; it stops when the core closes. */
+  void generic(String name, GenericService service) {
+    threads.add(
+        name,
+        new GenericServiceLoop(name, service, core.config().errorHandler(), core::isClosed));
   }
 
   /** A service on a thread of the core: each value of {@code reader} goes to {@code step}. */

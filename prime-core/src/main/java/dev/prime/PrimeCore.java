@@ -84,6 +84,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private volatile ModelCompiler<?> compiler; // made on first use: the media's compilers
   private final ServiceThreads services;
   private final InProcessServices inProcess;
+  private final Combinators combinators;
   private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
@@ -101,6 +102,7 @@ public abstract class PrimeCore implements AutoCloseable {
             : media + "-" + CORE_COUNTERS.computeIfAbsent(media, k -> new AtomicInteger()).incrementAndGet();
     this.services = new ServiceThreads(name);
     this.inProcess = new InProcessServices(this, services);
+    this.combinators = new Combinators(this, services);
   }
 
   /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
@@ -226,6 +228,11 @@ public abstract class PrimeCore implements AutoCloseable {
     return null;
   }
 
+  /** Compiles the event source of a node just recorded (for the core's combinators). */
+  <T> Source<T> newSource(String name, EventBlock<T> events) {
+    return model().eventSource(name, events);
+  }
+
   /** The in-memory sources and services of this core. */
   InProcessServices inProcessServices() {
     return inProcess;
@@ -255,7 +262,9 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Links two chains: the result feeds {@code first}'s output to {@code second}. Consumes both. A
-   * chain of another core is taken through its {@link Chain#toBlock()}.
+   * chain of another core is taken through its {@link Chain#toBlock()}. Like {@link
+   * java.util.function.Function#andThen}, {@code second} may take any supertype of {@code
+   * first}'s output.
    *
    * @param first runs first
    * @param second runs on the first chain's outputs
@@ -264,7 +273,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the combined chain, named {@code first>second}
    */
-  public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<M, O> second) {
+  public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
     return declared(
         () -> {
           requireChains(first, second);
@@ -276,7 +285,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * A chain that runs {@code then} for inputs that satisfy {@code condition}, else
-   * {@code otherwise}. Consumes both chains.
+   * {@code otherwise}. Consumes both chains. Each branch may take a supertype of the input and
+   * return a subtype of the output (as {@link java.util.function.Function#andThen} allows).
    *
    * @param condition chooses the branch
    * @param then the chain for inputs that satisfy it
@@ -286,7 +296,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<I, O> ifThenElse(
-      Predicate<? super I> condition, Chain<I, O> then, Chain<I, O> otherwise) {
+      Predicate<? super I> condition,
+      Chain<? super I, ? extends O> then,
+      Chain<? super I, ? extends O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
     return declared(
         () -> {
@@ -296,14 +308,15 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * A chain that runs {@code body} on each element of a list. Consumes {@code body}.
+   * A chain that runs {@code body} on each element of a list. Consumes {@code body}, which may
+   * take a supertype of the elements and return a subtype of the output elements.
    *
    * @param body the chain for one element
    * @param <I> element type of the input
    * @param <O> element type of the output
    * @return the combined chain
    */
-  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<I, O> body) {
+  public final <I, O> Chain<List<I>, List<O>> forEach(Chain<? super I, ? extends O> body) {
     return declared(
         () -> {
           requireChains(body);
@@ -312,7 +325,8 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * A chain that gives each input to both chains and returns both outputs. Consumes them.
+   * A chain that gives each input to both chains and returns both outputs. Consumes them. Each
+   * chain may take a supertype of the input, as with every union.
    *
    * @param a first chain
    * @param b second chain
@@ -321,7 +335,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <B> output of b
    * @return the union
    */
-  public final <I, A, B> Chain<I, Tuple2<A, B>> union(Chain<I, A> a, Chain<I, B> b) {
+  public final <I, A, B> Chain<I, Tuple2<A, B>> union(
+      Chain<? super I, A> a, Chain<? super I, B> b) {
     return unionOf(a, b);
   }
 
@@ -338,7 +353,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C> Chain<I, Tuple3<A, B, C>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c) {
+      Chain<? super I, A> a, Chain<? super I, B> b, Chain<? super I, C> c) {
     return unionOf(a, b, c);
   }
 
@@ -357,7 +372,10 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C, D> Chain<I, Tuple4<A, B, C, D>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d) {
+      Chain<? super I, A> a,
+      Chain<? super I, B> b,
+      Chain<? super I, C> c,
+      Chain<? super I, D> d) {
     return unionOf(a, b, c, d);
   }
 
@@ -378,7 +396,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the union
    */
   public final <I, A, B, C, D, E> Chain<I, Tuple5<A, B, C, D, E>> union(
-      Chain<I, A> a, Chain<I, B> b, Chain<I, C> c, Chain<I, D> d, Chain<I, E> e) {
+      Chain<? super I, A> a,
+      Chain<? super I, B> b,
+      Chain<? super I, C> c,
+      Chain<? super I, D> d,
+      Chain<? super I, E> e) {
     return unionOf(a, b, c, d, e);
   }
 
@@ -412,7 +434,8 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * A chain that runs {@code chain} only for inputs that pass {@code pass}; the others get
-   * {@code substitute}'s output without running the chain. Consumes the chain.
+   * {@code substitute}'s output without running the chain. Consumes the chain, which may take a
+   * supertype of the input and return a subtype of the output.
    *
    * @param pass decides which inputs run the chain
    * @param chain the guarded chain
@@ -422,7 +445,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the guarded chain
    */
   public final <I, O> Chain<I, O> guard(
-      Predicate<? super I> pass, Chain<I, O> chain, Block<? super I, ? extends O> substitute) {
+      Predicate<? super I> pass,
+      Chain<? super I, ? extends O> chain,
+      Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
     return declared(
@@ -544,6 +569,189 @@ public abstract class PrimeCore implements AutoCloseable {
         });
   }
 
+  // ---------------------------------------------------------------- combinators and timers
+
+  /**
+   * A source that pairs every new value of either source with the latest value of the other,
+   * once both have one. Values published before every source has one only update the latest;
+   * after that each value of either source emits one tuple. A service of this core, named {@code
+   * combineLatest(a|b)}; its outputs leave in the order it took its inputs (each source's values
+   * in their order). See {@link #zip(Source, Source)} to pair values one to one.
+   *
+   * @param a first source
+   * @param b second source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @return the source of the pairs
+   */
+  public final <A, B> Source<Tuple2<A, B>> combineLatest(Source<A> a, Source<B> b) {
+    return combinators.combineLatest(v -> new Tuple2<>(v[0], v[1]), a, b);
+  }
+
+  /**
+   * Like {@link #combineLatest(Source, Source)}, for three sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @return the source of the tuples
+   */
+  public final <A, B, C> Source<Tuple3<A, B, C>> combineLatest(
+      Source<A> a, Source<B> b, Source<C> c) {
+    return combinators.combineLatest(v -> new Tuple3<>(v[0], v[1], v[2]), a, b, c);
+  }
+
+  /**
+   * Like {@link #combineLatest(Source, Source)}, for four sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D> Source<Tuple4<A, B, C, D>> combineLatest(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d) {
+    return combinators.combineLatest(v -> new Tuple4<>(v[0], v[1], v[2], v[3]), a, b, c, d);
+  }
+
+  /**
+   * Like {@link #combineLatest(Source, Source)}, for five sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param e fifth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @param <E> values of e
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D, E> Source<Tuple5<A, B, C, D, E>> combineLatest(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d, Source<E> e) {
+    return combinators.combineLatest(
+        v -> new Tuple5<>(v[0], v[1], v[2], v[3], v[4]), a, b, c, d, e);
+  }
+
+  /**
+   * A source that pairs the n-th value of {@code a} with the n-th value of {@code b}: one tuple as
+   * soon as both have a value not yet paired. A source that runs ahead waits in the zip: each keeps
+   * at most {@link CoreConfig#sourceRetention()} unpaired values, and a value that finds its
+   * source's buffer full drops that source's oldest unpaired value (logged at WARN, rate-limited),
+   * so the pairing is n-th with n-th among the values kept. A service of this core, named {@code
+   * zip(a|b)}.
+   *
+   * @param a first source
+   * @param b second source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @return the source of the pairs
+   */
+  public final <A, B> Source<Tuple2<A, B>> zip(Source<A> a, Source<B> b) {
+    return combinators.zip(v -> new Tuple2<>(v[0], v[1]), a, b);
+  }
+
+  /**
+   * Like {@link #zip(Source, Source)}, for three sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @return the source of the tuples
+   */
+  public final <A, B, C> Source<Tuple3<A, B, C>> zip(Source<A> a, Source<B> b, Source<C> c) {
+    return combinators.zip(v -> new Tuple3<>(v[0], v[1], v[2]), a, b, c);
+  }
+
+  /**
+   * Like {@link #zip(Source, Source)}, for four sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D> Source<Tuple4<A, B, C, D>> zip(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d) {
+    return combinators.zip(v -> new Tuple4<>(v[0], v[1], v[2], v[3]), a, b, c, d);
+  }
+
+  /**
+   * Like {@link #zip(Source, Source)}, for five sources.
+   *
+   * @param a first source
+   * @param b second source
+   * @param c third source
+   * @param d fourth source
+   * @param e fifth source
+   * @param <A> values of a
+   * @param <B> values of b
+   * @param <C> values of c
+   * @param <D> values of d
+   * @param <E> values of e
+   * @return the source of the tuples
+   */
+  public final <A, B, C, D, E> Source<Tuple5<A, B, C, D, E>> zip(
+      Source<A> a, Source<B> b, Source<C> c, Source<D> d, Source<E> e) {
+    return combinators.zip(v -> new Tuple5<>(v[0], v[1], v[2], v[3], v[4]), a, b, c, d, e);
+  }
+
+  /**
+   * A source of every value of every one of {@code sources}, as the merge takes them: the values
+   * of each source stay in their order; values of different sources interleave as they arrive. A
+   * service of this core, named {@code merge(a|b|...)}.
+   *
+   * @param sources one or more sources of one type
+   * @param <T> value type
+   * @return the merged source
+   */
+  @SafeVarargs
+  public final <T> Source<T> merge(Source<? extends T>... sources) {
+    return combinators.merge(sources);
+  }
+
+  /**
+   * A source of ticks of the core's clock ({@link CoreConfig#clock()}): tick {@code n} is due
+   * {@code n} periods after the core starts (or after this call, on a started core), and is
+   * published then with its count and due time. A timer that falls behind (a slow publish, a
+   * virtual clock advanced by many periods) publishes every tick that is due, in order, and never
+   * drifts. A tick whose publish fails (a full service input, see {@link QueueFullException})
+   * goes to the error handler with its count and is not retried. A service of this core: on a
+   * media that spreads services over processes only the process that hosts it ticks.
+   *
+   * @param name the timer's name, unique in this core (like a chain's)
+   * @param period the time between two ticks, positive
+   * @return the source of the ticks
+   * @throws IllegalArgumentException if the name is invalid or taken, or the period is not
+   *     positive
+   */
+  public final Source<Tick> timer(String name, java.time.Duration period) {
+    return combinators.timer(name, period);
+  }
+
+  /** The combinators of this core, for {@link Source}'s default methods. */
+  final Combinators combinators() {
+    return combinators;
+  }
+
   // ---------------------------------------------------------------- sources
 
   /**
@@ -598,9 +806,10 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Runs {@code chain} on every value of {@code source} as one service, consuming the chain.
-   * Values the chain maps to {@code null} are not published. On a source of the media's own
-   * ({@link SourceCompiler}) the media compiles the service; otherwise it runs on a thread of this
-   * core and publishes to an in-memory source.
+   * The chain may take any supertype of the source's values. Values the chain maps to {@code
+   * null} are not published. On a source of the media's own ({@link SourceCompiler}) the media
+   * compiles the service; otherwise it runs on a thread of this core and publishes to an in-memory
+   * source.
    *
    * @param source the input source (may belong to another core)
    * @param chain the chain
@@ -609,7 +818,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the source of outputs, named {@code source>chain}
    */
   @SuppressWarnings("unchecked")
-  public final <I, O> Source<O> link(Source<I> source, Chain<I, O> chain) {
+  public final <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
     return declared(
         () -> {
@@ -692,6 +901,41 @@ public abstract class PrimeCore implements AutoCloseable {
           }
           return null;
         });
+  }
+
+  /**
+   * Declares a generic service: a long-running service fed by no source, such as a hardware driver
+   * or a poller, that {@linkplain GenericService#initialize() initializes} once and then
+   * {@linkplain GenericService#work() works} over and over on a thread of its own. It runs from
+   * {@link #start()} (at once if the core is started) until {@link #close()}, which interrupts it
+   * and waits for its {@link GenericService#shutdown() shutdown} within {@link
+   * CoreConfig#shutdownTimeout()}. Its failures go to the {@link ErrorHandler} under {@code name},
+   * with the {@link GenericService.Step} that failed as the input; see {@link GenericService} for
+   * the whole contract. It is a service of the {@linkplain #topology() topology}; a media that
+   * spreads services over processes runs it only in the process that hosts it.
+   *
+   * @param name unique in this core; 1 to 200 characters, no whitespace or braces
+   * @param service the service
+   * @throws IllegalArgumentException if the name is invalid or taken
+   * @throws CoreClosedException if the core is closed
+   */
+  public final void service(String name, GenericService service) {
+    Objects.requireNonNull(name, "name must not be null");
+    Objects.requireNonNull(service, "service must not be null");
+    ensureOpen();
+    runGenericService(topologyRecorder().genericService(name, service), service);
+  }
+
+  /**
+   * Runs a generic service, whose name is already claimed: by default on a thread of this core
+   * (started with the other services), through {@link dev.prime.spi.GenericServiceLoop}. A media
+   * that spreads services over processes overrides it to run the service only where it is hosted.
+   *
+   * @param name the service's name
+   * @param service the service
+   */
+  protected void runGenericService(String name, GenericService service) {
+    inProcess.generic(name, service);
   }
 
   /**
@@ -788,6 +1032,7 @@ public abstract class PrimeCore implements AutoCloseable {
       state = State.STARTED;
     }
     onStart();
+    combinators.started();
     services.startAll();
     hooks.started();
     List<String> hosted = serviceNames().stream().filter(this::isHostedHere).toList();

@@ -25,7 +25,18 @@ public record RecordedValue<T>(
     long monotonicNanos,
     T value) {
 
-  /** Checks the components. */
+  /**
+   * Checks the components.
+   *
+   * @param service the recorded name; not {@code null}
+   * @param pseudoname the readable name, or {@code null}
+   * @param sequence the value's number under its name; not negative
+   * @param wallTime the wall-clock stamp; not {@code null}
+   * @param monotonicNanos the monotonic stamp
+   * @param value the value; not {@code null}
+   * @throws NullPointerException if {@code service}, {@code wallTime} or {@code value} is null
+   * @throws IllegalArgumentException if {@code sequence} is negative
+   */
   public RecordedValue {
     Objects.requireNonNull(service, "service");
     Objects.requireNonNull(wallTime, "wallTime");

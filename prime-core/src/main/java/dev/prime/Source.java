@@ -32,26 +32,28 @@ public interface Source<T> {
   Reader<T> reader();
 
   /**
-   * Runs {@code chain} on every value of this source, as a service, consuming the chain.
+   * Runs {@code chain} on every value of this source, as a service, consuming the chain. The
+   * chain may take any supertype of the source's values.
    *
    * @param chain the chain to run
    * @param <R> output type
    * @return the source of the chain's outputs
    * @see PrimeCore#link(Source, Chain)
    */
-  default <R> Source<R> then(Chain<T, R> chain) {
+  default <R> Source<R> then(Chain<? super T, R> chain) {
     return core().link(this, chain);
   }
 
   /**
-   * Runs {@code block} on every value of this source, as a service.
+   * Runs {@code block} on every value of this source, as a service. The block may take any
+   * supertype of the source's values and return any subtype of {@code R}.
    *
    * @param block the block to run
    * @param <R> output type
    * @return the source of the block's outputs
    */
-  default <R> Source<R> then(Block<T, R> block) {
-    return core().link(this, core().chain(block));
+  default <R> Source<R> then(Block<? super T, ? extends R> block) {
+    return core().link(this, core().chain(Block.<T, R>narrow(block)));
   }
 
   /**
@@ -82,5 +84,50 @@ public interface Source<T> {
    */
   default void listen(Consumer<? super T> listener) {
     core().listenSource(this, listener);
+  }
+
+  /**
+   * A source that pairs each value of this source with the latest value of {@code latest}: the
+   * sensor-fusion case (a fast gyro enriched with the latest reading of a slow line sensor).
+   * Values of this source published before {@code latest} has any value are dropped (nothing to
+   * pair them with); values of {@code latest} only update the latest and emit nothing. A service of
+   * this source's core, named {@code withLatestFrom(this|latest)}; its outputs keep this source's
+   * order. To emit on the values of both, use {@link PrimeCore#combineLatest(Source, Source)}.
+   *
+   * @param latest the source whose latest value each value is paired with
+   * @param <U> values of {@code latest}
+   * @return the source of the pairs: this source's value first
+   */
+  default <U> Source<Tuple2<T, U>> withLatestFrom(Source<U> latest) {
+    return core().combinators().withLatestFrom(this, latest);
+  }
+
+  /**
+   * A source that publishes, once every {@code period} of the core's clock ({@link
+   * CoreConfig#clock()}), the latest value of this source if one arrived since the previous
+   * period, and nothing if none did: a fast sensor read at the rate of a slow controller, always
+   * its freshest value. Periods count from the core's start. A service of this source's core,
+   * named {@code sample(this)}.
+   *
+   * @param period how often to publish, positive
+   * @return the sampled source
+   * @throws IllegalArgumentException if the period is not positive
+   */
+  default Source<T> sample(java.time.Duration period) {
+    return core().combinators().sample(this, period);
+  }
+
+  /**
+   * A reader that always returns the newest value, skipping the older ones it has not read (the
+   * latest value only: conflation). {@link Reader#take()} waits for a value newer than the last
+   * one it returned and returns the newest published by then; {@link Reader#poll()} returns the
+   * newest unread value, if any; {@link Reader#drain()} returns at most one value, the newest.
+   * Skipped values are not counted in {@link Reader#missed()}, which counts only what the source's
+   * retention dropped. Not a service: the conflation happens as the reader reads.
+   *
+   * @return a new reader, recorded in the topology like {@link #reader()}
+   */
+  default Reader<T> conflatedReader() {
+    return new ConflatedReader<>(reader());
   }
 }

@@ -11,14 +11,14 @@ import java.util.Objects;
  * @param <O> output type
  */
 public final class LinkBlock<I, M, O> implements Block<I, O> {
-  private final Block<I, M> first;
-  private final Block<M, O> second;
+  private final Block<? super I, ? extends M> first;
+  private final Block<? super M, ? extends O> second;
 
   /**
    * @param first runs first
    * @param second runs on the first block's output
    */
-  public LinkBlock(Block<I, M> first, Block<M, O> second) {
+  public LinkBlock(Block<? super I, ? extends M> first, Block<? super M, ? extends O> second) {
     this.first = Objects.requireNonNull(first, "first block must not be null");
     this.second = Objects.requireNonNull(second, "second block must not be null");
   }

@@ -3,6 +3,7 @@ package dev.prime.spi;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.EventBlock;
+import dev.prime.GenericService;
 import dev.prime.RepeaterBlock;
 import dev.prime.Source;
 import java.util.Objects;
@@ -36,6 +37,9 @@ import java.util.function.Predicate;
  *   <tr><td>{@code Listener}</td><td>{@link Listen}</td></tr>
  *   <tr><td>{@code ForeignSource}</td><td>{@link OtherSource}: the other core's source</td></tr>
  *   <tr><td>{@code ReaderNode}</td><td>{@link None}</td></tr>
+ *   <tr><td>{@code GenericServiceNode}</td><td>{@link Work}: the generic service</td></tr>
+ *   <tr><td>{@code Combinator}, {@code Timer}</td><td>{@link None}: the node says all (its kind,
+ *       inputs and period); the core runs them on its own threads, no media compiles them</td></tr>
  * </table>
  */
 public sealed interface NodeLogic {
@@ -200,6 +204,21 @@ public sealed interface NodeLogic {
      */
     public Listen {
       Objects.requireNonNull(listener, "listener");
+    }
+  }
+
+  /**
+   * A generic service: what it initializes, works and shuts down (see {@link
+   * GenericServiceLoop}).
+   *
+   * @param service the user's service
+   */
+  record Work(GenericService service) implements NodeLogic {
+    /**
+     * @param service the user's service
+     */
+    public Work {
+      Objects.requireNonNull(service, "service");
     }
   }
 }

@@ -3,6 +3,7 @@ package dev.prime.spi;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.EventBlock;
+import dev.prime.GenericService;
 import dev.prime.PrimeCore;
 import dev.prime.RepeaterBlock;
 import dev.prime.Source;
@@ -314,6 +315,50 @@ public final class TopologyRecorder {
     return add(
         new TopologyNode.Listener(names.derived("listen(" + source.name() + ")", "listen"), s),
         listens);
+  }
+
+  /**
+   * Records a generic service.
+   *
+   * @param name the name the user gave
+   * @param service what it runs
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String genericService(String name, GenericService service) {
+    NodeLogic works = new NodeLogic.Work(service);
+    return add(new TopologyNode.GenericServiceNode(names.claim(name)), works);
+  }
+
+  /**
+   * Records a combinator of sources: {@code combineLatest}, {@code zip}, {@code merge}, {@code
+   * withLatestFrom} or {@code sample}.
+   *
+   * @param kind which combinator
+   * @param sources its inputs, in order
+   * @return the output source's name, {@code kind(a|b|...)}
+   */
+  public synchronized String combinator(String kind, List<? extends Source<?>> sources) {
+    List<String> parts = new ArrayList<>(sources.size());
+    StringBuilder preferred = new StringBuilder(kind).append('(');
+    for (int i = 0; i < sources.size(); i++) {
+      parts.add(sourcePart(sources.get(i)));
+      preferred.append(i == 0 ? "" : "|").append(sources.get(i).name());
+    }
+    String name = names.derived(preferred.append(')').toString(), kind);
+    return add(new TopologyNode.Combinator(name, kind, parts), NodeLogic.None.NONE);
+  }
+
+  /**
+   * Records a timer.
+   *
+   * @param name the name the user gave
+   * @param period its period
+   * @return the claimed name
+   * @throws IllegalArgumentException if the name is invalid or taken
+   */
+  public synchronized String timer(String name, java.time.Duration period) {
+    return add(new TopologyNode.Timer(names.claim(name), period), NodeLogic.None.NONE);
   }
 
   /**

@@ -121,18 +121,22 @@ final class Drawing {
       return new String[] {"[", "]"};
     } else if (node instanceof TopologyNode.ForeignChain) {
       return new String[] {"[/", "/]"};
-    } else if (node instanceof TopologyNode.EventSource) {
+    } else if (node instanceof TopologyNode.EventSource
+        || node instanceof TopologyNode.Timer) {
       return new String[] {"([", "])"};
     } else if (node instanceof TopologyNode.ForeignSource) {
       return new String[] {"[\\", "\\]"};
     } else if (node instanceof TopologyNode.SourceLink
         || node instanceof TopologyNode.Filter
-        || node instanceof TopologyNode.FlatMap) {
+        || node instanceof TopologyNode.FlatMap
+        || node instanceof TopologyNode.Combinator) {
       return new String[] {"[(", ")]"};
     } else if (node instanceof TopologyNode.Listener) {
       return new String[] {">", "]"};
     } else if (node instanceof TopologyNode.ReaderNode) {
       return new String[] {"((", "))"};
+    } else if (node instanceof TopologyNode.GenericServiceNode) {
+      return new String[] {"[[", "]]"};
     }
     return new String[] {"{{", "}}"}; // templates and collectors
   }
@@ -191,18 +195,22 @@ final class Drawing {
       return "box";
     } else if (node instanceof TopologyNode.ForeignChain) {
       return "parallelogram";
-    } else if (node instanceof TopologyNode.EventSource) {
+    } else if (node instanceof TopologyNode.EventSource
+        || node instanceof TopologyNode.Timer) {
       return "invhouse";
     } else if (node instanceof TopologyNode.ForeignSource) {
       return "invtrapezium";
     } else if (node instanceof TopologyNode.SourceLink
         || node instanceof TopologyNode.Filter
-        || node instanceof TopologyNode.FlatMap) {
+        || node instanceof TopologyNode.FlatMap
+        || node instanceof TopologyNode.Combinator) {
       return "cylinder";
     } else if (node instanceof TopologyNode.Listener) {
       return "cds";
     } else if (node instanceof TopologyNode.ReaderNode) {
       return "circle";
+    } else if (node instanceof TopologyNode.GenericServiceNode) {
+      return "component";
     }
     return "hexagon";
   }

@@ -154,10 +154,11 @@ public final class Topology {
 
   /**
    * The diagram as a Mermaid flowchart. Chains are boxes, templates hexagons, sources stadiums
-   * and cylinders, readers circles; solid arrows carry values, dashed arrows go from a template
-   * to the chains it runs, labelled with their role; services hosted elsewhere are dashed.
-   * A node with a {@linkplain #pseudoname(String) pseudoname} is labelled {@code pseudoname
-   * (name)}. Deterministic: the same topology always gives the same text.
+   * and cylinders, readers circles, generic services double-sided boxes; solid arrows carry
+   * values, dashed arrows go from a template to the chains it runs, labelled with their role;
+   * services hosted elsewhere are dashed. A node with a {@linkplain #pseudoname(String)
+   * pseudoname} is labelled {@code pseudoname (name)}. Deterministic: the same topology always
+   * gives the same text.
    *
    * @return the flowchart, ending with a newline
    */

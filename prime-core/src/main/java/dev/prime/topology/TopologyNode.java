@@ -11,7 +11,9 @@ import java.util.Objects;
  * <p>Which nodes are <em>services</em> ({@link #isService()}): the places where a block of the
  * diagram runs. Every chain made of a block, every template chain (if/else, for-each, union, fork,
  * guard, each user of an isolated chain, the collectors, the repeater), every chain of another
- * core used here, and every filter, flat-map and listener of a source. Links are not services:
+ * core used here, every filter, flat-map and listener of a source, every generic service
+ * ({@code core.service(name, service)}), every combinator of sources and every timer. Links are
+ * not services:
  * a linked chain is made of the services of its parts. Sources and readers are not services
  * either: a source is a stream that services publish to.
  */
@@ -34,7 +36,10 @@ public sealed interface TopologyNode
         TopologyNode.Filter,
         TopologyNode.FlatMap,
         TopologyNode.Listener,
-        TopologyNode.ReaderNode {
+        TopologyNode.ReaderNode,
+        TopologyNode.GenericServiceNode,
+        TopologyNode.Combinator,
+        TopologyNode.Timer {
 
   /** {@return the node's name: unique among the nodes of a topology} */
   String name();
@@ -749,6 +754,115 @@ public sealed interface TopologyNode
     @Override
     public boolean isService() {
       return false;
+    }
+
+    @Override
+    public boolean isChain() {
+      return false;
+    }
+  }
+
+  /**
+   * A generic service ({@code core.service(name, service)}): a service of its own, fed by no
+   * source, that runs an initialize step and then its work step over and over (see {@link
+   * dev.prime.GenericService}).
+   *
+   * @param name the service's name
+   */
+  record GenericServiceNode(String name) implements TopologyNode {
+    /**
+     * Checks the components.
+     *
+     * @param name the service's name
+     */
+    public GenericServiceNode {
+      Objects.requireNonNull(name, "name");
+    }
+
+    @Override
+    public List<Part> parts() {
+      return List.of();
+    }
+
+    @Override
+    public boolean isService() {
+      return true;
+    }
+
+    @Override
+    public boolean isChain() {
+      return false;
+    }
+  }
+
+  /**
+   * A combinator of sources ({@code core.combineLatest}, {@code core.zip}, {@code core.merge},
+   * {@code source.withLatestFrom}, {@code source.sample}): a service and the source of what it
+   * emits.
+   *
+   * @param name the output source's name ({@code kind(a|b|...)})
+   * @param kind {@code combineLatest}, {@code zip}, {@code merge}, {@code withLatestFrom} or
+   *     {@code sample}
+   * @param sources its inputs, in order
+   */
+  record Combinator(String name, String kind, List<String> sources) implements TopologyNode {
+    /**
+     * Checks the components.
+     *
+     * @param name the output source's name
+     * @param kind which combinator
+     * @param sources its inputs, in order
+     */
+    public Combinator {
+      Objects.requireNonNull(name, "name");
+      Objects.requireNonNull(kind, "kind");
+      sources = List.copyOf(sources);
+    }
+
+    @Override
+    public List<Part> parts() {
+      return sources.stream()
+          .map(source -> new Part("source", source, Flow.READS))
+          .toList();
+    }
+
+    @Override
+    public boolean isService() {
+      return true;
+    }
+
+    @Override
+    public boolean isChain() {
+      return false;
+    }
+  }
+
+  /**
+   * A timer ({@code core.timer(name, period)}): a service and the source of its ticks.
+   *
+   * @param name the timer's name
+   * @param period the time between two ticks
+   */
+  record Timer(String name, java.time.Duration period) implements TopologyNode {
+    /**
+     * Checks the components.
+     *
+     * @param name the timer's name
+     * @param period the time between two ticks
+     */
+    public Timer {
+      Objects.requireNonNull(name, "name");
+      Objects.requireNonNull(period, "period");
+    }
+
+    @Override
+    public List<Part> parts() {
+      return List.of();
+    }
+
+    @Override
+    public boolean isService() {
+      return true;
     }
 
     @Override

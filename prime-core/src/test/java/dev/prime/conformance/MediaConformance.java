@@ -19,5 +19,8 @@ public interface MediaConformance
         ValueCopyConformance,
         LongChainConformance,
         LoggingConformance,
+        CombinatorConformance,
         RecordingConformance,
-        LifecycleHookConformance {}
+        LifecycleHookConformance,
+        GenericServiceConformance,
+        LinkVarianceConformance {}

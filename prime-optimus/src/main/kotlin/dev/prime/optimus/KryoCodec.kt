@@ -16,7 +16,7 @@ import dev.prime.optimus.kryo.UnregisteredTypeException
  * `Set` and `Map` (read back as `ArrayList`, `LinkedHashSet`, `LinkedHashMap`: equal to what was
  * written, though not of the same class), `Optional`, `UUID`, `Instant`, `Duration`,
  * `LocalDate`, `LocalTime`, `LocalDateTime`, and Prime's [dev.prime.Token] (decoded as
- * `Token.INSTANCE`), [dev.prime.Tuple2]..[dev.prime.Tuple5] and [dev.prime.Repeat].
+ * `Token.INSTANCE`), [dev.prime.Tuple2]..[dev.prime.Tuple5], [dev.prime.Repeat] and [dev.prime.Tick].
  *
  * The application's types are allowed by class, by sealed hierarchy or by package with
  * [builder]; without configuration ([standard], what `new OptimusCore()` uses) the codec also

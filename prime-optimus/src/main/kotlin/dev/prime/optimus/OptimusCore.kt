@@ -6,11 +6,14 @@ import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.GenericService
 import dev.prime.PrimeCore
 import dev.prime.Reader
 import dev.prime.Source
 import dev.prime.spi.ChainCompiler
+import dev.prime.spi.GenericServiceLoop
 import dev.prime.spi.SourceCompiler
+import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
@@ -20,6 +23,7 @@ import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.cancel
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
+import kotlinx.coroutines.runInterruptible
 import kotlinx.coroutines.withTimeoutOrNull
 import org.slf4j.LoggerFactory
 import redis.clients.jedis.Jedis
@@ -157,6 +161,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val instance = UUID.randomUUID().toString()
 
     private val services = ConcurrentHashMap<String, StageService>()
+    private val genericServices = ConcurrentHashMap<String, GenericServiceLoop>() // hosted here only
     private val launched: MutableSet<String> = ConcurrentHashMap.newKeySet()
     private val readers: MutableSet<Pair<SourceKeys, ByteArray>> = ConcurrentHashMap.newKeySet()
     private val subscriptions = ConcurrentLinkedQueue<EventBlock.Subscription>()
@@ -265,6 +270,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (envelopes.isNotEmpty()) publish(keys, envelopes)
     }
 
+    // ------------------------------------------------------------------ generic services
+
+    /**
+     * Runs a generic service only if this process hosts it ([Builder.hosts]): like every service it
+     * has one host at a time (a host lease, claimed at [start]), so of several processes that
+     * declare it exactly one runs it. It runs on a thread of this core; [close], or losing its host
+     * lease, interrupts it.
+     */
+    override fun runGenericService(name: String, service: GenericService) {
+        if (!isHosted(name)) return // another process runs it
+        val loop = GenericServiceLoop(name, service, config().errorHandler()) { isClosed || name in notRunning }
+        genericServices[name] = loop
+        if (isStarted) launchHosted(name) { runInterruptible { loop.run() } }
+    }
+
     // ------------------------------------------------------------------ dead letters
 
     /** The values service [service] gave up on, oldest first (see [DeadLetter]). */
@@ -333,7 +353,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${declared.sorted()}"
             }
         }
-        val hosted = services.keys.filter(::isHosted)
+        val hosted = (services.keys + coreThreadServices()).filter(::isHosted) + genericServices.keys
         try {
             claimHostLeases(hosted)
         } catch (e: IllegalStateException) {
@@ -341,7 +361,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             throw e
         }
         services.values.forEach(::launchIfHosted)
+        genericServices.values.forEach { loop -> launchHosted(loop.name()) { runInterruptible { loop.run() } } }
     }
+
+    /**
+     * The services of the topology that run on the core's own threads rather than as Redis
+     * services: combinators of sources and timers. They get a host lease too, so one process at a
+     * time runs each (they stop emitting when [isHostedHere] turns false).
+     */
+    private fun coreThreadServices(): List<String> = topology().nodes()
+        .filter { it is TopologyNode.Combinator || it is TopologyNode.Timer }
+        .map { it.name() }
 
     override fun onClose() {
         // close() from a service's or listener's own thread must not wait for that thread
@@ -349,6 +379,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         subscriptions.forEach { it.close() }
         subscriptions.clear()
         scope.cancel()
+        // A generic service closing its own core was just interrupted by that cancel (it runs
+        // interruptibly). That interrupt only says "the core is closing", which the caller knows:
+        // cleared, it neither cuts this close's waits short nor reaches the code after close().
+        if (ownThread) Thread.interrupted()
         val cleanup = try {
             endpoint.connect("prime-${name()}-cleanup", CLEANUP_TIMEOUT, CLEANUP_TIMEOUT)
         } catch (_: Exception) {
@@ -549,18 +583,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun isHosted(service: String) = hosts == null || service in hosts
 
-    private fun launchIfHosted(service: StageService) {
-        if (!isHosted(service.name) || !launched.add(service.name) || isClosed) return
-        if (service.name !in hostLeases.services) {
+    private fun launchIfHosted(service: StageService) = launchHosted(service.name) { service.run() }
+
+    /** Runs [body] as hosted service [name] once, if this process hosts it, holding its host lease. */
+    private fun launchHosted(name: String, body: suspend () -> Unit) {
+        if (!isHosted(name) || !launched.add(name) || isClosed) return
+        if (name !in hostLeases.services) {
             try {
-                claimHostLeases(listOf(service.name))
+                claimHostLeases(listOf(name))
             } catch (e: RuntimeException) {
-                launched -= service.name
-                if (e is IllegalStateException) notRunning += service.name
+                launched -= name
+                if (e is IllegalStateException) notRunning += name
                 throw e
             }
         }
-        hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { service.run() }
+        hostedJobs[name] = scope.launch(CoroutineName(name)) { body() }
     }
 
     /** Registers this process's liveness lease and starts its heartbeat, once. */
@@ -746,7 +783,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         /**
          * Runs only the named services in this process; the others run elsewhere. By default a
          * core hosts every service. Names are chain names (a linked chain's services are the
-         * chains it was linked from).
+         * chains it was linked from), and those of filters, listeners, combinators of sources
+         * (`combineLatest(a|b)`, ...) and timers: the services of [topology].
          */
         public fun hosts(vararg services: String): Builder = hosts(services.toList())
 

@@ -17,4 +17,8 @@ class OptimusConformanceTest : MediaConformance {
 
     /** Blocks run in services: a VirtualMachineError reaches the caller promptly, then ends the service. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
+
+    /** Cores of one name on one Redis share a topology; each runs only the services it hosts. */
+    override fun newCoreHosting(config: CoreConfig, services: Set<String>): PrimeCore =
+        OptimusCore.builder().config(config).redis(TestRedis.url).hosts(services).build()
 }

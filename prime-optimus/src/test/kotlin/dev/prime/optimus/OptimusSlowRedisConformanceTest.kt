@@ -22,6 +22,10 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     /** Blocks run in services: a VirtualMachineError reaches the caller promptly, then ends the service. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
 
+    /** Cores of one name on one Redis share a topology; each runs only the services it hosts. */
+    override fun newCoreHosting(config: CoreConfig, services: Set<String>): PrimeCore =
+        OptimusCore.builder().config(config).redis(proxy.url).hosts(services).build()
+
     private companion object {
         val proxy: FaultProxy by lazy { FaultProxy(TestRedis.url, replyDelayNanos = 500_000) }
     }

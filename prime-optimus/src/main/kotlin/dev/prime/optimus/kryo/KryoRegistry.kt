@@ -12,6 +12,7 @@ import com.esotericsoftware.kryo.serializers.TimeSerializers
 import com.esotericsoftware.kryo.serializers.JavaSerializer
 import com.esotericsoftware.kryo.util.DefaultInstantiatorStrategy
 import dev.prime.Repeat
+import dev.prime.Tick
 import dev.prime.Token
 import dev.prime.Tuple2
 import dev.prime.Tuple3
@@ -162,6 +163,7 @@ internal class KryoRegistry(val allowList: AllowList, val maxDepth: Int) {
             Tuple4::class.java to { RecordSerializer(Tuple4::class.java) },
             Tuple5::class.java to { RecordSerializer(Tuple5::class.java) },
             Repeat::class.java to { RepeatSerializer() },
+            Tick::class.java to { RecordSerializer(Tick::class.java) },
         )
 
         private val KRYO_DEFAULTS: Set<Class<*>> = setOf(

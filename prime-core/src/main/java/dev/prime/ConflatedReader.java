@@ -1,0 +1,64 @@
+package dev.prime;
+
+import java.time.Duration;
+import java.util.List;
+import java.util.Optional;
+
+/**
+ * A reader that returns only the newest value: each read takes what is available and keeps the
+ * last of it ({@link Source#conflatedReader()}). A wrapper of a plain reader, so it works on every
+ * media; thread-safety is the wrapped reader's.
+ *
+ * @param <T> value type
+ */
+final class ConflatedReader<T> implements Reader<T> {
+  private final Reader<T> reader;
+
+  ConflatedReader(Reader<T> reader) {
+    this.reader = reader;
+  }
+
+  @Override
+  public T take() throws InterruptedException {
+    return newest(reader.take());
+  }
+
+  @Override
+  public Optional<T> take(Duration timeout) throws InterruptedException {
+    return reader.take(timeout).map(this::newest);
+  }
+
+  @Override
+  public Optional<T> poll() {
+    List<T> available = reader.drain();
+    return available.isEmpty()
+        ? Optional.empty()
+        : Optional.of(available.get(available.size() - 1));
+  }
+
+  @Override
+  public List<T> drain() {
+    return poll().map(List::of).orElse(List.of());
+  }
+
+  @Override
+  public long missed() {
+    return reader.missed();
+  }
+
+  @Override
+  public void close() {
+    reader.close();
+  }
+
+  /** {@code first}, or the newest value published after it, if any is available now. */
+  private T newest(T first) {
+    List<T> later = reader.drain();
+    return later.isEmpty() ? first : later.get(later.size() - 1);
+  }
+
+  @Override
+  public String toString() {
+    return "ConflatedReader[" + reader + "]";
+  }
+}

@@ -1,0 +1,107 @@
+package dev.prime;
+
+import java.time.Instant;
+import java.util.function.BiConsumer;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
+
+/**
+ * The loop of a service driven by the core's clock: a timer ({@link PrimeCore#timer}) or the
+ * ticking side of a sampler ({@link Source#sample}). Tick {@code n} is due {@code n} periods after
+ * the origin; the loop sleeps on the {@link PrimeClock} until a tick is due and then calls the
+ * action with its count and due time.
+ *
+ * <p>Design note. The origin is fixed once, by {@link #begin()}: when the core starts, or when the
+ * service is declared on a started core. Due times are computed from it, never from the previous
+ * wake-up, so ticks do not drift, and a loop that falls behind (a slow publish, a virtual clock
+ * advanced by many periods at once) runs every tick that is due, in order, before it sleeps
+ * again: a {@link VirtualClock} advanced by ten seconds gives exactly one thousand ticks of a 100
+ * Hz timer. An action that throws goes to the error handler with the tick and the loop goes on;
+ * an interrupt (the core closing) or the core's closing ends it. It runs only where the service
+ * is hosted ({@link PrimeCore#isHostedHere}), and skips the ticks due after its process lost the
+ * hosting to another.
+ */
+final class Ticking implements Runnable {
+  private static final Logger LOG = LoggerFactory.getLogger(Ticking.class);
+
+  private final PrimeCore core;
+  private final String name;
+  private final long periodNanos;
+  private final BiConsumer<Long, Instant> action;
+  private long originNanos; // guarded by this
+  private Instant originTime; // guarded by this
+
+  /**
+   * @param core the core whose clock and error handler it uses
+   * @param name the service's name
+   * @param periodNanos the period, in the clock's nanoseconds, positive
+   * @param action called with each tick's count (from 1) and due time
+   */
+  Ticking(PrimeCore core, String name, long periodNanos, BiConsumer<Long, Instant> action) {
+    this.core = core;
+    this.name = name;
+    this.periodNanos = periodNanos;
+    this.action = action;
+  }
+
+  /** Fixes the origin now, by the core's clock, unless it was fixed before. */
+  synchronized void begin() {
+    if (originTime == null) {
+      PrimeClock clock = core.config().clock();
+      originNanos = clock.nanoTime();
+      originTime = clock.now();
+    }
+  }
+
+  @Override
+  public void run() {
+    if (!core.isHostedHere(name)) {
+      return;
+    }
+    begin();
+    long origin;
+    Instant time;
+    synchronized (this) {
+      origin = originNanos;
+      time = originTime;
+    }
+    PrimeClock clock = core.config().clock();
+    long count = 0;
+    while (!Thread.currentThread().isInterrupted() && !core.isClosed()) {
+      count++;
+      long due = origin + count * periodNanos;
+      try {
+        clock.sleepUntil(due);
+      } catch (InterruptedException e) {
+        return;
+      }
+      if (!core.isHostedHere(name)) {
+        continue; // another process took the hosting over: it ticks now
+      }
+      Instant dueTime = time.plusNanos(count * periodNanos);
+      try {
+        action.accept(count, dueTime);
+      } catch (CoreClosedException e) {
+        if (core.isClosed()) {
+          return;
+        }
+        report(count, e);
+      } catch (VirtualMachineError e) {
+        throw e;
+      } catch (Throwable e) {
+        report(count, e);
+      }
+    }
+  }
+
+  private void report(long count, Throwable error) {
+    try {
+      core.config().errorHandler().handle(name, count, error);
+    } catch (VirtualMachineError e) {
+      throw e;
+    } catch (Throwable handlerFailure) {
+      handlerFailure.addSuppressed(error);
+      LOG.error("the error handler failed for service '{}'", name, handlerFailure);
+    }
+  }
+}

@@ -1,0 +1,468 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.CoreClosedException;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.QueueFullException;
+import dev.prime.Reader;
+import dev.prime.Source;
+import dev.prime.Tick;
+import dev.prime.Tuple2;
+import dev.prime.Tuple3;
+import dev.prime.Tuple5;
+import dev.prime.VirtualClock;
+import dev.prime.topology.Topology;
+import dev.prime.topology.TopologyNode;
+import java.time.Duration;
+import java.time.Instant;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Optional;
+import java.util.concurrent.BlockingQueue;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.LinkedBlockingQueue;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicLong;
+import org.junit.jupiter.api.Test;
+
+/**
+ * Combinators of sources (combine-latest, zip, merge, with-latest-from, sample, the conflated
+ * reader) and timers on the core's clock: which values pair, in what order, on every media.
+ * Where values of several inputs race, a test publishes the next value only after it saw the
+ * output of the previous one, so the expected output is exact.
+ */
+public interface CombinatorConformance extends ConformanceBase {
+
+  /** How long a test waits to see that nothing is published. */
+  default Duration quiet() {
+    return Duration.ofMillis(300);
+  }
+
+  @Test
+  default void combineLatestPairsEachNewValueWithTheLatestOfTheOtherOnceBothHaveOne()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> aEvents = new EventBlock<>();
+      EventBlock<String> bEvents = new EventBlock<>();
+      Source<Tuple2<Integer, String>> both =
+          core.combineLatest(core.source("a", aEvents), core.source("b", bEvents));
+      assertEquals("combineLatest(a|b)", both.name());
+      Reader<Tuple2<Integer, String>> out = both.reader();
+      core.start();
+      aEvents.publish(1);
+      assertEquals(Optional.empty(), out.take(quiet()), "no output before b has a value");
+      bEvents.publish("x");
+      assertEquals(new Tuple2<>(1, "x"), takeOrFail(out));
+      aEvents.publish(2);
+      assertEquals(new Tuple2<>(2, "x"), takeOrFail(out));
+      bEvents.publish("y");
+      assertEquals(new Tuple2<>(2, "y"), takeOrFail(out));
+      bEvents.publish("z");
+      assertEquals(new Tuple2<>(2, "z"), takeOrFail(out));
+      assertEquals(List.of(), out.drain());
+    }
+  }
+
+  @Test
+  default void combineLatestOfFiveSourcesEmitsFirstWhenTheLastOneHasAValue()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      List<EventBlock<Integer>> events = new ArrayList<>();
+      List<Source<Integer>> sources = new ArrayList<>();
+      for (int i = 0; i < 5; i++) {
+        events.add(new EventBlock<>());
+        sources.add(core.source("s" + i, events.get(i)));
+      }
+      Reader<Tuple5<Integer, Integer, Integer, Integer, Integer>> out =
+          core.combineLatest(
+                  sources.get(0), sources.get(1), sources.get(2), sources.get(3), sources.get(4))
+              .reader();
+      core.start();
+      for (int i = 0; i < 5; i++) {
+        events.get(i).publish(10 + i);
+      }
+      assertEquals(new Tuple5<>(10, 11, 12, 13, 14), takeOrFail(out));
+      events.get(2).publish(22);
+      assertEquals(new Tuple5<>(10, 11, 22, 13, 14), takeOrFail(out));
+      assertEquals(Optional.empty(), out.take(quiet()));
+    }
+  }
+
+  @Test
+  default void zipPairsTheNthValueOfEachSourceWithTheNthOfTheOthers()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> aEvents = new EventBlock<>();
+      EventBlock<String> bEvents = new EventBlock<>();
+      EventBlock<Boolean> cEvents = new EventBlock<>();
+      Source<Tuple3<Integer, String, Boolean>> zipped =
+          core.zip(
+              core.source("a", aEvents), core.source("b", bEvents), core.source("c", cEvents));
+      assertEquals("zip(a|b|c)", zipped.name());
+      Reader<Tuple3<Integer, String, Boolean>> out = zipped.reader();
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        aEvents.publish(i);
+      }
+      bEvents.publish("one");
+      bEvents.publish("two");
+      assertEquals(Optional.empty(), out.take(quiet()), "no tuple before c has a value");
+      cEvents.publish(true);
+      cEvents.publish(false);
+      cEvents.publish(true);
+      assertEquals(
+          List.of(new Tuple3<>(1, "one", true), new Tuple3<>(2, "two", false)),
+          takeOrFail(out, 2));
+      assertEquals(Optional.empty(), out.take(quiet()), "a's 3rd and c's 3rd wait for b's 3rd");
+      bEvents.publish("three");
+      assertEquals(new Tuple3<>(3, "three", true), takeOrFail(out));
+    }
+  }
+
+  @Test
+  default void mergeKeepsTheOrderOfEachSourceAndLosesNothing() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> odd = new EventBlock<>();
+      EventBlock<Integer> even = new EventBlock<>();
+      Source<Number> merged = core.merge(core.source("odd", odd), core.source("even", even));
+      assertEquals("merge(odd|even)", merged.name());
+      Reader<Number> out = merged.reader();
+      core.start();
+      for (int i = 0; i < 50; i++) {
+        odd.publish(2 * i + 1);
+        even.publish(2 * i);
+      }
+      List<Number> all = takeOrFail(out, 100);
+      List<Integer> odds = new ArrayList<>();
+      List<Integer> evens = new ArrayList<>();
+      for (Number n : all) {
+        (n.intValue() % 2 == 1 ? odds : evens).add(n.intValue());
+      }
+      List<Integer> expectedOdds = new ArrayList<>();
+      List<Integer> expectedEvens = new ArrayList<>();
+      for (int i = 0; i < 50; i++) {
+        expectedOdds.add(2 * i + 1);
+        expectedEvens.add(2 * i);
+      }
+      assertEquals(expectedOdds, odds);
+      assertEquals(expectedEvens, evens);
+      assertEquals(Optional.empty(), out.take(quiet()));
+    }
+  }
+
+  @Test
+  default void withLatestFromEnrichesEachValueAndDropsThoseBeforeTheOtherHasOne()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Double> gyroEvents = new EventBlock<>();
+      EventBlock<String> lineEvents = new EventBlock<>();
+      Source<Double> gyro = core.source("gyro", gyroEvents);
+      Source<String> line = core.source("line", lineEvents);
+      Source<Tuple2<Double, String>> fused = gyro.withLatestFrom(line);
+      assertEquals("withLatestFrom(gyro|line)", fused.name());
+      Reader<Tuple2<Double, String>> out = fused.reader();
+      core.start();
+      gyroEvents.publish(0.1);
+      gyroEvents.publish(0.2);
+      assertEquals(Optional.empty(), out.take(quiet()), "no line value yet: gyro values dropped");
+      lineEvents.publish("left");
+      assertEquals(Optional.empty(), out.take(quiet()), "a line value alone emits nothing");
+      gyroEvents.publish(0.3);
+      assertEquals(new Tuple2<>(0.3, "left"), takeOrFail(out));
+      gyroEvents.publish(0.4);
+      assertEquals(new Tuple2<>(0.4, "left"), takeOrFail(out));
+      lineEvents.publish("right");
+      lineEvents.publish("centre");
+      assertEquals(Optional.empty(), out.take(quiet()));
+      gyroEvents.publish(0.5);
+      assertEquals(new Tuple2<>(0.5, "centre"), takeOrFail(out));
+    }
+  }
+
+  @Test
+  default void sampleEmitsTheLatestValueOncePerPeriodAndNothingWithoutANewOne()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> sampled = core.source("fast", events).sample(Duration.ofMillis(100));
+      assertEquals("sample(fast)", sampled.name());
+      Reader<Integer> out = sampled.reader();
+      core.start();
+      for (int i = 1; i <= 100; i++) {
+        events.publish(i);
+      }
+      List<Integer> seen = new ArrayList<>();
+      long deadline = System.nanoTime() + patience().toNanos();
+      while ((seen.isEmpty() || seen.get(seen.size() - 1) != 100) && System.nanoTime() < deadline) {
+        out.take(Duration.ofMillis(200)).ifPresent(seen::add);
+      }
+      assertTrue(!seen.isEmpty() && seen.get(seen.size() - 1) == 100, "the last value: " + seen);
+      for (int i = 1; i < seen.size(); i++) {
+        assertTrue(seen.get(i - 1) < seen.get(i), "samples go forward: " + seen);
+      }
+      assertTrue(seen.size() < 100, "a sample per period, not per value: " + seen);
+      assertEquals(Optional.empty(), out.take(Duration.ofMillis(350)), "no new value, no sample");
+      events.publish(101);
+      assertEquals(101, takeOrFail(out));
+    }
+  }
+
+  @Test
+  default void sampleTicksOnTheCoresClock() throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    try (PrimeCore core = newCore(CoreConfig.builder().clock(clock).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out = core.source("fast", events).sample(Duration.ofSeconds(1)).reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(Optional.empty(), out.take(quiet()), "virtual time stands still: no sample");
+      Optional<Integer> sample = Optional.empty();
+      for (int second = 0; second < 100 && !sample.equals(Optional.of(2)); second++) {
+        clock.advance(Duration.ofSeconds(1));
+        sample = out.take(Duration.ofMillis(200));
+        assertTrue(sample.isEmpty() || sample.get() <= 2, "only published values: " + sample);
+      }
+      assertEquals(Optional.of(2), sample, "the latest value, once the clock moved");
+    }
+  }
+
+  @Test
+  default void timerTicksExactlyOnAVirtualClock() throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    Instant origin = clock.now();
+    try (PrimeCore core = newCore(CoreConfig.builder().clock(clock).build())) {
+      Source<Tick> timer = core.timer("control", Duration.ofMillis(10));
+      assertEquals("control", timer.name());
+      Reader<Tick> ticks = timer.reader();
+      core.start();
+      assertEquals(Optional.empty(), ticks.take(quiet()), "virtual time stands still: no tick");
+      clock.advance(Duration.ofSeconds(10));
+      List<Tick> all = takeOrFail(ticks, 1000);
+      for (int i = 0; i < 1000; i++) {
+        assertEquals(
+            new Tick(i + 1, origin.plusMillis(10L * (i + 1))), all.get(i), "tick " + (i + 1));
+      }
+      assertEquals(Optional.empty(), ticks.take(quiet()), "the 1001st tick is due at 10.01 s");
+      clock.advance(Duration.ofMillis(25));
+      assertEquals(
+          List.of(new Tick(1001, origin.plusMillis(10_010)), new Tick(1002, origin.plusMillis(10_020))),
+          takeOrFail(ticks, 2));
+    }
+  }
+
+  @Test
+  default void timerTicksOnTheSystemClockOnePeriodApart() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      Reader<Tick> ticks = core.timer("beat", Duration.ofMillis(20)).reader();
+      core.start();
+      List<Tick> five = takeOrFail(ticks, 5);
+      for (int i = 0; i < 5; i++) {
+        assertEquals(i + 1, five.get(i).count());
+        assertEquals(
+            Duration.ofMillis(20L * i),
+            Duration.between(five.get(0).time(), five.get(i).time()),
+            "ticks are due exactly one period apart");
+      }
+    }
+  }
+
+  @Test
+  default void aTickThatCannotBePublishedGoesToTheErrorHandlerAndTheTimerGoesOn()
+      throws InterruptedException {
+    BlockingQueue<List<Object>> failures = new LinkedBlockingQueue<>();
+    CountDownLatch release = new CountDownLatch(1);
+    AtomicLong failedTick = new AtomicLong(Long.MAX_VALUE);
+    CountDownLatch laterTick = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(Duration.ofMillis(200))
+            .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, 2)) {
+      core.timer("beat", Duration.ofMillis(10))
+          .listen(
+              tick -> {
+                if (tick.count() > failedTick.get()) {
+                  laterTick.countDown();
+                }
+                try {
+                  release.await(); // stuck until the test lets it go: its input fills up
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              });
+      core.start();
+      try {
+        List<Object> failure = failures.poll(patience().toMillis(), TimeUnit.MILLISECONDS);
+        assertTrue(failure != null, "no tick failed within " + patience());
+        assertEquals("beat", failure.get(0), "the timer's name");
+        assertTrue(failure.get(1) instanceof Long, "the tick's count: " + failure.get(1));
+        assertTrue(failure.get(2) instanceof QueueFullException, String.valueOf(failure.get(2)));
+        failedTick.set((Long) failure.get(1));
+      } finally {
+        release.countDown();
+      }
+      assertTrue(
+          laterTick.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "the timer goes on after a tick it could not publish");
+    }
+  }
+
+  @Test
+  default void conflatedReaderReturnsOnlyTheNewestValue() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("pose", events);
+      Reader<Integer> latest = source.conflatedReader();
+      core.start();
+      for (int i = 1; i <= 5; i++) {
+        events.publish(i);
+      }
+      assertEquals(5, takeOrFail(latest));
+      assertEquals(Optional.empty(), latest.poll());
+      events.publish(6);
+      events.publish(7);
+      assertEquals(List.of(7), latest.drain());
+      events.publish(8);
+      events.publish(9);
+      assertEquals(Optional.of(9), latest.poll());
+      assertEquals(List.of(), latest.drain());
+      assertEquals(0, latest.missed());
+    }
+  }
+
+  @Test
+  default void combinatorsAndTimersAreServicesOfTheTopology() {
+    try (PrimeCore core = newCore()) {
+      Source<Integer> a = core.source("a", new EventBlock<>());
+      Source<Integer> b = core.source("b", new EventBlock<>());
+      core.combineLatest(a, b);
+      core.zip(a, b);
+      core.merge(a, b);
+      a.withLatestFrom(b);
+      a.sample(Duration.ofSeconds(1));
+      core.timer("tick", Duration.ofMillis(10));
+      a.conflatedReader();
+      Topology topology = core.topology();
+      assertEquals(
+          List.of(
+              new TopologyNode.Combinator("combineLatest(a|b)", "combineLatest", List.of("a", "b")),
+              new TopologyNode.Combinator("zip(a|b)", "zip", List.of("a", "b")),
+              new TopologyNode.Combinator("merge(a|b)", "merge", List.of("a", "b")),
+              new TopologyNode.Combinator(
+                  "withLatestFrom(a|b)", "withLatestFrom", List.of("a", "b")),
+              new TopologyNode.Combinator("sample(a)", "sample", List.of("a")),
+              new TopologyNode.Timer("tick", Duration.ofMillis(10)),
+              new TopologyNode.ReaderNode("a", 1)),
+          topology.nodes().subList(2, topology.nodes().size()));
+      assertEquals(
+          List.of(
+              "combineLatest(a|b)",
+              "zip(a|b)",
+              "merge(a|b)",
+              "withLatestFrom(a|b)",
+              "sample(a)",
+              "tick"),
+          List.copyOf(core.serviceNames()));
+      String mermaid = topology.toMermaid();
+      assertTrue(mermaid.contains("n3[(\"combineLatest(a|b)\")]"), mermaid);
+      assertTrue(mermaid.contains("n8([\"tick\"])"), mermaid);
+      assertTrue(mermaid.contains("n1 --> n3\n  n2 --> n3\n"), mermaid);
+      String dot = topology.toDot();
+      assertTrue(dot.contains("n3 [label=\"combineLatest(a|b)\", shape=cylinder];"), dot);
+      assertTrue(dot.contains("n8 [label=\"tick\", shape=invhouse];"), dot);
+    }
+  }
+
+  @Test
+  default void combinesASourceOfAnotherCore() throws InterruptedException {
+    try (PrimeCore other = newCore();
+        PrimeCore core = newCore()) {
+      EventBlock<Integer> remoteEvents = new EventBlock<>();
+      EventBlock<String> localEvents = new EventBlock<>();
+      Source<Integer> remote = other.source("remote", remoteEvents);
+      Source<Tuple2<String, Integer>> both =
+          core.combineLatest(core.source("local", localEvents), remote);
+      assertEquals("combineLatest(local|remote)", both.name());
+      assertEquals(
+          new TopologyNode.ForeignSource("from(" + other.name() + ":remote)", other.name(), "remote"),
+          core.topology().nodes().get(1));
+      Reader<Tuple2<String, Integer>> out = both.reader();
+      other.start();
+      core.start();
+      localEvents.publish("x");
+      remoteEvents.publish(1);
+      assertEquals(new Tuple2<>("x", 1), takeOrFail(out));
+      remoteEvents.publish(2);
+      assertEquals(new Tuple2<>("x", 2), takeOrFail(out));
+    }
+  }
+
+  @Test
+  default void combinedSourcesFeedChainsLikeAnyOtherSource() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> aEvents = new EventBlock<>();
+      EventBlock<Integer> bEvents = new EventBlock<>();
+      Reader<Integer> sums =
+          core.zip(core.source("a", aEvents), core.source("b", bEvents))
+              .then(core.chain("sum", (Tuple2<Integer, Integer> t) -> t.first() + t.second()))
+              .reader();
+      core.start();
+      for (int i = 1; i <= 10; i++) {
+        aEvents.publish(i);
+        bEvents.publish(100 * i);
+      }
+      List<Integer> expected = new ArrayList<>();
+      for (int i = 1; i <= 10; i++) {
+        expected.add(101 * i);
+      }
+      assertEquals(expected, takeOrFail(sums, 10));
+    }
+  }
+
+  @Test
+  default void closeStopsCombinatorsAndTimersAndWakesTheirReaders() throws Exception {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Source<Integer> a = core.source("a", events);
+    Reader<Tuple2<Integer, Integer>> zipped = core.zip(a, a.filter(x -> true)).reader();
+    Reader<Tick> ticks = core.timer("tick", Duration.ofMillis(5)).reader();
+    core.start();
+    events.publish(1);
+    assertEquals(new Tuple2<>(1, 1), takeOrFail(zipped));
+    takeOrFail(ticks);
+    core.close();
+    assertThrows(CoreClosedException.class, zipped::take);
+    assertThrows(CoreClosedException.class, ticks::take);
+    ConformanceBase.assertNoThreadsLeft(core);
+  }
+
+  @Test
+  default void badArgumentsAreRefusedClearlyAndChangeNothing() {
+    try (PrimeCore core = newCore()) {
+      Source<Integer> a = core.source("a", new EventBlock<>());
+      NullPointerException nullSource =
+          assertThrows(NullPointerException.class, () -> core.combineLatest(a, null));
+      assertTrue(nullSource.getMessage().contains("source argument 2"), nullSource.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> core.merge());
+      IllegalArgumentException zero =
+          assertThrows(IllegalArgumentException.class, () -> core.timer("t", Duration.ZERO));
+      assertTrue(zero.getMessage().contains("positive"), zero.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> a.sample(Duration.ofMillis(-1)));
+      assertThrows(NullPointerException.class, () -> core.timer(null, Duration.ofSeconds(1)));
+      assertThrows(IllegalArgumentException.class, () -> core.timer("a", Duration.ofSeconds(1)));
+      assertEquals(List.of(), List.copyOf(core.serviceNames()), "a refused call records nothing");
+    }
+    PrimeCore closed = newCore();
+    Source<Integer> a = closed.source("a", new EventBlock<>());
+    closed.close();
+    assertThrows(CoreClosedException.class, () -> closed.timer("t", Duration.ofSeconds(1)));
+    assertThrows(CoreClosedException.class, () -> closed.merge(a));
+  }
+}
