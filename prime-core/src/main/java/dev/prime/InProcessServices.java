@@ -46,12 +46,24 @@ final class InProcessServices {
     return source;
   }
 
-  /** A service running {@code block} on every value of {@code input}; its non-null outputs. */
-  <I, O> Source<O> link(String name, Source<I> input, Block<I, O> block) {
+  /**
+   * A service running {@code chain} on every value of {@code input}; its non-null outputs. The
+   * chain is consumed only once the service's input is open, so a link whose input fails leaves
+   * the chain usable.
+   */
+  <I, O> Source<O> link(String name, Source<I> input, Chain<? super I, O> chain) {
+    Reader<I> values = serviceInput(name, input);
+    Block<I, O> block;
+    try {
+      block = Block.narrow(chain.toBlock());
+    } catch (RuntimeException | Error e) {
+      values.close();
+      throw e;
+    }
     MemorySource<O> out = newSource(name);
     run(
         name,
-        serviceInput(name, input),
+        values,
         value -> {
           O output = block.process(value);
           if (output != null) {

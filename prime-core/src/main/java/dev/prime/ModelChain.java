@@ -39,6 +39,28 @@ final class ModelChain<I, O, F> extends AbstractChain<I, O> {
   }
 
   /**
+   * This chain's compiled form if it is a {@code type}, else {@code null}; consumes nothing.
+   */
+  <T> T formOf(Class<T> type) {
+    return type.isInstance(form) ? type.cast(form) : null;
+  }
+
+  /**
+   * Consumes this chain as a part of a link or template of its core that compiled.
+   *
+   * @throws ChainAlreadyUsedException if it was consumed before
+   * @throws CoreClosedException if the core is closed
+   */
+  void claim() {
+    consume();
+  }
+
+  /** {@return whether this chain was consumed} */
+  boolean used() {
+    return isUsed();
+  }
+
+  /**
    * The block a generic template calls this chain through, once the template took it as a part:
    * what {@link #toBlock()} would have given.
    */

@@ -29,6 +29,12 @@ import java.util.Objects;
  * it has one; otherwise (and for services of any other source) {@link PrimeCore} runs them in
  * memory.
  *
+ * <p>Design note. Stateless apart from its final references to the core, the media's compilers
+ * and the core's recording points (which keep their own state): every call reads what it needs from the recorder and runs inside the declaration
+ * that recorded the node ({@link TopologyRecorder#declare}), which makes it atomic. It takes
+ * this core's parts without consuming them, takes other cores' chains last (their {@link
+ * Chain#toBlock()} consumes them), compiles, and only then claims this core's parts.
+ *
  * @param <F> the media's compiled form
  */
 final class ModelCompiler<F> {
@@ -89,11 +95,16 @@ final class ModelCompiler<F> {
   Source<?> service(String name, Source<?> input, Chain<?, ?> chain) {
     TopologyRecorder model = core.topologyRecorder();
     TopologyNode node = model.node(name);
-    Object chainForm = null;
+    Part<F> part = null;
     if (node instanceof TopologyNode.SourceLink link) {
-      chainForm = part(chain, link.chain(), model).form();
+      part = part(chain, link.chain(), model);
     }
-    return service(sources, node, model.logic(name), input, chainForm);
+    Source<?> output =
+        service(sources, node, model.logic(name), input, part == null ? null : part.form());
+    if (part != null) {
+      part.claim();
+    }
+    return output;
   }
 
   private <S> Source<?> service(
@@ -118,27 +129,61 @@ final class ModelCompiler<F> {
       throw new IllegalStateException(
           "node '" + name + "' runs " + partNodes.size() + " chains, given " + parts.length);
     }
+    // this core's chains first (consuming nothing yet), then the others (taken through their
+    // toBlock(), which consumes them): a part that fails leaves this core's chains usable
     List<Part<F>> compiled = new ArrayList<>(parts.length);
     for (int i = 0; i < parts.length; i++) {
-      compiled.add(part(parts[i], partNodes.get(i), model));
+      compiled.add(ownPart(parts[i], partNodes.get(i)));
     }
-    return new ModelChain<>(core, name, compile(node, logic, compiled), media);
+    for (int i = 0; i < parts.length; i++) {
+      if (compiled.get(i) == null) {
+        compiled.set(i, part(parts[i], partNodes.get(i), model));
+      }
+    }
+    F form = compile(node, logic, compiled);
+    for (Part<F> part : compiled) {
+      part.claim();
+    }
+    return new ModelChain<>(core, name, form, media);
   }
 
-  /** A compiled part: its node, its form, and the block a generic template calls. */
+  /**
+   * A compiled part: its node, its form, this core's chain it is (claimed once the node is
+   * compiled; {@code null} for another chain, consumed when taken), and the block a generic
+   * template calls.
+   */
   private record Part<F>(String node, F form, ModelChain<?, ?, ?> own, Block<?, ?> foreign) {
     Block<?, ?> block() {
       return own != null ? own.partBlock() : foreign;
     }
+
+    /** Consumes this core's chain, once the node that takes it compiled. */
+    void claim() {
+      if (own != null) {
+        own.claim();
+      }
+    }
   }
 
-  /** Consumes a chain given as a part and compiles it (if another core's) as its node says. */
-  private Part<F> part(Chain<?, ?> chain, String node, TopologyRecorder model) {
+  /** A chain of this core in this media's form as a part (not consumed yet), or {@code null}. */
+  private Part<F> ownPart(Chain<?, ?> chain, String node) {
     if (chain.core() == core && chain instanceof ModelChain<?, ?, ?> mine) {
-      F form = mine.consumeAsPart(media.form());
+      F form = mine.formOf(media.form());
       if (form != null) {
         return new Part<>(node, form, mine, null);
       }
+    }
+    return null;
+  }
+
+  /**
+   * A chain given as a part: this core's in this media's form (consumed by {@link Part#claim()}),
+   * or any other, taken through its {@link Chain#toBlock()} now and compiled as its node says.
+   */
+  private Part<F> part(Chain<?, ?> chain, String node, TopologyRecorder model) {
+    Part<F> own = ownPart(chain, node);
+    if (own != null) {
+      return own;
     }
     // another core's chain (recorded as a ForeignChain whose logic is that chain), or a chain of
     // this core that is not in this media's form: taken through its toBlock()

@@ -2,7 +2,6 @@ package dev.prime;
 
 import dev.prime.blocks.IsolateBlock;
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.AbstractChain;
 import dev.prime.spi.ChainCompiler;
 import dev.prime.spi.MediaSource;
 import dev.prime.spi.SourceCompiler;
@@ -17,6 +16,7 @@ import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
+import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 
@@ -138,7 +138,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, O> Chain<I, O> chain(Block<I, O> block) {
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return compiled(topologyRecorder().blockChain(null, block));
+    return declared(() -> compiled(topologyRecorder().blockChain(null, block)));
   }
 
   /**
@@ -155,7 +155,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(block, "block must not be null");
     ensureOpen();
-    return compiled(topologyRecorder().blockChain(name, block));
+    return declared(() -> compiled(topologyRecorder().blockChain(name, block)));
   }
 
   /**
@@ -176,7 +176,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(block, "block must not be null");
     TopologyRecorder.checkPseudoname(pseudoname);
     ensureOpen();
-    return compiled(Pseudonames.record(topologyRecorder(), name, pseudoname, block));
+    return declared(() -> compiled(Pseudonames.record(topologyRecorder(), name, pseudoname, block)));
   }
 
   /**
@@ -228,9 +228,22 @@ public abstract class PrimeCore implements AutoCloseable {
     return null;
   }
 
+  /** Compiles the event source of a node just recorded (for the core's combinators). */
+  <T> Source<T> newSource(String name, EventBlock<T> events) {
+    return model().eventSource(name, events);
+  }
+
   /** The in-memory sources and services of this core. */
   InProcessServices inProcessServices() {
     return inProcess;
+  }
+
+  /**
+   * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes
+   * ({@link TopologyRecorder#declare}).
+   */
+  private <T> T declared(Supplier<T> declaration) {
+    return topologyRecorder().declare(declaration);
   }
 
   private ModelCompiler<?> model() {
@@ -261,8 +274,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain, named {@code first>second}
    */
   public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
-    requireChains(first, second);
-    return compiled(topologyRecorder().link(first, second), first, second);
+    return declared(
+        () -> {
+          requireChains(first, second);
+          return compiled(topologyRecorder().link(first, second), first, second);
+        });
   }
 
   // ---------------------------------------------------------------- templates
@@ -284,8 +300,11 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<? super I, ? extends O> then,
       Chain<? super I, ? extends O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
-    requireChains(then, otherwise);
-    return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
+    return declared(
+        () -> {
+          requireChains(then, otherwise);
+          return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
+        });
   }
 
   /**
@@ -298,8 +317,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<List<I>, List<O>> forEach(Chain<? super I, ? extends O> body) {
-    requireChains(body);
-    return compiled(topologyRecorder().forEach(body), body);
+    return declared(
+        () -> {
+          requireChains(body);
+          return compiled(topologyRecorder().forEach(body), body);
+        });
   }
 
   /**
@@ -384,8 +406,11 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /** A union of 2 to 5 chains; the tuple type follows from the number of parts. */
   private <I, T> Chain<I, T> unionOf(Chain<?, ?>... parts) {
-    requireChains(parts);
-    return compiled(topologyRecorder().union(parts), parts);
+    return declared(
+        () -> {
+          requireChains(parts);
+          return compiled(topologyRecorder().union(parts), parts);
+        });
   }
 
   /**
@@ -400,8 +425,11 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
-    requireChains(chain);
-    return compiled(topologyRecorder().fork(chain, events), chain);
+    return declared(
+        () -> {
+          requireChains(chain);
+          return compiled(topologyRecorder().fork(chain, events), chain);
+        });
   }
 
   /**
@@ -422,8 +450,11 @@ public abstract class PrimeCore implements AutoCloseable {
       Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
-    requireChains(chain);
-    return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
+    return declared(
+        () -> {
+          requireChains(chain);
+          return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
+        });
   }
 
   /**
@@ -435,10 +466,15 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a factory of user chains
    */
   public final <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
-    requireChains(chain);
-    String sharedName = chain.name();
+    String sharedName = chain == null ? null : chain.name();
+    Block<I, O> shared =
+        declared(
+            () -> {
+              requireChains(chain);
+              topologyRecorder().isolate(chain);
+              return new IsolateBlock<>(chain.toBlock(), this::ensureOpen);
+            });
     String sharedNode = topologyRecorder().isolate(chain);
-    Block<I, O> shared = new IsolateBlock<>(chain.toBlock());
     AtomicInteger users = new AtomicInteger();
     return new Isolated<>() {
       @Override
@@ -449,9 +485,11 @@ public abstract class PrimeCore implements AutoCloseable {
       @Override
       public Chain<I, O> newUser() {
         ensureOpen();
-        return compiled(
-            topologyRecorder()
-                .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared));
+        return declared(
+            () ->
+                compiled(
+                    topologyRecorder()
+                        .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared)));
       }
     };
   }
@@ -466,7 +504,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <T> Chain<Token, T> syncCollector(Source<T> source) {
     requireSource(source);
-    return compiled(topologyRecorder().syncCollector(source));
+    return declared(() -> compiled(topologyRecorder().syncCollector(source)));
   }
 
   /**
@@ -480,7 +518,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <T> Chain<Token, List<T>> asyncCollector(Source<T> source) {
     requireSource(source);
-    return compiled(topologyRecorder().asyncCollector(source));
+    return declared(() -> compiled(topologyRecorder().asyncCollector(source)));
   }
 
   /**
@@ -497,8 +535,11 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, R, O> Chain<I, O> repeater(
       Chain<I, R> inner, RepeaterBlock<I, R, Void, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
-    requireChains(inner);
-    return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
+    return declared(
+        () -> {
+          requireChains(inner);
+          return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
+        });
   }
 
   /**
@@ -518,11 +559,14 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, R, E, O> Chain<I, O> repeater(
       Chain<I, R> inner, Source<E> source, RepeaterBlock<I, R, E, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
-    requireChains(inner);
     requireSource(source);
-    Chain<Token, List<E>> collector = asyncCollector(source);
-    return compiled(
-        topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
+    return declared(
+        () -> {
+          requireChains(inner);
+          Chain<Token, List<E>> collector = asyncCollector(source);
+          return compiled(
+              topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
+        });
   }
 
   // ---------------------------------------------------------------- combinators and timers
@@ -720,7 +764,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <T> Source<T> source(EventBlock<T> events) {
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(topologyRecorder().eventSource(null, events), events);
+    return declared(() -> model().eventSource(topologyRecorder().eventSource(null, events), events));
   }
 
   /**
@@ -735,7 +779,7 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(events, "events must not be null");
     ensureOpen();
-    return newSource(topologyRecorder().eventSource(name, events), events);
+    return declared(() -> model().eventSource(topologyRecorder().eventSource(name, events), events));
   }
 
   /**
@@ -753,20 +797,11 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(events, "events must not be null");
     TopologyRecorder.checkPseudoname(pseudoname);
     ensureOpen();
-    return newSource(Pseudonames.record(topologyRecorder(), name, pseudoname, events), events);
-  }
-
-  /**
-   * Makes the source of a node just recorded, fed by an event block: the media's own ({@link
-   * SourceCompiler#eventSource}) or an in-memory one.
-   *
-   * @param name the node's name
-   * @param events the event block
-   * @param <T> value type
-   * @return the source
-   */
-  protected final <T> Source<T> newSource(String name, EventBlock<T> events) {
-    return model().eventSource(name, events);
+    return declared(
+        () ->
+            model()
+                .eventSource(
+                    Pseudonames.record(topologyRecorder(), name, pseudoname, events), events));
   }
 
   /**
@@ -785,13 +820,15 @@ public abstract class PrimeCore implements AutoCloseable {
   @SuppressWarnings("unchecked")
   public final <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
-    requireChains(chain);
-    ModelCompiler<?> model = model();
-    if (model.ownsSource(source)) {
-      return (Source<O>) model.service(topologyRecorder().sourceLink(source, chain), source, chain);
-    }
-    Block<I, O> block = Block.narrow(chain.toBlock());
-    return inProcess.link(topologyRecorder().sourceLink(source, chain), source, block);
+    return declared(
+        () -> {
+          requireChains(chain);
+          String name = topologyRecorder().sourceLink(source, chain);
+          ModelCompiler<?> model = model();
+          return model.ownsSource(source)
+              ? (Source<O>) model.service(name, source, chain)
+              : inProcess.link(name, source, chain);
+        });
   }
 
   /**
@@ -807,11 +844,14 @@ public abstract class PrimeCore implements AutoCloseable {
   protected final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
-    String name = topologyRecorder().filter(source, predicate);
-    ModelCompiler<?> model = model();
-    return model.ownsSource(source)
-        ? (Source<T>) model.service(name, source, null)
-        : inProcess.filter(name, source, predicate);
+    return declared(
+        () -> {
+          String name = topologyRecorder().filter(source, predicate);
+          ModelCompiler<?> model = model();
+          return model.ownsSource(source)
+              ? (Source<T>) model.service(name, source, null)
+              : inProcess.filter(name, source, predicate);
+        });
   }
 
   /**
@@ -829,11 +869,14 @@ public abstract class PrimeCore implements AutoCloseable {
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
-    String name = topologyRecorder().flatMap(source, block);
-    ModelCompiler<?> model = model();
-    return model.ownsSource(source)
-        ? (Source<R>) model.service(name, source, null)
-        : inProcess.flatMap(name, source, block);
+    return declared(
+        () -> {
+          String name = topologyRecorder().flatMap(source, block);
+          ModelCompiler<?> model = model();
+          return model.ownsSource(source)
+              ? (Source<R>) model.service(name, source, null)
+              : inProcess.flatMap(name, source, block);
+        });
   }
 
   /**
@@ -847,13 +890,17 @@ public abstract class PrimeCore implements AutoCloseable {
   protected final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
-    String name = topologyRecorder().listener(source, listener);
-    ModelCompiler<?> model = model();
-    if (model.ownsSource(source)) {
-      model.service(name, source, null);
-    } else {
-      inProcess.listen(name, source, listener);
-    }
+    declared(
+        () -> {
+          String name = topologyRecorder().listener(source, listener);
+          ModelCompiler<?> model = model();
+          if (model.ownsSource(source)) {
+            model.service(name, source, null);
+          } else {
+            inProcess.listen(name, source, listener);
+          }
+          return null;
+        });
   }
 
   /**
@@ -1073,17 +1120,6 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Claims a name derived from others, such as {@code a>b}; see the class docs of the names.
-   *
-   * @param preferred the derived name
-   * @param kind the fallback prefix if it is too long
-   * @return a unique name
-   */
-  protected final String derivedName(String preferred, String kind) {
-    return topologyRecorder().derived(preferred, kind);
-  }
-
-  /**
    * Checks that chains given to a link or template are usable, before anything is consumed: a
    * link or template that fails changes nothing (every chain given to it stays usable). Call it
    * first, then consume the chains.
@@ -1107,7 +1143,7 @@ public abstract class PrimeCore implements AutoCloseable {
       if (chain.core().isClosed()) {
         throw new CoreClosedException(chain.core().name());
       }
-      if (chain instanceof AbstractChain<?, ?> known && known.isUsed()) {
+      if (chain instanceof ModelChain<?, ?, ?> known && known.used()) {
         throw new ChainAlreadyUsedException(chain.name());
       }
     }
@@ -1124,18 +1160,5 @@ public abstract class PrimeCore implements AutoCloseable {
     if (source.core().isClosed()) {
       throw new CoreClosedException(source.core().name());
     }
-  }
-
-  /**
-   * Runs a service on a thread of this core: take each value of {@code reader} and give it to
-   * {@code step}; failures go to the error handler.
-   *
-   * @param name the service's name
-   * @param reader its input
-   * @param step what it does with each value
-   * @param <T> value type
-   */
-  protected final <T> void runService(String name, Reader<T> reader, Consumer<? super T> step) {
-    inProcess.run(name, reader, step);
   }
 }

@@ -73,6 +73,15 @@ public final class Names {
     }
   }
 
+  /**
+   * Releases a name claimed for a declaration that failed, so it can be claimed again.
+   *
+   * @param name a claimed name
+   */
+  public synchronized void release(String name) {
+    taken.remove(name);
+  }
+
   private static boolean valid(String name) {
     if (name.isEmpty() || name.length() > 200) {
       return false;

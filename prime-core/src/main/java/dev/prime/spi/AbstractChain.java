@@ -100,28 +100,8 @@ public abstract class AbstractChain<I, O> implements Chain<I, O> {
     return null;
   }
 
-  /**
-   * For the core's compiler of the topology model: consumes this chain as a part of a link or
-   * template of its own core and returns its {@linkplain #compiledForm() compiled form}, if that
-   * is a {@code form}; else consumes nothing and returns {@code null}.
-   *
-   * @param form the type the core wants
-   * @param <F> that type
-   * @return the compiled form, or {@code null} if there is none of that type
-   * @throws ChainAlreadyUsedException if it was consumed before
-   * @throws CoreClosedException if the core is closed
-   */
-  public final <F> F consumeAsPart(Class<F> form) {
-    Object compiled = compiledForm();
-    if (!form.isInstance(compiled)) {
-      return null;
-    }
-    consume();
-    return form.cast(compiled);
-  }
-
   /** {@return whether this chain was consumed} */
-  public final boolean isUsed() {
+  protected final boolean isUsed() {
     return used.get();
   }
 

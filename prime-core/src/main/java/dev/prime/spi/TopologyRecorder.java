@@ -17,6 +17,7 @@ import java.util.Map;
 import java.util.Objects;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
+import java.util.function.Supplier;
 
 /**
  * Records the diagram declared on one core as {@link TopologyNode}s, and makes every name: the one
@@ -33,6 +34,15 @@ import java.util.function.Predicate;
  * or other core's chain it runs), which the public {@link TopologyNode} leaves out: a media
  * compiles a node from the node and {@link #logic(String) its logic} (see {@link
  * ChainCompiler}), so the model is the one description of the diagram every media compiles.
+ *
+ * <p>Design note (threading). Every method synchronises on the recorder; {@link #declare} holds
+ * that monitor for a whole declaration (checks, recording, compiling and consuming the parts), so
+ * two declarations of one core never interleave, and a declaration made inside another (a
+ * repeater's collector) joins it (the monitor is reentrant). A declaration that throws forgets
+ * the nodes it recorded and releases their names; one that succeeds releases their logic, so the
+ * recorder holds the user's blocks only while they are compiled. Snapshots and readers wait for a
+ * declaration under way; nothing here waits for another thread while holding the monitor, except
+ * what a media's compiler does in a declaration.
  */
 public final class TopologyRecorder {
   private final PrimeCore owner;
@@ -394,15 +404,69 @@ public final class TopologyRecorder {
   }
 
   /**
-   * The logic of the node with a name: what a media needs, besides the node, to compile it.
+   * The logic of the node with a name: what a media needs, besides the node, to compile it. It
+   * is kept only while the declaration that recorded the node runs ({@link #declare}): the node
+   * is compiled then, and another core's chain is consumed then.
    *
    * @param name a recorded name
    * @return the node's logic
    * @throws IllegalArgumentException if nothing of that name was recorded
+   * @throws IllegalStateException if the node was compiled and its logic released
    */
   public synchronized NodeLogic logic(String name) {
     node(name);
-    return logic.get(name);
+    NodeLogic kept = logic.get(name);
+    if (kept == null) {
+      throw new IllegalStateException(
+          "the logic of '" + name + "' was released once its declaration compiled it; a media"
+              + " compiles a node from the logic it is given while the node is declared");
+    }
+    return kept;
+  }
+
+  /**
+   * Runs one declaration (a link, template or service: its checks, the nodes it records and the
+   * chains it consumes) atomically: declarations of this core run one at a time (a declaration
+   * made inside another joins it), and if {@code declaration} throws, every node recorded during
+   * it is forgotten and its name released, so a failed declaration leaves no node behind. Once
+   * it succeeded, the logic of the nodes it recorded is released ({@link #logic}): the media
+   * compiled them, and the recorder must not keep the user's blocks alive for the core's
+   * lifetime.
+   *
+   * @param declaration checks, records and compiles
+   * @param <T> what it makes
+   * @return what it made
+   */
+  public synchronized <T> T declare(Supplier<T> declaration) {
+    int mark = nodes.size();
+    T made;
+    try {
+      made = declaration.get();
+    } catch (RuntimeException | Error e) {
+      forgetSince(mark);
+      throw e;
+    }
+    for (int i = mark; i < nodes.size(); i++) {
+      logic.remove(nodes.get(i).name());
+    }
+    return made;
+  }
+
+  /** Forgets the nodes recorded after the first {@code mark}, latest first. */
+  private void forgetSince(int mark) {
+    for (int i = nodes.size() - 1; i >= mark; i--) {
+      TopologyNode node = nodes.remove(i);
+      String name = node.name();
+      byName.remove(name);
+      logic.remove(name);
+      if (node instanceof TopologyNode.ReaderNode reader) {
+        readers.merge(reader.source(), -1, Integer::sum); // a reader's name is not claimed
+      } else {
+        foreign.values().remove(name);
+        pseudonames.remove(name);
+        names.release(name);
+      }
+    }
   }
 
   /**
@@ -413,7 +477,7 @@ public final class TopologyRecorder {
    * @param pseudoname the readable name, checked
    */
   public synchronized void pseudoname(String name, String pseudoname) {
-    own(name);
+    node(name);
     pseudonames.put(name, checkPseudoname(pseudoname));
   }
 
@@ -469,13 +533,18 @@ public final class TopologyRecorder {
     return node.name();
   }
 
-  /** A chain or source of the owning core: recorded when it was made, or a media's mistake. */
-  private String own(String name) {
+  /**
+   * The node of a chain or source whose {@code core()} is the owning core: recorded when the core
+   * made it; anything else is an implementation of {@link Chain} or {@link Source} of the user's
+   * own, which the core cannot compile.
+   */
+  private String own(String name, String kind, String maker) {
     if (!byName.containsKey(name)) {
-      throw new IllegalStateException(
-          "'" + name + "' belongs to core '" + owner.name() + "' but was never recorded in its"
-              + " topology: a media must name every chain and source it makes through"
-              + " PrimeCore.topologyRecorder()");
+      throw new IllegalArgumentException(
+          "the " + kind + " '" + name + "' says it belongs to core '" + owner.name() + "' but was"
+              + " not made by this core's " + maker + ": a " + kind + " of your own implementation"
+              + " cannot be linked. Make it with core." + maker + " and give it your logic"
+              + ("chain".equals(kind) ? " as a Block" : " through an EventBlock"));
     }
     return name;
   }
@@ -483,11 +552,11 @@ public final class TopologyRecorder {
   /** The node name of a chain used as a part: its own, or a new foreign node's. */
   private String part(Chain<?, ?> chain) {
     if (chain.core() == owner) {
-      return own(chain.name());
+      return own(chain.name(), "chain", "chain(name, block)");
     }
     String known = foreign.get(chain);
-    if (known != null) {
-      return known;
+    if (known != null && logic.containsKey(known)) {
+      return known; // given again in the declaration that recorded it
     }
     String name = names.derived("hosted(" + chain.name() + ")", "hosted");
     foreign.put(chain, name);
@@ -499,7 +568,7 @@ public final class TopologyRecorder {
   /** The node name of a source used as a part: its own, or a new foreign node's. */
   private String sourcePart(Source<?> source) {
     if (source.core() == owner) {
-      return own(source.name());
+      return own(source.name(), "source", "source(name, events)");
     }
     String known = foreign.get(source);
     if (known != null) {

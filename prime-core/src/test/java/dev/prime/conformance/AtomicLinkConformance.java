@@ -2,14 +2,22 @@ package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Chain;
 import dev.prime.ChainAlreadyUsedException;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.Reader;
 import dev.prime.Repeat;
+import dev.prime.Source;
+import dev.prime.topology.Topology;
+import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicReference;
 import java.util.function.Function;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.function.Executable;
@@ -83,5 +91,101 @@ public interface AtomicLinkConformance extends ConformanceBase {
         }
       }
     }
+  }
+
+  /** A source of {@code owner} whose readers cannot be opened: a link to it fails late. */
+  static Source<Integer> sourceWithoutReaders(PrimeCore owner) {
+    return new Source<>() {
+      @Override
+      public PrimeCore core() {
+        return owner;
+      }
+
+      @Override
+      public String name() {
+        return "unreadable";
+      }
+
+      @Override
+      public Reader<Integer> reader() {
+        throw new IllegalStateException("this source cannot be read");
+      }
+    };
+  }
+
+  @Test
+  default void aSourceLinkThatFailsAfterItsCheckConsumesAndRecordsNothing() {
+    try (PrimeCore core = newCore();
+        PrimeCore other = newCore()) {
+      Source<Integer> unreadable = sourceWithoutReaders(other);
+      Chain<Integer, Integer> chain = core.chain("survivor", x -> x + 1);
+      Topology before = core.topology();
+      IllegalStateException e =
+          assertThrows(IllegalStateException.class, () -> core.link(unreadable, chain));
+      assertEquals("this source cannot be read", e.getMessage());
+      assertEquals(before, core.topology(), "the failed link left no node behind");
+      core.start();
+      assertEquals(2, chain.toBlock().process(1), "the chain is still usable");
+    }
+  }
+
+  @Test
+  default void concurrentLinksSharingAChainConsumeOnlyTheWinnersChains() throws Exception {
+    int trials = 200;
+    try (PrimeCore core = newCore()) {
+      List<Chain<Integer, Integer>> losers = new ArrayList<>();
+      int links = 0;
+      for (int trial = 0; trial < trials; trial++) {
+        Chain<Integer, Integer> shared = core.chain("shared-" + trial, x -> x * 10);
+        Chain<Integer, Integer> b = core.chain("b-" + trial, x -> x + 1);
+        Chain<Integer, Integer> c = core.chain("c-" + trial, x -> x + 2);
+        CountDownLatch go = new CountDownLatch(1);
+        AtomicReference<Object> byB = new AtomicReference<>();
+        AtomicReference<Object> byC = new AtomicReference<>();
+        Thread tb = linker(go, () -> core.link(b, shared), byB);
+        Thread tc = linker(go, () -> core.link(c, shared), byC);
+        go.countDown();
+        tb.join(patience().toMillis());
+        tc.join(patience().toMillis());
+        assertTrue(!tb.isAlive() && !tc.isAlive(), "trial " + trial + ": a link did not return");
+        boolean bWon = byB.get() instanceof Chain<?, ?>;
+        boolean cWon = byC.get() instanceof Chain<?, ?>;
+        assertTrue(bWon ^ cWon, "trial " + trial + ": exactly one link wins: " + byB + ", " + byC);
+        Object lost = bWon ? byC.get() : byB.get();
+        assertTrue(
+            lost instanceof ChainAlreadyUsedException used && used.chainName().equals(shared.name()),
+            "trial " + trial + ": the loser is refused for the shared chain: " + lost);
+        losers.add(bWon ? c : b);
+        links++;
+      }
+      long linkNodes =
+          core.topology().nodes().stream().filter(n -> n instanceof TopologyNode.Link).count();
+      assertEquals(links, linkNodes, "one Link node per link made");
+      core.start();
+      for (Chain<Integer, Integer> loser : losers) {
+        int expected = loser.name().startsWith("b-") ? 2 : 3;
+        assertEquals(expected, loser.toBlock().process(1), loser.name() + " is still usable");
+      }
+    }
+  }
+
+  /** A started thread that links once {@code go} opens and keeps the chain or the exception. */
+  private static Thread linker(
+      CountDownLatch go, java.util.function.Supplier<Object> link, AtomicReference<Object> result) {
+    Thread thread =
+        new Thread(
+            () -> {
+              try {
+                if (go.await(60, TimeUnit.SECONDS)) {
+                  result.set(link.get());
+                }
+              } catch (RuntimeException | InterruptedException e) {
+                result.set(e);
+              }
+            },
+            "kit-linker");
+    thread.setDaemon(true);
+    thread.start();
+    return thread;
   }
 }

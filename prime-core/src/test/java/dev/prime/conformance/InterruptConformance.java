@@ -152,6 +152,51 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   @Test
+  default void aCallerWaitingForAnIsolatedChainEndsWhenTheCoreCloses()
+      throws InterruptedException {
+    CountDownLatch entered = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    PrimeCore core = newCore();
+    try {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  x -> {
+                    if (x == 1) {
+                      entered.countDown();
+                      try {
+                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                      } catch (InterruptedException e) {
+                        Thread.currentThread().interrupt();
+                      }
+                    }
+                    return x;
+                  }));
+      Block<Integer, Integer> holder = isolated.newUser().toBlock();
+      Block<Integer, Integer> waiter = isolated.newUser().toBlock();
+      core.start();
+      Caller holding = new Caller("holder", () -> holder.process(1));
+      assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      Caller waiting = new Caller("waiter", () -> waiter.process(2));
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (waiting.ended.getCount() > 0
+          && waiting.thread.getState() != Thread.State.WAITING
+          && waiting.thread.getState() != Thread.State.TIMED_WAITING
+          && System.nanoTime() < deadline) {
+        Thread.onSpinWait(); // until the waiter blocks (bounded by the kit's patience)
+      }
+      core.close();
+      Throwable failure = waiting.awaitFailure(patience());
+      assertInstanceOf(PrimeException.class, failure, "the waiter ends with an exception");
+      release.countDown();
+      holding.awaitFailure(patience());
+    } finally {
+      release.countDown();
+      core.close();
+    }
+  }
+
+  @Test
   default void aSyncCollectorWaitingForAValueHonoursInterruption() throws InterruptedException {
     try (PrimeCore core = newCore()) {
       Chain<Token, Integer> collector = core.syncCollector(core.source(new EventBlock<Integer>()));

@@ -17,6 +17,7 @@ import dev.prime.Reader;
 import dev.prime.Source;
 import dev.prime.blocks.IfThenElseBlock;
 import dev.prime.topology.TopologyNode;
+import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Collections;
@@ -42,6 +43,7 @@ class ModelCompileTest {
   /** Compiles to blocks like the generic compiler, recording every call; fuses if/else only. */
   static final class RecordingCompiler implements ChainCompiler<Form> {
     final List<Call> calls = Collections.synchronizedList(new ArrayList<>());
+    volatile Consumer<String> onForeign = node -> {};
 
     @Override
     public Class<Form> form() {
@@ -57,6 +59,7 @@ class ModelCompileTest {
 
     @Override
     public Form foreign(String node, Block<?, ?> block) {
+      onForeign.accept(node);
       calls.add(new Call("foreign", node, block, List.of()));
       return new Form(node, block);
     }
@@ -175,8 +178,9 @@ class ModelCompileTest {
                   List.of("plus", "minus"))),
           core.compiler.of("if(plus|minus)"),
           "the template got the user's predicate as the node's logic, and its parts' forms");
-      assertEquals(new NodeLogic.Run(plus), core.logic("plus"));
-      assertEquals(new NodeLogic.Condition(positive), core.logic("if(plus|minus)"));
+      IllegalStateException released =
+          assertThrows(IllegalStateException.class, () -> core.logic("plus"));
+      assertTrue(released.getMessage().contains("released"), released.getMessage());
       core.start();
       Block<Integer, Integer> block = chosen.toBlock();
       assertEquals(3, block.process(2));
@@ -205,9 +209,15 @@ class ModelCompileTest {
     try (TestMedia core = new TestMedia(false);
         TestMedia other = new TestMedia(false)) {
       Chain<Integer, Integer> theirs = other.chain("theirs", (Integer x) -> x * 10);
+      core.compiler.onForeign =
+          node -> {
+            // while the link is declared, the foreign node's logic is that chain
+            NodeLogic logic = core.logic(node);
+            assertInstanceOf(NodeLogic.OtherChain.class, logic);
+            assertSame(theirs, ((NodeLogic.OtherChain) logic).chain());
+          };
       Chain<Integer, Integer> linked = core.chain("mine", (Integer x) -> x + 1).then(theirs);
-      assertInstanceOf(NodeLogic.OtherChain.class, core.logic("hosted(theirs)"));
-      assertSame(theirs, ((NodeLogic.OtherChain) core.logic("hosted(theirs)")).chain());
+      assertThrows(IllegalStateException.class, () -> core.logic("hosted(theirs)"), "released");
       assertEquals("foreign", core.compiler.of("hosted(theirs)").get(0).method());
       assertEquals(List.of("mine", "hosted(theirs)"), core.compiler.of("mine>theirs").get(0).parts());
       assertThrows(ChainAlreadyUsedException.class, theirs::toBlock, "consumed by the link");
@@ -268,5 +278,25 @@ class ModelCompileTest {
       events.publish(41);
       assertEquals(Optional.of(42), reader.take(Duration.ofSeconds(10)));
     }
+  }
+
+  @Test
+  void theRecorderReleasesADroppedChainsBlock() {
+    try (TestMedia core = new TestMedia(false)) {
+      WeakReference<Block<Integer, Integer>> block = dropChain(core, 3);
+      for (int round = 0; round < 50 && block.get() != null; round++) {
+        System.gc();
+      }
+      assertNull(block.get(), "the block of a chain nobody holds is still reachable");
+      assertEquals(1, core.topology().nodes().size(), "its node is kept, without its logic");
+    }
+  }
+
+  /** Makes a chain of a fresh block, drops both and returns a weak reference to the block. */
+  private static WeakReference<Block<Integer, Integer>> dropChain(TestMedia core, int k) {
+    Block<Integer, Integer> block = x -> x + k; // captures k: a new object, not a cached lambda
+    core.chain("dropped", block);
+    core.compiler.calls.clear(); // the test's compiler records what it was given
+    return new WeakReference<>(block);
   }
 }

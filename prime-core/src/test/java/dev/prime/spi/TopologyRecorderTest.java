@@ -73,14 +73,66 @@ class TopologyRecorderTest {
   }
 
   @Test
-  void aChainItsMediaNeverRecordedIsRefusedWithTheFix() {
+  void aChainNotMadeByTheCoreIsRefusedWithTheFix() {
     try (PlainCore core = new PlainCore()) {
       Chain<Integer, Integer> stray = core.unrecorded("stray", x -> x);
-      IllegalStateException e =
-          assertThrows(IllegalStateException.class, () -> core.guard(x -> true, stray, x -> 0));
-      assertTrue(
-          e.getMessage().contains("'stray'") && e.getMessage().contains("topologyRecorder()"),
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> core.guard(x -> true, stray, x -> 0));
+      assertEquals(
+          "the chain 'stray' says it belongs to core '" + core.name() + "' but was not made by this"
+              + " core's chain(name, block): a chain of your own implementation cannot be linked."
+              + " Make it with core.chain(name, block) and give it your logic as a Block",
           e.getMessage());
+    }
+  }
+
+  @Test
+  void aUsersOwnChainAndSourceAreRefusedWithTheFix() {
+    try (PlainCore core = new PlainCore()) {
+      Chain<Integer, Integer> mine =
+          new Chain<>() {
+            @Override
+            public PrimeCore core() {
+              return core;
+            }
+
+            @Override
+            public String name() {
+              return "mine";
+            }
+
+            @Override
+            public Block<Integer, Integer> toBlock() {
+              return x -> x;
+            }
+          };
+      IllegalArgumentException chain =
+          assertThrows(
+              IllegalArgumentException.class, () -> core.link(core.chain("a", (Integer x) -> x), mine));
+      assertTrue(chain.getMessage().contains("not made by this core's chain("), chain.getMessage());
+      assertTrue(chain.getMessage().contains("Make it with core.chain("), chain.getMessage());
+      Source<Integer> own =
+          new Source<>() {
+            @Override
+            public PrimeCore core() {
+              return core;
+            }
+
+            @Override
+            public String name() {
+              return "own";
+            }
+
+            @Override
+            public dev.prime.Reader<Integer> reader() {
+              throw new UnsupportedOperationException();
+            }
+          };
+      IllegalArgumentException source =
+          assertThrows(IllegalArgumentException.class, () -> own.listen(x -> {}));
+      assertTrue(source.getMessage().contains("the source 'own'"), source.getMessage());
+      assertTrue(source.getMessage().contains("core.source(name, events)"), source.getMessage());
+      assertEquals(List.of("a"), core.topology().nodes().stream().map(TopologyNode::name).toList());
     }
   }
 }

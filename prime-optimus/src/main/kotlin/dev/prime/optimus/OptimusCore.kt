@@ -553,9 +553,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private fun bindToSource(source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
         val input = keys.serviceInput(stages.first().name)
         beginLiveness()
-        declarations.bindings += source.keys to input
-        register(source.keys, input, service = true)
-        bind(stages, output?.keys)
+        // added before it is registered (see Redeclaration), taken back if the link fails: a
+        // re-declaration must not register an input that no service reads
+        val binding = source.keys to input
+        declarations.bindings += binding
+        try {
+            register(source.keys, input, service = true)
+            bind(stages, output?.keys)
+        } catch (e: Throwable) {
+            declarations.bindings -= binding
+            throw e
+        }
     }
 
     private fun bind(stages: List<StageSpec>, output: SourceKeys?) {

@@ -5,8 +5,8 @@ import dev.prime.Block;
 /**
  * The simplest {@link ChainCompiler}: a chain compiles to a block. A chain made of a block is that
  * block naming its failures ({@link FailureNamingBlock}); another core's chain is its own block;
- * every template is the core's generic block over its parts' blocks. For a media that has no
- * better form of its own, and for tests of the core.
+ * every template is the core's generic block over its parts' blocks. For the core's own tests
+ * (in its test sources, not a public SPI).
  */
 public final class GenericChainCompiler implements ChainCompiler<Block<?, ?>> {
 
