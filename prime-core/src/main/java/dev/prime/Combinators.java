@@ -9,6 +9,7 @@ import java.util.List;
 import java.util.Objects;
 import java.util.concurrent.atomic.AtomicReference;
 import java.util.function.Function;
+import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 
@@ -49,83 +50,109 @@ final class Combinators {
   }
 
   <R> Source<R> combineLatest(Function<Object[], Object> tuple, Source<?>... sources) {
-    List<Source<?>> inputs = checked(sources);
-    String name = core.topologyRecorder().combinator("combineLatest", inputs);
-    return combine(name, inputs, Pairing.combineLatest(inputs.size(), tuple));
+    return declared(
+        () -> {
+          List<Source<?>> inputs = checked(sources);
+          String name = core.topologyRecorder().combinator("combineLatest", inputs);
+          return combine(name, inputs, Pairing.combineLatest(inputs.size(), tuple));
+        });
   }
 
   <R> Source<R> zip(Function<Object[], Object> tuple, Source<?>... sources) {
-    List<Source<?>> inputs = checked(sources);
-    String name = core.topologyRecorder().combinator("zip", inputs);
-    int limit = core.config().sourceRetention();
-    Pairing zip =
-        Pairing.zip(
-            inputs.size(),
-            limit,
-            tuple,
-            input ->
-                drops.record(
-                    "zip '" + name + "' dropped unpaired values",
-                    1,
-                    "input " + (input + 1) + " was " + limit + " values ahead",
-                    () ->
-                        LOG.warn(
-                            "zip '{}' dropped the oldest unpaired value of input {} ({}): it was"
-                                + " {} values ahead of another input (the zip keeps at most"
-                                + " CoreConfig.sourceRetention() unpaired values per input)",
-                            name,
-                            input + 1,
-                            inputs.get(input).name(),
-                            limit)));
-    return combine(name, inputs, zip);
+    return declared(
+        () -> {
+          List<Source<?>> inputs = checked(sources);
+          String name = core.topologyRecorder().combinator("zip", inputs);
+          int limit = core.config().sourceRetention();
+          Pairing zip =
+              Pairing.zip(
+                  inputs.size(),
+                  limit,
+                  tuple,
+                  input ->
+                      drops.record(
+                          "zip '" + name + "' dropped unpaired values",
+                          1,
+                          "input " + (input + 1) + " was " + limit + " values ahead",
+                          () ->
+                              LOG.warn(
+                                  "zip '{}' dropped the oldest unpaired value of input {} ({}): it was"
+                                      + " {} values ahead of another input (the zip keeps at most"
+                                      + " CoreConfig.sourceRetention() unpaired values per input)",
+                                  name,
+                                  input + 1,
+                                  inputs.get(input).name(),
+                                  limit)));
+          return combine(name, inputs, zip);
+        });
   }
 
   <T> Source<T> merge(Source<?>... sources) {
-    List<Source<?>> inputs = checked(sources);
-    String name = core.topologyRecorder().combinator("merge", inputs);
-    return combine(name, inputs, Pairing.merge());
+    return declared(
+        () -> {
+          List<Source<?>> inputs = checked(sources);
+          String name = core.topologyRecorder().combinator("merge", inputs);
+          return combine(name, inputs, Pairing.merge());
+        });
   }
 
   <T, U> Source<Tuple2<T, U>> withLatestFrom(Source<T> source, Source<U> latest) {
-    List<Source<?>> inputs = checked(source, latest);
-    String name = core.topologyRecorder().combinator("withLatestFrom", inputs);
-    return combine(name, inputs, Pairing.withLatestFrom());
+    return declared(
+        () -> {
+          List<Source<?>> inputs = checked(source, latest);
+          String name = core.topologyRecorder().combinator("withLatestFrom", inputs);
+          return combine(name, inputs, Pairing.withLatestFrom());
+        });
   }
 
   <T> Source<T> sample(Source<T> source, Duration period) {
-    long nanos = checkedPeriod(period);
-    List<Source<?>> inputs = checked(source);
-    String name = core.topologyRecorder().combinator("sample", inputs);
-    EventBlock<Object> events = new EventBlock<>();
-    Source<Object> out = core.newSource(name, events);
-    AtomicReference<Object> latest = new AtomicReference<>();
-    CombinedInputs.run(core, threads, name, inputs, (input, value) -> latest.set(value));
-    schedule(
-        name + " clock",
-        new Ticking(
-            core,
-            name,
-            nanos,
-            (count, time) -> {
-              Object value = latest.getAndSet(null);
-              if (value != null) {
-                events.publish(value);
-              }
-            }));
-    return typed(out);
+    return declared(
+        () -> {
+          long nanos = checkedPeriod(period);
+          List<Source<?>> inputs = checked(source);
+          String name = core.topologyRecorder().combinator("sample", inputs);
+          EventBlock<Object> events = new EventBlock<>();
+          Source<Object> out = core.newSource(name, events);
+          AtomicReference<Object> latest = new AtomicReference<>();
+          CombinedInputs.run(core, threads, name, inputs, (input, value) -> latest.set(value));
+          schedule(
+              name + " clock",
+              new Ticking(
+                  core,
+                  name,
+                  nanos,
+                  (count, time) -> {
+                    Object value = latest.getAndSet(null);
+                    if (value != null) {
+                      events.publish(value);
+                    }
+                  }));
+          return typed(out);
+        });
   }
 
   Source<Tick> timer(String name, Duration period) {
-    Objects.requireNonNull(name, "timer name must not be null");
-    long nanos = checkedPeriod(period);
-    core.ensureOpen();
-    String claimed = core.topologyRecorder().timer(name, period);
-    EventBlock<Tick> events = new EventBlock<>();
-    Source<Tick> out = core.newSource(claimed, events);
-    schedule(
-        claimed,
-        new Ticking(core, claimed, nanos, (count, time) -> events.publish(new Tick(count, time))));
-    return out;
+    return declared(
+        () -> {
+          Objects.requireNonNull(name, "timer name must not be null");
+          long nanos = checkedPeriod(period);
+          core.ensureOpen();
+          String claimed = core.topologyRecorder().timer(name, period);
+          EventBlock<Tick> events = new EventBlock<>();
+          Source<Tick> out = core.newSource(claimed, events);
+          schedule(
+              claimed,
+              new Ticking(core, claimed, nanos, (count, time) -> events.publish(new Tick(count, time))));
+          return out;
+        });
+  }
+
+  /**
+   * Runs a combinator's or timer's declaration atomically with the core's other declarations:
+   * if it throws, the nodes it recorded are forgotten and their names freed.
+   */
+  private <T> T declared(Supplier<T> declaration) {
+    return core.topologyRecorder().declare(declaration);
   }
 
   private void schedule(String thread, Ticking ticking) {

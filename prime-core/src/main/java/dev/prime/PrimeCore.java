@@ -923,7 +923,11 @@ public abstract class PrimeCore implements AutoCloseable {
     Objects.requireNonNull(name, "name must not be null");
     Objects.requireNonNull(service, "service must not be null");
     ensureOpen();
-    runGenericService(topologyRecorder().genericService(name, service), service);
+    declared(
+        () -> {
+          runGenericService(topologyRecorder().genericService(name, service), service);
+          return null;
+        });
   }
 
   /**
