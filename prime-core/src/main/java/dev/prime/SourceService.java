@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.spi.FailureReport;
 import java.util.Objects;
 import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;
@@ -87,19 +88,7 @@ final class SourceService<T> implements Runnable {
   }
 
   private void report(T value, Throwable error) {
-    String service = name;
-    Throwable own = error;
-    if (error instanceof ChainFailedException failed && failed.getCause() != null) {
-      service = failed.chainName();
-      own = failed.getCause();
-    }
-    try {
-      errors.handle(service, value, own);
-    } catch (VirtualMachineError e) {
-      throw e;
-    } catch (Throwable handlerFailure) {
-      handlerFailure.addSuppressed(own);
-      LOG.error("the error handler failed for service '{}'", service, handlerFailure);
-    }
+    FailureReport.report(errors, name, value, error);
   }
+
 }

@@ -1,9 +1,8 @@
 package dev.prime;
 
+import dev.prime.spi.FailureReport;
 import java.time.Instant;
 import java.util.function.BiConsumer;
-import org.slf4j.Logger;
-import org.slf4j.LoggerFactory;
 
 /**
  * The loop of a service driven by the core's clock: a timer ({@link PrimeCore#timer}) or the
@@ -22,7 +21,6 @@ import org.slf4j.LoggerFactory;
  * hosting to another.
  */
 final class Ticking implements Runnable {
-  private static final Logger LOG = LoggerFactory.getLogger(Ticking.class);
 
   private final PrimeCore core;
   private final String name;
@@ -95,13 +93,7 @@ final class Ticking implements Runnable {
   }
 
   private void report(long count, Throwable error) {
-    try {
-      core.config().errorHandler().handle(name, count, error);
-    } catch (VirtualMachineError e) {
-      throw e;
-    } catch (Throwable handlerFailure) {
-      handlerFailure.addSuppressed(error);
-      LOG.error("the error handler failed for service '{}'", name, handlerFailure);
-    }
+    FailureReport.report(core.config().errorHandler(), name, count, error);
   }
+
 }

@@ -166,19 +166,7 @@ public final class GenericServiceLoop implements Runnable {
    * chain whose block failed) under the failing chain's name, with the block's own throwable.
    */
   private void report(Step step, Throwable error) {
-    String service = name;
-    Throwable own = error;
-    if (error instanceof ChainFailedException failed && failed.getCause() != null) {
-      service = failed.chainName();
-      own = failed.getCause();
-    }
-    try {
-      errors.handle(service, step, own);
-    } catch (VirtualMachineError e) {
-      throw e;
-    } catch (Throwable handlerFailure) {
-      handlerFailure.addSuppressed(own);
-      LOG.error("the error handler failed for generic service '{}'", name, handlerFailure);
-    }
+    FailureReport.report(errors, name, step, error);
   }
+
 }

@@ -121,19 +121,7 @@ public interface InterruptConformance extends ConformanceBase {
     CountDownLatch release = new CountDownLatch(1);
     try (PrimeCore core = newCore()) {
       Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.chain(
-                  x -> {
-                    if (x == 1) {
-                      entered.countDown();
-                      try {
-                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
-                      } catch (InterruptedException e) {
-                        Thread.currentThread().interrupt();
-                      }
-                    }
-                    return x;
-                  }));
+          holdingIsolate(core, entered, release);
       Block<Integer, Integer> holder = isolated.newUser().toBlock();
       Block<Integer, Integer> waiter = isolated.newUser().toBlock();
       core.start();
@@ -159,19 +147,7 @@ public interface InterruptConformance extends ConformanceBase {
     PrimeCore core = newCore();
     try {
       Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.chain(
-                  x -> {
-                    if (x == 1) {
-                      entered.countDown();
-                      try {
-                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
-                      } catch (InterruptedException e) {
-                        Thread.currentThread().interrupt();
-                      }
-                    }
-                    return x;
-                  }));
+          holdingIsolate(core, entered, release);
       Block<Integer, Integer> holder = isolated.newUser().toBlock();
       Block<Integer, Integer> waiter = isolated.newUser().toBlock();
       core.start();
@@ -329,5 +305,26 @@ public interface InterruptConformance extends ConformanceBase {
       first.write(b, off, len);
       second.write(b, off, len);
     }
+  }
+
+  /**
+   * An isolated identity chain whose block, given 1, counts {@code entered} down and then holds
+   * the chain until {@code release} (at most the kit's patience).
+   */
+  private Isolated<Integer, Integer> holdingIsolate(
+      PrimeCore core, CountDownLatch entered, CountDownLatch release) {
+    return core.isolate(
+        core.chain(
+            (Integer x) -> {
+              if (x == 1) {
+                entered.countDown();
+                try {
+                  release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              }
+              return x;
+            }));
   }
 }

@@ -1,0 +1,46 @@
+package dev.prime.spi;
+
+import dev.prime.ChainFailedException;
+import dev.prime.ErrorHandler;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
+
+/**
+ * How a service reports a failure to the core's {@link ErrorHandler}, the same way on every
+ * media: a {@link ChainFailedException} (the service called a chain whose block failed) is
+ * reported under the failing chain's name with the block's own throwable; anything else under
+ * the service's name. A handler that throws is logged at ERROR with the failure suppressed in
+ * it, and the service goes on; a {@link VirtualMachineError} from the handler propagates.
+ */
+public final class FailureReport {
+
+  private static final Logger LOG = LoggerFactory.getLogger(FailureReport.class);
+
+  private FailureReport() {}
+
+  /**
+   * Reports one failure.
+   *
+   * @param handler the core's error handler
+   * @param service the name of the service that failed, as the user named it
+   * @param input what the service was processing (a value, a tick count, a generic service's
+   *     step)
+   * @param error what it threw
+   */
+  public static void report(ErrorHandler handler, String service, Object input, Throwable error) {
+    String name = service;
+    Throwable own = error;
+    if (error instanceof ChainFailedException failed && failed.getCause() != null) {
+      name = failed.chainName();
+      own = failed.getCause();
+    }
+    try {
+      handler.handle(name, input, own);
+    } catch (VirtualMachineError e) {
+      throw e;
+    } catch (Throwable handlerFailure) {
+      handlerFailure.addSuppressed(own);
+      LOG.error("the error handler failed for service '{}'", name, handlerFailure);
+    }
+  }
+}
