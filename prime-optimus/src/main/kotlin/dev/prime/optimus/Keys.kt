@@ -11,23 +11,14 @@ import java.nio.charset.StandardCharsets.UTF_8
  * computes the same keys. On a Redis Cluster the topology therefore lives on the one master that
  * holds its slot ([clusterSlot]); many topologies (one per core name) spread over the masters.
  */
-internal class Keys(private val topology: String) {
+internal class Keys(topology: String) {
     private val prefix = "prime:{$topology}:"
 
     /**
-     * The Redis Cluster hash slot of every key of this topology (the slot of its hash tag).
-     *
-     * @throws IllegalArgumentException if the name starts with `}`: the tag would be empty, and
-     *     Redis Cluster would then hash each whole key, scattering the topology over slots
+     * The Redis Cluster hash slot of every key of this topology: the slot of its hash tag, the
+     * core name (which holds no brace: letters, digits, `.`, `_`, `-`), so the whole name is the tag.
      */
-    fun clusterSlot(): Int {
-        require(!topology.startsWith("}")) {
-            "core name '$topology' starts with '}', which closes the Redis Cluster hash tag {$topology} before it " +
-                "holds anything, so the topology's keys would fall in different hash slots: on a Redis Cluster, give " +
-                "the core a name that does not start with '}'"
-        }
-        return JedisClusterCRC16.getSlot(prefix)
-    }
+    fun clusterSlot(): Int = JedisClusterCRC16.getSlot(prefix)
 
     /** The list a service takes its input from. */
     fun serviceInput(service: String): ByteArray = key("svc:$service:in")

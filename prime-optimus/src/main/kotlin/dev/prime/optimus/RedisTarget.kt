@@ -33,8 +33,7 @@ internal interface RedisTarget {
          * The target of [url]: a Redis Cluster for `redis-cluster://` and `rediss-cluster://`
          * (routed to the slot of [keys]), else one server.
          *
-         * @throws IllegalArgumentException if the URL is malformed, or [keys] cannot live in one
-         *     hash slot of a cluster; the message says how to fix it
+         * @throws IllegalArgumentException if the URL is malformed; the message says how to fix it
          */
         fun parse(url: String, keys: Keys): RedisTarget =
             if (RedisClusterEndpoint.isClusterUrl(url)) ClusterRoute(RedisClusterEndpoint.parse(url), keys) else RedisEndpoint.parse(url)
