@@ -200,6 +200,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         try {
             RedisSession(connections).use { it.once { jedis -> jedis.ping() } }
         } catch (e: Exception) {
+            connections.closeAll() // a cluster's slot map too
             shutdownResources()
             throw dev.prime.PrimeException("cannot reach Redis at $endpoint: $e", e)
         }

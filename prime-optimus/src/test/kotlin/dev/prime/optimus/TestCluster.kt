@@ -1,5 +1,7 @@
 package dev.prime.optimus
 
+import java.time.Duration
+
 /**
  * One local Redis Cluster (3 masters, 3 replicas, [LocalRedisCluster]) for the tests of this JVM
  * that only use it (the conformance kit, placement): each core is its own topology on it, in
@@ -7,7 +9,8 @@ package dev.prime.optimus
  */
 internal object TestCluster {
     val cluster: LocalRedisCluster by lazy {
-        LocalRedisCluster.start().also { started ->
+        // no failover wanted here: a long node timeout, so a node starved of CPU is not failed over
+        LocalRedisCluster.start(nodeTimeout = Duration.ofSeconds(5)).also { started ->
             Runtime.getRuntime().addShutdownHook(Thread({ started.close() }, "prime-test-cluster-stop"))
         }
     }
