@@ -4,6 +4,8 @@ import redis.clients.jedis.DefaultJedisClientConfig
 import redis.clients.jedis.HostAndPort
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
+import redis.clients.jedis.args.ClientType
+import redis.clients.jedis.params.ClientKillParams
 import java.io.IOException
 import java.net.ServerSocket
 import java.nio.file.Files
@@ -54,6 +56,25 @@ internal class LocalRedisCluster private constructor(
             ?: throw IllegalStateException("$master has no replica:\n${clusterNodes().joinToString("\n")}")
         return byId(line.split(' ')[0])
     }
+
+    /**
+     * Cuts the replication link of [replica] (`CLIENT KILL TYPE replica` on [master]; the replica
+     * reconnects within about a second) and waits (at most 5 s) until [master] has written past
+     * what the replica got; returns by how many bytes, then.
+     */
+    fun cutReplicationLink(master: Node, replica: Node): Long {
+        master.jedis().use { it.clientKill(ClientKillParams().type(ClientType.REPLICA)) }
+        val got = replica.jedis().use { offset(it.info("replication"), "master_repl_offset") }
+        var behind = 0L
+        await("$master to write past the offset $got of its cut-off replica", Duration.ofSeconds(5)) {
+            behind = master.jedis().use { offset(it.info("replication"), "master_repl_offset") } - got
+            behind > 0
+        }
+        return behind
+    }
+
+    private fun offset(info: String, field: String): Long =
+        info.lines().first { it.startsWith("$field:") }.substringAfter(':').trim().toLong()
 
     /** Kills [node] with SIGKILL: it saves nothing more, its connections break. */
     fun kill(node: Node) = node.redis.kill()
