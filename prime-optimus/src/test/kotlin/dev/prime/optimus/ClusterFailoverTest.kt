@@ -18,7 +18,8 @@ import kotlin.concurrent.thread
 /**
  * A master of a real Redis Cluster (3 masters, 3 replicas, every node with an append-only file
  * synced on every write) is killed with SIGKILL while values stream through a topology on it, at
- * a moment its replica lacks some of its writes (the replication link was cut just before):
+ * a moment its replica lacks some of its writes (the replication link was cut just before) and
+ * values wait in the service's queue (its block is slower than the publisher):
  * the cluster promotes its replica on its own (automatic failover after `cluster-node-timeout`,
  * 1 s; no `CLUSTER FAILOVER`), the core finds the new master and goes on, and, with
  * [OptimusCore.Builder.replicaAcks] of 1, every value whose publish returned comes out of the
@@ -39,7 +40,13 @@ class ClusterFailoverTest {
                 .publishTimeout(Duration.ofSeconds(PATIENCE_S)).build().use { core ->
                     val numbers = EventBlock<Int>()
                     val source = core.source("numbers", numbers)
-                    val doubled = source.then(core.chain("double") { x: Int -> x * 2 })
+                    // a block slower than the publisher: values queue in Redis, in flight at the kill
+                    val doubled = source.then(
+                        core.chain("double") { x: Int ->
+                            Thread.sleep(SERVICE_MILLIS)
+                            x * 2
+                        },
+                    )
                     val reader = doubled.reader()
                     core.start()
 
@@ -88,7 +95,7 @@ class ClusterFailoverTest {
                     try {
                         assertTrue(beforeKill.await(PATIENCE_S, TimeUnit.SECONDS), "values flow before the kill")
                         // the worst moment: the replica lacks some of what the master acknowledged
-                        val lag = cluster.cutReplicationLink(master, replica)
+                        val lag = cluster.cutReplicationLink(master, replica, Duration.ofMillis(300))
                         killedAt.set(System.nanoTime())
                         cluster.kill(master)
                         cluster.awaitMaster(slot, replica, Duration.ofSeconds(PATIENCE_S))
@@ -140,5 +147,6 @@ class ClusterFailoverTest {
         const val BEFORE_KILL = 300
         const val AFTER_RECOVERY = 300
         const val MAX_VALUES = 1_000_000
+        const val SERVICE_MILLIS = 3L
     }
 }

@@ -58,19 +58,21 @@ internal class LocalRedisCluster private constructor(
     }
 
     /**
-     * Cuts the replication link of [replica] (`CLIENT KILL TYPE replica` on [master]; the replica
-     * reconnects within about a second) and waits (at most 5 s) until [master] has written past
-     * what the replica got; returns by how many bytes, then.
+     * Cuts the replication link of [replica] for good: it may not log in to [master] any more
+     * (a bogus `masterauth`: its handshake fails), and `CLIENT KILL TYPE replica` on [master]
+     * drops the link. Then lets [master] run ahead for [window] (the length of the fault, not a
+     * wait for anything) after it first wrote past what the replica got (at most 5 s); returns by
+     * how many bytes the replica is behind.
      */
-    fun cutReplicationLink(master: Node, replica: Node): Long {
+    fun cutReplicationLink(master: Node, replica: Node, window: Duration): Long {
+        replica.jedis().use { it.configSet("masterauth", "no-such-password") }
         master.jedis().use { it.clientKill(ClientKillParams().type(ClientType.REPLICA)) }
         val got = replica.jedis().use { offset(it.info("replication"), "master_repl_offset") }
-        var behind = 0L
         await("$master to write past the offset $got of its cut-off replica", Duration.ofSeconds(5)) {
-            behind = master.jedis().use { offset(it.info("replication"), "master_repl_offset") } - got
-            behind > 0
+            master.jedis().use { offset(it.info("replication"), "master_repl_offset") } > got
         }
-        return behind
+        Thread.sleep(window.toMillis())
+        return master.jedis().use { offset(it.info("replication"), "master_repl_offset") } - got
     }
 
     private fun offset(info: String, field: String): Long =
