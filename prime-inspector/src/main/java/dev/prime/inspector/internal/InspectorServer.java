@@ -298,6 +298,7 @@ public final class InspectorServer implements AutoCloseable {
     json.name("services").strings(List.copyOf(topology.services()));
     json.name("figures").value(figures.description());
     json.name("period").value(PERIOD_MILLIS);
+    json.name("nodeCount").value(topology.nodes().size()); // links too, as in the figures
     DiagramLayout.of(topology).write(json);
     return json.endObject().toString();
   }

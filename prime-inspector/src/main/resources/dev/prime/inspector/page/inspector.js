@@ -44,7 +44,7 @@
       const answer = await fetch('/api/topology', { cache: 'no-store' });
       if (!answer.ok) throw new Error(await answer.text());
       state.topology = await answer.json();
-      state.nodeCount = state.topology.nodes.length;
+      state.nodeCount = state.topology.nodeCount;
       drawDiagram();
       fillChoice();
     } catch (e) {
