@@ -24,7 +24,8 @@ final class MeteringPoints {
 
   MeteringPoints(PrimeCore core, String media, ServiceGauges gauges) {
     this.core = core;
-    this.metrics = new Metrics(core.name(), media, core.topologyRecorder(), gauges);
+    this.metrics =
+        new Metrics(core.name(), media, core.topologyRecorder(), gauges, core::isHostedHere);
   }
 
   Metrics metrics() {

@@ -2,11 +2,13 @@ package dev.prime;
 
 import dev.prime.spi.ServiceGauges;
 import dev.prime.spi.TopologyRecorder;
+import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Objects;
+import java.util.function.Predicate;
 
 /**
  * A core's metrics: for every metered node of its diagram, how many values went in and out, how
@@ -54,13 +56,20 @@ public final class Metrics {
   private final String media;
   private final TopologyRecorder model;
   private final ServiceGauges gauges; // the media's, or null
+  private final Predicate<String> hostedHere;
   private final Map<String, ServiceMeter> meters = new LinkedHashMap<>(); // guarded by itself
 
-  Metrics(String core, String media, TopologyRecorder model, ServiceGauges gauges) {
+  Metrics(
+      String core,
+      String media,
+      TopologyRecorder model,
+      ServiceGauges gauges,
+      Predicate<String> hostedHere) {
     this.core = core;
     this.media = media;
     this.model = model;
     this.gauges = gauges;
+    this.hostedHere = hostedHere;
   }
 
   /** {@return the core's name} */
@@ -76,7 +85,10 @@ public final class Metrics {
     return media;
   }
 
-  /** {@return the names of the metered nodes, in declaration order} */
+  /**
+   * {@return the names of the metered nodes, in declaration order} On a media that spreads
+   * services over processes (Optimus), the services this process hosts and every event source.
+   */
   public List<String> names() {
     List<String> names = new ArrayList<>();
     for (ServiceMeter meter : meters()) {
@@ -153,7 +165,10 @@ public final class Metrics {
     return meter;
   }
 
-  /** The meters of nodes still in the model: a failed declaration forgets its nodes. */
+  /**
+   * The meters of nodes still in the model (a failed declaration forgets its nodes) that this
+   * process runs.
+   */
   private List<ServiceMeter> meters() {
     List<ServiceMeter> all;
     synchronized (meters) {
@@ -164,21 +179,25 @@ public final class Metrics {
   }
 
   private boolean declared(String name) {
+    TopologyNode node;
     try {
-      model.node(name);
-      return true;
+      node = model.node(name);
     } catch (IllegalArgumentException forgotten) {
       return false;
     }
+    return node instanceof TopologyNode.EventSource || hostedHere.test(name);
   }
 
   private ServiceMetrics snapshot(ServiceMeter meter) {
     String name = meter.name();
     long depth = meter.queueDepth();
-    if (depth < 0 && gauges != null) {
-      depth = gauges.queueDepth(name);
+    long deadLetters = 0;
+    if (gauges != null && !meter.isSource()) { // a source has neither
+      if (depth < 0) {
+        depth = gauges.queueDepth(name);
+      }
+      deadLetters = gauges.deadLetters(name);
     }
-    long deadLetters = gauges == null ? 0 : gauges.deadLetters(name);
     return meter.snapshot(model.pseudoname(name), deadLetters, depth);
   }
 

@@ -47,6 +47,11 @@ final class ServiceMeter {
     return name;
   }
 
+  /** {@return whether this is an event source's meter} */
+  boolean isSource() {
+    return kind.equals("EventSource");
+  }
+
   /** A value went in. */
   void in() {
     in.increment();
