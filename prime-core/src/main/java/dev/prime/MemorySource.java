@@ -297,6 +297,16 @@ final class MemorySource<T> implements MediaSource<T> {
     }
   }
 
+  /**
+   * {@return how many values published to this source {@code input} (a reader of this source) has
+   * not taken yet: the depth of a service's input queue, for metrics; 0 for another reader}
+   */
+  long backlog(Reader<?> input) {
+    return input instanceof MemorySource<?>.MemoryReader reader
+        ? Math.max(0, count - reader.cursor)
+        : 0;
+  }
+
   /** Stops {@code reader} gating publishers. */
   private void ungate(MemoryReader reader) {
     lock.lock();

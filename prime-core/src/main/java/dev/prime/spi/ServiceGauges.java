@@ -1,0 +1,26 @@
+package dev.prime.spi;
+
+/**
+ * What only a media can tell about its services, for {@link dev.prime.Metrics}: how many values
+ * wait in a service's input and how many it set aside as dead letters. A media's {@link
+ * ChainCompiler} or {@link SourceCompiler} implements it if its services have such things; the
+ * core asks it when a metrics snapshot is taken (not per value), for every metered node by its
+ * topology name.
+ */
+public interface ServiceGauges {
+  /**
+   * Values waiting in a service's input now.
+   *
+   * @param service a metered node's name
+   * @return the count, or {@code -1} if the media has no queue for it (or cannot tell now)
+   */
+  long queueDepth(String service);
+
+  /**
+   * Values of a service the media set aside as dead letters.
+   *
+   * @param service a metered node's name
+   * @return the count, 0 if the media keeps none for it, {@code -1} if it cannot tell now
+   */
+  long deadLetters(String service);
+}
