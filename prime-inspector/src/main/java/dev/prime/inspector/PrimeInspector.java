@@ -5,6 +5,7 @@ import dev.prime.PrimeCore;
 import dev.prime.RecordingOptions;
 import dev.prime.inspector.internal.InspectorServer;
 import dev.prime.inspector.internal.LiveFigures;
+import dev.prime.inspector.internal.MetricsFigures;
 import dev.prime.inspector.internal.NoFigures;
 import dev.prime.inspector.internal.RecordingRates;
 import java.io.UncheckedIOException;
@@ -30,11 +31,17 @@ import java.util.Objects;
  * }
  * }</pre>
  *
- * <p><b>Figures.</b> With recording on ({@link CoreConfig.Builder#recording(RecordingOptions)}),
- * each recorded source and chain shows the values it recorded per second and in total. The values
- * of a recorded name can be plotted: numbers, booleans (0 or 1) and the numeric components of
- * records (nested records as {@code pose.x}). With recording off the page says so and plots
- * nothing.
+ * <p><b>Figures.</b> With metrics on ({@link CoreConfig.Builder#metrics(boolean)}), each metered
+ * node (every chain that runs logic, template, filter, flat-map, listener and event source; see
+ * {@link dev.prime.Metrics}) shows the values it took per second and in all, its mean processing
+ * time over the last half second, its failures and, where the media has them, dead letters,
+ * queue depth and missed values. With metrics off but recording on ({@link
+ * CoreConfig.Builder#recording(RecordingOptions)}), each recorded source and chain shows the values
+ * it recorded per second and in all. The page says which it shows.
+ *
+ * <p><b>Values.</b> With recording on, the values of a recorded name can be plotted: numbers,
+ * booleans (0 or 1) and the numeric components of records (nested records as {@code pose.x}).
+ * With recording off the page says so and plots nothing.
  *
  * <p><b>Addresses.</b> {@code GET /} the page; {@code /api/topology} the layout as JSON; {@code
  * /api/events} the figures as server-sent events, {@code /api/events/NAME} the same with the
@@ -81,8 +88,14 @@ public final class PrimeInspector implements AutoCloseable {
   public static PrimeInspector start(PrimeCore core, InetSocketAddress address) {
     Objects.requireNonNull(core, "core must not be null");
     Objects.requireNonNull(address, "address must not be null");
-    LiveFigures figures =
-        core.config().recording() != null ? new RecordingRates(core.recording()) : new NoFigures();
+    LiveFigures figures;
+    if (core.config().metrics()) {
+      figures = new MetricsFigures(core.metrics());
+    } else if (core.config().recording() != null) {
+      figures = new RecordingRates(core.recording());
+    } else {
+      figures = new NoFigures();
+    }
     return new PrimeInspector(new InspectorServer(core, figures, address));
   }
 

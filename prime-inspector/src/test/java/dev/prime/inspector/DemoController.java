@@ -10,6 +10,7 @@ import dev.prime.Source;
 import dev.prime.Token;
 import java.time.Duration;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicLong;
 
 /**
  * A controller shaped like the robot example's, with a few more kinds of node (a filter, a
@@ -35,6 +36,9 @@ final class DemoController implements AutoCloseable {
   private volatile boolean driving;
   private Thread driver;
 
+  /** The name of the demo's failing listener. */
+  static final String LISTENER = "listen(filter(encoders>odometry))";
+
   DemoController(PrimeCore core) {
     Source<Reading> readings = core.source("encoders", encoders);
     Source<Estimate> estimates =
@@ -45,7 +49,13 @@ final class DemoController implements AutoCloseable {
             .then(core.chain("pid", (Estimate e) -> new Command(e.x() * 3, e.y() * 3)));
     Chain<Estimate, Command> guarded = core.guard(e -> e.x() < 1e9, drive, e -> new Command(0, 0));
     control = core.syncCollector(estimates).then(guarded).toBlock();
-    estimates.filter(Estimate::moving).listen(e -> {});
+    // a listener that fails on every 20th value it gets, for the error figures
+    AtomicLong heard = new AtomicLong();
+    estimates.filter(Estimate::moving).listen(e -> {
+      if (heard.incrementAndGet() % 20 == 0) {
+        throw new IllegalStateException("the demo's listener fails on every 20th value");
+      }
+    });
     watcher = estimates.reader();
     core.timer("heartbeat", Duration.ofMillis(200));
     core.service("watchdog", new GenericService() {

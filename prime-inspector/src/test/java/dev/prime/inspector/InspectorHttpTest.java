@@ -11,10 +11,8 @@ import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.RecordingOptions;
 import dev.prime.liberty.LibertyCore;
-import java.io.BufferedReader;
 import java.io.IOException;
 import java.io.InputStream;
-import java.io.InputStreamReader;
 import java.io.OutputStream;
 import java.io.UncheckedIOException;
 import java.net.HttpURLConnection;
@@ -178,10 +176,17 @@ class InspectorHttpTest {
     }
   }
 
-  /** Reads one server-sent event stream over a plain socket (no client library threads). */
+  /**
+   * Reads one server-sent event stream over a plain socket (no client library, so no threads of
+   * its own): the status line and headers, then the body's lines, decoding the chunked transfer
+   * encoding the server streams with.
+   */
   private static final class RawStream implements AutoCloseable {
     private final Socket socket;
-    private final BufferedReader in;
+    private final InputStream in;
+    private boolean inBody;
+    private boolean ended;
+    private long chunkLeft;
 
     RawStream(URI uri, String path) throws IOException {
       socket = new Socket("127.0.0.1", uri.getPort());
@@ -190,12 +195,68 @@ class InspectorHttpTest {
       out.write(("GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n")
           .getBytes(StandardCharsets.US_ASCII));
       out.flush();
-      in = new BufferedReader(new InputStreamReader(socket.getInputStream(), StandardCharsets.UTF_8));
+      in = new java.io.BufferedInputStream(socket.getInputStream());
     }
 
-    /** The next line, or null at the end of the stream. */
+    /** The next line (a header line, then a line of the body), or null at the end. */
     String line() throws IOException {
-      return in.readLine();
+      java.io.ByteArrayOutputStream line = new java.io.ByteArrayOutputStream();
+      while (true) {
+        int b = inBody ? bodyByte() : in.read();
+        if (b < 0) {
+          return line.size() == 0 ? null : line.toString(StandardCharsets.UTF_8);
+        }
+        if (b == '\n') {
+          String text = line.toString(StandardCharsets.UTF_8);
+          if (text.endsWith("\r")) {
+            text = text.substring(0, text.length() - 1);
+          }
+          if (!inBody && text.isEmpty()) {
+            inBody = true; // the blank line after the headers
+          }
+          return text;
+        }
+        line.write(b);
+      }
+    }
+
+    private int bodyByte() throws IOException {
+      if (ended) {
+        return -1;
+      }
+      if (chunkLeft == 0) {
+        String size = rawLine();
+        if (size != null && size.isEmpty()) {
+          size = rawLine(); // the CRLF that ends the previous chunk
+        }
+        if (size == null) {
+          ended = true;
+          return -1;
+        }
+        chunkLeft = Long.parseLong(size.split(";")[0].trim(), 16);
+        if (chunkLeft == 0) {
+          ended = true;
+          return -1;
+        }
+      }
+      int b = in.read();
+      if (b < 0) {
+        ended = true;
+        return -1;
+      }
+      chunkLeft--;
+      return b;
+    }
+
+    private String rawLine() throws IOException {
+      StringBuilder line = new StringBuilder();
+      for (int b = in.read(); b >= 0; b = in.read()) {
+        if (b == '\n') {
+          return line.toString().strip();
+        }
+        line.append((char) b);
+      }
+      return line.length() == 0 ? null : line.toString();
     }
 
     /** Reads lines until one starts with {@code prefix}; fails after {@code limit} lines. */

@@ -100,6 +100,49 @@ class InspectorPageBrowserTest {
     }
   }
 
+  private static String attribute(String name, String attribute) {
+    return "(() => { const g = document.querySelector('#diagram g.node[data-name=\"" + name + "\"]');"
+        + " return g && g.hasAttribute('" + attribute + "') ? Number(g.getAttribute('" + attribute
+        + "')) : null; })()";
+  }
+
+  @Test
+  void withMetricsOnShowsProcessingTimesAndFailures() throws Exception {
+    CoreConfig config =
+        CoreConfig.builder().name("metered").metrics(true).recording(RecordingOptions.defaults()).build();
+    try (PrimeCore core = new LibertyCore(config);
+        DemoController demo = new DemoController(core)) {
+      core.start();
+      demo.drive(5);
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium = HeadlessChromium.open(inspector.uri(), 1400, 900)) {
+        chromium.await(attribute("odometry", "data-latencyms"), ms -> ms.isNumber() && ms.asDouble() > 0,
+            PATIENCE, "odometry's processing time should be shown");
+        chromium.await(rateOf("pid"), rate -> rate.isNumber() && rate.asDouble() > 10, PATIENCE,
+            "pid's rate should be shown above 10/s");
+        JsonNode errors =
+            chromium.await(attribute(DemoController.LISTENER, "data-errors"),
+                e -> e.isNumber() && e.asLong() > 0, PATIENCE,
+                "the failing listener's errors should be counted on the page");
+        assertTrue(errors.asLong() <= core.metrics().service(DemoController.LISTENER).failures(),
+            "the page shows no more failures than the metrics counted");
+        String shown =
+            chromium.evaluate(
+                "document.querySelector('#diagram g.node[data-name=\"pid\"] .figures').textContent").asText();
+        assertTrue(shown.matches("[0-9.]+/s · [0-9.e+-]+ ms · 0 err"), "pid's figures read: " + shown);
+        assertTrue(
+            chromium.evaluate("document.getElementById('figures-note').textContent").asText()
+                .startsWith("Figures from the core's metrics"));
+        assertTrue(
+            chromium.evaluate("document.querySelector('#diagram g.node[data-name=\"" + DemoController.LISTENER
+                + "\"]').classList.contains('failing')").asBoolean(),
+            "a failing node is marked");
+      } finally {
+        demo.stop();
+      }
+    }
+  }
+
   @Test
   void plotsTheNumericFieldsOfTheChosenName() throws Exception {
     try (PrimeCore core = new LibertyCore(recording());

@@ -159,14 +159,22 @@ public final class InspectorServer implements AutoCloseable {
       json.name(entry.getKey()).beginObject();
       json.name("rate").value(f.rate()).name("total").value(f.total());
       json.name("latencyMs").value(f.latencyMillis());
-      if (f.errors() >= 0) {
-        json.name("errors").value(f.errors());
-      } else {
-        json.name("errors").nullValue();
-      }
+      count(json, "errors", f.errors());
+      count(json, "deadLetters", f.deadLetters());
+      count(json, "queueDepth", f.queueDepth());
+      count(json, "missed", f.missed());
       json.endObject();
     }
     return json.endObject().endObject().toString();
+  }
+
+  private static void count(Json json, String name, long count) {
+    json.name(name);
+    if (count >= 0) {
+      json.value(count);
+    } else {
+      json.nullValue();
+    }
   }
 
   private void handle(HttpExchange exchange) throws IOException {

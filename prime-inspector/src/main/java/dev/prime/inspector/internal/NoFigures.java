@@ -11,7 +11,7 @@ public final class NoFigures implements LiveFigures {
 
   @Override
   public String description() {
-    return "No live figures: this core records nothing and has no metrics. Turn recording on"
-        + " (CoreConfig.builder().recording(RecordingOptions.defaults())) to see rates.";
+    return "No live figures: this core has neither metrics nor a recording. Turn metrics on"
+        + " (CoreConfig.builder().metrics(true)) to see rates, processing times and failures.";
   }
 }

@@ -32,7 +32,7 @@ public final class RecordingRates implements LiveFigures {
       long count = recording.recorded(name);
       Long before = lastCounts.put(name, count);
       double rate = before == null || seconds <= 0 ? 0 : (count - before) / seconds;
-      figures.put(name, new NodeFigures(rate, count, Double.NaN, -1));
+      figures.put(name, NodeFigures.counted(rate, count));
     }
     return figures;
   }
@@ -40,6 +40,6 @@ public final class RecordingRates implements LiveFigures {
   @Override
   public String description() {
     return "Rates counted from the recording (values recorded per second, per source and chain);"
-        + " latency and errors need the core's metrics.";
+        + " processing times and failures need the core's metrics (CoreConfig.builder().metrics(true)).";
   }
 }

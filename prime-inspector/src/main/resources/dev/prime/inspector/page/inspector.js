@@ -166,13 +166,25 @@
     for (const [name, g] of state.boxes) {
       const n = f.nodes[name];
       if (!n) continue;
-      const parts = [`${n.rate.toFixed(1)}/s`, `${n.total} in all`];
+      const parts = [`${n.rate.toFixed(1)}/s`];
       if (n.latencyMs !== null) parts.push(`${fmt(n.latencyMs)} ms`);
       if (n.errors !== null) parts.push(`${n.errors} err`);
+      if (n.latencyMs === null && n.errors === null) parts.push(`${n.total} in all`);
+      if (n.deadLetters > 0) parts.push(`${n.deadLetters} dead`);
+      if (n.queueDepth > 0) parts.push(`${n.queueDepth} queued`);
+      if (n.missed > 0) parts.push(`${n.missed} missed`);
       g.querySelector('.figures').textContent = parts.join(' · ');
       g.setAttribute('data-rate', String(n.rate));
       g.setAttribute('data-total', String(n.total));
-      if (n.errors !== null) g.setAttribute('data-errors', String(n.errors));
+      for (const key of ['latencyMs', 'errors', 'deadLetters', 'queueDepth', 'missed']) {
+        if (n[key] !== null) g.setAttribute('data-' + key.toLowerCase(), String(n[key]));
+      }
+      const title = g.querySelector('title');
+      title.textContent = title.textContent.split('\n')[0]
+        + `\n${n.total} values in all` + (n.errors !== null ? `, ${n.errors} failed` : '')
+        + (n.deadLetters !== null ? `, ${n.deadLetters} dead letters` : '')
+        + (n.queueDepth !== null && n.queueDepth >= 0 ? `, ${n.queueDepth} queued` : '')
+        + (n.missed !== null ? `, ${n.missed} missed` : '');
       g.classList.toggle('active', n.rate > 0);
       g.classList.toggle('failing', n.errors > 0);
     }
