@@ -42,7 +42,7 @@ import java.util.stream.Stream;
  * listed before the browser is killed, since they are re-parented after), waits for them, and
  * deletes the profile; it is safe after any failure.
  */
-final class HeadlessChromium implements AutoCloseable {
+public final class HeadlessChromium implements AutoCloseable {
   private static final Duration START_PATIENCE = Duration.ofSeconds(30);
   private static final Duration CALL_PATIENCE = Duration.ofSeconds(20);
   private static final ObjectMapper JSON = new ObjectMapper();
@@ -66,7 +66,7 @@ final class HeadlessChromium implements AutoCloseable {
    * The Chromium binary: the system property {@code prime.chromium}, or {@code chromium}, {@code
    * chromium-browser}, {@code google-chrome} on the PATH.
    */
-  static Optional<Path> binary() {
+  public static Optional<Path> binary() {
     String configured = System.getProperty("prime.chromium");
     if (configured != null && !configured.isBlank()) {
       return Optional.of(Path.of(configured)).filter(Files::isExecutable);
@@ -86,7 +86,7 @@ final class HeadlessChromium implements AutoCloseable {
   }
 
   /** Skips the calling test, with the reason, when there is no Chromium. */
-  static Path requireBinary() {
+  public static Path requireBinary() {
     Optional<Path> binary = binary();
     assumeTrue(
         binary.isPresent(),
@@ -99,7 +99,7 @@ final class HeadlessChromium implements AutoCloseable {
   /**
    * Starts Chromium showing {@code url}, with a window of the given size.
    */
-  static HeadlessChromium open(URI url, int width, int height) throws IOException, InterruptedException {
+  public static HeadlessChromium open(URI url, int width, int height) throws IOException, InterruptedException {
     Path binary = requireBinary();
     Path profile = Files.createTempDirectory("prime-inspector-chromium-");
     Path log = profile.resolveSibling(profile.getFileName() + ".log");
@@ -230,7 +230,7 @@ final class HeadlessChromium implements AutoCloseable {
   }
 
   /** Sends a DevTools command and returns its {@code result}; a protocol error fails the test. */
-  JsonNode call(String method, Map<String, Object> params) throws InterruptedException {
+  public JsonNode call(String method, Map<String, Object> params) throws InterruptedException {
     int id = ids.incrementAndGet();
     CompletableFuture<JsonNode> answer = new CompletableFuture<>();
     calls.put(id, answer);
@@ -251,7 +251,7 @@ final class HeadlessChromium implements AutoCloseable {
   }
 
   /** Runs {@code expression} in the page (awaiting a promise) and returns its value as JSON. */
-  JsonNode evaluate(String expression) throws InterruptedException {
+  public JsonNode evaluate(String expression) throws InterruptedException {
     JsonNode result =
         call("Runtime.evaluate",
             Map.of("expression", expression, "returnByValue", true, "awaitPromise", true));
@@ -265,7 +265,7 @@ final class HeadlessChromium implements AutoCloseable {
    * Evaluates {@code expression} until its value passes {@code test}, at most {@code patience};
    * returns that value, or fails with the last value seen.
    */
-  JsonNode await(String expression, Predicate<JsonNode> test, Duration patience, String what)
+  public JsonNode await(String expression, Predicate<JsonNode> test, Duration patience, String what)
       throws InterruptedException {
     long deadline = System.nanoTime() + patience.toNanos();
     while (true) {
@@ -286,14 +286,18 @@ final class HeadlessChromium implements AutoCloseable {
     }
   }
 
-  /** Writes a PNG of the page as it shows now. */
-  void screenshot(Path file) throws InterruptedException, IOException {
-    JsonNode shot = call("Page.captureScreenshot", Map.of("format", "png"));
+  /** Writes a PNG of the whole page (beyond the window, if it is longer) as it shows now. */
+  public void screenshot(Path file) throws InterruptedException, IOException {
+    JsonNode size = evaluate("[document.documentElement.scrollWidth, document.documentElement.scrollHeight]");
+    Map<String, Object> clip =
+        Map.of("x", 0, "y", 0, "width", size.get(0).asInt(), "height", size.get(1).asInt(), "scale", 1);
+    JsonNode shot =
+        call("Page.captureScreenshot", Map.of("format", "png", "captureBeyondViewport", true, "clip", clip));
     Files.write(file, Base64.getDecoder().decode(shot.get("data").asText()));
   }
 
   /** {@return the processes Chromium runs now: the browser and its descendants} */
-  List<ProcessHandle> processes() {
+  public List<ProcessHandle> processes() {
     List<ProcessHandle> all = new ArrayList<>();
     all.add(process.toHandle());
     process.descendants().forEach(all::add);

@@ -129,7 +129,7 @@ class InspectorPageBrowserTest {
         String shown =
             chromium.evaluate(
                 "document.querySelector('#diagram g.node[data-name=\"pid\"] .figures').textContent").asText();
-        assertTrue(shown.matches("[0-9.]+/s · [0-9.e+-]+ ms · 0 err"), "pid's figures read: " + shown);
+        assertTrue(shown.matches("[0-9.]+/s · [0-9.e+-]+ (ms|µs|ns) · 0 err"), "pid's figures read: " + shown);
         assertTrue(
             chromium.evaluate("document.getElementById('figures-note').textContent").asText()
                 .startsWith("Figures from the core's metrics"));

@@ -7,6 +7,7 @@
   const WINDOW_MS = 60000; // the plot shows the last minute of recorded time
   const MAX_POINTS = 3000; // per field
   const MAX_FIELDS = 6; // drawn; the rest are named in the legend
+  const COUNTER = /(^|\.)(step|seq|sequence|count|counter|tick)$/i; // start hidden
   const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#17becf'];
   const SOURCES = ['EventSource', 'ForeignSource', 'SourceLink', 'Filter', 'FlatMap', 'Combinator', 'Timer'];
   const TEMPLATES = ['IfElse', 'ForEach', 'Union', 'Fork', 'Guard', 'IsolatedUser', 'SyncCollector',
@@ -17,6 +18,7 @@
     boxes: new Map(), // name -> <g>
     plotted: null,
     series: new Map(), // field -> [[t, v], ...]
+    hidden: new Set(), // fields not drawn (click a legend item to switch)
     latest: 0,
     events: null,
     nodeCount: -1,
@@ -154,6 +156,12 @@
     return a >= 100 ? x.toFixed(0) : a >= 10 ? x.toFixed(1) : x.toFixed(2);
   }
 
+  function duration(ms) {
+    if (ms >= 1) return `${fmt(ms)} ms`;
+    if (ms >= 0.001) return `${fmt(ms * 1000)} µs`;
+    return `${fmt(ms * 1e6)} ns`;
+  }
+
   function onFigures(f) {
     if (f.error) problem(f.error); else problem('');
     const running = f.closed ? 'closed' : f.started ? 'running' : 'not started';
@@ -167,7 +175,7 @@
       const n = f.nodes[name];
       if (!n) continue;
       const parts = [`${n.rate.toFixed(1)}/s`];
-      if (n.latencyMs !== null) parts.push(`${fmt(n.latencyMs)} ms`);
+      if (n.latencyMs !== null) parts.push(duration(n.latencyMs));
       if (n.errors !== null) parts.push(`${n.errors} err`);
       if (n.latencyMs === null && n.errors === null) parts.push(`${n.total} in all`);
       if (n.deadLetters > 0) parts.push(`${n.deadLetters} dead`);
@@ -213,6 +221,7 @@
     if (name === state.plotted && state.events) return;
     state.plotted = name;
     state.series = new Map();
+    state.hidden = new Set();
     state.latest = 0;
     for (const [n, g] of state.boxes) g.classList.toggle('plotted', n === name);
     history.replaceState(null, '', '#plot=' + encodeURIComponent(name));
@@ -235,7 +244,10 @@
       state.latest = Math.max(state.latest, p.t);
       for (const [field, value] of Object.entries(p.fields)) {
         let s = state.series.get(field);
-        if (!s) state.series.set(field, (s = []));
+        if (!s) {
+          state.series.set(field, (s = []));
+          if (COUNTER.test(field)) state.hidden.add(field); // a counter would flatten the rest
+        }
         s.push([p.t, value]);
         if (s.length > MAX_POINTS) s.splice(0, s.length - MAX_POINTS);
       }
@@ -256,33 +268,46 @@
     const legend = $('legend');
     legend.replaceChildren();
     const left = 64, right = 12, top = 12, bottom = 26;
-    const x0 = state.latest - WINDOW_MS;
     const fields = [...state.series.keys()];
+    let first = state.latest;
+    for (const f of fields) { const s0 = state.series.get(f); if (s0.length) first = Math.min(first, s0[0][0]); }
+    const span = Math.max(5000, Math.min(WINDOW_MS, state.latest - first)); // the last minute at most
+    const x0 = state.latest - span;
     const drawn = fields.slice(0, MAX_FIELDS);
     let lo = Infinity, hi = -Infinity;
-    for (const f of drawn) for (const [t, v] of state.series.get(f)) if (t >= x0) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+    const shown = drawn.filter((f) => !state.hidden.has(f));
+    for (const f of shown) for (const [t, v] of state.series.get(f)) if (t >= x0) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
     if (!Number.isFinite(lo)) { lo = 0; hi = 1; }
     if (hi === lo) { hi += 0.5; lo -= 0.5; }
     const pad = (hi - lo) * 0.06;
     lo -= pad; hi += pad;
-    const X = (t) => left + ((t - x0) / WINDOW_MS) * (width - left - right);
+    const X = (t) => left + ((t - x0) / span) * (width - left - right);
     const Y = (v) => top + (1 - (v - lo) / (hi - lo)) * (height - top - bottom);
     for (let i = 0; i <= 4; i++) {
       const v = lo + ((hi - lo) * i) / 4;
       svg('line', { class: 'grid', x1: left, x2: width - right, y1: Y(v), y2: Y(v) }, root);
       svg('text', { class: 'tick', x: left - 6, y: Y(v) + 4, 'text-anchor': 'end' }, root).textContent = fmt(v);
     }
-    for (let s = 0; s <= 60; s += 15) {
-      const t = x0 + s * 1000;
-      svg('text', { class: 'tick', x: X(t), y: height - 8, 'text-anchor': 'middle' }, root).textContent = s === 60 ? 'latest' : `-${60 - s} s`;
+    for (let i = 0; i <= 4; i++) {
+      const t = x0 + (span * i) / 4;
+      const anchor = i === 0 ? 'start' : i === 4 ? 'end' : 'middle';
+      svg('text', { class: 'tick', x: X(t), y: height - 8, 'text-anchor': anchor }, root).textContent =
+        i === 4 ? 'latest' : `-${((span * (4 - i)) / 4 / 1000).toFixed(1)} s`;
     }
     svg('line', { class: 'axis', x1: left, x2: left, y1: top, y2: height - bottom }, root);
     svg('line', { class: 'axis', x1: left, x2: width - right, y1: height - bottom, y2: height - bottom }, root);
     drawn.forEach((f, i) => {
-      const pts = state.series.get(f).filter(([t]) => t >= x0).map(([t, v]) => `${X(t).toFixed(1)},${Y(v).toFixed(1)}`);
-      svg('polyline', { class: 'series', points: pts.join(' '), stroke: COLORS[i], 'data-field': f, 'data-points': pts.length }, root);
+      if (!state.hidden.has(f)) {
+        const pts = state.series.get(f).filter(([t]) => t >= x0).map(([t, v]) => `${X(t).toFixed(1)},${Y(v).toFixed(1)}`);
+        svg('polyline', { class: 'series', points: pts.join(' '), stroke: COLORS[i], 'data-field': f, 'data-points': pts.length }, root);
+      }
       const item = document.createElement('span');
-      item.className = 'item';
+      item.className = state.hidden.has(f) ? 'item off' : 'item';
+      item.title = state.hidden.has(f) ? 'click to draw it' : 'click to hide it';
+      item.addEventListener('click', () => {
+        if (state.hidden.has(f)) state.hidden.delete(f); else state.hidden.add(f);
+        drawPlot();
+      });
       item.setAttribute('data-field', f);
       const sw = document.createElement('span');
       sw.className = 'swatch';
