@@ -6,6 +6,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import com.fasterxml.jackson.databind.JsonNode;
 import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.RecordingOptions;
 import dev.prime.liberty.LibertyCore;
@@ -72,6 +73,13 @@ class InspectorPageBrowserTest {
               chromium.await(DRAWN, names -> names.size() == expected.size(), PATIENCE,
                   "the diagram should draw " + expected.size() + " nodes " + expected);
           assertEquals(expected, names(drawn));
+
+          // a declaration made while the page is open is drawn too
+          core.source("late", new EventBlock<String>()).then(core.chain("shout", (String s) -> s + "!"));
+          JsonNode redrawn =
+              chromium.await(DRAWN, names -> names.size() == expected.size() + 3, PATIENCE,
+                  "the diagram should be laid out again with the late source, chain and output");
+          assertTrue(names(redrawn).containsAll(Set.of("late", "shout", "late>shout")), redrawn.toString());
 
           demo.drive(5);
           JsonNode moving =
