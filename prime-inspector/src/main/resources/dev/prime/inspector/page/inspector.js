@@ -144,7 +144,9 @@
       if (recorded.has(n.name)) g.addEventListener('click', () => choose(n.name));
       state.boxes.set(n.name, g);
     }
-    $('core').textContent = `core '${t.core}' on ${t.media}`;
+    const elsewhere = t.nodes.filter((n) => n.elsewhere).length;
+    $('core').textContent = `core '${t.core}' on ${t.media}`
+      + (elsewhere ? ` · ${elsewhere} of ${t.services.length} services hosted by other processes (dashed)` : '');
     $('figures-note').textContent = t.figures;
     $('recording-off').hidden = t.recording;
   }
