@@ -95,10 +95,20 @@ final class ServiceMeter {
     this.missed = count;
   }
 
-  /** {@return the depth of the core's queue for this node, -1 if it has none} */
+  /**
+   * {@return the values in the core's queue for this node that it has not finished (waiting, plus
+   * those it is processing), -1 if it has no such queue}
+   */
   long queueDepth() {
     LongSupplier depth = queue;
-    return depth == null ? -1 : depth.getAsLong();
+    if (depth == null) {
+      return -1;
+    }
+    long timed = 0;
+    for (int i = 0; i < buckets.length(); i++) {
+      timed += buckets.get(i);
+    }
+    return depth.getAsLong() + Math.max(0, in.sum() - timed);
   }
 
   synchronized void addListener(ProcessingListener listener) {

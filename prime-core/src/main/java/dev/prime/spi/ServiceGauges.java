@@ -9,7 +9,7 @@ package dev.prime.spi;
  */
 public interface ServiceGauges {
   /**
-   * Values waiting in a service's input now.
+   * Values in a service's input now that it has not finished: waiting, and taken but not done.
    *
    * @param service a metered node's name
    * @return the count, or {@code -1} if the media has no queue for it (or cannot tell now)
