@@ -90,7 +90,7 @@ final class ServiceMeter {
     this.queue = depth;
   }
 
-  /** Where the node's input can miss values: how many it missed. */
+  /** Where the core counts what the node's readers miss: how many they missed. */
   void missed(LongSupplier count) {
     this.missed = count;
   }
@@ -131,12 +131,17 @@ final class ServiceMeter {
     }
   }
 
-  ServiceMetrics snapshot(String pseudoname, long deadLetters, long queueDepth) {
+  /** {@return what the node's input missed, where the core counts it; else 0} */
+  long missed() {
+    LongSupplier count = missed;
+    return count == null ? 0 : count.getAsLong();
+  }
+
+  ServiceMetrics snapshot(String pseudoname, long deadLetters, long queueDepth, long missed) {
     long[] counts = new long[buckets.length()];
     for (int i = 0; i < counts.length; i++) {
       counts[i] = buckets.get(i);
     }
-    LongSupplier missedCount = missed;
     return new ServiceMetrics(
         name,
         pseudoname,
@@ -146,7 +151,7 @@ final class ServiceMeter {
         failures.sum(),
         deadLetters,
         queueDepth,
-        missedCount == null ? 0 : missedCount.getAsLong(),
+        missed,
         new ProcessingTimes(counts, totalNanos.sum(), maxNanos.get()));
   }
 }

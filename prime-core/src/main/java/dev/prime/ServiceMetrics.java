@@ -29,8 +29,10 @@ import java.util.Objects;
  *     -1} where the media has no queue for the node (a chain on Liberty and Radiant runs in its
  *     caller's thread or inside the service it is linked into; a source has no input) or cannot
  *     read it now (Optimus with Redis unreachable)
- * @param missed values the node's input missed (see {@link Reader#missed()}); 0 where its input
- *     is a queue, which never misses
+ * @param missed for an event source, the values its plain readers missed (see {@link
+ *     Reader#missed()}), as this process counted them: on Liberty and Radiant when a lagging
+ *     reader next reads, on Optimus when a publish of this process trims a reader's list; 0 for
+ *     the other nodes, whose inputs are queues, which never miss
  * @param processing how long the node took per value ({@code count} equals {@code valuesIn} once
  *     idle); a source's is how long its media took to accept each publish
  */

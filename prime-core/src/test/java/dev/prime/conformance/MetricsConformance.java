@@ -168,6 +168,24 @@ public interface MetricsConformance extends ConformanceBase {
   }
 
   @Test
+  default void anEventSourceCountsWhatItsReadersMissed() throws Exception {
+    try (PrimeCore core =
+        newCore(CoreConfig.builder().metrics(true).sourceRetention(4).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> late = core.source("numbers", events).reader();
+      core.start();
+      for (int i = 1; i <= 10; i++) {
+        events.publish(i);
+      }
+      assertEquals(7, takeOrFail(late), "the oldest retained value");
+      assertEquals(6, late.missed());
+      ServiceMetrics numbers = core.metrics().service("numbers");
+      assertEquals(6, numbers.missed(), numbers.toString());
+      assertEquals(10, numbers.valuesOut(), numbers.toString());
+    }
+  }
+
+  @Test
   default void theHistogramTimesEveryValue() throws Exception {
     long sleepMillis = 5;
     try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {

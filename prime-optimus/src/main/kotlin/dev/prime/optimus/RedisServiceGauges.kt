@@ -27,6 +27,9 @@ internal class RedisServiceGauges(private val core: OptimusCore) : ServiceGauges
         kept + trimmed
     }
 
+    /** Counted in this process, by its publishes ([ReaderMisses]): no Redis round trip. */
+    override fun missed(source: String): Long = core.readerMisses.total(source)
+
     @Synchronized
     private fun read(op: (redis.clients.jedis.Jedis) -> Long): Long {
         if (core.isClosed) return -1
