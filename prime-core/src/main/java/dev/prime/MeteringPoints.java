@@ -89,8 +89,14 @@ final class MeteringPoints {
               });
     }
 
-    /** Subscribes the subscriber that counts what the media accepted, after the media's. */
-    void afterMedia() {
+    /**
+     * Subscribes the subscriber that counts what the media accepted, after the media's; an
+     * in-memory source's readers' misses are counted by the source.
+     */
+    void afterMedia(Source<?> source) {
+      if (source instanceof MemorySource<?> memory) {
+        meter.missed(memory::missedByReaders);
+      }
       events.subscribe(
           value -> {
             if (core.isClosed()) {

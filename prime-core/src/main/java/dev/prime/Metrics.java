@@ -36,9 +36,10 @@ import java.util.function.Predicate;
  * </ul>
  *
  * Generic services, combinators and timers are not metered. Where a media has them, {@link
- * ServiceMetrics#deadLetters()} (Optimus) and {@link ServiceMetrics#queueDepth()} (a filter,
- * flat-map or listener's input on every media, each Optimus service's input list) are read from
- * the media when a snapshot is taken.
+ * ServiceMetrics#deadLetters()} (Optimus), {@link ServiceMetrics#queueDepth()} (a filter's,
+ * flat-map's or listener's input on every media, each Optimus service's lists) and {@link
+ * ServiceMetrics#missed()} (what an event source's plain readers missed) are read when a snapshot
+ * is taken.
  *
  * <p>Cost and threads. When metrics are off nothing is compiled into any chain, service or
  * source. When on, each value a metered node processes costs two {@link System#nanoTime()} reads
@@ -192,13 +193,16 @@ public final class Metrics {
     String name = meter.name();
     long depth = meter.queueDepth();
     long deadLetters = 0;
-    if (gauges != null && !meter.isSource()) { // a source has neither
+    long missed = meter.missed();
+    if (gauges != null && meter.isSource()) { // a source has neither queue nor dead letters
+      missed += gauges.missed(name);
+    } else if (gauges != null) {
       if (depth < 0) {
         depth = gauges.queueDepth(name);
       }
       deadLetters = gauges.deadLetters(name);
     }
-    return meter.snapshot(model.pseudoname(name), deadLetters, depth);
+    return meter.snapshot(model.pseudoname(name), deadLetters, depth, missed);
   }
 
   @Override

@@ -108,7 +108,7 @@ final class ModelCompiler<F> {
         point.afterMedia();
       }
       if (metered != null) {
-        metered.afterMedia();
+        metered.afterMedia(source);
       }
       return source;
     } catch (RuntimeException | Error failed) {

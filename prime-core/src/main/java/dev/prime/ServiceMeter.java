@@ -90,15 +90,25 @@ final class ServiceMeter {
     this.queue = depth;
   }
 
-  /** Where the node's input can miss values: how many it missed. */
+  /** Where the core counts what the node's readers miss: how many they missed. */
   void missed(LongSupplier count) {
     this.missed = count;
   }
 
-  /** {@return the depth of the core's queue for this node, -1 if it has none} */
+  /**
+   * {@return the values in the core's queue for this node that it has not finished (waiting, plus
+   * those it is processing), -1 if it has no such queue}
+   */
   long queueDepth() {
     LongSupplier depth = queue;
-    return depth == null ? -1 : depth.getAsLong();
+    if (depth == null) {
+      return -1;
+    }
+    long timed = 0;
+    for (int i = 0; i < buckets.length(); i++) {
+      timed += buckets.get(i);
+    }
+    return depth.getAsLong() + Math.max(0, in.sum() - timed);
   }
 
   synchronized void addListener(ProcessingListener listener) {
@@ -121,12 +131,17 @@ final class ServiceMeter {
     }
   }
 
-  ServiceMetrics snapshot(String pseudoname, long deadLetters, long queueDepth) {
+  /** {@return what the node's input missed, where the core counts it; else 0} */
+  long missed() {
+    LongSupplier count = missed;
+    return count == null ? 0 : count.getAsLong();
+  }
+
+  ServiceMetrics snapshot(String pseudoname, long deadLetters, long queueDepth, long missed) {
     long[] counts = new long[buckets.length()];
     for (int i = 0; i < counts.length; i++) {
       counts[i] = buckets.get(i);
     }
-    LongSupplier missedCount = missed;
     return new ServiceMetrics(
         name,
         pseudoname,
@@ -136,7 +151,7 @@ final class ServiceMeter {
         failures.sum(),
         deadLetters,
         queueDepth,
-        missedCount == null ? 0 : missedCount.getAsLong(),
+        missed,
         new ProcessingTimes(counts, totalNanos.sum(), maxNanos.get()));
   }
 }

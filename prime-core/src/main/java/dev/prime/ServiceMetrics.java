@@ -24,11 +24,15 @@ import java.util.Objects;
  * @param deadLetters values the media set aside as dead letters (Optimus: the service's dead-letter
  *     list in Redis, counted for every process since the topology's Redis data was created,
  *     trimmed ones included); always 0 on media without dead letters (Liberty, Radiant)
- * @param queueDepth values waiting in the node's input queue now, or {@code -1} where the media
- *     has no queue for it (a chain on Liberty and Radiant runs in its caller's thread; sources
- *     have no input queue)
- * @param missed values the node's input missed (see {@link Reader#missed()}); 0 where its input
- *     is a queue, which never misses
+ * @param queueDepth values in the node's input queue that it has not finished now: those waiting
+ *     and those it is processing (on Optimus, until the step that stores their results); {@code
+ *     -1} where the media has no queue for the node (a chain on Liberty and Radiant runs in its
+ *     caller's thread or inside the service it is linked into; a source has no input) or cannot
+ *     read it now (Optimus with Redis unreachable)
+ * @param missed for an event source, the values its plain readers missed (see {@link
+ *     Reader#missed()}), as this process counted them: on Liberty and Radiant when a lagging
+ *     reader next reads, on Optimus when a publish of this process trims a reader's list; 0 for
+ *     the other nodes, whose inputs are queues, which never miss
  * @param processing how long the node took per value ({@code count} equals {@code valuesIn} once
  *     idle); a source's is how long its media took to accept each publish
  */

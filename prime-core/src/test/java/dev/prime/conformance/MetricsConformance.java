@@ -20,6 +20,7 @@ import java.util.ArrayList;
 import java.util.Arrays;
 import java.util.List;
 import java.util.Collections;
+import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicLong;
 import org.junit.jupiter.api.Test;
@@ -128,6 +129,59 @@ public interface MetricsConformance extends ConformanceBase {
       assertEquals(failedServiceValuesAreDeadLettered() ? n / 2 : 0, picky.deadLetters());
       assertCounts(metrics.service("called"), "BlockChain", 3, 1, 2);
       assertEquals(n / 2, handled.size(), "the error handler saw the service's failures");
+    }
+  }
+
+  @Test
+  default void queueDepthCountsWhatWaitsAndWhatIsInProgress() throws Exception {
+    CountDownLatch firstInside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> passed =
+          core.source("numbers", events)
+              .filter(
+                  x -> {
+                    firstInside.countDown();
+                    try {
+                      return release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                      return false;
+                    }
+                  })
+              .reader();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      ServiceMetrics stuck = core.metrics().service("filter(numbers)");
+      assertEquals(4, stuck.queueDepth(), "3 waiting and 1 in progress: " + stuck);
+      assertEquals(1, stuck.valuesIn(), stuck.toString());
+      release.countDown();
+      assertEquals(List.of(1, 2, 3, 4), takeOrFail(passed, 4));
+      ServiceMetrics done = core.metrics().service("filter(numbers)");
+      assertEquals(0, done.queueDepth(), done.toString());
+      assertEquals(4, done.valuesOut(), done.toString());
+    }
+  }
+
+  @Test
+  default void anEventSourceCountsWhatItsReadersMissed() throws Exception {
+    try (PrimeCore core =
+        newCore(CoreConfig.builder().metrics(true).sourceRetention(4).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> late = core.source("numbers", events).reader();
+      core.start();
+      for (int i = 1; i <= 10; i++) {
+        events.publish(i);
+      }
+      assertEquals(7, takeOrFail(late), "the oldest retained value");
+      assertEquals(6, late.missed());
+      ServiceMetrics numbers = core.metrics().service("numbers");
+      assertEquals(6, numbers.missed(), numbers.toString());
+      assertEquals(10, numbers.valuesOut(), numbers.toString());
     }
   }
 

@@ -23,8 +23,15 @@ internal class Stages(val specs: List<StageSpec>)
  * bound, and start, when the chain is used ([toBlock], or a link to a source). Its services' queue
  * depths and dead letters are read from Redis for the core's metrics ([RedisServiceGauges]).
  */
-internal class OptimusChainCompiler(private val core: OptimusCore) :
-    ChainCompiler<Stages>, ServiceGauges by RedisServiceGauges(core) {
+internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompiler<Stages>, ServiceGauges {
+    private val gauges = RedisServiceGauges(core)
+
+    override fun queueDepth(service: String): Long = gauges.queueDepth(service)
+
+    override fun deadLetters(service: String): Long = gauges.deadLetters(service)
+
+    override fun missed(source: String): Long = gauges.missed(source)
+
     override fun form(): Class<Stages> = Stages::class.java
 
     override fun block(chain: String, block: Block<*, *>): Stages {
