@@ -5,7 +5,10 @@ import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import com.fasterxml.jackson.databind.JsonNode;
+import dev.prime.CoreConfig;
+import dev.prime.PrimeCore;
 import dev.prime.inspector.HeadlessChromium;
+import dev.prime.inspector.PrimeInspector;
 import java.io.ByteArrayOutputStream;
 import java.io.PrintStream;
 import java.net.InetAddress;
@@ -90,6 +93,33 @@ class WatchedRobotTest {
           chromium.screenshot(Path.of(screenshot));
           assertTrue(Files.size(Path.of(screenshot)) > 10_000);
         }
+      }
+    }
+  }
+
+  @Test
+  void onOptimusTheServicesAnotherProcessHostsAreDrawnDashed() throws Exception {
+    HeadlessChromium.requireBinary();
+    List<String> hostedHere = List.of("odometry", "collect(encoders>odometry)");
+    try (PrimeCore core =
+        Media.optimus(CoreConfig.builder().name("split").metrics(true).build(), null, hostedHere)) {
+      RobotController.wire(
+          core, new WheelEncoders(RobotSpec.SMALL_INDOOR), RobotSpec.SMALL_INDOOR, new Goal(2, 1), Mission.DT);
+      core.start();
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium = HeadlessChromium.open(inspector.uri(), 1400, 700)) {
+        JsonNode dashed =
+            chromium.await(
+                "[...document.querySelectorAll('#diagram g.node.elsewhere')].map(g => g.dataset.name)",
+                names -> names.size() == 3, PATIENCE,
+                "the three services another process hosts should be drawn dashed");
+        Set<String> elsewhere = new HashSet<>();
+        dashed.forEach(n -> elsewhere.add(n.asText()));
+        assertEquals(Set.of("planner", "pid", "guard(planner>pid)"), elsewhere);
+        assertEquals(core.topology().hostedElsewhere(), elsewhere);
+        String header = chromium.evaluate("document.getElementById('core').textContent").asText();
+        assertTrue(header.contains("core 'split' on OptimusCore"), header);
+        assertTrue(header.contains("3 of 5 services hosted by other processes"), header);
       }
     }
   }
