@@ -16,7 +16,7 @@ import java.time.Duration;
 import java.util.List;
 import java.util.Set;
 import java.util.TreeSet;
-import org.junit.jupiter.api.BeforeAll;
+import org.junit.jupiter.api.BeforeEach;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -26,8 +26,8 @@ import org.junit.jupiter.api.Test;
 class InspectorPageBrowserTest {
   private static final Duration PATIENCE = Duration.ofSeconds(20);
 
-  @BeforeAll
-  static void needsChromium() {
+  @BeforeEach
+  void needsChromium() {
     HeadlessChromium.requireBinary();
   }
 
