@@ -308,6 +308,43 @@ class InspectorHttpTest {
     }
   }
 
+  @Test
+  void streamsBeyondTheLimitAreRefusedAndTheLimitFreesUpOnClose() throws Exception {
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()));
+        PrimeInspector inspector = PrimeInspector.start(core)) {
+      List<RawStream> streams = new ArrayList<>();
+      try {
+        for (int i = 0; i < 32; i++) {
+          RawStream stream = new RawStream(inspector.uri(), "/api/events");
+          streams.add(stream);
+          assertEquals("HTTP/1.1 200 OK", stream.line(), "stream " + (i + 1));
+        }
+        Answer refused = get(inspector.uri(), "/api/events");
+        assertEquals(503, refused.status());
+        assertTrue(refused.body().contains("32 event streams open already"), refused.body());
+        assertEquals(200, get(inspector.uri(), "/api/topology").status(), "plain requests still served");
+
+        streams.remove(0).close(); // the server notices at its next write, within a period or two
+        long deadline = System.nanoTime() + 10_000_000_000L;
+        while (true) {
+          RawStream again = new RawStream(inspector.uri(), "/api/events");
+          String status = again.line();
+          if ("HTTP/1.1 200 OK".equals(status)) {
+            streams.add(again);
+            break;
+          }
+          again.close();
+          assertTrue(System.nanoTime() < deadline, "a closed stream's place was not freed: " + status);
+          Thread.sleep(100); // polling the server, bounded by the deadline
+        }
+      } finally {
+        for (RawStream stream : streams) {
+          stream.close();
+        }
+      }
+    }
+  }
+
   private static Set<String> inspectorThreads() {
     return Thread.getAllStackTraces().keySet().stream()
         .filter(Thread::isAlive)
