@@ -231,7 +231,11 @@ final class ModelCompiler<F> {
     // this core that is not in this media's form: taken through its toBlock()
     NodeLogic logic = model.logic(node);
     Chain<?, ?> other = logic instanceof NodeLogic.OtherChain foreign ? foreign.chain() : chain;
-    Block<?, ?> block = metered(model.node(node), other.toBlock());
+    Block<?, ?> block = other.toBlock();
+    TopologyNode partNode = model.node(node);
+    if (partNode instanceof TopologyNode.ForeignChain) { // this core's own chains are metered
+      block = metered(partNode, block);
+    }
     return new Part<>(node, media.foreign(node, block), null, block);
   }
 
