@@ -24,4 +24,7 @@ class OptimusClusterConformanceTest : MediaConformance {
     /** Cores of one name on one cluster share a topology; each runs only the services it hosts. */
     override fun newCoreHosting(config: CoreConfig, services: Set<String>): PrimeCore =
         OptimusCore.builder().config(config).redis(TestCluster.url).hosts(services).build()
+
+    /** A value on which a service's block threw is dead-lettered. */
+    override fun failedServiceValuesAreDeadLettered(): Boolean = true
 }
