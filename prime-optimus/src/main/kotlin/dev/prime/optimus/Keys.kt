@@ -1,5 +1,6 @@
 package dev.prime.optimus
 
+import redis.clients.jedis.util.JedisClusterCRC16
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
@@ -7,10 +8,17 @@ import java.nio.charset.StandardCharsets.UTF_8
  * so all keys of a topology live in one hash slot: the atomic steps (a script that stores a
  * result, publishes it and acknowledges the input) then also run on Redis Cluster. Names are
  * derived only from service and source names, so every process that declares the same topology
- * computes the same keys.
+ * computes the same keys. On a Redis Cluster the topology therefore lives on the one master that
+ * holds its slot ([clusterSlot]); many topologies (one per core name) spread over the masters.
  */
 internal class Keys(topology: String) {
     private val prefix = "prime:{$topology}:"
+
+    /**
+     * The Redis Cluster hash slot of every key of this topology: the slot of its hash tag, the
+     * core name (which holds no brace: letters, digits, `.`, `_`, `-`), so the whole name is the tag.
+     */
+    fun clusterSlot(): Int = JedisClusterCRC16.getSlot(prefix)
 
     /** The list a service takes its input from. */
     fun serviceInput(service: String): ByteArray = key("svc:$service:in")

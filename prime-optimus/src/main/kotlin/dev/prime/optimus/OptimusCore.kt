@@ -70,6 +70,13 @@ import java.util.concurrent.atomic.AtomicInteger
  * name is the Redis namespace) and an agreeing codec; each one is told which services it hosts
  * ([Builder.hosts]); the others are remote. Values wait in Redis until a host takes them.
  *
+ * ## Redis Cluster
+ * With a `redis-cluster://` URL ([Builder.redis]) the core runs on a Redis Cluster: every key of
+ * a topology carries its core name as the hash tag, so the topology lives in one hash slot on
+ * one master (its atomic steps need that), and the topologies of many cores spread over the
+ * masters. After a failover the core finds the promoted replica and goes on; [Builder.replicaAcks]
+ * makes sure nothing it was told is stored was only on the failed master.
+ *
  * ## Liveness, lost Redis data and one host per service
  * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
  *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
@@ -136,7 +143,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public constructor(config: CoreConfig) : this(config, Settings())
 
     private val embedded: EmbeddedRedis?
-    private val endpoint: RedisEndpoint
+    private val endpoint: RedisTarget
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
     internal val declaredTypes: DeclaredTypes = DeclaredTypes()
@@ -188,11 +195,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     init {
         val url = settings.redisUrl
         embedded = if (url == null) EmbeddedRedis.start() else null
-        endpoint = RedisEndpoint.parse(url ?: embedded!!.uri)
-        connections = RedisConnections(endpoint, name())
+        endpoint = RedisTarget.parse(url ?: embedded!!.uri, keys)
+        connections = RedisConnections(endpoint, name(), settings.replicaAcks)
         try {
             RedisSession(connections).use { it.once { jedis -> jedis.ping() } }
         } catch (e: Exception) {
+            connections.closeAll() // a cluster's slot map too
             shutdownResources()
             throw dev.prime.PrimeException("cannot reach Redis at $endpoint: $e", e)
         }
@@ -767,14 +775,50 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         public fun config(config: CoreConfig): Builder = apply { this.config = config }
 
         /**
-         * Uses the Redis at [url] (`redis://[user[:password]@]host[:port][/database]`, or
-         * `rediss://` for TLS) instead of starting an embedded one.
+         * Uses the Redis at [url] instead of starting an embedded one:
+         * `redis://[user[:password]@]host[:port][/database]` (`rediss://` for TLS) for one server,
+         * or `redis-cluster://[user[:password]@]host:port[,host:port...]` (`rediss-cluster://` for
+         * TLS) for a Redis Cluster.
+         *
+         * On a cluster the listed nodes are seeds (any one that answers is enough; list several).
+         * Every key of a topology carries the core name as its hash tag (`prime:{name}:...`), so a
+         * topology lives in one hash slot, on one master, and the cores of many topologies (one
+         * per core name, e.g. one per robot) spread over the masters. Each connection goes to the
+         * master of the topology's slot, found through Jedis's cluster client; after a failover
+         * or a slot move (a refused connection, `MOVED`, `CLUSTERDOWN`, ...) the core looks the
+         * master up again and carries on, waiting as in an outage until the cluster has one. A
+         * cluster has database 0 only; the user and password (ACL, or `AUTH` with `requirepass`)
+         * and TLS (the JVM's trust store, full host-name verification: the nodes must announce
+         * names or addresses their certificates hold) apply to every node. Redis replicates
+         * asynchronously: to lose nothing a master acknowledged when it fails over, add
+         * [replicaAcks].
          *
          * @throws IllegalArgumentException if the URL is malformed; the message says how to fix it
          */
         public fun redis(url: String): Builder = apply {
-            RedisEndpoint.parse(url)
+            if (RedisClusterEndpoint.isClusterUrl(url)) RedisClusterEndpoint.parse(url) else RedisEndpoint.parse(url)
             settings = settings.copy(redisUrl = url)
+        }
+
+        /**
+         * Makes every Redis operation of the core wait until [replicas] replicas of the master
+         * have it (Redis `WAIT`, up to [timeout], default 1 s, at most 5 s), so that a failover
+         * to a replica (Redis Cluster, Sentinel, a managed service) loses nothing the core was
+         * told is stored: a publish returns, a service acknowledges its input, a reader hands out
+         * a value only once a replica has it. An operation that too few replicas confirm in time
+         * counts as failed on a broken connection and is retried: its effects may be stored
+         * twice, which the values' ids absorb (a service and a reader skip a value they saw);
+         * a publish gives up at [publishTimeout] with [RedisUnavailableException]. While the
+         * master has fewer than [replicas] replicas connected, the core waits as in an outage.
+         * Costs one round trip per operation and the replicas' lag. Default 0: no waiting.
+         */
+        @JvmOverloads
+        public fun replicaAcks(replicas: Int, timeout: Duration = Duration.ofSeconds(1)): Builder = apply {
+            require(replicas >= 0) { "replica acks must be 0 or more, was $replicas" }
+            require(timeout >= Duration.ofMillis(1) && timeout <= MAX_REPLICA_ACK_TIMEOUT) {
+                "replica ack timeout must be within 1 ms..${MAX_REPLICA_ACK_TIMEOUT.seconds} s (a socket waits for it), was $timeout"
+            }
+            settings = settings.copy(replicaAcks = if (replicas == 0) null else ReplicaAcks(replicas, timeout))
         }
 
         /** Encodes values with [codec] (default: [KryoCodec.standard]). */
@@ -893,6 +937,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val queueLimits: Map<String, Int> = emptyMap(),
         val deadLetterLimit: Int = 10_000,
         val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
+        val replicaAcks: ReplicaAcks? = null,
     )
 
     public companion object {
@@ -901,6 +946,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
         private val MIN_REPLY_TTL = Duration.ofMinutes(10)
+        private val MAX_REPLICA_ACK_TIMEOUT = Duration.ofSeconds(5)
 
         /** An envelope's header, payload marker and longest reply key. */
         private const val ENVELOPE_OVERHEAD = 16 + 2 + 0xFFFF
