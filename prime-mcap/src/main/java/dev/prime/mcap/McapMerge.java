@@ -85,7 +85,13 @@ public final class McapMerge {
    * @param messagesByTopic messages written per topic, in the order of the output's channels
    */
   public record Result(Path output, long messages, Map<String, Long> messagesByTopic) {
-    /** Copies the map. */
+    /**
+     * Copies the map.
+     *
+     * @param output the merged file
+     * @param messages messages written
+     * @param messagesByTopic messages written per topic
+     */
     public Result {
       messagesByTopic = Collections.unmodifiableMap(new LinkedHashMap<>(messagesByTopic));
     }
