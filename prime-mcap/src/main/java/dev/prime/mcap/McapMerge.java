@@ -45,13 +45,14 @@ import java.util.stream.Collectors;
  *       and bytes) in every input; a topic with two different schemas is refused before anything
  *       is written, naming the topic, both schemas and both files. Equal schemas become one. The
  *       channel's metadata is the first input's, with the keys only later inputs have added, and
- *       {@value #MERGED_FROM} listing the files that had the topic.
+ *       {@value #MERGED_FROM} listing the files that had the topic (their paths as given,
+ *       comma-separated).
  *   <li><b>Messages</b> come in log-time order, then by sequence number, then in the order the
  *       inputs are given; each keeps its sequence number and times. Log times are compared as
  *       the writers stamped them: for files of several machines, run their clocks in step (NTP
  *       or PTP), or the merged order is only as good as their agreement.
  *   <li><b>Metadata</b>: every Metadata record of every input is copied, with {@value
- *       #MERGED_FROM} (the input's file name) added to its pairs, so a merged recording still has
+ *       #MERGED_FROM} (the input's path, as given) added to its pairs, so a merged recording still has
  *       each process's {@code prime.process} (host, pid) and loss report ({@code prime.mcap}); and
  *       one record {@value #INPUT_METADATA} per input: its {@code index}, {@code file}, {@code
  *       library}, {@code messages} and {@code topics}.
@@ -236,7 +237,7 @@ public final class McapMerge {
     }
     for (int i = 0; i < readers.size(); i++) {
       McapReader reader = readers.get(i);
-      String from = reader.path().getFileName().toString();
+      String from = reader.path().toString();
       for (String name : reader.metadataNames()) {
         for (Map<String, String> pairs : reader.metadata(name)) {
           Map<String, String> copy = new TreeMap<>(pairs);
@@ -353,8 +354,8 @@ public final class McapMerge {
             checkSame(unified, channel, file);
           }
           channel.metadata().forEach(unified.metadata::putIfAbsent);
-          if (!unified.files.contains(reader.path().getFileName().toString())) {
-            unified.files.add(reader.path().getFileName().toString());
+          if (!unified.files.contains(file)) {
+            unified.files.add(file);
           }
           ids.put(channel.id(), unified.id);
         }

@@ -124,8 +124,8 @@ class McapMergeTest {
       ChannelInfo shared = reader.channel("shared").orElseThrow();
       assertEquals("11@robot-host", shared.metadata().get("prime.process"), "the first input's value wins");
       assertEquals("x", shared.metadata().get("extra"), "keys only a later input has are added");
-      assertEquals("robot.mcap,worker.mcap", shared.metadata().get(McapMerge.MERGED_FROM));
-      assertEquals("robot.mcap", reader.channel("odometry").orElseThrow().metadata().get(McapMerge.MERGED_FROM));
+      assertEquals(robot + "," + worker, shared.metadata().get(McapMerge.MERGED_FROM));
+      assertEquals(robot.toString(), reader.channel("odometry").orElseThrow().metadata().get(McapMerge.MERGED_FROM));
     }
   }
 
@@ -140,10 +140,10 @@ class McapMergeTest {
     try (McapReader reader = McapReader.open(merged)) {
       List<Map<String, String>> processes = reader.metadata("prime.process");
       assertEquals(2, processes.size(), processes.toString());
-      assertEquals(Map.of("host", "robot-host", "pid", "11", McapMerge.MERGED_FROM, "robot.mcap"), processes.get(0));
-      assertEquals(Map.of("host", "worker-host", "pid", "22", McapMerge.MERGED_FROM, "worker.mcap"), processes.get(1));
+      assertEquals(Map.of("host", "robot-host", "pid", "11", McapMerge.MERGED_FROM, robot.toString()), processes.get(0));
+      assertEquals(Map.of("host", "worker-host", "pid", "22", McapMerge.MERGED_FROM, worker.toString()), processes.get(1));
       List<Map<String, String>> losses = reader.metadata(McapWriter.LOSS_METADATA);
-      assertEquals(List.of("robot.mcap", "worker.mcap"), losses.stream().map(m -> m.get(McapMerge.MERGED_FROM)).toList());
+      assertEquals(List.of(robot.toString(), worker.toString()), losses.stream().map(m -> m.get(McapMerge.MERGED_FROM)).toList());
       assertEquals("0", losses.get(1).get("dropped.planner"));
       List<Map<String, String>> inputs = reader.metadata(McapMerge.INPUT_METADATA);
       assertEquals(2, inputs.size());
@@ -187,6 +187,29 @@ class McapMergeTest {
     IllegalArgumentException refused =
         assertThrows(IllegalArgumentException.class, () -> McapMerge.merge(List.of(a, b), dir.resolve("m.mcap")));
     assertTrue(refused.getMessage().contains("topic 'n'"), refused.getMessage());
+  }
+
+  @Test
+  void filesOfTheSameNameFromTwoMachinesStayApart() throws Exception {
+    List<Path> inputs = new ArrayList<>();
+    for (String host : List.of("host-a", "host-b")) {
+      Path file = Files.createDirectories(dir.resolve(host)).resolve("run.mcap");
+      try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+        writer.channel("ticks", ValueType.of(Long.class)).write(host.endsWith("a") ? 2 : 1, 0, 0, 7L);
+      }
+      inputs.add(file);
+    }
+    Path merged = dir.resolve("merged.mcap");
+
+    McapMerge.merge(inputs, merged);
+
+    try (McapReader reader = McapReader.open(merged)) {
+      assertEquals(inputs.get(0) + "," + inputs.get(1),
+          reader.channel("ticks").orElseThrow().metadata().get(McapMerge.MERGED_FROM));
+      assertEquals(List.of(1L, 2L), reader.messages().map(McapMessage::logTime).toList());
+      assertEquals(List.of(inputs.get(0).toString(), inputs.get(1).toString()),
+          reader.metadata(McapMerge.INPUT_METADATA).stream().map(m -> m.get("file")).toList());
+    }
   }
 
   @Test
