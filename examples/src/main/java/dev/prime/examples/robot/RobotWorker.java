@@ -19,9 +19,10 @@ import java.util.concurrent.TimeUnit;
 
 /**
  * The other process of the two-process robot: {@code robot-worker --hosts SERVICE,... [--redis
- * URL] [--goal X,Y] [--name NAME] [--record FILE]}. It declares the same topology as {@link RobotMain} (same core
- * name, same goal) and runs only the named services, taking their inputs from Redis and storing
- * their results there, until it is stopped: by a line {@code STOP} on its standard input, or by
+ * URL] [--goal X,Y] [--name NAME] [--record FILE]}. It declares the same topology as {@link
+ * RobotMain} (same core name, same goal) and runs only the named services, taking their inputs
+ * from Redis and storing their results there, until it is stopped: by a line {@code STOP} on its
+ * standard input, or by
  * SIGTERM / Ctrl-C (a shutdown hook closes the core and prints {@code STOPPED}). The end of its
  * standard input does not stop it, so it runs under systemd or Docker with stdin on {@code
  * /dev/null}. With {@code --record FILE} it records what it hosts and writes it to the MCAP file
@@ -34,8 +35,9 @@ import java.util.concurrent.TimeUnit;
  * (odometry, pid) serves one mission; the planner holds none and may serve many.
  *
  * <p>Exit codes: 0 stopped by a line {@code STOP}, 2 the command line is wrong, 3 the Redis cannot
- * be reached (or the embedded one cannot start), 4 the recording cannot be written; stopped by a signal the JVM exits with 128 + the
- * signal's number (143 for SIGTERM, 130 for Ctrl-C's SIGINT) after the core is closed.
+ * be reached (or the embedded one cannot start), 4 the recording cannot be written; stopped by a
+ * signal the JVM exits with 128 + the signal's number (143 for SIGTERM, 130 for Ctrl-C's SIGINT)
+ * after the core is closed.
  */
 public final class RobotWorker {
 
