@@ -47,14 +47,21 @@ class MergedRecordingTest {
   /** The worker JVM with its output lines collected by a daemon thread. */
   private record Worker(Process process, BlockingQueue<String> lines, StringBuilder seen) {
     static Worker start(Path record) throws IOException {
+      return start(record, false);
+    }
+
+    static Worker start(Path record, boolean stdinClosed) throws IOException {
       String java = new File(System.getProperty("java.home"), "bin/java").getPath();
-      Process process =
+      ProcessBuilder builder =
           new ProcessBuilder(
                   java, "-Xmx256m", "-cp", System.getProperty("java.class.path"),
                   RobotWorker.class.getName(), "--hosts", "planner", "--goal", GOAL,
                   "--name", CORE, "--record", record.toString())
-              .redirectErrorStream(true)
-              .start();
+              .redirectErrorStream(true);
+      if (stdinClosed) {
+        builder.redirectInput(new File("/dev/null"));
+      }
+      Process process = builder.start();
       BlockingQueue<String> lines = new LinkedBlockingQueue<>();
       StringBuilder seen = new StringBuilder();
       Thread pump =
@@ -199,5 +206,33 @@ class MergedRecordingTest {
     assertEquals(0, replay.code(), replay.out() + replay.err());
     assertTrue(replay.out().contains("from the recording: --goal 1.0,0.5"), replay.out());
     assertEquals(recorded.trace(), replay.trace());
+  }
+
+  /** Under systemd or Docker a worker is stopped by SIGTERM: it still writes its recording. */
+  @Test
+  void aWorkerStoppedBySigtermWritesItsRecording() throws Exception {
+    Path workerFile = dir.resolve("worker.mcap");
+    Worker worker = Worker.start(workerFile, true);
+    try {
+      String ready = "READY robot worker hosting [planner] of core '" + CORE + "' on ";
+      String redisUrl = worker.awaitLine(ready, 60).substring(ready.length());
+      RecordReplayTest.Run run =
+          RecordReplayTest.main(
+              "--media", "optimus", "--redis", redisUrl, "--remote", "planner", "--name", CORE,
+              "--goal", GOAL, "--steps", "20");
+      assertEquals(1, run.code(), "20 steps do not reach the goal: " + run.out() + run.err());
+
+      assertTrue(worker.process().toHandle().destroy(), "SIGTERM could not be sent");
+      assertTrue(worker.process().waitFor(60, TimeUnit.SECONDS), "still running: " + worker.output());
+      assertEquals(143, worker.process().exitValue(), worker.output());
+      assertTrue(worker.output().contains("recorded 20 values to " + workerFile + ": planner 20"),
+          worker.output());
+    } finally {
+      worker.process().destroyForcibly();
+    }
+    try (McapReader reader = McapReader.open(workerFile)) {
+      assertEquals(20, reader.messageCount("planner"));
+      assertEquals("planner", reader.metadata(RunArguments.WORKER_METADATA).get(0).get("hosts"));
+    }
   }
 }
