@@ -72,9 +72,11 @@ public final class McapMerge {
 
   /** The usage of {@link #main}. */
   public static final String USAGE =
-      "usage: McapMerge -o OUTPUT.mcap INPUT.mcap INPUT.mcap...\n"
+      "usage: McapMerge [--unfinished] -o OUTPUT.mcap INPUT.mcap INPUT.mcap...\n"
           + "  joins MCAP files (each process's recording) into OUTPUT by log time;"
-          + " a topic must have the same schema in every input";
+          + " a topic must have the same schema in every input\n"
+          + "  --unfinished  also read files whose writer was killed (what their complete chunks"
+          + " hold)";
 
   private McapMerge() {}
 
@@ -99,10 +101,64 @@ public final class McapMerge {
   }
 
   /**
-   * Merges files into one, with 1 MiB chunks.
+   * How a merge reads and writes: the output's chunk size, and whether inputs whose writer never
+   * finished (a process killed with SIGKILL, a machine that lost power) are read for what their
+   * complete records hold. Immutable.
+   */
+  public static final class Options {
+    private final long chunkSize;
+    private final boolean readUnfinished;
+
+    private Options(long chunkSize, boolean readUnfinished) {
+      this.chunkSize = chunkSize;
+      this.readUnfinished = readUnfinished;
+    }
+
+    /** {@return 1 MiB chunks, finished inputs only} */
+    public static Options defaults() {
+      return new Options(McapWriterOptions.DEFAULT_CHUNK_SIZE, false);
+    }
+
+    /**
+     * @param bytes the output's chunk size, at least 1
+     * @return a copy with this chunk size
+     * @throws IllegalArgumentException for less than 1 byte
+     */
+    public Options chunkSize(long bytes) {
+      if (bytes < 1) {
+        throw new IllegalArgumentException("chunkSize must be at least 1 byte, was " + bytes);
+      }
+      return new Options(bytes, readUnfinished);
+    }
+
+    /**
+     * Reads every input with {@link McapReader#openUnfinished}: a file whose writer was killed
+     * gives the messages of its complete chunks (the open chunk and what was queued are lost), a
+     * finished file all of its messages. Each such input's {@value #INPUT_METADATA} record says
+     * {@code unfinished=true} and where its complete records end.
+     *
+     * @return a copy that reads unfinished inputs
+     */
+    public Options readUnfinished() {
+      return new Options(chunkSize, true);
+    }
+
+    /** {@return the output's chunk size in bytes} */
+    public long chunkSizeBytes() {
+      return chunkSize;
+    }
+
+    /** {@return whether unfinished inputs are read} */
+    public boolean readsUnfinished() {
+      return readUnfinished;
+    }
+  }
+
+  /**
+   * Merges finished files into one, with 1 MiB chunks.
    *
    * @param inputs the files, at least one, each a finished MCAP file (a writer that was killed
-   *     leaves an unfinished one: see {@link McapReader#openUnfinished})
+   *     leaves an unfinished one: see {@link Options#readUnfinished()})
    * @param output the merged file; created or overwritten; not one of the inputs
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written
@@ -111,7 +167,7 @@ public final class McapMerge {
    *     inputs, or a topic whose schema (or message encoding) differs between inputs
    */
   public static Result merge(List<Path> inputs, Path output) throws IOException {
-    return merge(inputs, output, McapWriterOptions.DEFAULT_CHUNK_SIZE);
+    return merge(inputs, output, Options.defaults());
   }
 
   /**
@@ -119,22 +175,23 @@ public final class McapMerge {
    *
    * @param inputs the files, at least one
    * @param output the merged file; not one of the inputs
-   * @param chunkSize the output's chunk size in bytes (at least 1)
+   * @param options the chunk size, and whether unfinished inputs are read
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written
-   * @throws IllegalArgumentException as {@link #merge(List, Path)}, or for a chunk size below 1
+   * @throws McapFormatException if an input is not well-formed (or, without {@link
+   *     Options#readUnfinished()}, not finished)
+   * @throws IllegalArgumentException as {@link #merge(List, Path)}
    */
-  public static Result merge(List<Path> inputs, Path output, long chunkSize) throws IOException {
+  public static Result merge(List<Path> inputs, Path output, Options options) throws IOException {
     Objects.requireNonNull(inputs, "inputs");
     Objects.requireNonNull(output, "output");
-    if (chunkSize < 1) {
-      throw new IllegalArgumentException("chunkSize must be at least 1 byte, was " + chunkSize);
-    }
+    Objects.requireNonNull(options, "options");
     checkPaths(inputs, output);
-    try (OpenInputs open = OpenInputs.open(inputs)) {
+    try (OpenInputs open = OpenInputs.open(inputs, options.readUnfinished)) {
       Channels channels = Channels.unify(open.readers);
       try (BufferedOutputStream out = new BufferedOutputStream(Files.newOutputStream(output), 1 << 16)) {
-        McapFileWriter file = new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", chunkSize);
+        McapFileWriter file =
+            new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize);
         Result result = write(open.readers, channels, file, output);
         file.finish();
         return result;
@@ -146,11 +203,11 @@ public final class McapMerge {
   private static final class OpenInputs implements Closeable {
     final List<McapReader> readers = new ArrayList<>();
 
-    static OpenInputs open(List<Path> inputs) throws IOException {
+    static OpenInputs open(List<Path> inputs, boolean unfinished) throws IOException {
       OpenInputs open = new OpenInputs();
       try {
         for (Path input : inputs) {
-          open.readers.add(McapReader.open(input));
+          open.readers.add(unfinished ? McapReader.openUnfinished(input) : McapReader.open(input));
         }
         return open;
       } catch (IOException | RuntimeException e) {
@@ -254,6 +311,10 @@ public final class McapMerge {
       input.put("library", reader.library());
       input.put("messages", Long.toString(perInput[i]));
       input.put("topics", reader.channels().stream().map(ChannelInfo::topic).collect(Collectors.joining(",")));
+      if (reader.unfinishedAt() >= 0) {
+        input.put("unfinished", "true");
+        input.put("complete_records_end", Long.toString(reader.unfinishedAt()));
+      }
       file.addMetadata(INPUT_METADATA, input);
     }
     return new Result(output, total, counts);
@@ -410,7 +471,7 @@ public final class McapMerge {
   }
 
   /**
-   * The command line: {@code McapMerge -o OUTPUT INPUT...}. Exit codes: 0 merged, 1 the merge
+   * The command line: {@code McapMerge [--unfinished] -o OUTPUT INPUT...}. Exit codes: 0 merged, 1 the merge
    * failed (an input unreadable or malformed, two schemas for a topic), 2 the command line is
    * wrong.
    *
@@ -433,6 +494,7 @@ public final class McapMerge {
    */
   public static int run(String[] args, PrintStream out, PrintStream err) {
     Path output = null;
+    Options options = Options.defaults();
     List<Path> inputs = new ArrayList<>();
     for (int i = 0; i < args.length; i++) {
       String arg = args[i];
@@ -440,7 +502,9 @@ public final class McapMerge {
         out.println(USAGE);
         return 0;
       }
-      if (arg.equals("-o") || arg.equals("--output")) {
+      if (arg.equals("--unfinished")) {
+        options = options.readUnfinished();
+      } else if (arg.equals("-o") || arg.equals("--output")) {
         if (i + 1 >= args.length) {
           return usage(err, arg + " needs a file");
         }
@@ -466,7 +530,7 @@ public final class McapMerge {
       }
     }
     try {
-      Result result = merge(inputs, output);
+      Result result = merge(inputs, output, options);
       out.println("merged " + result.messages() + " messages from " + inputs.size() + " files into "
           + output + ": " + result.messagesByTopic().entrySet().stream()
               .map(e -> e.getKey() + " " + e.getValue()).collect(Collectors.joining(", ")));

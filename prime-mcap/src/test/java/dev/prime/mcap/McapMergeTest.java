@@ -98,7 +98,7 @@ class McapMergeTest {
     Path worker = workerFile(250);
     Path merged = dir.resolve("merged.mcap");
 
-    McapMerge.Result result = McapMerge.merge(List.of(robot, worker), merged, 1024);
+    McapMerge.Result result = McapMerge.merge(List.of(robot, worker), merged, McapMerge.Options.defaults().chunkSize(1024));
 
     List<Sent> expected = new ArrayList<>(sent);
     expected.sort(Comparator.comparingLong(Sent::logTime).thenComparingLong(Sent::sequence)
@@ -212,6 +212,52 @@ class McapMergeTest {
     }
   }
 
+  /**
+   * A recorder JVM killed with SIGKILL leaves a file without footer: the merge refuses it unless
+   * asked to read unfinished files, and then merges the messages of its complete chunks.
+   */
+  @Test
+  void aKilledRecordersFileIsMergedForItsCompleteChunksWhenAsked() throws Exception {
+    Path killed = CrashRecoveryTest.recordAndKill(dir.resolve("killed.mcap"), 2_000, 8_192);
+    Path robot = robotFile(50);
+    Path merged = dir.resolve("merged.mcap");
+
+    McapFormatException refused =
+        assertThrows(McapFormatException.class, () -> McapMerge.merge(List.of(robot, killed), merged));
+    assertTrue(refused.getMessage().contains("killed.mcap") && refused.getMessage().contains("unfinished"),
+        refused.getMessage());
+    assertFalse(Files.exists(merged));
+
+    long recovered;
+    try (McapReader reader = McapReader.openUnfinished(killed)) {
+      recovered = reader.messageCount("ticks");
+    }
+    assertTrue(recovered > 0 && recovered < 2_000, "the open chunk is lost: " + recovered);
+    McapMerge.Result result =
+        McapMerge.merge(List.of(robot, killed), merged, McapMerge.Options.defaults().readUnfinished());
+
+    assertEquals(recovered, result.messagesByTopic().get("ticks"));
+    assertEquals(50 + 17 + recovered, result.messages()); // odometry 50, shared every third
+    try (McapReader reader = McapReader.open(merged)) {
+      List<Long> sequences = reader.messages("ticks").map(McapMessage::sequence).toList();
+      for (int i = 0; i < sequences.size(); i++) {
+        assertEquals(i, sequences.get(i), "a prefix of the killed recorder's writes, without a gap");
+      }
+      List<Map<String, String>> inputs = reader.metadata(McapMerge.INPUT_METADATA);
+      assertFalse(inputs.get(0).containsKey("unfinished"), inputs.toString());
+      assertEquals("true", inputs.get(1).get("unfinished"));
+      assertEquals(Long.toString(Files.size(killed)), inputs.get(1).get("complete_records_end"));
+    }
+    PrintStream quiet = new PrintStream(new ByteArrayOutputStream(), true, StandardCharsets.UTF_8);
+    Path viaCli = dir.resolve("cli.mcap");
+    assertEquals(1, McapMerge.run(new String[] {"-o", viaCli.toString(), robot.toString(), killed.toString()}, quiet, quiet));
+    assertEquals(0, McapMerge.run(
+        new String[] {"--unfinished", "-o", viaCli.toString(), robot.toString(), killed.toString()}, quiet, quiet));
+    try (McapReader reader = McapReader.open(viaCli)) {
+      assertEquals(recovered, reader.messageCount("ticks"));
+    }
+  }
+
   @Test
   void badArgumentsAreRefusedSayingWhy() throws Exception {
     Path robot = robotFile(3);
@@ -262,7 +308,7 @@ class McapMergeTest {
   void pythonMcapReadsTheMergedFile() throws Exception {
     PythonMcapCheck python = PythonMcapCheck.installOrSkip();
     Path merged = dir.resolve("merged.mcap");
-    McapMerge.merge(List.of(robotFile(400), workerFile(300)), merged, 2048);
+    McapMerge.merge(List.of(robotFile(400), workerFile(300)), merged, McapMerge.Options.defaults().chunkSize(2048));
 
     JsonNode check = python.check(merged, dir);
 
