@@ -39,6 +39,10 @@ import org.openjdk.jmh.annotations.Warmup;
  * recording classes. Recorded per transmission when on: the output of each of the 4 adders, and
  * in the sources row the published packet too (5 entries, each an {@code Instant}, a {@code
  * System.nanoTime()} and a {@code RecordedValue} under the ring's monitor).
+ *
+ * <p>On a loaded machine add {@code -prof dev.prime.bench.WorkerCpuTime}: the FOR, Liberty and
+ * Radiant rows then also give the benchmark thread's CPU time per operation ({@code
+ * cpu.time.norm}), which does not grow when other processes take the cores away.
  */
 @BenchmarkMode(Mode.AverageTime)
 @OutputTimeUnit(TimeUnit.NANOSECONDS)
@@ -211,10 +215,11 @@ public class RecordingOverheadBenchmark {
    *
    * @param setting the packet
    * @param blocks the blocks
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long forHandWritten(Setting setting, Direct blocks) {
+  public long forHandWritten(Setting setting, Direct blocks, WorkerCpuTime.PlainClock clock) {
     return blocks.a4.process(blocks.a3.process(blocks.a2.process(blocks.a1.process(setting.packet))))
         .value;
   }
@@ -224,10 +229,11 @@ public class RecordingOverheadBenchmark {
    *
    * @param setting the packet
    * @param chain the chain
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long liberty(Setting setting, Liberty chain) {
+  public long liberty(Setting setting, Liberty chain, WorkerCpuTime.PlainClock clock) {
     return chain.chain.process(setting.packet).value;
   }
 
@@ -236,10 +242,11 @@ public class RecordingOverheadBenchmark {
    *
    * @param setting the packet
    * @param chain the chain
+   * @param clock CPU time per operation, with {@link WorkerCpuTime}
    * @return the result
    */
   @Benchmark
-  public long radiant(Setting setting, Radiant chain) {
+  public long radiant(Setting setting, Radiant chain, WorkerCpuTime.PlainClock clock) {
     return chain.chain.process(setting.packet).value;
   }
 

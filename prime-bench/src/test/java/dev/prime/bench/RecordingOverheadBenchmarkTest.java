@@ -57,6 +57,7 @@ class RecordingOverheadBenchmarkTest {
       boolean on = scenario.equals("recordingOn");
       RecordingOverheadBenchmark benchmark = new RecordingOverheadBenchmark();
       RecordingOverheadBenchmark.Setting setting = setting(scenario);
+      WorkerCpuTime.PlainClock clock = new WorkerCpuTime.PlainClock();
       RecordingOverheadBenchmark.Direct direct = new RecordingOverheadBenchmark.Direct();
       direct.build(setting);
       RecordingOverheadBenchmark.Liberty liberty = new RecordingOverheadBenchmark.Liberty();
@@ -67,10 +68,10 @@ class RecordingOverheadBenchmarkTest {
       source.build(setting);
       try {
         for (int i = 0; i < SENT; i++) {
-          long expected = benchmark.forHandWritten(setting, direct);
+          long expected = benchmark.forHandWritten(setting, direct, clock);
           // each call adds 1+2+3+4 to the same packet: every row sees the FOR result move by 10
-          assertEquals(expected + 10, benchmark.liberty(setting, liberty), scenario);
-          assertEquals(expected + 20, benchmark.radiant(setting, radiant), scenario);
+          assertEquals(expected + 10, benchmark.liberty(setting, liberty, clock), scenario);
+          assertEquals(expected + 20, benchmark.radiant(setting, radiant, clock), scenario);
           assertEquals(expected + 30, benchmark.primeSource(setting, source), scenario);
         }
         Map<String, Long> chains = recorded(liberty.core());
