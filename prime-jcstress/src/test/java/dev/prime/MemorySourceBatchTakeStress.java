@@ -17,7 +17,11 @@ import org.openjdk.jcstress.infra.results.II_Result;
  * was reused would show as 3 in place of 1). A batch ends at the values published when it began,
  * so 3 values through room for 2 take 2 or 3 batches, never 1.
  *
- * <p>Result: the values taken as decimal digits (123), the number of batches.
+ * <p>The service starts a batch only once the publisher has said a value is there, so no batch
+ * waits: a lost wake-up cannot hang this test (the termination tests check waking), and a value
+ * that never arrives ends the test after {@link StressSources#BOUND} with the batches so far.
+ *
+ * <p>Result: the values taken as decimal digits (123), the number of batches (-9: interrupted).
  */
 @JCStressTest
 @Description("publish 1, 2, 3 into a gated ring of 2 vs batch takes: 123 in 2 or 3 batches")
@@ -32,6 +36,7 @@ public class MemorySourceBatchTakeStress {
   private final BatchReader<Integer> input =
       (BatchReader<Integer>) source.serviceInput("stress-service");
 
+  private volatile int published; // how many values the publisher has published
   private int taken;
   private int digits;
 
@@ -40,17 +45,23 @@ public class MemorySourceBatchTakeStress {
   public void publisher() {
     for (int value = 1; value <= 3; value++) {
       source.publish(value);
+      published = value;
     }
   }
 
-  /** The service: at most 3 batches, each of at least one value (-9: interrupted). */
+  /** The service: at most 3 batches, each started once a value is there. */
   @Actor
   public void service(II_Result r) {
     int batches = 0;
+    long deadline = System.nanoTime() + StressSources.BOUND.toNanos();
     try {
-      while (taken < 3 && batches < 3) {
-        input.takeAvailable(this::accept);
-        batches++;
+      while (taken < 3 && batches < 3 && System.nanoTime() - deadline < 0) {
+        if (published > taken) {
+          input.takeAvailable(this::accept);
+          batches++;
+        } else {
+          Thread.onSpinWait();
+        }
       }
     } catch (InterruptedException e) {
       Thread.currentThread().interrupt();
