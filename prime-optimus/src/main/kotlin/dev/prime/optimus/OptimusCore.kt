@@ -152,10 +152,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         keys.replyPrefix,
         maxOf(MIN_REPLY_TTL, (callTimeout ?: MIN_REPLY_TTL).multipliedBy(2)).toMillis(),
         settings.deadLetterLimit,
-        // a value at the limit, in an envelope with the longest reply key
-        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
+        // a value at the limit, in an envelope with the longest reply key, alone in a frame
+        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD + Frame.HEADER + Frame.PER_VALUE).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
         settings.batchBytes,
-    ) { input -> queueLimitOf(keys.serviceOf(input)) }
+        { input -> queueLimitOf(keys.serviceOf(input)) },
+        settings.frameBytes,
+    )
     internal val readerMisses: ReaderMisses = ReaderMisses(name())
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
@@ -645,7 +647,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
-        Script.REGISTER.run(jedis, listOf(if (service) source.services else source.readers, source.log, list), emptyList())
+        Script.REGISTER.run(
+            jedis,
+            listOf(if (service) source.services else source.readers, source.log, list, if (service) keys.queuedOf(list) else list),
+            listOf((if (service) "1" else "0").toByteArray(UTF_8)),
+        )
     }
 
     /**
@@ -876,6 +882,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(batchBytes = bytes)
         }
 
+        /** The bytes a frame (many values in one Redis entry) holds at most (default 1 MiB; a single value may need more). */
+        internal fun frameBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "frame bytes must be positive, was $bytes" }
+            settings = settings.copy(frameBytes = bytes)
+        }
+
         /** Makes the core: starts an embedded Redis unless [redis] was given, and checks that Redis answers. */
         public fun build(): OptimusCore = OptimusCore(config, settings)
     }
@@ -893,6 +905,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val queueLimits: Map<String, Int> = emptyMap(),
         val deadLetterLimit: Int = 10_000,
         val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
+        val frameBytes: Int = Frame.DEFAULT_BYTES,
     )
 
     public companion object {

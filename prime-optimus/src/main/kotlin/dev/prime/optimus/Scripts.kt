@@ -72,32 +72,59 @@ internal class Script(text: String) {
          */
         val STEP = Script(
             """
-            local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease =
-              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9]
+            local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease, sequence, queued, nextQueued =
+              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9], KEYS[10], KEYS[11], KEYS[12]
             local ack, take, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
             local retention, deadLimit, nextLimit, strict = tonumber(ARGV[5]), tonumber(ARGV[6]), tonumber(ARGV[7]), ARGV[8] == '1'
             local replyPrefix, replyTtl = ARGV[9], ARGV[10]
             local nReplyKeys, nReaders, nServices = tonumber(ARGV[11]), tonumber(ARGV[12]), tonumber(ARGV[13])
             local nNext, nReplies, nDead, nPublished = tonumber(ARGV[14]), tonumber(ARGV[15]), tonumber(ARGV[16]), tonumber(ARGV[17])
-            local fence = ARGV[18]
+            local fence, publishedValues = ARGV[18], tonumber(ARGV[19])
+            local counted, nextValues = ARGV[20] == '1', tonumber(ARGV[21])
             if fence ~= '' then
               local holder = redis.call('GET', hostLease)
               if holder ~= fence then return {'FENCED', holder or ''} end
             end
-            local readerAt = 9 + nReplyKeys
+            local readerAt = 12 + nReplyKeys
             local missedAt = readerAt + nReaders
             local serviceAt = missedAt + nReaders
-            local limitsAt = 18
+            local serviceQueuedAt = serviceAt + nServices
+            local limitsAt = 21
             local nextAt = limitsAt + nServices
             local repliesAt = nextAt + nNext
             local deadAt = repliesAt + 3 * nReplies
             local publishedAt = deadAt + nDead
-            local function pushAll(key, from, count)
+            -- the values a service's input holds (a frame holds many; a caller's request is not counted)
+            local function queuedValues(key)
+              return tonumber(redis.call('GET', key) or '0')
+            end
+            local function counts(entry)
+              if #entry >= 14 and string.byte(entry, 1) == 70 then return struct.unpack('>I4', entry, 11) end
+              if #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then return 1 end
+              return 0
+            end
+            local function pushAll(key, values, from, count)
               local length = 0
               for start = from, from + count - 1, 1000 do
-                length = redis.call('RPUSH', key, unpack(ARGV, start, math.min(start + 999, from + count - 1)))
+                length = redis.call('RPUSH', key, unpack(values, start, math.min(start + 999, from + count - 1)))
               end
               return length
+            end
+            -- drops the head entries of a source's list whose values are all older than value number keepFrom
+            local function trimValues(key, keepFrom)
+              local dropped = 0
+              if keepFrom <= 1 then return 0 end
+              while true do
+                local head = redis.call('LINDEX', key, 0)
+                if not head then return dropped end
+                local first, n = 0, 1
+                if #head >= 14 and string.byte(head, 1) == 70 then
+                  first, n = struct.unpack('>I8', head, 3), struct.unpack('>I4', head, 11)
+                end
+                if first + n > keepFrom then return dropped end
+                redis.call('LPOP', key)
+                dropped = dropped + n
+              end
             end
             if nPublished > 0 then
               if redis.call('SCARD', readers) ~= nReaders or redis.call('SCARD', services) ~= nServices then
@@ -109,40 +136,46 @@ internal class Script(text: String) {
               for s = 1, nServices do
                 local key = KEYS[serviceAt + s]
                 if redis.call('SISMEMBER', services, key) == 0 then return {'STALE'} end
-                local limit, length = tonumber(ARGV[limitsAt + s]), redis.call('LLEN', key)
-                if (strict and length + nPublished > limit) or ((not strict) and length >= limit) then
+                local limit, length = tonumber(ARGV[limitsAt + s]), queuedValues(KEYS[serviceQueuedAt + s])
+                if (strict and length + publishedValues > limit) or ((not strict) and length >= limit) then
                   return {'FULL', key, length, limit}
                 end
               end
             end
             if nNext > 0 then
-              local length = redis.call('LLEN', nextKey)
+              local length = queuedValues(nextQueued)
               if nextLimit > 0 and length >= nextLimit then return {'FULL', nextKey, length, nextLimit} end
-              pushAll(nextKey, nextAt + 1, nNext)
+              pushAll(nextKey, ARGV, nextAt + 1, nNext)
+              if nextValues > 0 then redis.call('INCRBY', nextQueued, nextValues) end
             end
             local missed = {}
             if nPublished > 0 then
-              if pushAll(log, publishedAt + 1, nPublished) > retention then
-                redis.call('LTRIM', log, -retention, -1)
+              -- number the values: each frame gets the number of its first value in this source
+              local last = redis.call('INCRBY', sequence, publishedValues)
+              local at = last - publishedValues + 1
+              local frames = {}
+              for k = 1, nPublished do
+                local frame = ARGV[publishedAt + k]
+                frames[k] = string.sub(frame, 1, 2) .. struct.pack('>I8', at) .. string.sub(frame, 11)
+                at = at + struct.unpack('>I4', frame, 11)
               end
+              pushAll(log, frames, 1, nPublished)
+              trimValues(log, last - retention + 1)
               for s = 1, nServices do
-                pushAll(KEYS[serviceAt + s], publishedAt + 1, nPublished)
+                pushAll(KEYS[serviceAt + s], frames, 1, nPublished)
+                redis.call('INCRBY', KEYS[serviceQueuedAt + s], publishedValues)
               end
               for r = 1, nReaders do
-                local over = pushAll(KEYS[readerAt + r], publishedAt + 1, nPublished) - retention
-                if over > 0 then
-                  redis.call('LTRIM', KEYS[readerAt + r], over, -1)
-                  redis.call('INCRBY', KEYS[missedAt + r], over)
-                  missed[r] = over
-                else
-                  missed[r] = 0
-                end
+                pushAll(KEYS[readerAt + r], frames, 1, nPublished)
+                local over = trimValues(KEYS[readerAt + r], last - retention + 1)
+                if over > 0 then redis.call('INCRBY', KEYS[missedAt + r], over) end
+                missed[r] = over
               end
             end
             local refused = {}
             for k = 0, nReplies - 1 do
               local at = repliesAt + 1 + 3 * k
-              local key = KEYS[9 + tonumber(ARGV[at])]
+              local key = KEYS[12 + tonumber(ARGV[at])]
               local reason = nil
               if string.sub(key, 1, #replyPrefix) ~= replyPrefix then
                 reason = "outside this topology's reply namespace " .. replyPrefix .. '*'
@@ -161,7 +194,7 @@ internal class Script(text: String) {
             end
             if nDead > 0 or #refused > 0 then
               local length = 0
-              if nDead > 0 then length = pushAll(dead, deadAt + 1, nDead) end
+              if nDead > 0 then length = pushAll(dead, ARGV, deadAt + 1, nDead) end
               if #refused > 0 then length = redis.call('RPUSH', dead, unpack(refused)) end
               if length > deadLimit then
                 redis.call('LTRIM', dead, length - deadLimit, -1)
@@ -172,14 +205,27 @@ internal class Script(text: String) {
               redis.call('LTRIM', proc, ack, -1)
             end
             local result = {'OK', missed}
-            local bytes = 0
-            for k = 1, take do
+            local bytes, values, taken, drained = 0, 0, 0, false
+            while values < take do
               if bytes >= takeBytes then break end
               local value = redis.call('LMOVE', input, proc, 'LEFT', 'RIGHT')
-              if not value then break end
+              if not value then
+                drained = true
+                break
+              end
               bytes = bytes + #value
+              local n = counts(value)
+              taken = taken + n
+              values = values + math.max(1, n)
               if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
               result[#result + 1] = value
+            end
+            if counted then
+              if drained then
+                redis.call('DEL', queued) -- the input is empty: nothing is queued, whatever the count said
+              elseif taken > 0 and redis.call('INCRBY', queued, -taken) < 0 then
+                redis.call('DEL', queued) -- entries nobody counted (pushed from outside): never below zero
+              end
             end
             return result
             """,
@@ -198,11 +244,16 @@ internal class Script(text: String) {
             local count, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3])
             local length = redis.call('LLEN', KEYS[1])
             local result = {0}
-            local bytes = 0
-            for k = 0, math.min(length, count) - 1 do
-              if bytes >= takeBytes then return result end
+            local bytes, values = 0, 0
+            for k = 0, length - 1 do
+              if bytes >= takeBytes or values >= count then return result end
               local value = redis.call('LINDEX', KEYS[1], k)
               bytes = bytes + #value
+              if #value >= 14 and string.byte(value, 1) == 70 then
+                values = values + math.max(1, struct.unpack('>I4', value, 11))
+              else
+                values = values + 1
+              end
               if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
               result[#result + 1] = value
             end
@@ -211,7 +262,27 @@ internal class Script(text: String) {
             """,
         )
 
-        /** KEYS: the source's reader or service set, source log, the list. Returns 1 if the list is new. */
+        /**
+         * Right after an idle `BLMOVE` of a service (queued behind it in one pipeline): if the
+         * processing list holds just the entry it moved, takes that entry's values off the
+         * input's queue count, as [STEP] does for what it takes. KEYS: processing, queue count.
+         */
+        val COUNT_IDLE_TAKE = Script(
+            """
+            if redis.call('LLEN', KEYS[1]) ~= 1 then return 0 end
+            local entry = redis.call('LINDEX', KEYS[1], 0)
+            local n = 0
+            if #entry >= 14 and string.byte(entry, 1) == 70 then n = struct.unpack('>I4', entry, 11)
+            elseif #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then n = 1 end
+            if n > 0 and redis.call('INCRBY', KEYS[2], -n) < 0 then redis.call('DEL', KEYS[2]) end
+            return n
+            """,
+        )
+
+        /**
+         * KEYS: the source's reader or service set, source log, the list, its count of queued values.
+         * ARGV: '1' for a service's input (the count is kept), '0' for a plain reader. Returns 1 if the list is new.
+         */
         val REGISTER = Script(
             """
             if redis.call('SADD', KEYS[1], KEYS[3]) == 0 then
@@ -220,6 +291,15 @@ internal class Script(text: String) {
             local retained = redis.call('LRANGE', KEYS[2], 0, -1)
             for start = 1, #retained, 1000 do
               redis.call('RPUSH', KEYS[3], unpack(retained, start, math.min(start + 999, #retained)))
+            end
+            if ARGV[1] == '1' then
+              local values = 0
+              for k = 1, #retained do
+                local entry = retained[k]
+                if #entry >= 14 and string.byte(entry, 1) == 70 then values = values + struct.unpack('>I4', entry, 11)
+                elseif #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then values = values + 1 end
+              end
+              if values > 0 then redis.call('INCRBY', KEYS[4], values) end
             end
             return 1
             """,
