@@ -118,7 +118,12 @@ import java.util.concurrent.atomic.AtomicInteger
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
- *   ([ValueTooLargeException]); a service takes at most 256 entries or 8 MiB per step.
+ *   ([ValueTooLargeException]); a service takes at most 256 values or 8 MiB per step.
+ * - Values that are ready together (one [publishAll], one service step's outputs) travel as one
+ *   Redis entry, a frame of at most 256 values and 1 MiB; nothing waits to fill a frame, so a
+ *   lone value goes out at once. A frame is acknowledged whole and redelivered whole after a
+ *   crash; duplicates are still skipped per value. Queue limits and reader retention count
+ *   values, not entries (see docs/architecture.md, "Frames").
  * - Reply lists expire (10 minutes or twice the call timeout, whichever is longer) after each
  *   reply pushed to them, so replies to callers that died do not stay.
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.

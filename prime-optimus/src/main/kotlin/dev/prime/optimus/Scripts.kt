@@ -9,20 +9,29 @@ import java.security.MessageDigest
 /**
  * The Lua scripts that make each step of a service one atomic operation in Redis.
  *
+ * Entries are single envelopes or [Frame]s (many values in one entry). Queue counts and
+ * retention are in values: a service's input has a count of the values it holds
+ * (`<input>:queued`, a frame counts its values, a caller's request nothing), raised by every push
+ * and lowered by every take, which the queue limit is checked against; a source numbers its
+ * values (`src:<source>:seq`) and writes the number of each frame's first value into the frame,
+ * so its log and plain readers are trimmed by value numbers, whole frames at a time.
+ *
  * [STEP] does, in order and atomically: check that this instance still holds the service's host
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
  * the step it was in, whose acknowledgement would trim its successor's processing list); check
  * that the caller's view of the output source's readers is current (else it answers `STALE` and
- * changes nothing) and that the service queues it feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
- * values to a source (its log and every plain reader list, each trimmed to the retention, counting
- * what a reader lost, and every service input, never trimmed: a service's input is a queue);
- * push replies, each only after checking that its key is in this topology's reply namespace and
- * a list (a reply list gets an expiry; a bad one is dead-lettered instead); push dead letters and
- * trim the dead-letter list to its cap, counting what it trimmed; acknowledge the first `ack`
- * entries of a processing list; and move new entries from an input list to that processing list,
- * at most `take` of them and stopping once they reach `takeBytes` (always at least one), returning
- * them (an entry above `maxBytes` comes back as its size and a prefix, not the blob). A crash
- * between any two steps therefore neither loses a value (it stays in the processing list until its
+ * changes nothing) and that the service queues it feeds have room, by their counts (else `FULL`,
+ * nothing changed); push entries to the next service's input; publish frames to a source
+ * (numbered; its log and every plain reader list, each trimmed to the newest `retention` values
+ * plus at most the rest of the oldest frame kept, counting what a reader lost in values, and every
+ * service input, never trimmed: a service's input is a queue); push replies, each only after
+ * checking that its key is in this topology's reply namespace and a list (a reply list gets an
+ * expiry; a bad one is dead-lettered instead); push dead letters and trim the dead-letter list to
+ * its cap, counting what it trimmed; acknowledge the first `ack` entries of a processing list (a
+ * frame is acknowledged whole); and move new entries from an input list to that processing list,
+ * until they hold `take` values or reach `takeBytes` (always at least one entry), returning them
+ * (an entry above `maxBytes` comes back as its size and a prefix, not the blob). A crash between
+ * any two steps therefore neither loses a value (it stays in the processing list until its
  * results are stored) nor duplicates one. Values for the same list go in one `RPUSH` (up to 1000
  * at a time), not one call each: a command called from Lua costs about as much as storing a small
  * value. Entries are taken with `LMOVE`, one at a time, which moves the stored string itself.
@@ -33,10 +42,11 @@ import java.security.MessageDigest
  *
  * [PEEK] reads the head of a processing list under the same bounds, fenced like [STEP] (after a
  * restart, and after every idle wait: a host that resumes from a freeze learns there that it lost
- * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script).
+ * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script,
+ * so [COUNT_IDLE_TAKE], pipelined behind it, lowers the queue count by what it took).
  *
  * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
- * the retained values (it starts at the oldest retained value).
+ * the retained values (it starts at the oldest retained value; a service input's count grows by them).
  *
  * Scripts run with EVALSHA and fall back to EVAL when the server does not know them (after a
  * restart), which also loads them. The liveness scripts ([LeaseScripts]) run the same way.
@@ -62,11 +72,14 @@ internal class Script(text: String) {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
          * service's input, 6 source log, 7 source reader set, 8 source service set, 9 the service's
-         * host lease (any existing key when ARGV 18 is empty), then the reply keys, the reader
-         * lists, their missed counters, the service inputs.
-         * ARGV: 1-17 the counts and limits (see [StepBatch.execute]), 18 the instance id that must
-         * hold the host lease (empty: no fence, for readers and publishers), then the per-service
-         * queue limits and the values. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
+         * host lease (any existing key when ARGV 18 is empty), 10 the source's value numbers, 11
+         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, then the
+         * reply keys, the reader lists, their missed counters, the service inputs, their queue counts.
+         * ARGV: 1-17 the counts and limits (see [StepBatch.execute]; 17 is the number of published
+         * frames), 18 the instance id that must hold the host lease (empty: no fence, for readers
+         * and publishers), 19 the published values, 20 '1' if the input's queue count is kept (a
+         * service), 21 what the entries pushed to the next service add to its count, then the
+         * per-service queue limits and the entries. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
          * `{'FULL', key, length, limit}` or `{'FENCED', holder}` (the host lease is held by
          * another instance, or by none: empty; nothing was written).
          */
