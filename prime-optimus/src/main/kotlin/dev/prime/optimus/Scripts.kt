@@ -68,6 +68,14 @@ internal class Script(text: String) {
         pipeline.eval(source, keys, args)
     }
 
+    /**
+     * Queues the script in [pipeline] as EVALSHA (no script text to send and hash on every call):
+     * the caller reads its [redis.clients.jedis.Response] and, on [JedisNoScriptException] (the
+     * server restarted), runs the script again with [run], which loads it.
+     */
+    fun queueBySha(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>): redis.clients.jedis.Response<Any?> =
+        pipeline.evalsha(sha, keys, args)
+
     companion object {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next

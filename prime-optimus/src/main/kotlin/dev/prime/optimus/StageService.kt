@@ -128,9 +128,16 @@ internal class StageService(
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
         val pipeline = jedis.pipelined()
         val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
-        Script.COUNT_IDLE_TAKE.queue(pipeline, listOf(processing, queued), emptyList())
+        val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())
         pipeline.sync()
-        return moved.get()
+        val entry = moved.get()
+        try {
+            counted.get()
+        } catch (_: redis.clients.jedis.exceptions.JedisNoScriptException) {
+            // Redis restarted and forgot it: the processing list still holds just what was moved
+            Script.COUNT_IDLE_TAKE.run(jedis, listOf(processing, queued), emptyList())
+        }
+        return entry
     }
 
     private fun describeFailure(e: Throwable): String = when {
