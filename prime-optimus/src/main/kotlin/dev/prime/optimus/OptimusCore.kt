@@ -161,7 +161,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         (maxValueBytes.toLong() + ENVELOPE_OVERHEAD + Frame.HEADER + Frame.PER_VALUE).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
         settings.batchBytes,
         { input -> queueLimitOf(keys.serviceOf(input)) },
-        settings.frameBytes,
+        // a frame of many values stays within what a consumer reads whole (the entry size limit)
+        minOf(settings.frameBytes.toLong(), maxValueBytes.toLong() + ENVELOPE_OVERHEAD).toInt(),
     )
     internal val readerMisses: ReaderMisses = ReaderMisses(name())
     private val hosts: Set<String>? = settings.hosts

@@ -76,6 +76,21 @@ class FramedDeliveryTest {
     }
 
     @Test
+    fun framesStayWithinTheEntrySizeLimitOfASmallMaxValueBytes() {
+        // 50 values of 3,000 bytes: 150 KB together, over the entry size limit that maxValueBytes(4096) sets
+        val values = (0 until 50).map { i -> ByteArray(3000) { (i * it).toByte() } }
+        OptimusCore.builder().config(config(1000)).redis(TestRedis.url).maxValueBytes(4096).build().use { core ->
+            val numbers = core.source("blobs", EventBlock<ByteArray>())
+            val output = core.link(numbers, core.chain("copy") { x: ByteArray -> x.copyOf() }).reader()
+            core.start()
+            core.publishAll(numbers, values)
+            val received = values.indices.map { output.take(PATIENCE).orElseThrow() }
+            assertEquals(values.map { it.toList() }, received.map { it.toList() })
+            assertEquals(emptyList<DeadLetter>(), core.deadLetters("copy"), "no frame was too large for its consumer")
+        }
+    }
+
+    @Test
     fun aReaderKeepsItsRetentionInValuesAndCountsWhatItMissed() {
         OptimusCore.builder().config(config(100)).redis(TestRedis.url).build().use { core ->
             val numbers = core.source("numbers", EventBlock<Int>())
