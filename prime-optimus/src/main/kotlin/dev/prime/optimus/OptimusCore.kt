@@ -484,7 +484,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
-        bind(stages, null)
+        bind(stages, null, counted = false)
         return RemoteCall(this, chainName, keys.serviceInput(stages.first().name))
     }
 
@@ -567,14 +567,15 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         declarations.bindings += binding
         try {
             register(source.keys, input, service = true)
-            bind(stages, output?.keys)
+            bind(stages, output?.keys, counted = true)
         } catch (e: Throwable) {
             declarations.bindings -= binding
             throw e
         }
     }
 
-    private fun bind(stages: List<StageSpec>, output: SourceKeys?) {
+    /** [counted]: the stages are fed by a source, so values reach their queues and are counted; else only calls do. */
+    private fun bind(stages: List<StageSpec>, output: SourceKeys?, counted: Boolean) {
         stages.forEachIndexed { index, stage ->
             val last = index == stages.size - 1
             val service = StageService(
@@ -583,6 +584,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 stage.logic,
                 if (last) null else keys.serviceInput(stages[index + 1].name),
                 if (last) output else null,
+                counted,
             )
             check(services.putIfAbsent(stage.name, service) == null) { "service '${stage.name}' is bound twice" }
             if (isStarted) launchIfHosted(service)

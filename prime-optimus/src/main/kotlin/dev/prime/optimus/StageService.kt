@@ -51,6 +51,8 @@ internal class StageService(
     private val next: ByteArray?,
     /** Where the last service of a chain linked to a source publishes. */
     private val output: SourceKeys?,
+    /** Whether values reach this service's input (it is fed by a source), so its queue count is kept; else only calls do. */
+    private val counted: Boolean,
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
     private val processing = core.keys.serviceProcessing(name)
@@ -58,7 +60,7 @@ internal class StageService(
     private val fence = core.hostFence(name)
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
-        fence,
+        fence, counted,
     )
     private val rules = core.stepRules
     private val recent = RecentIds()
@@ -126,6 +128,8 @@ internal class StageService(
      * leaves room in the queue, as a step's take does).
      */
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
+        // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
+        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
         val pipeline = jedis.pipelined()
         val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
         val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())

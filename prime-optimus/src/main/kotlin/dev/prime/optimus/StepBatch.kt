@@ -22,6 +22,8 @@ internal class StepBatch(
     private val rules: StepRules,
     /** The host lease this step must hold (a hosted service's step), or `null` (readers, publishers). */
     private val fence: HostFence? = null,
+    /** Whether the input's queue count is kept: a service fed by a source (a service only called gets requests, never counted). */
+    private val counted: Boolean = false,
 ) {
     /** A plain consumer's step (a reader): acknowledge and take, nothing stored. */
     constructor(processing: ByteArray, input: ByteArray, output: SourceKeys?) :
@@ -64,7 +66,7 @@ internal class StepBatch(
     val publishes: Boolean get() = published.isNotEmpty()
 
     /** A batch like this one, empty: the part for one more entry. */
-    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules, fence)
+    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules, fence, counted)
 
     /**
      * Stores the step: acknowledges [ack] entries, takes up to [take] new ones (and at most
@@ -75,7 +77,9 @@ internal class StepBatch(
     fun execute(jedis: Jedis, ack: Int, take: Int, strict: Boolean = false): StepResult {
         val view = if (published.isEmpty()) SourceView.NONE else checkNotNull(output!!.view) { "no view of the readers" }
         // what is ready travels together: a source's values always in frames (numbered there), a hop's when more than one
-        val nextEntries = Frame.pack(nextValues, rules.frameBytes, always = false)
+        // requests travel alone (a queue count counts a frame's elements as values, and a caller's request as nothing)
+        val (forwardedValues, requests) = nextValues.partition(Envelope::isValue)
+        val nextEntries = Frame.pack(forwardedValues, rules.frameBytes, always = false) + requests
         val publishedFrames = Frame.pack(published, rules.frameBytes, always = true)
         val replyKeys = LinkedHashMap<ByteKey, Int>()
         for (reply in replies) replyKeys.getOrPut(ByteKey(reply.key)) { replyKeys.size + 1 }
@@ -90,7 +94,7 @@ internal class StepBatch(
         keys += output?.services ?: processing
         keys += fence?.lease ?: processing
         keys += output?.sequence ?: processing
-        keys += if (fence != null) queuedKey(input) else processing
+        keys += if (counted) queuedKey(input) else processing
         keys += next?.let(::queuedKey) ?: processing
         replyKeys.keys.forEach { keys += it.bytes }
         keys += view.readers
@@ -117,7 +121,7 @@ internal class StepBatch(
         args += number(publishedFrames.size)
         args += fence?.instance ?: ByteArray(0)
         args += number(published.size)
-        args += number(if (fence != null) 1 else 0)
+        args += number(if (counted) 1 else 0)
         args += number(nextEntries.sumOf(Frame::queued))
         view.services.forEach { args += number(rules.queueLimit(it)) }
         args += nextEntries

@@ -104,6 +104,29 @@ class FramedDeliveryTest {
         }
     }
 
+    @Test
+    fun requestsOfManyCallersAreNeverCountedAgainstAQueue() {
+        OptimusCore.builder().config(config()).redis(TestRedis.url).build().use { core ->
+            val chain = core.link(core.chain("first") { x: Int -> x + 1 }, core.chain("second") { x: Int -> x * 2 })
+            val block = chain.toBlock()
+            core.start()
+            val pool = java.util.concurrent.Executors.newFixedThreadPool(8)
+            try {
+                val results = (0 until 8).map { t -> pool.submit<List<Int>> { (0 until 50).map { block.process(t * 100 + it) } } }
+                results.forEachIndexed { t, result ->
+                    assertEquals((0 until 50).map { (t * 100 + it + 1) * 2 }, result.get(PATIENCE.seconds, TimeUnit.SECONDS))
+                }
+            } finally {
+                pool.shutdownNow()
+            }
+            Jedis(URI(TestRedis.url)).use { raw ->
+                for (service in listOf("first", "second")) {
+                    assertEquals(null, raw.get(core.keys.queuedOf(core.keys.serviceInput(service))), "no queue count for '$service'")
+                }
+            }
+        }
+    }
+
     private companion object {
         const val LONE = 7777
         const val FRAME_BYTES = 64 * 1024
