@@ -21,6 +21,7 @@ public interface MediaConformance
         LoggingConformance,
         CombinatorConformance,
         RecordingConformance,
+        MetricsConformance,
         LifecycleHookConformance,
         GenericServiceConformance,
         LinkVarianceConformance {}
