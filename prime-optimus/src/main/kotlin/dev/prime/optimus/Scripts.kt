@@ -301,6 +301,24 @@ internal class Script(text: String) {
         )
 
         /**
+         * A service's queue depth in values, for metrics: its input's queue count (or, for a
+         * service only called, its input's length: one request per entry) plus the values of the
+         * entries in its processing list, summed here so no frame travels to the client.
+         * KEYS: input, processing, queue count.
+         */
+        val QUEUE_DEPTH = Script(
+            """
+            local waiting = tonumber(redis.call('GET', KEYS[3]) or redis.call('LLEN', KEYS[1]))
+            local held = 0
+            for _, entry in ipairs(redis.call('LRANGE', KEYS[2], 0, -1)) do
+              if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
+              else held = held + 1 end
+            end
+            return math.max(0, waiting) + held
+            """,
+        )
+
+        /**
          * KEYS: the source's reader or service set, source log, the list, its count of queued values.
          * ARGV: '1' for a service's input (the count is kept), '0' for a plain reader. Returns 1 if the list is new.
          */

@@ -127,6 +127,30 @@ class FramedDeliveryTest {
         }
     }
 
+    @Test
+    fun queueDepthAndQueueLimitCountValuesInFrames() {
+        val inside = CountDownLatch(1)
+        val release = CountDownLatch(1)
+        val config = CoreConfig.builder().name("frames-" + UUID.randomUUID()).metrics(true).publishTimeout(Duration.ofMillis(200)).build()
+        OptimusCore.builder().config(config).redis(TestRedis.url).queueLimit("stuck", 300).build().use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val output = core.link(numbers, core.chain("stuck") { x: Int -> inside.countDown(); release.await(); x }).reader()
+            core.start()
+            core.publishAll(numbers, (0 until 10).toList()) // one frame, taken whole by the service
+            assertTrue(inside.await(PATIENCE.seconds, TimeUnit.SECONDS))
+            core.publishAll(numbers, (10 until 300).toList())
+            assertEquals(300L, core.metrics().service("stuck").queueDepth(), "10 in progress (one frame) and 290 waiting")
+            // 290 values wait in 2 entries: a count of entries would take many more
+            val full = org.junit.jupiter.api.Assertions.assertThrows(QueueFullException::class.java) {
+                core.publishAll(numbers, (300 until 311).toList())
+            }
+            assertTrue("holds 290 values" in full.message!!, full.message)
+            core.publishAll(numbers, (300 until 310).toList())
+            release.countDown()
+            assertEquals((0 until 310).toList(), (0 until 310).map { output.take(PATIENCE).orElseThrow() })
+        }
+    }
+
     private companion object {
         const val LONE = 7777
         const val FRAME_BYTES = 64 * 1024
