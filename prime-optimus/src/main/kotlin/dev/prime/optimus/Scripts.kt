@@ -115,37 +115,12 @@ internal class Script(text: String) {
             local repliesAt = nextAt + nNext
             local deadAt = repliesAt + 3 * nReplies
             local publishedAt = deadAt + nDead
-            -- the values a service's input holds (a frame holds many; a caller's request is not counted)
-            local function queuedValues(key)
-              return tonumber(redis.call('GET', key) or '0')
-            end
-            local function counts(entry)
-              if #entry >= 14 and string.byte(entry, 1) == 70 then return struct.unpack('>I4', entry, 11) end
-              if #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then return 1 end
-              return 0
-            end
             local function pushAll(key, values, from, count)
               local length = 0
               for start = from, from + count - 1, 1000 do
                 length = redis.call('RPUSH', key, unpack(values, start, math.min(start + 999, from + count - 1)))
               end
               return length
-            end
-            -- drops the head entries of a source's list whose values are all older than value number keepFrom
-            local function trimValues(key, keepFrom)
-              local dropped = 0
-              if keepFrom <= 1 then return 0 end
-              while true do
-                local head = redis.call('LINDEX', key, 0)
-                if not head then return dropped end
-                local first, n = 0, 1
-                if #head >= 14 and string.byte(head, 1) == 70 then
-                  first, n = struct.unpack('>I8', head, 3), struct.unpack('>I4', head, 11)
-                end
-                if first + n > keepFrom then return dropped end
-                redis.call('LPOP', key)
-                dropped = dropped + n
-              end
             end
             if nPublished > 0 then
               if redis.call('SCARD', readers) ~= nReaders or redis.call('SCARD', services) ~= nServices then
@@ -157,20 +132,36 @@ internal class Script(text: String) {
               for s = 1, nServices do
                 local key = KEYS[serviceAt + s]
                 if redis.call('SISMEMBER', services, key) == 0 then return {'STALE'} end
-                local limit, length = tonumber(ARGV[limitsAt + s]), queuedValues(KEYS[serviceQueuedAt + s])
+                local limit, length = tonumber(ARGV[limitsAt + s]), tonumber(redis.call('GET', KEYS[serviceQueuedAt + s]) or '0')
                 if (strict and length + publishedValues > limit) or ((not strict) and length >= limit) then
                   return {'FULL', key, length, limit}
                 end
               end
             end
             if nNext > 0 then
-              local length = queuedValues(nextQueued)
+              local length = tonumber(redis.call('GET', nextQueued) or '0')
               if nextLimit > 0 and length >= nextLimit then return {'FULL', nextKey, length, nextLimit} end
               pushAll(nextKey, ARGV, nextAt + 1, nNext)
               if nextValues > 0 then redis.call('INCRBY', nextQueued, nextValues) end
             end
             local missed = {}
             if nPublished > 0 then
+              -- drops the head entries of a source's list whose values are all older than value number keepFrom
+              local function trimValues(key, keepFrom)
+                local dropped = 0
+                if keepFrom <= 1 then return 0 end
+                while true do
+                  local head = redis.call('LINDEX', key, 0)
+                  if not head then return dropped end
+                  local first, n = 0, 1
+                  if #head >= 14 and string.byte(head, 1) == 70 then
+                    first, n = struct.unpack('>I8', head, 3), struct.unpack('>I4', head, 11)
+                  end
+                  if first + n > keepFrom then return dropped end
+                  redis.call('LPOP', key)
+                  dropped = dropped + n
+                end
+              end
               -- number the values: each frame gets the number of its first value in this source
               local last = redis.call('INCRBY', sequence, publishedValues)
               local at = last - publishedValues + 1
@@ -235,9 +226,14 @@ internal class Script(text: String) {
                 break
               end
               bytes = bytes + #value
-              local n = counts(value)
-              taken = taken + n
-              values = values + math.max(1, n)
+              if #value >= 14 and string.byte(value, 1) == 70 then
+                local n = struct.unpack('>I4', value, 11)
+                taken = taken + n
+                values = values + math.max(1, n)
+              else
+                if #value >= 10 and string.byte(value, 1) == 80 and string.byte(value, 2) == 0 then taken = taken + 1 end
+                values = values + 1
+              end
               if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
               result[#result + 1] = value
             end
