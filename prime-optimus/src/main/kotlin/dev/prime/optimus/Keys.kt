@@ -32,6 +32,9 @@ internal class Keys(topology: String) {
     /** The retained values of a source (its newest `retention` values). */
     fun sourceLog(source: String): ByteArray = key("src:$source:log")
 
+    /** The number of the last value published to a source (frames in its lists carry their first value's number). */
+    fun sourceSequence(source: String): ByteArray = key("src:$source:seq")
+
     /** The set of plain reader lists a source publishes to (trimmed to its retention). */
     fun sourceReaders(source: String): ByteArray = key("src:$source:readers")
 
@@ -53,6 +56,9 @@ internal class Keys(topology: String) {
 
     /** The processing list that goes with an input or reader list. */
     fun processingOf(list: ByteArray): ByteArray = list + ":proc".toByteArray(UTF_8)
+
+    /** The count of values a service's input [list] holds, with its processing list (a frame holds many values). */
+    fun queuedOf(list: ByteArray): ByteArray = queuedKey(list)
 
     /** The counter of values a reader list lost to retention (maintained by the scripts). */
     fun missedOf(list: ByteArray): ByteArray = list + ":missed".toByteArray(UTF_8)
@@ -89,3 +95,6 @@ internal class Keys(topology: String) {
 
     private fun key(suffix: String) = (prefix + suffix).toByteArray(UTF_8)
 }
+
+/** The count of values a service's input [list] holds, with its processing list (see [Keys.queuedOf]). */
+internal fun queuedKey(list: ByteArray): ByteArray = list + ":queued".toByteArray(UTF_8)

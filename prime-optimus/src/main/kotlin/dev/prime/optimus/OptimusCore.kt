@@ -125,7 +125,12 @@ import java.util.concurrent.atomic.AtomicInteger
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
- *   ([ValueTooLargeException]); a service takes at most 256 entries or 8 MiB per step.
+ *   ([ValueTooLargeException]); a service takes at most 256 values or 8 MiB per step.
+ * - Values that are ready together (one [publishAll], one service step's outputs) travel as one
+ *   Redis entry, a frame of at most 256 values and 1 MiB; nothing waits to fill a frame, so a
+ *   lone value goes out at once. A frame is acknowledged whole and redelivered whole after a
+ *   crash; duplicates are still skipped per value. Queue limits and reader retention count
+ *   values, not entries (see docs/architecture.md, "Frames").
  * - Reply lists expire (10 minutes or twice the call timeout, whichever is longer) after each
  *   reply pushed to them, so replies to callers that died do not stay.
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
@@ -159,10 +164,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         keys.replyPrefix,
         maxOf(MIN_REPLY_TTL, (callTimeout ?: MIN_REPLY_TTL).multipliedBy(2)).toMillis(),
         settings.deadLetterLimit,
-        // a value at the limit, in an envelope with the longest reply key
-        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
+        // a value at the limit, in an envelope with the longest reply key, alone in a frame
+        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD + Frame.HEADER + Frame.PER_VALUE).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
         settings.batchBytes,
-    ) { input -> queueLimitOf(keys.serviceOf(input)) }
+        { input -> queueLimitOf(keys.serviceOf(input)) },
+        // a frame of many values stays within what a consumer reads whole (the entry size limit)
+        minOf(settings.frameBytes.toLong(), maxValueBytes.toLong() + ENVELOPE_OVERHEAD).toInt(),
+    )
     internal val readerMisses: ReaderMisses = ReaderMisses(name())
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
@@ -484,7 +492,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
-        bind(stages, null)
+        bind(stages, null, counted = false)
         return RemoteCall(this, chainName, keys.serviceInput(stages.first().name))
     }
 
@@ -567,14 +575,15 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         declarations.bindings += binding
         try {
             register(source.keys, input, service = true)
-            bind(stages, output?.keys)
+            bind(stages, output?.keys, counted = true)
         } catch (e: Throwable) {
             declarations.bindings -= binding
             throw e
         }
     }
 
-    private fun bind(stages: List<StageSpec>, output: SourceKeys?) {
+    /** [counted]: the stages are fed by a source, so values reach their queues and are counted; else only calls do. */
+    private fun bind(stages: List<StageSpec>, output: SourceKeys?, counted: Boolean) {
         stages.forEachIndexed { index, stage ->
             val last = index == stages.size - 1
             val service = StageService(
@@ -583,6 +592,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 stage.logic,
                 if (last) null else keys.serviceInput(stages[index + 1].name),
                 if (last) output else null,
+                counted,
             )
             check(services.putIfAbsent(stage.name, service) == null) { "service '${stage.name}' is bound twice" }
             if (isStarted) launchIfHosted(service)
@@ -653,7 +663,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
-        Script.REGISTER.run(jedis, listOf(if (service) source.services else source.readers, source.log, list), emptyList())
+        Script.REGISTER.run(
+            jedis,
+            listOf(if (service) source.services else source.readers, source.log, list, if (service) keys.queuedOf(list) else list),
+            listOf((if (service) "1" else "0").toByteArray(UTF_8)),
+        )
     }
 
     /**
@@ -920,6 +934,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(batchBytes = bytes)
         }
 
+        /** The bytes a frame (many values in one Redis entry) holds at most (default 1 MiB; a single value may need more). */
+        internal fun frameBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "frame bytes must be positive, was $bytes" }
+            settings = settings.copy(frameBytes = bytes)
+        }
+
         /** Makes the core: starts an embedded Redis unless [redis] was given, and checks that Redis answers. */
         public fun build(): OptimusCore = OptimusCore(config, settings)
     }
@@ -938,6 +958,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val deadLetterLimit: Int = 10_000,
         val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
         val replicaAcks: ReplicaAcks? = null,
+        val frameBytes: Int = Frame.DEFAULT_BYTES,
     )
 
     public companion object {
