@@ -233,6 +233,11 @@ public abstract class PrimeCore implements AutoCloseable {
     return model().eventSource(name, events);
   }
 
+  /** The compiler of this core's model (for its combinators' metering taps). */
+  ModelCompiler<?> modelCompiler() {
+    return model();
+  }
+
   /** The in-memory sources and services of this core. */
   InProcessServices inProcessServices() {
     return inProcess;
@@ -925,7 +930,8 @@ public abstract class PrimeCore implements AutoCloseable {
     ensureOpen();
     declared(
         () -> {
-          runGenericService(topologyRecorder().genericService(name, service), service);
+          String claimed = topologyRecorder().genericService(name, service);
+          runGenericService(claimed, model().genericService(claimed, service));
           return null;
         });
   }
