@@ -7,7 +7,6 @@ module dev.prime {
   requires org.slf4j;
 
   exports dev.prime;
-  exports dev.prime.blocks;
   exports dev.prime.spi;
   exports dev.prime.topology;
 }

@@ -1,11 +1,6 @@
 package dev.prime;
 
-import dev.prime.blocks.IsolateBlock;
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.ChainCompiler;
-import dev.prime.spi.MediaSource;
-import dev.prime.spi.SourceCompiler;
-import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.Topology;
 import java.util.Collections;
 import java.util.LinkedHashSet;
@@ -14,6 +9,7 @@ import java.util.Objects;
 import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
+import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
 import java.util.function.Supplier;
@@ -69,6 +65,7 @@ public abstract class PrimeCore implements AutoCloseable {
 
   private static final ConcurrentHashMap<String, AtomicInteger> CORE_COUNTERS =
       new ConcurrentHashMap<>();
+  private static final AtomicLong CREATED = new AtomicLong();
 
   private enum State {
     NEW,
@@ -88,6 +85,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
+  private final long creationOrder = CREATED.incrementAndGet();
 
   /**
    * @param media the media's short name, for generated core names ({@code liberty-1})
@@ -103,6 +101,11 @@ public abstract class PrimeCore implements AutoCloseable {
     this.services = new ServiceThreads(name);
     this.inProcess = new InProcessServices(this, services);
     this.combinators = new Combinators(this, services);
+  }
+
+  /** The order in which cores take each other's declaration locks ({@link DeclarationLock}). */
+  final long creationOrder() {
+    return creationOrder;
   }
 
   /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
@@ -233,26 +236,22 @@ public abstract class PrimeCore implements AutoCloseable {
     return model().eventSource(name, events);
   }
 
-  /** The in-memory sources and services of this core. */
-  InProcessServices inProcessServices() {
-    return inProcess;
-  }
-
   /**
    * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes
    * ({@link TopologyRecorder#declare}).
    */
-  private <T> T declared(Supplier<T> declaration) {
-    return topologyRecorder().declare(declaration);
+  private <T> T declared(Supplier<T> declaration, Chain<?, ?>... takes) {
+    return DeclarationLock.run(this, declaration, takes);
   }
 
-  private ModelCompiler<?> model() {
+  /** The compiler of this core's model (made on first use: it asks the media for its compilers). */
+  ModelCompiler<?> model() {
     ModelCompiler<?> c = compiler;
     if (c == null) {
       synchronized (lifecycle) {
         c = compiler;
         if (c == null) {
-          c = new ModelCompiler<>(this, chainCompiler(), sourceCompiler());
+          c = new ModelCompiler<>(this, chainCompiler(), sourceCompiler(), inProcess);
           compiler = c;
         }
       }
@@ -278,7 +277,9 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(first, second);
           return compiled(topologyRecorder().link(first, second), first, second);
-        });
+        },
+        first,
+        second);
   }
 
   // ---------------------------------------------------------------- templates
@@ -304,7 +305,9 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(then, otherwise);
           return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
-        });
+        },
+        then,
+        otherwise);
   }
 
   /**
@@ -321,7 +324,8 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(body);
           return compiled(topologyRecorder().forEach(body), body);
-        });
+        },
+        body);
   }
 
   /**
@@ -410,7 +414,8 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(parts);
           return compiled(topologyRecorder().union(parts), parts);
-        });
+        },
+        parts);
   }
 
   /**
@@ -429,7 +434,8 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(chain);
           return compiled(topologyRecorder().fork(chain, events), chain);
-        });
+        },
+        chain);
   }
 
   /**
@@ -454,7 +460,8 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(chain);
           return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
-        });
+        },
+        chain);
   }
 
   /**
@@ -466,32 +473,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a factory of user chains
    */
   public final <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
-    String sharedName = chain == null ? null : chain.name();
-    Block<I, O> shared =
-        declared(
-            () -> {
-              requireChains(chain);
-              topologyRecorder().isolate(chain);
-              return new IsolateBlock<>(chain.toBlock(), this::ensureOpen);
-            });
-    String sharedNode = topologyRecorder().isolate(chain);
-    AtomicInteger users = new AtomicInteger();
-    return new Isolated<>() {
-      @Override
-      public String name() {
-        return sharedName;
-      }
-
-      @Override
-      public Chain<I, O> newUser() {
-        ensureOpen();
-        return declared(
-            () ->
-                compiled(
-                    topologyRecorder()
-                        .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared)));
-      }
-    };
+    return declared(
+        () -> {
+          requireChains(chain);
+          return model().isolate(topologyRecorder().isolate(chain), chain);
+        },
+        chain);
   }
 
   /**
@@ -539,7 +526,8 @@ public abstract class PrimeCore implements AutoCloseable {
         () -> {
           requireChains(inner);
           return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
-        });
+        },
+        inner);
   }
 
   /**
@@ -566,7 +554,8 @@ public abstract class PrimeCore implements AutoCloseable {
           Chain<Token, List<E>> collector = asyncCollector(source);
           return compiled(
               topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
-        });
+        },
+        inner);
   }
 
   // ---------------------------------------------------------------- combinators and timers
@@ -817,18 +806,14 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the source of outputs, named {@code source>chain}
    */
-  @SuppressWarnings("unchecked")
   public final <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
     return declared(
         () -> {
           requireChains(chain);
-          String name = topologyRecorder().sourceLink(source, chain);
-          ModelCompiler<?> model = model();
-          return model.ownsSource(source)
-              ? (Source<O>) model.service(name, source, chain)
-              : inProcess.link(name, source, chain);
-        });
+          return model().service(topologyRecorder().sourceLink(source, chain), source, chain);
+        },
+        chain);
   }
 
   /**
@@ -840,18 +825,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    * @return the filtered source
    */
-  @SuppressWarnings("unchecked")
-  protected final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
+  final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
     return declared(
-        () -> {
-          String name = topologyRecorder().filter(source, predicate);
-          ModelCompiler<?> model = model();
-          return model.ownsSource(source)
-              ? (Source<T>) model.service(name, source, null)
-              : inProcess.filter(name, source, predicate);
-        });
+        () -> model().service(topologyRecorder().filter(source, predicate), source, null));
   }
 
   /**
@@ -864,19 +842,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <R> output type
    * @return the flattened source
    */
-  @SuppressWarnings("unchecked")
-  protected final <T, R> Source<R> flatMapSource(
+  final <T, R> Source<R> flatMapSource(
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
     return declared(
-        () -> {
-          String name = topologyRecorder().flatMap(source, block);
-          ModelCompiler<?> model = model();
-          return model.ownsSource(source)
-              ? (Source<R>) model.service(name, source, null)
-              : inProcess.flatMap(name, source, block);
-        });
+        () -> model().service(topologyRecorder().flatMap(source, block), source, null));
   }
 
   /**
@@ -887,18 +858,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param listener the listener
    * @param <T> value type
    */
-  protected final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
+  final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
     declared(
         () -> {
-          String name = topologyRecorder().listener(source, listener);
-          ModelCompiler<?> model = model();
-          if (model.ownsSource(source)) {
-            model.service(name, source, null);
-          } else {
-            inProcess.listen(name, source, listener);
-          }
+          model().service(topologyRecorder().listener(source, listener), source, null);
           return null;
         });
   }
@@ -932,7 +897,7 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Runs a generic service, whose name is already claimed: by default on a thread of this core
-   * (started with the other services), through {@link dev.prime.spi.GenericServiceLoop}. A media
+   * (started with the other services), through {@link dev.prime.GenericServiceLoop}. A media
    * that spreads services over processes overrides it to run the service only where it is hosted.
    *
    * @param name the service's name
@@ -997,12 +962,18 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Where this core's diagram is recorded and every name is made; a media names what it builds
-   * through it (see {@link TopologyRecorder}).
+   * Records a reader the program opened on one of this core's sources of the media's own ({@link
+   * SourceCompiler}) in the {@linkplain #topology() topology} (the core records the readers of
+   * its in-memory sources itself).
    *
-   * @return the recorder of this core
+   * @param source the source's name
    */
-  protected final TopologyRecorder topologyRecorder() {
+  protected final void recordReader(String source) {
+    topologyRecorder().reader(source);
+  }
+
+  /** Where this core's diagram is recorded and every name is made (made on first use). */
+  final TopologyRecorder topologyRecorder() {
     TopologyRecorder r = recorder;
     if (r == null) {
       synchronized (lifecycle) {
@@ -1123,46 +1094,13 @@ public abstract class PrimeCore implements AutoCloseable {
     }
   }
 
-  /**
-   * Checks that chains given to a link or template are usable, before anything is consumed: a
-   * link or template that fails changes nothing (every chain given to it stays usable). Call it
-   * first, then consume the chains.
-   *
-   * @param chains the chains
-   * @throws ChainAlreadyUsedException if a chain was consumed before or is given twice
-   * @throws CoreClosedException if this core or a chain's core is closed
-   */
-  protected final void requireChains(Chain<?, ?>... chains) {
-    ensureOpen();
-    for (int i = 0; i < chains.length; i++) {
-      Chain<?, ?> chain = chains[i];
-      if (chain == null) {
-        throw new NullPointerException("chain argument " + (i + 1) + " must not be null");
-      }
-      for (int j = 0; j < i; j++) {
-        if (chains[j] == chain) {
-          throw new ChainAlreadyUsedException(chain.name());
-        }
-      }
-      if (chain.core().isClosed()) {
-        throw new CoreClosedException(chain.core().name());
-      }
-      if (chain instanceof ModelChain<?, ?, ?> known && known.used()) {
-        throw new ChainAlreadyUsedException(chain.name());
-      }
-    }
+  /** Checks chains given to a declaration before it consumes any ({@link DeclarationChecks}). */
+  final void requireChains(Chain<?, ?>... chains) {
+    DeclarationChecks.requireChains(this, chains);
   }
 
-  /**
-   * Checks that a source given to a link or template is usable.
-   *
-   * @param source the source
-   */
-  protected final void requireSource(Source<?> source) {
-    ensureOpen();
-    Objects.requireNonNull(source, "source must not be null");
-    if (source.core().isClosed()) {
-      throw new CoreClosedException(source.core().name());
-    }
+  /** Checks a source given to a declaration ({@link DeclarationChecks}). */
+  final void requireSource(Source<?> source) {
+    DeclarationChecks.requireSource(this, source);
   }
 }

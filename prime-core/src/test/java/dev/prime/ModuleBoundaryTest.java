@@ -18,7 +18,7 @@ class ModuleBoundaryTest {
     assertTrue(core.isNamed(), "the tests run prime-core as a named module");
     assertEquals("dev.prime", core.getName());
     assertEquals(
-        Set.of("dev.prime", "dev.prime.blocks", "dev.prime.spi", "dev.prime.topology"),
+        Set.of("dev.prime", "dev.prime.spi", "dev.prime.topology"),
         core.getDescriptor().exports().stream()
             .map(ModuleDescriptor.Exports::source)
             .collect(Collectors.toSet()));

@@ -1,11 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.Chain;
-import dev.prime.EventBlock;
-import dev.prime.GenericService;
-import dev.prime.RepeaterBlock;
-import dev.prime.Source;
 import java.util.Objects;
 import java.util.function.Consumer;
 import java.util.function.Predicate;

@@ -1,6 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.Block;
 import dev.prime.topology.TopologyNode;
 import java.util.List;
 
