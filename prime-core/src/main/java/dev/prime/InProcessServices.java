@@ -6,6 +6,7 @@ import java.util.ArrayList;
 import java.util.List;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
+import java.util.function.Supplier;
 
 /**
  * The core's in-memory {@link SourceCompiler}, which a media that runs in one process uses as it
@@ -13,7 +14,8 @@ import java.util.function.Predicate;
  * filter, a flat-map, a listener) that each run on a thread of the core. A media with a source
  * compiler of its own (Optimus) still gets this one for the services of sources that are not its
  * own (another core's): they read any source through its readers, so their "form" of a source is
- * the source itself, and of a source link's chain the chain's block.
+ * the source itself, and of a source link's chain a supplier of the chain's block, taken once the
+ * service's input is open (making a block may have effects, such as binding Optimus services).
  *
  * <p>Design note. The sources and the event-block subscriptions are kept in lists guarded by the
  * sources list, so that {@link #close()} unsubscribes and closes every one exactly once, and a
@@ -56,8 +58,8 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   }
 
   /**
-   * Compiles a service of any source: a {@link TopologyNode.SourceLink} running {@code chain} (the
-   * chain's block, which the model compiler claims once this returned), a {@link
+   * Compiles a service of any source: a {@link TopologyNode.SourceLink} running {@code chain} (a
+   * {@code Supplier} of the chain's block, which the model compiler claims once this returned), a {@link
    * TopologyNode.Filter}, a {@link TopologyNode.FlatMap} or a {@link TopologyNode.Listener}.
    */
   @Override
@@ -66,7 +68,7 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
     String name = node.name();
     Source in = input;
     if (node instanceof TopologyNode.SourceLink) {
-      return link(name, in, (Block) chain);
+      return link(name, in, (Supplier) chain);
     }
     if (node instanceof TopologyNode.Filter) {
       return filter(name, in, ((NodeLogic.Condition) logic).condition());
@@ -81,11 +83,17 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
     throw new IllegalStateException("not a service of a source: " + node);
   }
 
-  /** A service running {@code block} on every value of {@code input}; its non-null outputs. */
-  private <I, O> Source<O> link(String name, Source<I> input, Block<I, O> block) {
+  /**
+   * A service running the chain's block on every value of {@code input}; its non-null outputs.
+   * The block is made only once the service's input is open, so a link whose input fails has
+   * done nothing to the chain.
+   */
+  private <I, O> Source<O> link(String name, Source<I> input, Supplier<Block<I, O>> chain) {
     Reader<I> values = serviceInput(name, input);
     MemorySource<O> out;
+    Block<I, O> block;
     try {
+      block = chain.get();
       out = newSource(name);
     } catch (RuntimeException | Error e) {
       values.close();

@@ -4,6 +4,7 @@ import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
+import java.util.function.Supplier;
 
 /**
  * Compiles the chain nodes of a core's topology model with its media's {@link ChainCompiler}: the
@@ -89,11 +90,27 @@ final class ModelCompiler<F> {
     Source<?> output =
         mediaOwn
             ? service(sources, node, logic, input, part == null ? null : part.form())
-            : memory.service(node, logic, input, part == null ? null : part.block());
+            : memory.service(node, logic, input, part == null ? null : blockOf(part));
     if (part != null) {
       part.claim();
     }
     return (Source<T>) output;
+  }
+
+  /** {@link PrimeCore#sourcePart}: the media's form of one of {@code core}'s sources, or null. */
+  static <S> S sourceForm(PrimeCore core, Source<?> source, Class<S> form) {
+    if (source.core() == core && source instanceof MediaSource<?> own) {
+      Object compiled = own.compiledForm();
+      if (form.isInstance(compiled)) {
+        return form.cast(compiled);
+      }
+    }
+    return null;
+  }
+
+  /** A part's block, made when the in-memory service asks for it (its input open). */
+  private static Supplier<Block<?, ?>> blockOf(Part<?> part) {
+    return part::block;
   }
 
   /**

@@ -2,8 +2,6 @@ package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
 import dev.prime.topology.Topology;
-import java.util.Collections;
-import java.util.LinkedHashSet;
 import java.util.List;
 import java.util.Objects;
 import java.util.Set;
@@ -11,10 +9,9 @@ import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Consumer;
+import java.util.function.Function;
 import java.util.function.Predicate;
 import java.util.function.Supplier;
-import org.slf4j.Logger;
-import org.slf4j.LoggerFactory;
 
 /**
  * The media layer: turns blocks into chains and event blocks into sources, links them, and runs
@@ -74,10 +71,9 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   private final CoreConfig config;
-  private static final Logger LOG = LoggerFactory.getLogger(PrimeCore.class);
   private final String name;
   private final String media;
-  private volatile TopologyRecorder recorder; // made on first use: it refers to this core
+  private final TopologyRecorder recorder = new TopologyRecorder(this);
   private volatile ModelCompiler<?> compiler; // made on first use: the media's compilers
   private final ServiceThreads services;
   private final InProcessServices inProcess;
@@ -191,14 +187,20 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   protected abstract ChainCompiler<?> chainCompiler();
 
-  /**
-   * Compiles a chain node just recorded, consuming the chains it is made of.
-   *
-   * @param name the node's name
-   * @param parts the chains given for its parts, in order, already checked
-   */
+  /** Compiles a chain node just recorded, consuming {@code parts} (checked, in the node's order). */
   private <I, O> Chain<I, O> compiled(String name, Chain<?, ?>... parts) {
     return model().chain(name, parts);
+  }
+
+  /** Declares a chain node made of {@code parts}: checks them, records, compiles and claims. */
+  private <I, O> Chain<I, O> declaredChain(
+      Function<TopologyRecorder, String> record, Chain<?, ?>... parts) {
+    return declared(
+        () -> {
+          requireChains(parts);
+          return compiled(record.apply(topologyRecorder()), parts);
+        },
+        parts);
   }
 
   /**
@@ -222,13 +224,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the form, or {@code null}
    */
   protected final <S> S sourcePart(Source<?> source, Class<S> form) {
-    if (source.core() == this && source instanceof MediaSource<?> own) {
-      Object compiled = own.compiledForm();
-      if (form.isInstance(compiled)) {
-        return form.cast(compiled);
-      }
-    }
-    return null;
+    return ModelCompiler.sourceForm(this, source, form);
   }
 
   /** Compiles the event source of a node just recorded (for the core's combinators). */
@@ -273,13 +269,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain, named {@code first>second}
    */
   public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
-    return declared(
-        () -> {
-          requireChains(first, second);
-          return compiled(topologyRecorder().link(first, second), first, second);
-        },
-        first,
-        second);
+    return declaredChain(recorder -> recorder.link(first, second), first, second);
   }
 
   // ---------------------------------------------------------------- templates
@@ -301,13 +291,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<? super I, ? extends O> then,
       Chain<? super I, ? extends O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
-    return declared(
-        () -> {
-          requireChains(then, otherwise);
-          return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
-        },
-        then,
-        otherwise);
+    return declaredChain(recorder -> recorder.ifElse(then, otherwise, condition), then, otherwise);
   }
 
   /**
@@ -320,12 +304,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<List<I>, List<O>> forEach(Chain<? super I, ? extends O> body) {
-    return declared(
-        () -> {
-          requireChains(body);
-          return compiled(topologyRecorder().forEach(body), body);
-        },
-        body);
+    return declaredChain(recorder -> recorder.forEach(body), body);
   }
 
   /**
@@ -410,12 +389,7 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /** A union of 2 to 5 chains; the tuple type follows from the number of parts. */
   private <I, T> Chain<I, T> unionOf(Chain<?, ?>... parts) {
-    return declared(
-        () -> {
-          requireChains(parts);
-          return compiled(topologyRecorder().union(parts), parts);
-        },
-        parts);
+    return declaredChain(recorder -> recorder.union(parts), parts);
   }
 
   /**
@@ -430,12 +404,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
-    return declared(
-        () -> {
-          requireChains(chain);
-          return compiled(topologyRecorder().fork(chain, events), chain);
-        },
-        chain);
+    return declaredChain(recorder -> recorder.fork(chain, events), chain);
   }
 
   /**
@@ -456,12 +425,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
-    return declared(
-        () -> {
-          requireChains(chain);
-          return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
-        },
-        chain);
+    return declaredChain(recorder -> recorder.guard(chain, pass, substitute), chain);
   }
 
   /**
@@ -522,12 +486,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, R, O> Chain<I, O> repeater(
       Chain<I, R> inner, RepeaterBlock<I, R, Void, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
-    return declared(
-        () -> {
-          requireChains(inner);
-          return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
-        },
-        inner);
+    return declaredChain(recorder -> recorder.repeater(inner, null, repeater), inner);
   }
 
   /**
@@ -917,14 +876,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a snapshot
    */
   public final Set<String> serviceNames() {
-    Topology topology = topology();
-    Set<String> hosted = new LinkedHashSet<>();
-    for (String service : topology.services()) {
-      if (topology.isHostedHere(service)) {
-        hosted.add(service);
-      }
-    }
-    return Collections.unmodifiableSet(hosted);
+    return topologyRecorder().hostedServices(this::isHostedHere);
   }
 
   /**
@@ -972,19 +924,9 @@ public abstract class PrimeCore implements AutoCloseable {
     topologyRecorder().reader(source);
   }
 
-  /** Where this core's diagram is recorded and every name is made (made on first use). */
+  /** Where this core's diagram is recorded and every name is made. */
   final TopologyRecorder topologyRecorder() {
-    TopologyRecorder r = recorder;
-    if (r == null) {
-      synchronized (lifecycle) {
-        r = recorder;
-        if (r == null) {
-          r = new TopologyRecorder(this);
-          recorder = r;
-        }
-      }
-    }
-    return r;
+    return recorder;
   }
 
   // ---------------------------------------------------------------- lifecycle
@@ -1010,20 +952,8 @@ public abstract class PrimeCore implements AutoCloseable {
     combinators.started();
     services.startAll();
     hooks.started();
-    List<String> hosted = serviceNames().stream().filter(this::isHostedHere).toList();
-    LOG.info(
-        "core '{}' started on {}{}, hosting services {}{}",
-        name,
-        media,
-        startDetails(),
-        hosted.subList(0, Math.min(hosted.size(), START_LINE_SERVICES)),
-        hosted.size() > START_LINE_SERVICES
-            ? " and " + (hosted.size() - START_LINE_SERVICES) + " more"
-            : "");
+    LifecycleHooks.logStarted(this, media, startDetails(), serviceNames());
   }
-
-  /** The most service names the start line lists (a core may have thousands). */
-  private static final int START_LINE_SERVICES = 20;
 
   /**
    * {@return what the start line logged by {@link #start()} adds after the media's name, such as

@@ -4,6 +4,9 @@ import dev.prime.internal.Names;
 import dev.prime.topology.Topology;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
+import java.util.Collections;
+import java.util.LinkedHashSet;
+import java.util.Set;
 import java.util.HashMap;
 import java.util.List;
 import java.util.Map;
@@ -517,6 +520,22 @@ final class TopologyRecorder {
       }
     }
     return Topology.of(nodes, elsewhere, pseudonames);
+  }
+
+  /**
+   * The services this process runs, in declaration order ({@link PrimeCore#serviceNames()}).
+   *
+   * @param hostedHere whether this process runs a service
+   * @return an unmodifiable set
+   */
+  synchronized Set<String> hostedServices(Predicate<String> hostedHere) {
+    Set<String> hosted = new LinkedHashSet<>();
+    for (TopologyNode node : nodes) {
+      if (node.isService() && hostedHere.test(node.name())) {
+        hosted.add(node.name());
+      }
+    }
+    return Collections.unmodifiableSet(hosted);
   }
 
   private String add(TopologyNode node, NodeLogic runs) {
