@@ -29,7 +29,7 @@ public interface ChainCompiler<F> {
   /**
    * Compiles a chain that runs a block: a {@link TopologyNode.BlockChain} (the user's block) or
    * a node the core compiled to a generic block. What the block throws must reach a caller as a
-   * {@link dev.prime.ChainFailedException} naming {@code chain} (see {@link FailureNamingBlock}).
+   * {@link dev.prime.ChainFailedException} naming {@code chain} (see {@link dev.prime.spi.FailureNamingBlock}).
    *
    * @param chain the node's name
    * @param block the block

@@ -53,10 +53,11 @@ import java.util.function.Supplier;
  *
  * <h2>For media authors</h2>
  * A media is a compiler of the topology model. Every declaration is recorded as a node with its
- * logic ({@link TopologyRecorder}) and compiled at once by the media's {@link #chainCompiler()},
- * which a media implements; templates it does not compile in its own way become the core's
- * generic blocks. Sources and their services are in memory, one thread per service, unless the
- * media has a {@link #sourceCompiler()} (Optimus: Redis lists and services).
+ * logic ({@link NodeLogic}) and compiled at once by the media's {@link #chainCompiler()}, which a
+ * media implements; templates it does not compile in its own way become the core's generic
+ * blocks. Sources and their services are the core's in-memory ones, one thread per service,
+ * unless the media has a {@link #sourceCompiler()} (Optimus: Redis lists and services). The
+ * protected methods are all a media uses of this class.
  */
 public abstract class PrimeCore implements AutoCloseable {
 
@@ -233,8 +234,8 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes
-   * ({@link TopologyRecorder#declare}).
+   * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes,
+   * holding the declaration locks of this core and of the cores of the chains it takes.
    */
   private <T> T declared(Supplier<T> declaration, Chain<?, ?>... takes) {
     return DeclarationLock.run(this, declaration, takes);
