@@ -9,7 +9,8 @@ import java.util.function.Supplier;
 /**
  * Compiles the chain nodes of a core's topology model with its media's {@link ChainCompiler}: the
  * one place that says what each kind of chain node is made of and, for the templates a media does
- * not compile in its own way, which generic block of {@code dev.prime.blocks} runs it.
+ * not compile in its own way, which generic block ({@link IfThenElseBlock}, {@link UnionBlock},
+ * ...) runs it.
  *
  * <p>A node is compiled as soon as it is recorded, from the node, its {@link NodeLogic} and the
  * compiled forms of its parts (which it consumes): bottom-up, without recursion, each node once.
