@@ -32,7 +32,7 @@ class KotlinModuleTest {
         val module = layer.findModule("dev.prime.kotlin").orElseThrow()
         assertFalse(module.descriptor.isOpen)
         assertEquals(setOf("dev.prime.kotlin"), module.descriptor.exports().map(ModuleDescriptor.Exports::source).toSet())
-        val flows = layer.findLoader("dev.prime.kotlin").loadClass("dev.prime.kotlin.SourceFlowsKt")
+        val flows = layer.findLoader("dev.prime.kotlin").loadClass("dev.prime.kotlin.SourceFlows")
         assertEquals("dev.prime.kotlin", flows.module.name)
         assertTrue(flows.declaredMethods.any { it.name == "asFlow" }, "the class links against the core and coroutines")
     }
