@@ -27,6 +27,7 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   private final ServiceThreads threads;
   private final List<MemorySource<?>> sources = new ArrayList<>(); // guarded by itself
   private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by sources
+  private volatile MeteringPoints metering; // null: metrics are off
 
   InProcessServices(PrimeCore core, ServiceThreads threads) {
     this.core = core;
@@ -37,6 +38,27 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   @SuppressWarnings({"unchecked", "rawtypes"})
   public Class<Source<?>> form() {
     return (Class) Source.class;
+  }
+
+  /** Meters the filters, flat-maps and listeners made from now on ({@code null}: none). */
+  void meterWith(MeteringPoints points) {
+    this.metering = points;
+  }
+
+  /**
+   * The function of the filter, flat-map or listener {@code name} reading {@code input}: with its
+   * metering tap (and its meter told the input's depth) if metrics are on.
+   */
+  private NodeLogic metered(String name, NodeLogic logic, Source<?> source, Reader<?> input) {
+    MeteringPoints points = metering;
+    if (points == null) {
+      return logic;
+    }
+    MeteringPoints.Metered metered = points.service(core.topologyRecorder().node(name), logic);
+    if (source instanceof MemorySource<?> memory) {
+      metered.meter().queue(() -> memory.backlog(input));
+    }
+    return metered.logic();
   }
 
   /** An in-memory source publishing what {@code events} publishes. */
@@ -112,13 +134,19 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   }
 
   /** A service republishing the values of {@code input} that pass. */
+  @SuppressWarnings("unchecked")
   private <T> Source<T> filter(String name, Source<T> input, Predicate<? super T> predicate) {
     MemorySource<T> out = newSource(name);
+    Reader<T> values = serviceInput(name, input);
+    Predicate<? super T> test =
+        (Predicate<? super T>)
+            ((NodeLogic.Condition) metered(name, new NodeLogic.Condition(predicate), input, values))
+                .condition();
     run(
         name,
-        serviceInput(name, input),
+        values,
         value -> {
-          if (predicate.test(value)) {
+          if (test.test(value)) {
             out.publish(value);
           }
         });
@@ -126,14 +154,19 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   }
 
   /** A service publishing every non-null value {@code block} makes of each value of {@code input}. */
+  @SuppressWarnings("unchecked")
   private <T, R> Source<R> flatMap(
       String name, Source<T> input, Block<? super T, ? extends Iterable<? extends R>> block) {
     MemorySource<R> out = newSource(name);
+    Reader<T> values = serviceInput(name, input);
+    Block<? super T, ? extends Iterable<? extends R>> expand =
+        (Block<? super T, ? extends Iterable<? extends R>>)
+            ((NodeLogic.Expand) metered(name, new NodeLogic.Expand(block), input, values)).block();
     run(
         name,
-        serviceInput(name, input),
+        values,
         value -> {
-          Iterable<? extends R> outputs = block.process(value);
+          Iterable<? extends R> outputs = expand.process(value);
           if (outputs != null) {
             for (R output : outputs) {
               if (output != null) {
@@ -146,8 +179,15 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   }
 
   /** A service calling {@code listener} with every value of {@code input}. */
+  @SuppressWarnings("unchecked")
   private <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
-    run(name, serviceInput(name, input), listener);
+    Reader<T> values = serviceInput(name, input);
+    run(
+        name,
+        values,
+        (Consumer<? super T>)
+            ((NodeLogic.Listen) metered(name, new NodeLogic.Listen(listener), input, values))
+                .listener());
   }
 
   /** A generic service on a thread of the core; it stops when the core closes. */

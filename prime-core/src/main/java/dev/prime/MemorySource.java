@@ -82,6 +82,7 @@ final class MemorySource<T> implements MediaSource<T> {
 
   private static final Logger LOG = LoggerFactory.getLogger(MemorySource.class);
   private final RateLimitedLog missLog = new RateLimitedLog(MemorySource.class.getName()); // one key: this source
+  private final java.util.concurrent.atomic.LongAdder missedByReaders = new java.util.concurrent.atomic.LongAdder();
 
   /**
    * @param core the owning core
@@ -295,6 +296,21 @@ final class MemorySource<T> implements MediaSource<T> {
     }
   }
 
+  /**
+   * {@return how many values published to this source {@code input} (a reader of this source) has
+   * not taken yet: the depth of a service's input queue, for metrics; 0 for another reader}
+   */
+  long backlog(Reader<?> input) {
+    return input instanceof MemorySource<?>.MemoryReader reader
+        ? Math.max(0, count - reader.cursor)
+        : 0;
+  }
+
+  /** {@return how many values this source's readers missed in all, for metrics} */
+  long missedByReaders() {
+    return missedByReaders.sum();
+  }
+
   /** Stops {@code reader} gating publishers. */
   private void ungate(MemoryReader reader) {
     lock.lock();
@@ -355,6 +371,7 @@ final class MemorySource<T> implements MediaSource<T> {
         if (position < oldest) {
           long lost = oldest - position;
           missed += lost;
+          missedByReaders.add(lost);
           missLog.record(
               "a reader of source '" + name + "' of core '" + core.name() + "' missed values",
               lost,

@@ -32,6 +32,7 @@ final class ModelCompiler<F> {
   private final SourceCompiler<?> sources; // null: in-memory sources
   private final InProcessServices memory; // the in-memory source compiler
   private final RecordingPoints recording; // null: recording is off
+  private final MeteringPoints metering; // null: metrics are off
 
   ModelCompiler(
       PrimeCore core, ChainCompiler<F> media, SourceCompiler<?> sources, InProcessServices memory) {
@@ -41,6 +42,27 @@ final class ModelCompiler<F> {
     this.memory = memory;
     RecordingOptions options = core.config().recording();
     this.recording = options == null ? null : new RecordingPoints(core, options);
+    this.metering =
+        core.config().metrics() ? new MeteringPoints(core, core.mediaName(), gauges()) : null;
+    memory.meterWith(metering);
+  }
+
+  /** The media's gauges of its services, if its chain or source compiler has them. */
+  private ServiceGauges gauges() {
+    if (media instanceof ServiceGauges gauges) {
+      return gauges;
+    }
+    return sources instanceof ServiceGauges gauges ? gauges : null;
+  }
+
+  /** The core's metrics; throws if metrics are off. */
+  Metrics metrics() {
+    if (metering == null) {
+      throw new IllegalStateException(
+          "metrics are off in core '" + core.name() + "': turn them on with"
+              + " CoreConfig.builder().metrics(true) given to the core's constructor");
+    }
+    return metering.metrics();
   }
 
   /** The core's recording; throws if recording is off. */
@@ -57,16 +79,31 @@ final class ModelCompiler<F> {
   /** Compiles a just recorded event source: the media's own, or an in-memory one. */
   <T> Source<T> eventSource(String name, EventBlock<T> events) {
     SourceCompiler<?> compiler = sources == null ? memory : sources;
-    if (recording == null) {
+    if (recording == null && metering == null) {
       return compiler.eventSource(name, events);
     }
-    RecordingPoints.SourcePoint point = recording.beforeSource(name, events);
+    MeteringPoints.SourcePoint metered =
+        metering == null
+            ? null
+            : metering.beforeSource(core.topologyRecorder().node(name), events);
+    RecordingPoints.SourcePoint point =
+        recording == null ? null : recording.beforeSource(name, events);
     try {
       Source<T> source = compiler.eventSource(name, events);
-      point.afterMedia();
+      if (point != null) {
+        point.afterMedia();
+      }
+      if (metered != null) {
+        metered.afterMedia(source);
+      }
       return source;
     } catch (RuntimeException | Error failed) {
-      point.cancel();
+      if (point != null) {
+        point.cancel();
+      }
+      if (metered != null) {
+        metered.cancel();
+      }
       throw failed;
     }
   }
@@ -88,6 +125,9 @@ final class ModelCompiler<F> {
       part = part(chain, link.chain(), model);
     }
     boolean mediaOwn = sources != null && core.sourcePart(input, sources.form()) != null;
+    if (mediaOwn && metering != null && part == null) { // a filter, flat-map or listener
+      logic = metering.service(node, logic).logic(); // (in memory, the service meters itself)
+    }
     Source<?> output =
         mediaOwn
             ? service(sources, node, logic, input, part == null ? null : part.form())
@@ -213,6 +253,10 @@ final class ModelCompiler<F> {
     NodeLogic logic = model.logic(node);
     Chain<?, ?> other = logic instanceof NodeLogic.OtherChain foreign ? foreign.chain() : chain;
     Block<?, ?> block = other.toBlock();
+    TopologyNode partNode = model.node(node);
+    if (partNode instanceof TopologyNode.ForeignChain) { // this core's own chains are metered
+      block = metered(partNode, block);
+    }
     return new Part<>(node, media.foreign(node, block), null, block);
   }
 
@@ -233,26 +277,39 @@ final class ModelCompiler<F> {
   private F compile(TopologyNode node, NodeLogic logic, List<Part<F>> parts) {
     String name = node.name();
     if (logic instanceof NodeLogic.Run run) {
-      return media.block(name, recorded(node, run.block()));
+      return media.block(name, metered(node, recorded(node, run.block())));
     }
     if (logic instanceof NodeLogic.Shared shared) {
-      return media.block(name, shared.block());
+      return media.block(name, metered(node, shared.block()));
     }
     if (node instanceof TopologyNode.SyncCollector) {
-      return media.block(name, syncCollector(((NodeLogic.Collect) logic).source()));
+      return media.block(name, metered(node, syncCollector(((NodeLogic.Collect) logic).source())));
     }
     if (node instanceof TopologyNode.AsyncCollector) {
-      return media.block(name, asyncCollector(((NodeLogic.Collect) logic).source()));
+      return media.block(
+          name, metered(node, asyncCollector(((NodeLogic.Collect) logic).source())));
     }
     if (node instanceof TopologyNode.Repeater) {
-      return media.block(name, repeater((NodeLogic.Repeat) logic, parts));
+      return media.block(name, metered(node, repeater((NodeLogic.Repeat) logic, parts)));
     }
     List<F> forms = new ArrayList<>(parts.size());
     for (Part<F> part : parts) {
       forms.add(part.form());
     }
-    F own = media.template(node, logic, forms);
-    return own != null ? own : media.block(name, generic(node, logic, parts));
+    // a metered template runs as the generic block with its tap (a link is not metered: it is
+    // the media's to compile, and its parts are metered)
+    F own =
+        metering == null || node instanceof TopologyNode.Link
+            ? media.template(node, logic, forms)
+            : null;
+    return own != null ? own : media.block(name, metered(node, generic(node, logic, parts)));
+  }
+
+  /** A chain node's block, with a metering tap if metrics are on (never a link's). */
+  private Block<?, ?> metered(TopologyNode node, Block<?, ?> block) {
+    return metering == null || node instanceof TopologyNode.Link
+        ? block
+        : metering.chain(node, block);
   }
 
   /** A chain's block, with a recording tap if recording is on and the node is recorded. */

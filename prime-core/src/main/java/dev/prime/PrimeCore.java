@@ -904,6 +904,24 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
+   * This core's metrics: values in and out, failures, dead letters, queue depth, missed values
+   * and processing times of every chain, service and event source of its diagram that runs logic,
+   * named as in the {@linkplain #topology() topology} (see {@link Metrics}). On Optimus, what this
+   * process hosts.
+   *
+   * @return the metrics, the same object on every call
+   * @throws IllegalStateException if metrics are off ({@link CoreConfig.Builder#metrics})
+   */
+  public final Metrics metrics() {
+    return model().metrics();
+  }
+
+  /** {@return the media's short name this core was created with ({@code liberty}, ...)} */
+  final String mediaName() {
+    return media;
+  }
+
+  /**
    * Whether this process runs a service of the diagram. Every media that runs in one process
    * hosts all of them; a media that spreads services over processes overrides this.
    *

@@ -22,6 +22,7 @@ public interface MediaConformance
         LoggingConformance,
         CombinatorConformance,
         RecordingConformance,
+        MetricsConformance,
         LifecycleHookConformance,
         GenericServiceConformance,
         LinkVarianceConformance {}

@@ -5,6 +5,7 @@ import dev.prime.EventBlock
 import dev.prime.Source
 import dev.prime.ChainCompiler
 import dev.prime.NodeLogic
+import dev.prime.ServiceGauges
 import dev.prime.SourceCompiler
 import dev.prime.topology.TopologyNode
 
@@ -19,9 +20,18 @@ internal class Stages(val specs: List<StageSpec>)
  * template, as the core's generic block) is one service running it; another core's chain is one
  * service named as its node (`hosted(name)`) running its block; a link concatenates its parts'
  * services (the first's output list becomes the second's input: no extra hop). The services are
- * bound, and start, when the chain is used ([toBlock], or a link to a source).
+ * bound, and start, when the chain is used ([toBlock], or a link to a source). Its services' queue
+ * depths and dead letters are read from Redis for the core's metrics ([RedisServiceGauges]).
  */
-internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompiler<Stages> {
+internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompiler<Stages>, ServiceGauges {
+    private val gauges = RedisServiceGauges(core)
+
+    override fun queueDepth(service: String): Long = gauges.queueDepth(service)
+
+    override fun deadLetters(service: String): Long = gauges.deadLetters(service)
+
+    override fun missed(source: String): Long = gauges.missed(source)
+
     override fun form(): Class<Stages> = Stages::class.java
 
     override fun block(chain: String, block: Block<*, *>): Stages {

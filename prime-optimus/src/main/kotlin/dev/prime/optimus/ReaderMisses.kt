@@ -3,13 +3,15 @@ package dev.prime.optimus
 import org.slf4j.LoggerFactory
 import java.nio.charset.StandardCharsets.UTF_8
 import java.util.concurrent.ConcurrentHashMap
+import java.util.concurrent.atomic.LongAdder
 
 /**
  * Tells, at WARN, what plain readers miss: each publish learns from the step script how many
  * values retention trimmed from each reader list; this adds them up per reader and logs at most
  * one line per reader per [intervalNanos] with the count since its last line. (The total is also
- * kept in Redis and read by `Reader.missed()`.) Memory: one small record per reader that missed
- * something, at most [MAX_READERS] (then they start over).
+ * kept in Redis and read by `Reader.missed()`; the sum per source, for [dev.prime.Metrics], is
+ * [total].) Memory: one small record per reader that missed something, at most [MAX_READERS]
+ * (then they start over), and one counter per source.
  */
 internal class ReaderMisses(
     private val coreName: String,
@@ -20,13 +22,20 @@ internal class ReaderMisses(
     private class Tally(var pending: Long, var lastLine: Long)
 
     private val tallies = ConcurrentHashMap<ByteKey, Tally>()
+    private val totals = ConcurrentHashMap<String, LongAdder>() // per source, for metrics
 
     fun record(source: SourceKeys, view: SourceView, missed: List<Long>) {
         for (index in missed.indices) {
             val count = missed[index]
-            if (count > 0) record(source, view.readers[index], count)
+            if (count > 0) {
+                totals.computeIfAbsent(source.name) { LongAdder() }.add(count)
+                record(source, view.readers[index], count)
+            }
         }
     }
+
+    /** What the readers of [source] missed in all, as this process's publishes counted it. */
+    fun total(source: String): Long = totals[source]?.sum() ?: 0L
 
     private fun record(source: SourceKeys, reader: ByteArray, count: Long) {
         if (tallies.size > MAX_READERS) tallies.clear()

@@ -21,4 +21,7 @@ class OptimusConformanceTest : MediaConformance {
     /** Cores of one name on one Redis share a topology; each runs only the services it hosts. */
     override fun newCoreHosting(config: CoreConfig, services: Set<String>): PrimeCore =
         OptimusCore.builder().config(config).redis(TestRedis.url).hosts(services).build()
+
+    /** A value on which a service's block threw is dead-lettered. */
+    override fun failedServiceValuesAreDeadLettered(): Boolean = true
 }

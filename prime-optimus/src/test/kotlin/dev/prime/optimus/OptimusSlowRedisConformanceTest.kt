@@ -29,4 +29,7 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     private companion object {
         val proxy: FaultProxy by lazy { FaultProxy(TestRedis.url, replyDelayNanos = 500_000) }
     }
+
+    /** A value on which a service's block threw is dead-lettered. */
+    override fun failedServiceValuesAreDeadLettered(): Boolean = true
 }

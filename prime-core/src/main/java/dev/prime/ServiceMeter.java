@@ -1,0 +1,157 @@
+package dev.prime;
+
+import dev.prime.internal.RateLimitedLog;
+import java.util.Arrays;
+import java.util.concurrent.atomic.AtomicLongArray;
+import java.util.concurrent.atomic.LongAccumulator;
+import java.util.concurrent.atomic.LongAdder;
+import java.util.function.LongSupplier;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
+
+/**
+ * The counters of one metered node (see {@link Metrics}), updated by the taps {@link
+ * MeteringPoints} compiles into it.
+ *
+ * <p>Design note. Updated on whatever threads run the node (a chain may be called from many at
+ * once), read by snapshots on any thread, never locked: counts are {@link LongAdder}s, the
+ * largest time a {@link LongAccumulator} (which writes only when the value grows), the buckets an
+ * {@link AtomicLongArray}. Listeners are a copy-on-write array in a volatile field: one volatile
+ * read per value, no allocation. A snapshot reads the counters one after another; the
+ * histogram's count is the sum of its buckets, so it is consistent in itself.
+ */
+final class ServiceMeter {
+  private static final ProcessingListener[] NO_LISTENERS = {};
+  private static final Logger LOG = LoggerFactory.getLogger(ProcessingListener.class);
+  private static final RateLimitedLog LISTENER_FAILURES =
+      new RateLimitedLog(ProcessingListener.class.getName());
+
+  private final String name;
+  private final String kind;
+  private final LongAdder in = new LongAdder();
+  private final LongAdder out = new LongAdder();
+  private final LongAdder failures = new LongAdder();
+  private final LongAdder totalNanos = new LongAdder();
+  private final LongAccumulator maxNanos = new LongAccumulator(Math::max, 0);
+  private final AtomicLongArray buckets = new AtomicLongArray(ProcessingTimes.bucketCount());
+  private volatile ProcessingListener[] listeners = NO_LISTENERS;
+  private volatile LongSupplier queue; // the node's input queue where the core has one
+  private volatile LongSupplier missed; // what the node's input missed, where it can miss
+
+  ServiceMeter(String name, String kind) {
+    this.name = name;
+    this.kind = kind;
+  }
+
+  String name() {
+    return name;
+  }
+
+  /** {@return whether this is an event source's meter} */
+  boolean isSource() {
+    return kind.equals("EventSource");
+  }
+
+  /** A value went in. */
+  void in() {
+    in.increment();
+  }
+
+  /** A value came out. */
+  void out() {
+    out.increment();
+  }
+
+  /** A value was processed in {@code nanos}; {@code failed} if the logic threw. */
+  void processed(long nanos, boolean failed) {
+    long n = Math.max(0, nanos);
+    buckets.incrementAndGet(ProcessingTimes.bucket(n));
+    totalNanos.add(n);
+    maxNanos.accumulate(n);
+    if (failed) {
+      failures.increment();
+    }
+    ProcessingListener[] told = listeners;
+    for (ProcessingListener listener : told) {
+      try {
+        listener.processed(n, failed);
+      } catch (RuntimeException e) {
+        LISTENER_FAILURES.record(
+            "a metrics listener of '" + name + "' threw",
+            1,
+            e.toString(),
+            () -> LOG.warn("a metrics listener of '{}' threw; the value goes on", name, e));
+      }
+    }
+  }
+
+  /** Where the node's input queue is the core's (an in-memory service input): its depth. */
+  void queue(LongSupplier depth) {
+    this.queue = depth;
+  }
+
+  /** Where the core counts what the node's readers miss: how many they missed. */
+  void missed(LongSupplier count) {
+    this.missed = count;
+  }
+
+  /**
+   * {@return the values in the core's queue for this node that it has not finished (waiting, plus
+   * those it is processing), -1 if it has no such queue}
+   */
+  long queueDepth() {
+    LongSupplier depth = queue;
+    if (depth == null) {
+      return -1;
+    }
+    long timed = 0;
+    for (int i = 0; i < buckets.length(); i++) {
+      timed += buckets.get(i);
+    }
+    return depth.getAsLong() + Math.max(0, in.sum() - timed);
+  }
+
+  synchronized void addListener(ProcessingListener listener) {
+    ProcessingListener[] now = listeners;
+    ProcessingListener[] more = Arrays.copyOf(now, now.length + 1);
+    more[now.length] = listener;
+    listeners = more;
+  }
+
+  synchronized void removeListener(ProcessingListener listener) {
+    ProcessingListener[] now = listeners;
+    for (int i = 0; i < now.length; i++) {
+      if (now[i] == listener) {
+        ProcessingListener[] fewer = new ProcessingListener[now.length - 1];
+        System.arraycopy(now, 0, fewer, 0, i);
+        System.arraycopy(now, i + 1, fewer, i, now.length - i - 1);
+        listeners = fewer;
+        return;
+      }
+    }
+  }
+
+  /** {@return what the node's input missed, where the core counts it; else 0} */
+  long missed() {
+    LongSupplier count = missed;
+    return count == null ? 0 : count.getAsLong();
+  }
+
+  ServiceMetrics snapshot(String pseudoname, long deadLetters, long queueDepth, long missed) {
+    long[] counts = new long[buckets.length()];
+    for (int i = 0; i < counts.length; i++) {
+      counts[i] = buckets.get(i);
+    }
+    return new ServiceMetrics(
+        name,
+        pseudoname,
+        kind,
+        in.sum(),
+        out.sum(),
+        failures.sum(),
+        deadLetters,
+        queueDepth,
+        missed,
+        new ProcessingTimes(counts, totalNanos.sum(), maxNanos.get()));
+  }
+}

@@ -1,0 +1,378 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNull;
+import static org.junit.jupiter.api.Assertions.assertSame;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.Chain;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.Metrics;
+import dev.prime.PrimeCore;
+import dev.prime.ProcessingTimes;
+import dev.prime.Reader;
+import dev.prime.ServiceMetrics;
+import dev.prime.Source;
+import java.util.ArrayList;
+import java.util.Arrays;
+import java.util.List;
+import java.util.Collections;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicLong;
+import org.junit.jupiter.api.Test;
+
+/**
+ * Metrics (see {@link Metrics}): per metered node of the diagram, values in and out, failures,
+ * dead letters, queue depth and processing times, read as snapshots under the topology's names,
+ * the same on every media; off by default, and then nothing is compiled in.
+ */
+public interface MetricsConformance extends ConformanceBase {
+
+  /**
+   * Whether a value on which a service of a source threw is kept as a dead letter (Optimus); on
+   * the other media dead letters are always 0.
+   */
+  default boolean failedServiceValuesAreDeadLettered() {
+    return false;
+  }
+
+  /** A core with metrics on and failures collected (not logged). */
+  default PrimeCore meteredCore(List<Throwable> failures) {
+    return newCore(
+        CoreConfig.builder()
+            .metrics(true)
+            .errorHandler((service, input, error) -> failures.add(error))
+            .build());
+  }
+
+  @Test
+  default void countsValuesThroughAChainAndASourceServiceExactly() throws Exception {
+    int n = 20;
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(failures)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> doubled =
+          core.source("numbers", events).then(core.chain("double", (Integer x) -> x * 2));
+      Reader<Integer> quadruples = doubled.filter(x -> x % 4 == 0).reader();
+      Block<String, Integer> length = core.chain("length", String::length).toBlock();
+      core.start();
+      for (int i = 1; i <= n; i++) {
+        events.publish(i);
+      }
+      List<Integer> out = takeOrFail(quadruples, n / 2);
+      assertEquals(40, out.get(out.size() - 1)); // the last value passed: every one was tested
+      for (String word : List.of("a", "bb", "ccc")) {
+        assertEquals(word.length(), length.process(word));
+      }
+
+      Metrics metrics = core.metrics();
+      assertSame(metrics, core.metrics(), "one metrics object per core");
+      assertEquals(core.name(), metrics.core());
+      assertCounts(metrics.service("numbers"), "EventSource", n, n, 0);
+      assertCounts(metrics.service("double"), "BlockChain", n, n, 0);
+      assertCounts(metrics.service("filter(numbers>double)"), "Filter", n, n / 2, 0);
+      assertCounts(metrics.service("length"), "BlockChain", 3, 3, 0);
+      assertEquals(0, metrics.service("filter(numbers>double)").queueDepth(), "all taken");
+      assertEquals(-1, metrics.service("numbers").queueDepth(), "a source has no input queue");
+      for (ServiceMetrics service : metrics.services()) {
+        assertEquals(0, service.deadLetters(), service.toString());
+        assertEquals(0, service.missed(), service.toString());
+      }
+      assertEquals(List.of(), failures);
+    }
+  }
+
+  @Test
+  default void failuresAreCountedWhenABlockThrows() throws Exception {
+    int n = 10;
+    List<Throwable> handled = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(handled)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> evens =
+          core.source("numbers", events)
+              .then(
+                  core.chain(
+                      "picky",
+                      (Integer x) -> {
+                        if (x % 2 == 1) {
+                          throw new IllegalArgumentException("odd: " + x);
+                        }
+                        return x;
+                      }))
+              .reader();
+      Block<Integer, Integer> called =
+          core.chain(
+                  "called",
+                  (Integer x) -> {
+                    if (x < 0) {
+                      throw new IllegalArgumentException("negative: " + x);
+                    }
+                    return x;
+                  })
+              .toBlock();
+      core.start();
+      for (int i = 1; i <= n; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 4, 6, 8, 10), takeOrFail(evens, n / 2));
+      assertEquals(1, called.process(1));
+      assertThrows(RuntimeException.class, () -> called.process(-1));
+      assertThrows(RuntimeException.class, () -> called.process(-2));
+
+      Metrics metrics = core.metrics();
+      ServiceMetrics picky = metrics.service("picky");
+      assertCounts(picky, "BlockChain", n, n / 2, n / 2);
+      assertEquals(failedServiceValuesAreDeadLettered() ? n / 2 : 0, picky.deadLetters());
+      assertCounts(metrics.service("called"), "BlockChain", 3, 1, 2);
+      assertEquals(n / 2, handled.size(), "the error handler saw the service's failures");
+    }
+  }
+
+  @Test
+  default void queueDepthCountsWhatWaitsAndWhatIsInProgress() throws Exception {
+    CountDownLatch firstInside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> passed =
+          core.source("numbers", events)
+              .filter(
+                  x -> {
+                    firstInside.countDown();
+                    try {
+                      return release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                      return false;
+                    }
+                  })
+              .reader();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      ServiceMetrics stuck = core.metrics().service("filter(numbers)");
+      assertEquals(4, stuck.queueDepth(), "3 waiting and 1 in progress: " + stuck);
+      assertEquals(1, stuck.valuesIn(), stuck.toString());
+      release.countDown();
+      assertEquals(List.of(1, 2, 3, 4), takeOrFail(passed, 4));
+      ServiceMetrics done = core.metrics().service("filter(numbers)");
+      assertEquals(0, done.queueDepth(), done.toString());
+      assertEquals(4, done.valuesOut(), done.toString());
+    }
+  }
+
+  @Test
+  default void anEventSourceCountsWhatItsReadersMissed() throws Exception {
+    try (PrimeCore core =
+        newCore(CoreConfig.builder().metrics(true).sourceRetention(4).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> late = core.source("numbers", events).reader();
+      core.start();
+      for (int i = 1; i <= 10; i++) {
+        events.publish(i);
+      }
+      assertEquals(7, takeOrFail(late), "the oldest retained value");
+      assertEquals(6, late.missed());
+      ServiceMetrics numbers = core.metrics().service("numbers");
+      assertEquals(6, numbers.missed(), numbers.toString());
+      assertEquals(10, numbers.valuesOut(), numbers.toString());
+    }
+  }
+
+  @Test
+  default void theHistogramTimesEveryValue() throws Exception {
+    long sleepMillis = 5;
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      Block<Integer, Integer> slow =
+          core.chain(
+                  "slow",
+                  (Integer x) -> {
+                    try {
+                      Thread.sleep(sleepMillis); // the work whose time is measured
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                    }
+                    return x;
+                  })
+              .toBlock();
+      core.start();
+      for (int i = 0; i < 3; i++) {
+        assertEquals(i, slow.process(i));
+      }
+      ProcessingTimes times = core.metrics().service("slow").processing();
+      long least = TimeUnit.MILLISECONDS.toNanos(sleepMillis);
+      assertEquals(3, times.count());
+      assertEquals(3, Arrays.stream(times.bucketCounts()).sum());
+      assertTrue(times.totalNanos() >= 3 * least, times.toString());
+      assertTrue(times.maxNanos() >= least, times.toString());
+      assertTrue(times.percentileNanos(0.5) >= least, times.toString());
+      assertTrue(times.percentileNanos(1.0) <= times.maxNanos(), times.toString());
+      assertTrue(times.meanNanos() >= least, times.toString());
+    }
+  }
+
+  @Test
+  default void templatesListenersAndFlatMapsAreMeteredUnderTheSameNamesOnEveryMedia()
+      throws Exception {
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(failures)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", "The numbers", events);
+      AtomicLong heard = new AtomicLong();
+      numbers.listen(x -> heard.incrementAndGet());
+      Reader<Integer> pairs = numbers.flatMap(x -> List.of(x, x)).reader();
+      Chain<Integer, String> parity =
+          core.ifThenElse(
+              x -> x % 2 == 0,
+              core.chain("even", (Integer x) -> "even"),
+              core.chain("odd", (Integer x) -> "odd"));
+      Block<Integer, String> parityBlock =
+          parity.then(core.chain("upper", "Upper case", String::toUpperCase)).toBlock();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 1, 2, 2, 3, 3, 4, 4), takeOrFail(pairs, 8));
+      assertEquals("ODD", parityBlock.process(1));
+      assertEquals("EVEN", parityBlock.process(2));
+      assertEquals("EVEN", parityBlock.process(4));
+
+      Metrics metrics = core.metrics();
+      assertEquals(
+          List.of(
+              "numbers",
+              "listen(numbers)",
+              "flatMap(numbers)",
+              "even",
+              "odd",
+              "if(even|odd)",
+              "upper"),
+          metrics.names());
+      assertEquals(
+          metrics.names(), metrics.services().stream().map(ServiceMetrics::name).toList());
+      assertCounts(metrics.service("flatMap(numbers)"), "FlatMap", 4, 8, 0);
+      assertCounts(metrics.service("if(even|odd)"), "IfElse", 3, 3, 0);
+      assertCounts(metrics.service("even"), "BlockChain", 2, 2, 0);
+      assertCounts(metrics.service("odd"), "BlockChain", 1, 1, 0);
+      assertCounts(metrics.service("upper"), "BlockChain", 3, 3, 0);
+      assertEquals("Upper case", metrics.service("upper").pseudoname());
+      assertEquals("Upper case", metrics.service("upper").label());
+      assertEquals("The numbers", metrics.service("numbers").pseudoname());
+      assertNull(metrics.service("even").pseudoname());
+      assertEquals("even", metrics.service("even").label());
+
+      // the listener runs after the flat-map's values were seen: wait for its count, bounded
+      ServiceMetrics listener = metrics.service("listen(numbers)");
+      long deadline = System.nanoTime() + patience().toNanos();
+      for (int i = 0; i < 100_000 && listener.valuesIn() < 4 && System.nanoTime() < deadline; i++) {
+        Thread.onSpinWait();
+        listener = metrics.service("listen(numbers)");
+      }
+      assertCounts(listener, "Listener", 4, 0, 0);
+      assertEquals(4, heard.get());
+      assertEquals(List.of(), failures);
+    }
+  }
+
+  @Test
+  default void aListenerIsToldOfEveryValueProcessedWhileRegistered() throws Exception {
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      Block<Integer, Integer> negate =
+          core.chain(
+                  "negate",
+                  (Integer x) -> {
+                    if (x == 0) {
+                      throw new IllegalArgumentException("zero");
+                    }
+                    return -x;
+                  })
+              .toBlock();
+      List<Boolean> told = Collections.synchronizedList(new ArrayList<>());
+      AtomicLong nanos = new AtomicLong();
+      Metrics.Subscription subscription =
+          core.metrics()
+              .onProcessed(
+                  "negate",
+                  (time, failed) -> {
+                    told.add(failed);
+                    nanos.addAndGet(time);
+                  });
+      core.start();
+      assertEquals(-1, negate.process(1));
+      assertThrows(RuntimeException.class, () -> negate.process(0));
+      assertEquals(-2, negate.process(2));
+      assertEquals(List.of(false, true, false), told);
+      assertEquals(core.metrics().service("negate").processing().totalNanos(), nanos.get());
+      subscription.close();
+      subscription.close();
+      assertEquals(-3, negate.process(3));
+      assertEquals(3, told.size(), "closed: not told any more");
+      assertEquals(4, core.metrics().service("negate").processing().count());
+    }
+  }
+
+  @Test
+  default void anUnknownNameIsRefusedWithTheMeteredNames() {
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      core.source("numbers", new EventBlock<Integer>());
+      core.chain("double", (Integer x) -> x * 2);
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> core.metrics().service("tripple"));
+      assertTrue(e.getMessage().contains("'tripple'"), e.getMessage());
+      assertTrue(e.getMessage().contains("[numbers, double]"), e.getMessage());
+      assertThrows(
+          IllegalArgumentException.class,
+          () -> core.metrics().onProcessed("tripple", (time, failed) -> {}));
+    }
+  }
+
+  @Test
+  default void metricsOffSaysHowToTurnThemOn() {
+    try (PrimeCore core = newCore()) {
+      core.chain("double", (Integer x) -> x * 2);
+      IllegalStateException e = assertThrows(IllegalStateException.class, core::metrics);
+      assertTrue(e.getMessage().contains("metrics are off"), e.getMessage());
+      assertTrue(e.getMessage().contains("CoreConfig.builder().metrics(true)"), e.getMessage());
+    }
+  }
+
+  @Test
+  default void metricsOffCompileNoTapIntoAChain() throws Exception {
+    for (boolean on : new boolean[] {false, true}) {
+      try (PrimeCore core = newCore(CoreConfig.builder().metrics(on).build())) {
+        Block<Integer, List<String>> frames =
+            core.chain(
+                    "frames",
+                    (Integer x) -> {
+                      List<String> classes = new ArrayList<>();
+                      for (StackTraceElement frame : Thread.currentThread().getStackTrace()) {
+                        classes.add(frame.getClassName());
+                      }
+                      return classes;
+                    })
+                .toBlock();
+        core.start();
+        List<String> stack = frames.process(1);
+        boolean tapped = stack.stream().anyMatch(c -> c.startsWith("dev.prime.MeteringPoints"));
+        assertEquals(on, tapped, "metrics " + (on ? "on" : "off") + ", stack " + stack);
+      }
+    }
+  }
+
+  private static void assertCounts(
+      ServiceMetrics metrics, String kind, long in, long out, long failures) {
+    String what = metrics.toString();
+    assertEquals(kind, metrics.kind(), what);
+    assertEquals(in, metrics.valuesIn(), "in: " + what);
+    assertEquals(out, metrics.valuesOut(), "out: " + what);
+    assertEquals(failures, metrics.failures(), "failures: " + what);
+    assertEquals(in, metrics.processing().count(), "timed: " + what);
+    assertTrue(metrics.processing().maxNanos() <= metrics.processing().totalNanos(), what);
+  }
+}

@@ -1,0 +1,230 @@
+package dev.prime.inspector;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import com.fasterxml.jackson.databind.JsonNode;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.RecordingOptions;
+import dev.prime.liberty.LibertyCore;
+import dev.prime.topology.TopologyNode;
+import java.net.URI;
+import java.time.Duration;
+import java.util.List;
+import java.util.Set;
+import java.util.TreeSet;
+import org.junit.jupiter.api.BeforeEach;
+import org.junit.jupiter.api.Test;
+
+/**
+ * The page in a real browser: a headless Chromium, driven over the DevTools protocol, reads the
+ * page's DOM. Skipped, with the reason, where no Chromium is installed.
+ */
+class InspectorPageBrowserTest {
+  private static final Duration PATIENCE = Duration.ofSeconds(20);
+
+  @BeforeEach
+  void needsChromium() {
+    HeadlessChromium.requireBinary();
+  }
+
+  private static CoreConfig recording() {
+    return CoreConfig.builder().name("demo").recording(RecordingOptions.defaults()).build();
+  }
+
+  private static Set<String> drawnNames(PrimeCore core) {
+    Set<String> names = new TreeSet<>();
+    for (TopologyNode node : core.topology().nodes()) {
+      if (!(node instanceof TopologyNode.Link)) {
+        names.add(node.name());
+      }
+    }
+    return names;
+  }
+
+  private static Set<String> names(JsonNode array) {
+    Set<String> names = new TreeSet<>();
+    array.forEach(name -> names.add(name.asText()));
+    return names;
+  }
+
+  private static final String DRAWN =
+      "[...document.querySelectorAll('#diagram g.node')].map(g => g.dataset.name)";
+
+  private static String rateOf(String name) {
+    return "(() => { const g = document.querySelector('#diagram g.node[data-name=\"" + name + "\"]');"
+        + " return g && g.hasAttribute('data-rate') ? Number(g.getAttribute('data-rate')) : null; })()";
+  }
+
+  @Test
+  void drawsEveryNodeAndTheRatesMoveWithTheController() throws Exception {
+    try (PrimeCore core = new LibertyCore(recording());
+        DemoController demo = new DemoController(core)) {
+      core.start();
+      try (PrimeInspector inspector = PrimeInspector.start(core)) {
+        List<ProcessHandle> browserProcesses;
+        try (HeadlessChromium chromium = HeadlessChromium.open(inspector.uri(), 1400, 900)) {
+          Set<String> expected = drawnNames(core);
+          assertTrue(expected.containsAll(core.serviceNames()), "every service is drawn: " + expected);
+          JsonNode drawn =
+              chromium.await(DRAWN, names -> names.size() == expected.size(), PATIENCE,
+                  "the diagram should draw " + expected.size() + " nodes " + expected);
+          assertEquals(expected, names(drawn));
+
+          // a declaration made while the page is open is drawn too
+          core.source("late", new EventBlock<String>()).then(core.chain("shout", (String s) -> s + "!"));
+          JsonNode redrawn =
+              chromium.await(DRAWN, names -> names.size() == expected.size() + 3, PATIENCE,
+                  "the diagram should be laid out again with the late source, chain and output");
+          assertTrue(names(redrawn).containsAll(Set.of("late", "shout", "late>shout")), redrawn.toString());
+
+          demo.drive(5);
+          JsonNode moving =
+              chromium.await(rateOf("odometry"), rate -> rate.isNumber() && rate.asDouble() > 10,
+                  PATIENCE, "odometry's rate should rise above 10/s while the controller runs");
+          JsonNode total =
+              chromium.evaluate(
+                  "Number(document.querySelector('#diagram g.node[data-name=\"pid\"]').getAttribute('data-total'))");
+          assertTrue(total.asLong() > 0, "pid's total shown: " + total);
+          String shown =
+              chromium.evaluate(
+                  "document.querySelector('#diagram g.node[data-name=\"odometry\"] .figures').textContent").asText();
+          assertTrue(shown.matches("[0-9.]+/s · [0-9]+ in all"), "odometry's figures read: " + shown);
+
+          demo.stop();
+          chromium.await(rateOf("odometry"), rate -> rate.isNumber() && rate.asDouble() == 0.0,
+              PATIENCE, "odometry's rate should fall back to 0 once the controller stops (it was "
+                  + moving + ")");
+          browserProcesses = chromium.processes();
+          assertFalse(browserProcesses.isEmpty());
+        }
+        for (ProcessHandle process : browserProcesses) {
+          assertFalse(process.isAlive(), "Chromium process " + process.pid() + " outlived the test");
+        }
+      }
+    }
+  }
+
+  private static String attribute(String name, String attribute) {
+    return "(() => { const g = document.querySelector('#diagram g.node[data-name=\"" + name + "\"]');"
+        + " return g && g.hasAttribute('" + attribute + "') ? Number(g.getAttribute('" + attribute
+        + "')) : null; })()";
+  }
+
+  @Test
+  void withMetricsOnShowsProcessingTimesAndFailures() throws Exception {
+    CoreConfig config =
+        CoreConfig.builder().name("metered").metrics(true).recording(RecordingOptions.defaults()).build();
+    try (PrimeCore core = new LibertyCore(config);
+        DemoController demo = new DemoController(core)) {
+      core.start();
+      demo.drive(5);
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium = HeadlessChromium.open(inspector.uri(), 1400, 900)) {
+        chromium.await(attribute("odometry", "data-latencyms"), ms -> ms.isNumber() && ms.asDouble() > 0,
+            PATIENCE, "odometry's processing time should be shown");
+        chromium.await(rateOf("pid"), rate -> rate.isNumber() && rate.asDouble() > 10, PATIENCE,
+            "pid's rate should be shown above 10/s");
+        JsonNode errors =
+            chromium.await(attribute(DemoController.LISTENER, "data-errors"),
+                e -> e.isNumber() && e.asLong() > 0, PATIENCE,
+                "the failing listener's errors should be counted on the page");
+        assertTrue(errors.asLong() <= core.metrics().service(DemoController.LISTENER).failures(),
+            "the page shows no more failures than the metrics counted");
+        String shown =
+            chromium.evaluate(
+                "document.querySelector('#diagram g.node[data-name=\"pid\"] .figures').textContent").asText();
+        assertTrue(shown.matches("[0-9.]+/s · [0-9.e+-]+ (ms|µs|ns) · 0 err"), "pid's figures read: " + shown);
+        assertTrue(
+            chromium.evaluate("document.getElementById('figures-note').textContent").asText()
+                .startsWith("Figures from the core's metrics"));
+        assertTrue(
+            chromium.evaluate("document.querySelector('#diagram g.node[data-name=\"" + DemoController.LISTENER
+                + "\"]').classList.contains('failing')").asBoolean(),
+            "a failing node is marked");
+      } finally {
+        demo.stop();
+      }
+    }
+  }
+
+  @Test
+  void plotsTheNumericFieldsOfTheChosenName() throws Exception {
+    try (PrimeCore core = new LibertyCore(recording());
+        DemoController demo = new DemoController(core)) {
+      core.start();
+      demo.drive(5);
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium =
+              HeadlessChromium.open(inspector.uri().resolve("/#plot=odometry"), 1400, 900)) {
+        JsonNode fields =
+            chromium.await(
+                "[...document.querySelectorAll('#plot polyline.series')]"
+                    + ".filter(p => Number(p.dataset.points) >= 2).map(p => p.dataset.field)",
+                f -> f.size() == 3, PATIENCE,
+                "odometry's three fields (x, y, moving) should be plotted with two points or more");
+        assertEquals(Set.of("x", "y", "moving"), names(fields));
+        assertEquals("odometry", chromium.evaluate("document.getElementById('plot-choice').value").asText());
+        assertTrue(
+            chromium.evaluate("document.getElementById('recording-off').hidden").asBoolean(),
+            "recording is on: no notice");
+
+        // choosing another name in the page plots that one instead
+        chromium.evaluate(
+            "(() => { const s = document.getElementById('plot-choice'); s.value = 'pid';"
+                + " s.dispatchEvent(new Event('change')); return true; })()");
+        JsonNode pid =
+            chromium.await(
+                "[...document.querySelectorAll('#plot polyline.series')]"
+                    + ".filter(p => Number(p.dataset.points) >= 2).map(p => p.dataset.field)",
+                f -> names(f).equals(Set.of("leftVolts", "rightVolts")), PATIENCE,
+                "pid's fields should be plotted after choosing it");
+        assertEquals(2, pid.size());
+        demo.stop();
+      }
+    }
+  }
+
+  @Test
+  void saysSoWhenRecordingIsOffAndStillDrawsTheDiagram() throws Exception {
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(CoreConfig.builder().name("quiet").build()))) {
+      core.start();
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium = HeadlessChromium.open(inspector.uri(), 1200, 800)) {
+        Set<String> expected = drawnNames(core);
+        chromium.await(DRAWN, names -> names.size() == expected.size(), PATIENCE,
+            "the diagram should draw " + expected);
+        JsonNode notice =
+            chromium.await(
+                "(() => { const n = document.getElementById('recording-off');"
+                    + " return n.hidden ? null : n.textContent; })()",
+                text -> text.isTextual(), PATIENCE, "the page should say recording is off");
+        assertTrue(notice.asText().contains("Recording is off"), notice.asText());
+        assertTrue(notice.asText().contains("RecordingOptions.defaults()"), notice.asText());
+        assertTrue(chromium.evaluate("document.getElementById('plot-choice').disabled").asBoolean());
+        chromium.await("document.getElementById('state').textContent", s -> s.asText().startsWith("running"),
+            PATIENCE, "the figures stream should still say the core runs");
+      }
+    }
+  }
+
+  @Test
+  void aNameThePageCannotPlotIsExplained() throws Exception {
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()))) {
+      core.start();
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium =
+              HeadlessChromium.open(URI.create(inspector.uri() + "#plot=nowhere"), 1200, 800)) {
+        JsonNode status =
+            chromium.await("document.getElementById('plot-status').textContent",
+                s -> s.asText().contains("nowhere"), PATIENCE,
+                "the page should explain why 'nowhere' cannot be plotted");
+        assertTrue(status.asText().contains("has no service, source or chain named 'nowhere'"),
+            status.asText());
+      }
+    }
+  }
+}

@@ -1,0 +1,245 @@
+package dev.prime.metrics;
+
+import dev.prime.CoreConfig;
+import dev.prime.Metrics;
+import dev.prime.PrimeCore;
+import dev.prime.ServiceMetrics;
+import io.micrometer.core.instrument.FunctionCounter;
+import io.micrometer.core.instrument.Gauge;
+import io.micrometer.core.instrument.Meter;
+import io.micrometer.core.instrument.MeterRegistry;
+import io.micrometer.core.instrument.Tags;
+import io.micrometer.core.instrument.Timer;
+import io.micrometer.core.instrument.binder.MeterBinder;
+import java.time.Duration;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Objects;
+import java.util.concurrent.TimeUnit;
+import java.util.function.ToDoubleFunction;
+
+/**
+ * Binds a core's {@link Metrics} to a Micrometer {@link MeterRegistry}: for every metered node of
+ * its diagram (see {@link Metrics} for which they are), the meters below, tagged {@code service}
+ * (the node's name in the topology), {@code kind} (its kind: {@code BlockChain}, {@code Filter},
+ * {@code EventSource}, ...), {@code media} ({@code liberty}, {@code radiant}, {@code optimus}) and
+ * {@code core} (the core's name). The names come from the topology model, so the same diagram
+ * gives the same meters on every media.
+ *
+ * <table>
+ *   <caption>Meters per metered node</caption>
+ *   <tr><th>name</th><th>type</th><th>what</th></tr>
+ *   <tr><td>{@value #VALUES_IN}</td><td>function counter</td>
+ *       <td>{@link ServiceMetrics#valuesIn()}</td></tr>
+ *   <tr><td>{@value #VALUES_OUT}</td><td>function counter</td>
+ *       <td>{@link ServiceMetrics#valuesOut()}</td></tr>
+ *   <tr><td>{@value #FAILURES}</td><td>function counter</td>
+ *       <td>{@link ServiceMetrics#failures()}</td></tr>
+ *   <tr><td>{@value #MISSED}</td><td>function counter</td>
+ *       <td>{@link ServiceMetrics#missed()}</td></tr>
+ *   <tr><td>{@value #DEAD_LETTERS}</td><td>gauge</td>
+ *       <td>{@link ServiceMetrics#deadLetters()} (a gauge: clearing an Optimus service's dead
+ *       letters lowers it)</td></tr>
+ *   <tr><td>{@value #QUEUE_DEPTH}</td><td>gauge</td>
+ *       <td>{@link ServiceMetrics#queueDepth()}; only for nodes with a queue when bound (NaN
+ *       while the media cannot read it)</td></tr>
+ *   <tr><td>{@value #PROCESSING}</td><td>timer with a percentile histogram</td>
+ *       <td>the time of every value processed after binding, recorded by a {@link
+ *       dev.prime.ProcessingListener} on the thread that processed it</td></tr>
+ * </table>
+ *
+ * <pre>{@code
+ * PrimeCore core = new LibertyCore(CoreConfig.builder().metrics(true).build());
+ * ... // declare the diagram
+ * PrimeMetrics.of(core).bindTo(registry);   // or registry.config().meterFilter(...) first
+ * core.start();
+ * }</pre>
+ *
+ * <p>Bind once the diagram is declared (before or after {@link PrimeCore#start()}): nodes
+ * declared later get no meters. The counters and gauges read the core's metrics when the
+ * registry asks, from one snapshot of all nodes kept for {@linkplain #of(PrimeCore, Duration) a
+ * refresh period} (1 s by default), so that a registry reading every meter of a large diagram
+ * takes one snapshot, not one per meter (on Optimus a snapshot asks Redis for queue depths and
+ * dead letters). {@link #close()} removes the meters and stops the timers' recording.
+ *
+ * <p>Thread-safe. The per-value cost with metrics on is the core's (see {@link Metrics}) plus one
+ * {@link Timer#record(long, TimeUnit)} per value and bound registry.
+ */
+public final class PrimeMetrics implements MeterBinder, AutoCloseable {
+  /** Values given to a node: {@link ServiceMetrics#valuesIn()}. */
+  public static final String VALUES_IN = "prime.service.values.in";
+
+  /** Values a node gave out: {@link ServiceMetrics#valuesOut()}. */
+  public static final String VALUES_OUT = "prime.service.values.out";
+
+  /** Values on which a node's logic threw: {@link ServiceMetrics#failures()}. */
+  public static final String FAILURES = "prime.service.failures";
+
+  /** Values a node's input missed: {@link ServiceMetrics#missed()}. */
+  public static final String MISSED = "prime.service.missed";
+
+  /** Values the media set aside as dead letters: {@link ServiceMetrics#deadLetters()}. */
+  public static final String DEAD_LETTERS = "prime.service.dead.letters";
+
+  /** Values in a node's input not finished: {@link ServiceMetrics#queueDepth()}. */
+  public static final String QUEUE_DEPTH = "prime.service.queue.depth";
+
+  /** The time per value: {@link ServiceMetrics#processing()}, as a timer. */
+  public static final String PROCESSING = "prime.service.processing";
+
+  /** The default time a snapshot serves the registry's reads. */
+  public static final Duration DEFAULT_REFRESH = Duration.ofSeconds(1);
+
+  private final PrimeCore core;
+  private final Metrics metrics;
+  private final SnapshotCache snapshots;
+  private final List<Bound> bound = new ArrayList<>(); // guarded by this
+
+  private PrimeMetrics(PrimeCore core, Duration refresh) {
+    this.core = Objects.requireNonNull(core, "core must not be null");
+    this.metrics = metricsOf(core);
+    this.snapshots = new SnapshotCache(metrics, refresh);
+  }
+
+  /**
+   * A binder of {@code core}'s metrics, reading a snapshot at most every {@link
+   * #DEFAULT_REFRESH}.
+   *
+   * @param core a core whose metrics are on ({@link CoreConfig.Builder#metrics(boolean)})
+   * @return the binder; {@link #bindTo(MeterRegistry)} registers the meters
+   * @throws IllegalStateException if the core's metrics are off (the message says how to turn
+   *     them on)
+   */
+  public static PrimeMetrics of(PrimeCore core) {
+    return of(core, DEFAULT_REFRESH);
+  }
+
+  /**
+   * A binder of {@code core}'s metrics, reading a snapshot at most every {@code refresh}.
+   *
+   * @param core a core whose metrics are on
+   * @param refresh how long one snapshot serves the registry's reads; {@link Duration#ZERO}: a
+   *     fresh snapshot of the node on every read (exact, costlier on Optimus)
+   * @return the binder
+   * @throws IllegalStateException if the core's metrics are off
+   * @throws IllegalArgumentException if {@code refresh} is negative
+   */
+  public static PrimeMetrics of(PrimeCore core, Duration refresh) {
+    return new PrimeMetrics(core, refresh);
+  }
+
+  private static Metrics metricsOf(PrimeCore core) {
+    try {
+      return core.metrics();
+    } catch (IllegalStateException off) {
+      throw new IllegalStateException(
+          "cannot bind the metrics of core '" + core.name() + "': " + off.getMessage(), off);
+    }
+  }
+
+  /**
+   * Registers the meters of every metered node declared now (see the class's docs) and starts
+   * timing their values. Binding to a second registry registers them there too.
+   *
+   * @param registry the registry
+   */
+  @Override
+  public void bindTo(MeterRegistry registry) {
+    Objects.requireNonNull(registry, "registry must not be null");
+    for (ServiceMetrics service : metrics.services()) {
+      String name = service.name();
+      Tags tags =
+          Tags.of(
+              "service", name,
+              "kind", service.kind(),
+              "media", metrics.media(),
+              "core", metrics.core());
+      List<Meter> meters = new ArrayList<>();
+      meters.add(counter(registry, VALUES_IN, "values given to the node", tags, name,
+          ServiceMetrics::valuesIn));
+      meters.add(counter(registry, VALUES_OUT, "values the node gave out", tags, name,
+          ServiceMetrics::valuesOut));
+      meters.add(counter(registry, FAILURES, "values on which the node's logic threw", tags,
+          name, ServiceMetrics::failures));
+      meters.add(counter(registry, MISSED, "values the node's input missed", tags, name,
+          ServiceMetrics::missed));
+      meters.add(gauge(registry, DEAD_LETTERS, "values the media set aside as dead letters",
+          tags, name, ServiceMetrics::deadLetters));
+      if (service.queueDepth() >= 0) {
+        meters.add(gauge(registry, QUEUE_DEPTH, "values in the node's input not finished",
+            tags, name, ServiceMetrics::queueDepth));
+      }
+      Timer timer =
+          Timer.builder(PROCESSING)
+              .description("the time the node took per value")
+              .tags(tags)
+              .publishPercentileHistogram()
+              .register(registry);
+      meters.add(timer);
+      Metrics.Subscription timing =
+          metrics.onProcessed(name, (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
+      synchronized (this) {
+        bound.add(new Bound(registry, meters, timing));
+      }
+    }
+  }
+
+  private FunctionCounter counter(
+      MeterRegistry registry,
+      String meter,
+      String description,
+      Tags tags,
+      String service,
+      ToDoubleFunction<ServiceMetrics> count) {
+    return FunctionCounter.builder(
+            meter,
+            snapshots,
+            cache -> {
+              ServiceMetrics now = cache.service(service);
+              return now == null ? Double.NaN : count.applyAsDouble(now);
+            })
+        .description(description)
+        .baseUnit("values")
+        .tags(tags)
+        .register(registry);
+  }
+
+  private Gauge gauge(
+      MeterRegistry registry,
+      String meter,
+      String description,
+      Tags tags,
+      String service,
+      ToDoubleFunction<ServiceMetrics> value) {
+    return Gauge.builder(
+            meter,
+            snapshots,
+            cache -> {
+              ServiceMetrics now = cache.service(service);
+              double v = now == null ? -1 : value.applyAsDouble(now);
+              return v < 0 ? Double.NaN : v; // no longer metered here, or unknown now
+            })
+        .description(description)
+        .baseUnit("values")
+        .tags(tags)
+        .register(registry);
+  }
+
+  /** Removes every meter this binder registered and stops timing; closing twice does nothing. */
+  @Override
+  public synchronized void close() {
+    for (Bound b : bound) {
+      b.timing().close();
+      b.meters().forEach(b.registry()::remove);
+    }
+    bound.clear();
+  }
+
+  /** The meters of one node in one registry, and the listener that feeds its timer. */
+  private record Bound(MeterRegistry registry, List<Meter> meters, Metrics.Subscription timing) {}
+
+  @Override
+  public String toString() {
+    return "PrimeMetrics[" + core.name() + "]";
+  }
+}

@@ -1,0 +1,57 @@
+package dev.prime.metrics;
+
+import dev.prime.Metrics;
+import dev.prime.ServiceMetrics;
+import java.time.Duration;
+import java.util.HashMap;
+import java.util.Map;
+import java.util.Objects;
+
+/**
+ * One snapshot of all of a core's metered nodes, served to the registry's reads for a refresh
+ * period: a registry reading every meter takes one snapshot, not one per meter.
+ *
+ * <p>Design note. Guarded by its monitor: a read older than the period takes a new snapshot of
+ * every node under it (on Optimus a few Redis round trips per node), so concurrent reads wait
+ * for that one snapshot rather than each taking their own. With a period of zero every read takes
+ * a snapshot of its node only.
+ */
+final class SnapshotCache {
+  private final Metrics metrics;
+  private final long refreshNanos;
+  private Map<String, ServiceMetrics> latest = Map.of(); // guarded by this
+  private long takenAt; // guarded by this: System.nanoTime() of latest
+  private boolean taken; // guarded by this
+
+  SnapshotCache(Metrics metrics, Duration refresh) {
+    this.metrics = metrics;
+    Objects.requireNonNull(refresh, "refresh must not be null");
+    if (refresh.isNegative()) {
+      throw new IllegalArgumentException(
+          "refresh must be zero (a snapshot per read) or positive, was " + refresh);
+    }
+    this.refreshNanos = refresh.toNanos();
+  }
+
+  /**
+   * {@return the node's metrics from a snapshot at most one refresh period old; {@code null} if
+   * it is no longer metered here (its declaration failed, or another Optimus process took it
+   * over)}
+   */
+  synchronized ServiceMetrics service(String name) {
+    if (refreshNanos == 0) {
+      return metrics.names().contains(name) ? metrics.service(name) : null;
+    }
+    long now = System.nanoTime();
+    if (!taken || now - takenAt >= refreshNanos || !latest.containsKey(name)) {
+      Map<String, ServiceMetrics> all = new HashMap<>();
+      for (ServiceMetrics service : metrics.services()) {
+        all.put(service.name(), service);
+      }
+      latest = all;
+      takenAt = now;
+      taken = true;
+    }
+    return latest.get(name);
+  }
+}

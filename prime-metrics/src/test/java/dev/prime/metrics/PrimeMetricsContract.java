@@ -1,0 +1,190 @@
+package dev.prime.metrics;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNotNull;
+import static org.junit.jupiter.api.Assertions.assertNull;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Block;
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Source;
+import io.micrometer.core.instrument.Meter;
+import io.micrometer.core.instrument.Timer;
+import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
+import java.time.Duration;
+import java.util.ArrayList;
+import java.util.Collections;
+import java.util.List;
+import java.util.Optional;
+import java.util.concurrent.TimeUnit;
+import org.junit.jupiter.api.Test;
+
+/** The binder's meters against a real registry, on the media a subclass creates cores of. */
+abstract class PrimeMetricsContract {
+  static final Duration PATIENCE = Duration.ofSeconds(20);
+
+  /** A new, not started core of the media under test. */
+  abstract PrimeCore newCore(CoreConfig config);
+
+  /** The media's short name, as the {@code media} tag gives it. */
+  abstract String media();
+
+  /** Whether a value on which a service threw becomes a dead letter. */
+  abstract boolean deadLetters();
+
+  /** Whether a chain linked to a source has a queue of its own (an Optimus service). */
+  abstract boolean chainsHaveQueues();
+
+  @Test
+  void countersAndTheTimerCountEveryValueExactly() throws Exception {
+    int n = 50;
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    CoreConfig config =
+        CoreConfig.builder()
+            .name("metered")
+            .metrics(true)
+            .errorHandler((service, input, error) -> failures.add(error))
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", events);
+      Reader<Integer> doubled = numbers.then(core.chain("double", (Integer x) -> x * 2)).reader();
+      Reader<Integer> evens =
+          numbers
+              .then(
+                  core.chain(
+                      "picky",
+                      (Integer x) -> {
+                        if (x % 2 == 1) {
+                          throw new IllegalArgumentException("odd: " + x);
+                        }
+                        return x;
+                      }))
+              .reader();
+      Block<String, Integer> length = core.chain("length", String::length).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      try (PrimeMetrics binder = PrimeMetrics.of(core, Duration.ZERO)) {
+        binder.bindTo(registry);
+        core.start();
+        for (int i = 1; i <= n; i++) {
+          events.publish(i);
+        }
+        for (int i = 1; i <= n; i++) {
+          assertEquals(2 * i, take(doubled));
+        }
+        for (int i = 2; i <= n; i += 2) {
+          assertEquals(i, take(evens));
+        }
+        assertEquals(3, length.process("abc"));
+
+        assertEquals(n, count(registry, PrimeMetrics.VALUES_IN, "numbers"));
+        assertEquals(n, count(registry, PrimeMetrics.VALUES_OUT, "numbers"));
+        assertEquals(n, count(registry, PrimeMetrics.VALUES_IN, "double"));
+        assertEquals(n, count(registry, PrimeMetrics.VALUES_OUT, "double"));
+        assertEquals(0, count(registry, PrimeMetrics.FAILURES, "double"));
+        assertEquals(n, count(registry, PrimeMetrics.VALUES_IN, "picky"));
+        assertEquals(n / 2, count(registry, PrimeMetrics.VALUES_OUT, "picky"));
+        assertEquals(n / 2, count(registry, PrimeMetrics.FAILURES, "picky"));
+        assertEquals(1, count(registry, PrimeMetrics.VALUES_IN, "length"));
+        assertEquals(0, count(registry, PrimeMetrics.MISSED, "double"));
+        assertEquals(
+            deadLetters() ? n / 2 : 0,
+            registry.get(PrimeMetrics.DEAD_LETTERS).tag("service", "picky").gauge().value());
+
+        Timer timer = registry.get(PrimeMetrics.PROCESSING).tag("service", "double").timer();
+        assertEquals(n, timer.count(), "the timer counts every processed value");
+        assertEquals(n, registry.get(PrimeMetrics.PROCESSING).tag("service", "picky").timer().count());
+        assertEquals(
+            core.metrics().service("double").processing().totalNanos(),
+            (long) timer.totalTime(TimeUnit.NANOSECONDS));
+        assertEquals(
+            core.metrics().service("double").processing().maxNanos(),
+            (long) timer.max(TimeUnit.NANOSECONDS));
+
+        Meter.Id id = registry.get(PrimeMetrics.VALUES_IN).tag("service", "double").meter().getId();
+        assertEquals("BlockChain", id.getTag("kind"));
+        assertEquals(media(), id.getTag("media"));
+        assertEquals("metered", id.getTag("core"));
+        assertEquals(
+            "EventSource",
+            registry.get(PrimeMetrics.VALUES_IN).tag("service", "numbers").meter().getId().getTag("kind"));
+        assertNull(
+            registry.find(PrimeMetrics.QUEUE_DEPTH).tag("service", "numbers").gauge(),
+            "a source has no queue");
+        Optional<Double> doubleQueue =
+            Optional.ofNullable(registry.find(PrimeMetrics.QUEUE_DEPTH).tag("service", "double").gauge())
+                .map(g -> g.value());
+        assertEquals(chainsHaveQueues() ? Optional.of(0.0) : Optional.empty(), doubleQueue);
+        assertEquals(n / 2, failures.size());
+      }
+      assertEquals(List.of(), registry.getMeters(), "closing the binder removes its meters");
+    }
+  }
+
+  @Test
+  void aFilterHasAQueueDepthGauge() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> small = core.source("numbers", events).filter(x -> x < 3).reader();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      assertEquals(1, take(small));
+      assertEquals(2, take(small));
+      assertNotNull(registry.find(PrimeMetrics.QUEUE_DEPTH).tag("service", "filter(numbers)").gauge());
+      assertEquals(
+          "Filter",
+          registry.get(PrimeMetrics.VALUES_IN).tag("service", "filter(numbers)").meter().getId().getTag("kind"));
+      // the third value was tested once its queue is empty and the counts say so
+      long deadline = System.nanoTime() + PATIENCE.toNanos();
+      double in = 0;
+      for (int i = 0; i < 100_000 && in < 3 && System.nanoTime() < deadline; i++) {
+        Thread.onSpinWait();
+        in = count(registry, PrimeMetrics.VALUES_IN, "filter(numbers)");
+      }
+      assertEquals(3, in);
+      assertEquals(2, count(registry, PrimeMetrics.VALUES_OUT, "filter(numbers)"));
+    }
+  }
+
+  @Test
+  void aSnapshotServesTheReadsOfItsRefreshPeriod() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry cached = new SimpleMeterRegistry();
+      SimpleMeterRegistry exact = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ofHours(1)).bindTo(cached);
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(exact);
+      core.start();
+      assertEquals(0, count(cached, PrimeMetrics.VALUES_IN, "same")); // the snapshot is taken
+      assertEquals(7, same.process(7));
+      assertEquals(0, count(cached, PrimeMetrics.VALUES_IN, "same"), "served from the snapshot");
+      assertEquals(1, count(exact, PrimeMetrics.VALUES_IN, "same"));
+      assertEquals(1, cached.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count(),
+          "the timer is told of each value, not read from snapshots");
+    }
+  }
+
+  @Test
+  void metricsOffAreRefusedWithHowToTurnThemOn() {
+    try (PrimeCore core = newCore(CoreConfig.defaults())) {
+      IllegalStateException e = assertThrows(IllegalStateException.class, () -> PrimeMetrics.of(core));
+      assertTrue(e.getMessage().contains("CoreConfig.builder().metrics(true)"), e.getMessage());
+    }
+  }
+
+  static double count(SimpleMeterRegistry registry, String meter, String service) {
+    return registry.get(meter).tag("service", service).functionCounter().count();
+  }
+
+  static <T> T take(Reader<T> reader) throws InterruptedException {
+    return reader.take(PATIENCE).orElseThrow(() -> new AssertionError("nothing within " + PATIENCE));
+  }
+}
