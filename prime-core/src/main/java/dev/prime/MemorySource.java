@@ -1,6 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.RateLimitedLog;
+import java.lang.invoke.MethodHandles;
 import java.lang.invoke.VarHandle;
 import java.time.Duration;
 import java.util.ArrayList;
@@ -8,7 +9,6 @@ import java.util.List;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.concurrent.TimeUnit;
-import java.util.concurrent.locks.Condition;
 import java.util.concurrent.locks.LockSupport;
 import java.util.concurrent.locks.ReentrantLock;
 import org.slf4j.Logger;
@@ -28,26 +28,53 @@ import org.slf4j.LoggerFactory;
  * <p>Service inputs are queues: a reader made by {@link #serviceInput(String)} (the input of an
  * in-process service) gates the publishers, like a gating sequence of a Disruptor. A publish never
  * overwrites a slot such a reader has not read yet: when the ring is full of values a service has
- * not taken, the publisher waits (polling with short timed parks, the lock released, so the
- * service, close() and other readers go on) up to {@link CoreConfig#publishTimeout()}, then throws
- * {@link QueueFullException} having published nothing. Plain readers ({@link #reader()}, {@link
+ * not taken, the publisher waits (polling with short timed parks, holding nothing, so the service,
+ * close() and other readers go on) up to {@link CoreConfig#publishTimeout()}, then throws {@link
+ * QueueFullException} having published nothing. Plain readers ({@link #reader()}, {@link
  * #serviceReader()}, which collectors use) never gate: they are lapped and count what they missed.
- * Hot path: the publisher keeps the lowest gating cursor it last saw ({@code gate}, under the
- * lock) and re-reads the gating readers' cursors only when the next slot would lap that cached
- * value, so a publish that is not about to lap a service costs one comparison and allocates
- * nothing. The gating readers are an array replaced (copy on write) under the lock when one is
- * added or closed; a closed gating reader (its service stopped) stops gating. Closing the source
- * wakes waiting publishers, which then fail with {@link CoreClosedException}.
+ * The publisher keeps the lowest gating cursor it last saw ({@code gate}) and re-reads the gating
+ * readers' cursors only when the next slot would lap that cached value, so a publish that is not
+ * about to lap a service costs one comparison. The gating readers are an array replaced (copy on
+ * write) when one is added or closed; a closed gating reader (its service stopped) stops gating.
  *
- * <p>Threading: publishers serialise on one lock. Readers take no shared lock: a publisher
- * announces the sequence number it is about to write ({@code claimed}), writes the slot, then
- * publishes the new {@code count}; a reader reads {@code count}, reads the slot and then checks
- * {@code claimed} to see whether a publisher lapped it meanwhile (then it retries, counting what
- * it missed), like an optimistic read of a sequence lock. A reader with nothing to read first
- * spins briefly (at most {@link #SPINS} rounds of {@link Thread#onSpinWait()}, tens of
- * microseconds) watching {@code count}, because waking a parked thread costs microseconds, far
- * more than a transmission; only then it parks on the lock's condition, which a publisher
- * signals only when someone waits.
+ * <p>Publishing: the single-publisher path. {@code claimed} is both the publishers' token and the
+ * readers' lap check: it equals {@code count} when nobody publishes and {@code count + 1} while a
+ * publisher writes slot {@code count}. A publish takes the token with one compare-and-set of
+ * {@code claimed} from {@code count} to {@code count + 1}, writes the slot and then {@code count}
+ * (which frees the token). Most sources have one publishing thread (a service's output, an event
+ * block fed by one driver or timer), so the compare-and-set never fails: no lock, no queue, no
+ * park, and nothing else to detect or declare. A publisher that finds the token taken (several
+ * threads publish at once) is the multi-publisher path: it queues on {@code contention}, a lock
+ * only contended publishers take, and the first in the queue spins, then yields, then parks
+ * briefly until the token is free. Registering or closing a gating reader and closing the source
+ * take the token too, so they never race a publish. A publisher waiting for room frees the token
+ * while it waits.
+ *
+ * <p>Reading takes no lock: a reader reads {@code count}, reads the slot and then checks {@code
+ * claimed} to see whether a publisher lapped it meanwhile (then it retries, counting what it
+ * missed), like an optimistic read of a sequence lock; its cursor moves by compare-and-set, so
+ * each value goes to one caller when several threads share a reader. A service's input hands its
+ * service every value available in one call ({@link BatchReader}): one read of {@code count} per
+ * batch, and per value a slot read and a release store of the cursor; it needs no lap check, since
+ * no publisher passes an open gating reader (a closed one stops at the next value). At low rates
+ * a batch is one value, taken as soon as it is published.
+ *
+ * <p>Waiting: a reader with nothing to read first spins watching {@code count} for {@link
+ * #SPIN_NANOS}, then yields its core until {@link #YIELD_NANOS}, because waking a parked thread
+ * costs microseconds to milliseconds (on a virtual machine the idle CPU halts and must be woken;
+ * on a busy one the woken thread waits for a time slice), far more than a transmission. The
+ * budget is measured in time, not in spin rounds: a round's length depends on the CPU's pause
+ * instruction and on how the JIT compiled the loop, so a budget in rounds covered the gap between
+ * two bursts of values in one JVM and not in the next, which then parked at every burst (the
+ * hand-off's slow mode). Then it registers in {@code sleepers}
+ * (raising {@code parked}), looks once more and parks. A publisher reads {@code parked} after
+ * writing {@code count} (both volatile, so either the publisher sees the sleeper or the sleeper
+ * sees the value) and, only if it is not zero, unparks every sleeper and empties the list: a
+ * reader is woken once, not once per value, and a woken reader never contends with the publisher
+ * for a lock. This is what keeps the hand-off out of a slow mode: before, readers waited on a
+ * condition of the publishers' lock, so a woken reader had to take that lock back while the
+ * publisher wanted it for the next value, and the two threads could settle into parking and
+ * waking each other for every value.
  *
  * <p>Copies: with a {@link ValueCodec} (the core's {@code copyValues} option) the ring holds each
  * value encoded at publish time, and every read decodes a copy of its own, as if each reader were
@@ -57,11 +84,47 @@ import org.slf4j.LoggerFactory;
  * @param <T> value type
  */
 final class MemorySource<T> implements MediaSource<T> {
-  /** Rounds a reader spins, watching for a publication, before it parks. */
-  static final int SPINS = 4_096;
+  /** Rounds a reader spins, watching for a publication, before it reads the clock. */
+  static final int SPINS = 256;
+
+  /** Rounds between two clock reads of a spinning reader. */
+  private static final int SPINS_PER_CLOCK_READ = 64;
+
+  /**
+   * How long a reader with nothing to read spins before it starts yielding its core: covers the
+   * gaps of a steady flow (a publisher's batch boundary, a short pause) without a park.
+   */
+  static final long SPIN_NANOS = TimeUnit.MICROSECONDS.toNanos(50);
+
+  /**
+   * How long a reader waits without parking in all (spinning, then yielding, which lets another
+   * thread run on a busy machine); then it parks until a publish wakes it.
+   */
+  static final long YIELD_NANOS = TimeUnit.MICROSECONDS.toNanos(200);
 
   /** Longest single park of a publisher waiting for room in a service's input. */
   private static final long MAX_ROOM_PARK_NANOS = TimeUnit.MILLISECONDS.toNanos(1);
+
+  /** Rounds a contended publisher spins for the token, then yields, then parks this long. */
+  private static final int TOKEN_SPINS = 128;
+
+  private static final int TOKEN_YIELDS = 64;
+  private static final long TOKEN_PARK_NANOS = TimeUnit.MICROSECONDS.toNanos(20);
+
+  private static final VarHandle CLAIMED;
+  private static final VarHandle CURSOR;
+  private static final VarHandle MISSED;
+
+  static {
+    try {
+      MethodHandles.Lookup lookup = MethodHandles.lookup();
+      CLAIMED = lookup.findVarHandle(MemorySource.class, "claimed", long.class);
+      CURSOR = lookup.findVarHandle(MemorySource.MemoryReader.class, "cursor", long.class);
+      MISSED = lookup.findVarHandle(MemorySource.MemoryReader.class, "missed", long.class);
+    } catch (ReflectiveOperationException e) {
+      throw new ExceptionInInitializerError(e);
+    }
+  }
 
   @SuppressWarnings("rawtypes")
   private static final MemorySource.MemoryReader[] NO_GATES = new MemorySource.MemoryReader[0];
@@ -71,14 +134,14 @@ final class MemorySource<T> implements MediaSource<T> {
   private final Runnable onReader;
   private final Object[] ring;
   private final ValueCodec copies; // null: values are shared by reference
-  private final ReentrantLock lock = new ReentrantLock();
-  private final Condition published = lock.newCondition();
-  private volatile long claimed; // written under lock: sequence numbers handed to publishers
-  private volatile long count; // written under lock: values fully published
-  private volatile boolean closed; // written under lock
-  private int waiting; // guarded by lock: readers parked until the next publication
-  private MemoryReader[] gates = noGates(); // guarded by lock, replaced on change: service inputs
-  private long gate = Long.MAX_VALUE; // guarded by lock: lowest gating cursor last seen
+  private volatile long claimed; // the token: count, or count + 1 while a publisher holds it
+  private volatile long count; // values fully published; written by the token's holder
+  private volatile int parked; // sleepers.size(), written under sleepers' monitor
+  private volatile boolean closed; // written by the token's holder
+  private volatile MemoryReader[] gates = noGates(); // replaced by the token's holder: inputs
+  private long gate = Long.MAX_VALUE; // guarded by the token: lowest gating cursor last seen
+  private final ReentrantLock contention = new ReentrantLock(); // publishers finding the token taken
+  private final List<Thread> sleepers = new ArrayList<>(); // guarded by itself: parked readers
 
   private static final Logger LOG = LoggerFactory.getLogger(MemorySource.class);
   private final RateLimitedLog missLog = new RateLimitedLog(MemorySource.class.getName()); // one key: this source
@@ -133,70 +196,100 @@ final class MemorySource<T> implements MediaSource<T> {
   public void publish(T value) {
     Objects.requireNonNull(value, () -> "source '" + name + "' carries no nulls");
     Object stored = copies == null ? value : copies.encode(value);
-    lock.lock();
-    try {
-      if (closed) {
-        throw new CoreClosedException(core.name());
-      }
-      long sequence = count;
-      if (sequence - ring.length >= gate) {
-        awaitRoom();
-        sequence = count; // another publisher may have gone first while this one waited
-      }
-      claimed = sequence + 1;
-      VarHandle.storeStoreFence(); // the claim is visible before the slot changes
-      ring[(int) (sequence % ring.length)] = stored;
-      count = sequence + 1;
-      if (waiting > 0) {
-        published.signalAll();
-      }
-    } finally {
-      lock.unlock();
-    }
-  }
-
-  /**
-   * Waits, the lock held on entry and exit but released while parked, until publishing the next
-   * value overwrites no value a gating reader has not read.
-   *
-   * @throws QueueFullException if no room came within the core's publish timeout
-   * @throws CoreClosedException if the source closed meanwhile
-   */
-  private void awaitRoom() {
     long deadline = 0;
     long park = 1_000;
     boolean timed = false;
     while (true) {
-      MemoryReader blocking = lowestGate();
-      if (blocking == null || count - ring.length < gate) {
-        return;
-      }
-      if (!timed) {
-        timed = true;
-        deadline = System.nanoTime() + saturatedNanos(core.config().publishTimeout());
-      }
-      long left = deadline - System.nanoTime();
-      if (Thread.currentThread().isInterrupted()) {
-        throw new PrimeException(
-            "publish to source '"
-                + name
-                + "' was interrupted while it waited for room in a service's input; nothing was"
-                + " published (the thread's interrupt flag is kept)");
-      }
-      if (left <= 0) {
-        throw queueFull(blocking);
-      }
-      lock.unlock();
-      try {
-        LockSupport.parkNanos(this, Math.min(park, left));
-      } finally {
-        lock.lock();
-      }
-      park = Math.min(park * 2, MAX_ROOM_PARK_NANOS);
+      long sequence = claim();
       if (closed) {
+        release(sequence);
         throw new CoreClosedException(core.name());
       }
+      if (sequence - ring.length >= gate) {
+        MemoryReader blocking = lowestGate();
+        if (blocking != null && sequence - ring.length >= gate) {
+          release(sequence); // wait for room holding nothing
+          if (!timed) {
+            timed = true;
+            deadline = System.nanoTime() + saturatedNanos(core.config().publishTimeout());
+          }
+          park = awaitRoom(blocking, deadline, park);
+          continue;
+        }
+      }
+      ring[index(sequence)] = stored;
+      count = sequence + 1; // the value is visible, and the token free
+      if (parked != 0) {
+        wakeReaders();
+      }
+      return;
     }
+  }
+
+  /**
+   * Takes the publishers' token: one compare-and-set when nobody else publishes.
+   *
+   * @return the sequence number to write, {@code count}; {@code claimed} is now one more
+   */
+  private long claim() {
+    long sequence = count;
+    if (claimed == sequence && CLAIMED.compareAndSet(this, sequence, sequence + 1)) {
+      return sequence;
+    }
+    return claimContended();
+  }
+
+  /** The multi-publisher path: queue behind other contended publishers, then wait for the token. */
+  private long claimContended() {
+    contention.lock();
+    try {
+      for (int round = 0; ; round++) {
+        long sequence = count;
+        if (claimed == sequence && CLAIMED.compareAndSet(this, sequence, sequence + 1)) {
+          return sequence;
+        }
+        if (round < TOKEN_SPINS) {
+          Thread.onSpinWait();
+        } else if (round < TOKEN_SPINS + TOKEN_YIELDS) {
+          Thread.yield();
+        } else {
+          LockSupport.parkNanos(this, TOKEN_PARK_NANOS);
+        }
+      }
+    } finally {
+      contention.unlock();
+    }
+  }
+
+  /** Frees the token without publishing: {@code sequence} is what {@link #claim()} returned. */
+  private void release(long sequence) {
+    claimed = sequence;
+  }
+
+  /**
+   * Waits (holding nothing) a little for room in the input of {@code blocking}, which was full.
+   *
+   * @return the next park's length
+   * @throws QueueFullException if no room came within the core's publish timeout
+   * @throws CoreClosedException if the source closed meanwhile
+   */
+  private long awaitRoom(MemoryReader blocking, long deadline, long park) {
+    long left = deadline - System.nanoTime();
+    if (Thread.currentThread().isInterrupted()) {
+      throw new PrimeException(
+          "publish to source '"
+              + name
+              + "' was interrupted while it waited for room in a service's input; nothing was"
+              + " published (the thread's interrupt flag is kept)");
+    }
+    if (left <= 0) {
+      throw queueFull(blocking);
+    }
+    LockSupport.parkNanos(this, Math.min(park, left));
+    if (closed) {
+      throw new CoreClosedException(core.name());
+    }
+    return Math.min(park * 2, MAX_ROOM_PARK_NANOS);
   }
 
   /** Re-reads the gating cursors into {@code gate}; the gating reader furthest behind, or null. */
@@ -236,18 +329,66 @@ final class MemorySource<T> implements MediaSource<T> {
             + " longer with CoreConfig.Builder.publishTimeout(d).");
   }
 
+  /** Unparks every registered sleeper and empties the list: each is woken once. */
+  private void wakeReaders() {
+    synchronized (sleepers) {
+      for (int i = 0; i < sleepers.size(); i++) {
+        LockSupport.unpark(sleepers.get(i));
+      }
+      sleepers.clear();
+      parked = 0;
+    }
+  }
+
+  /**
+   * Parks the calling thread once, registered as a sleeper, unless {@code reader} is ready by
+   * then; the caller looks again whatever woke it (a publish, a close, the deadline, an interrupt
+   * or nothing).
+   *
+   * @param reader the reader waiting
+   * @param deadline {@link System#nanoTime()} to wake at, if {@code timed}
+   * @param timed whether to wake at the deadline
+   * @throws InterruptedException if the thread is interrupted (its flag is cleared)
+   */
+  private void sleep(MemoryReader reader, long deadline, boolean timed)
+      throws InterruptedException {
+    Thread me = Thread.currentThread();
+    synchronized (sleepers) {
+      sleepers.add(me);
+      parked = sleepers.size(); // volatile: a publisher that writes count later sees this
+    }
+    try {
+      if (Thread.interrupted()) {
+        throw new InterruptedException();
+      }
+      if (!reader.ready()) {
+        if (timed) {
+          LockSupport.parkNanos(this, deadline - System.nanoTime());
+        } else {
+          LockSupport.park(this);
+        }
+      }
+    } finally {
+      synchronized (sleepers) {
+        if (sleepers.remove(me)) {
+          parked = sleepers.size();
+        }
+      }
+    }
+  }
+
   /** Wakes every waiting reader; later reads throw {@link CoreClosedException}. */
   public void close() {
-    lock.lock();
+    long sequence = claim();
     try {
       closed = true;
       gates = noGates();
       gate = Long.MAX_VALUE;
       java.util.Arrays.fill(ring, null);
-      published.signalAll();
     } finally {
-      lock.unlock();
+      release(sequence);
     }
+    wakeReaders();
   }
 
   @Override
@@ -259,40 +400,41 @@ final class MemorySource<T> implements MediaSource<T> {
 
   @Override
   public Reader<T> serviceReader() {
-    lock.lock();
+    long sequence = claim(); // no publish moves the oldest value while the reader is placed
     try {
       if (closed) {
         throw new CoreClosedException(core.name());
       }
-      return new MemoryReader(Math.max(0, count - ring.length));
+      return new MemoryReader(Math.max(0, sequence - ring.length), null);
     } finally {
-      lock.unlock();
+      release(sequence);
     }
   }
 
   /**
    * The input of the in-process service {@code service}: a reader, positioned like {@link
    * #reader()} and not recorded in the topology, that gates publishers (a publish never overwrites
-   * a value it has not read). Close it when the service stops, so that it stops gating.
+   * a value it has not read). Close it when the service stops, so that it stops gating. Its
+   * service is its only consumer, which takes values in batches ({@link BatchReader}).
    *
    * @param service the service's name, for {@link QueueFullException}
    * @return a new gating reader
    */
   Reader<T> serviceInput(String service) {
     Objects.requireNonNull(service, "service");
-    lock.lock();
+    long sequence = claim();
     try {
       if (closed) {
         throw new CoreClosedException(core.name());
       }
-      MemoryReader reader = new MemoryReader(Math.max(0, count - ring.length), service);
+      MemoryReader reader = new MemoryReader(Math.max(0, sequence - ring.length), service);
       MemoryReader[] more = java.util.Arrays.copyOf(gates, gates.length + 1);
       more[gates.length] = reader;
       gates = more;
       gate = Math.min(gate, reader.cursor);
       return reader;
     } finally {
-      lock.unlock();
+      release(sequence);
     }
   }
 
@@ -313,20 +455,30 @@ final class MemorySource<T> implements MediaSource<T> {
 
   /** Stops {@code reader} gating publishers. */
   private void ungate(MemoryReader reader) {
-    lock.lock();
+    long sequence = claim();
     try {
-      for (int i = 0; i < gates.length; i++) {
-        if (gates[i] == reader) {
-          MemoryReader[] fewer = java.util.Arrays.copyOf(gates, gates.length - 1);
-          System.arraycopy(gates, i + 1, fewer, i, gates.length - 1 - i);
+      MemoryReader[] current = gates;
+      for (int i = 0; i < current.length; i++) {
+        if (current[i] == reader) {
+          MemoryReader[] fewer = java.util.Arrays.copyOf(current, current.length - 1);
+          System.arraycopy(current, i + 1, fewer, i, current.length - 1 - i);
           gates = fewer;
           break;
         }
       }
       gate = Long.MIN_VALUE; // re-read at the next publish that could lap
     } finally {
-      lock.unlock();
+      release(sequence);
     }
+  }
+
+  private int index(long sequence) {
+    return (int) (sequence % ring.length);
+  }
+
+  @SuppressWarnings("unchecked")
+  private T decode(Object stored) {
+    return (T) (copies == null ? stored : copies.decode((byte[]) stored));
   }
 
   @SuppressWarnings("unchecked")
@@ -339,24 +491,19 @@ final class MemorySource<T> implements MediaSource<T> {
     return "MemorySource[" + name + "]";
   }
 
-  private final class MemoryReader implements Reader<T> {
-    private volatile long cursor; // written under this reader's monitor; read anywhere as a hint
-    private long missed; // guarded by this reader's monitor
+  private final class MemoryReader implements Reader<T>, BatchReader<T> {
+    private volatile long cursor; // moved by compare-and-set (or by its only consumer, batches)
+    private volatile long missed; // added to with MISSED
     private volatile boolean readerClosed;
     private final String service; // null: a plain reader, which never gates
-
-    MemoryReader(long cursor) {
-      this(cursor, null);
-    }
 
     MemoryReader(long cursor, String service) {
       this.cursor = cursor;
       this.service = service;
     }
 
-    /** The next value if one is published, else null; never blocks on publishers. */
-    @SuppressWarnings("unchecked")
-    private synchronized T next() {
+    /** The next value if one is published, else null; never blocks. */
+    private T next() {
       while (true) {
         long available = count;
         ensureReaderOpen();
@@ -369,36 +516,41 @@ final class MemorySource<T> implements MediaSource<T> {
         }
         long oldest = available - ring.length;
         if (position < oldest) {
-          long lost = oldest - position;
-          missed += lost;
-          missedByReaders.add(lost);
-          missLog.record(
-              "a reader of source '" + name + "' of core '" + core.name() + "' missed values",
-              lost,
-              lost + " values",
-              () ->
-                  LOG.warn(
-                      "a reader of source '{}' of core '{}' missed {} values: it fell more than"
-                          + " the retention ({}) behind; read faster or raise"
-                          + " CoreConfig.sourceRetention (further misses are counted, at most one"
-                          + " line per {} s)",
-                      name,
-                      core.name(),
-                      lost,
-                      ring.length,
-                      RateLimitedLog.DEFAULT_SECONDS));
-          position = oldest;
-        }
-        Object value = ring[(int) (position % ring.length)];
-        VarHandle.acquireFence(); // read the slot before checking that nobody overwrote it
-        if (claimed - ring.length > position || value == null) {
-          cursor = position; // lapped while reading (or closing): look again
-          Thread.onSpinWait();
+          if (CURSOR.compareAndSet(this, position, oldest)) {
+            recordMissed(oldest - position);
+          }
           continue;
         }
-        cursor = position + 1;
-        return (T) (copies == null ? value : copies.decode((byte[]) value));
+        Object value = ring[index(position)];
+        VarHandle.acquireFence(); // read the slot before checking that nobody overwrote it
+        if (claimed - ring.length > position || value == null) {
+          Thread.onSpinWait(); // lapped while reading (or closing): look again
+          continue;
+        }
+        if (CURSOR.compareAndSet(this, position, position + 1)) {
+          return decode(value);
+        }
       }
+    }
+
+    private void recordMissed(long lost) {
+      MISSED.getAndAdd(this, lost);
+      missedByReaders.add(lost);
+      missLog.record(
+          "a reader of source '" + name + "' of core '" + core.name() + "' missed values",
+          lost,
+          lost + " values",
+          () ->
+              LOG.warn(
+                  "a reader of source '{}' of core '{}' missed {} values: it fell more than"
+                      + " the retention ({}) behind; read faster or raise"
+                      + " CoreConfig.sourceRetention (further misses are counted, at most one"
+                      + " line per {} s)",
+                  name,
+                  core.name(),
+                  lost,
+                  ring.length,
+                  RateLimitedLog.DEFAULT_SECONDS));
     }
 
     /** Whether {@link #next()} would return a value or throw. */
@@ -415,33 +567,48 @@ final class MemorySource<T> implements MediaSource<T> {
       }
     }
 
-    /** Spins while there is nothing to read, for at most {@link #SPINS} rounds. */
-    private void spin() {
-      for (int i = 0; i < SPINS && !ready(); i++) {
+    /**
+     * Waits without parking while there is nothing to read: {@link #SPINS} rounds of {@link
+     * Thread#onSpinWait()}, then spinning until {@link #SPIN_NANOS} have passed, then yielding
+     * the core until {@link #YIELD_NANOS} have passed (or the deadline, if {@code timed}). The
+     * budget is time, not rounds, so it does not depend on how a JVM compiled the loop.
+     *
+     * @return whether the reader is ready; false: the caller parks
+     */
+    private boolean spin(long deadline, boolean timed) {
+      for (int i = 0; i < SPINS; i++) {
+        if (ready()) {
+          return true;
+        }
         Thread.onSpinWait();
+      }
+      long start = System.nanoTime();
+      while (true) {
+        for (int i = 0; i < SPINS_PER_CLOCK_READ; i++) {
+          if (ready()) {
+            return true;
+          }
+          Thread.onSpinWait();
+        }
+        long now = System.nanoTime();
+        if (now - start > YIELD_NANOS || (timed && now - deadline >= 0)) {
+          return ready();
+        }
+        if (now - start > SPIN_NANOS) {
+          Thread.yield();
+        }
       }
     }
 
     @Override
     public T take() throws InterruptedException {
       while (true) {
-        spin();
         T value = next();
         if (value != null) {
           return value;
         }
-        lock.lockInterruptibly();
-        try {
-          while (!ready()) {
-            waiting++;
-            try {
-              published.await();
-            } finally {
-              waiting--;
-            }
-          }
-        } finally {
-          lock.unlock();
+        if (!spin(0, false)) {
+          sleep(this, 0, false);
         }
       }
     }
@@ -456,22 +623,59 @@ final class MemorySource<T> implements MediaSource<T> {
         if (value != null) {
           return Optional.of(value);
         }
-        long remaining = deadline - System.nanoTime();
-        if (remaining <= 0) {
+        if (deadline - System.nanoTime() <= 0) {
           return Optional.empty();
         }
-        lock.lockInterruptibly();
-        try {
-          while (!ready() && remaining > 0) {
-            waiting++;
-            try {
-              remaining = published.awaitNanos(remaining);
-            } finally {
-              waiting--;
-            }
+        if (!spin(deadline, true) && deadline - System.nanoTime() > 0) {
+          sleep(this, deadline, true);
+        }
+      }
+    }
+
+    /**
+     * {@inheritDoc}
+     *
+     * <p>For the reader's only consumer (a service's input): values are handed out by release
+     * stores of the cursor, not by compare-and-set. A plain reader hands out one value, by {@link
+     * #take()}.
+     */
+    @Override
+    public void takeAvailable(BatchReader.Sink<? super T> sink) throws InterruptedException {
+      if (service == null) {
+        sink.accept(take());
+        return;
+      }
+      while (true) {
+        long available = count;
+        ensureReaderOpen();
+        if (closed) {
+          throw new CoreClosedException(core.name());
+        }
+        long position = cursor;
+        if (position >= available) {
+          if (!spin(0, false)) {
+            sleep(this, 0, false);
           }
-        } finally {
-          lock.unlock();
+          continue;
+        }
+        Object[] slots = ring;
+        int index = index(position);
+        while (true) {
+          Object value = slots[index];
+          VarHandle.acquireFence(); // read the slot before checking that this input still gates
+          if (readerClosed || value == null) {
+            break; // closed meanwhile: the checks above throw
+          }
+          CURSOR.setRelease(this, ++position); // the slot is read: a publisher may reuse it
+          if (!sink.accept(decode(value))) {
+            return;
+          }
+          if (position == available) {
+            return;
+          }
+          if (++index == slots.length) {
+            index = 0;
+          }
         }
       }
     }
@@ -482,7 +686,7 @@ final class MemorySource<T> implements MediaSource<T> {
     }
 
     @Override
-    public synchronized List<T> drain() {
+    public List<T> drain() {
       List<T> values = new ArrayList<>();
       T value;
       while ((value = next()) != null) {
@@ -492,7 +696,7 @@ final class MemorySource<T> implements MediaSource<T> {
     }
 
     @Override
-    public synchronized long missed() {
+    public long missed() {
       ensureReaderOpen();
       return missed;
     }
@@ -510,12 +714,7 @@ final class MemorySource<T> implements MediaSource<T> {
       if (service != null) {
         ungate(this);
       }
-      lock.lock();
-      try {
-        published.signalAll();
-      } finally {
-        lock.unlock();
-      }
+      wakeReaders();
     }
 
     @Override

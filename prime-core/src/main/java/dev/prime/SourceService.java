@@ -16,6 +16,10 @@ import org.slf4j.LoggerFactory;
  * under the name of the chain that failed, with the block's own throwable, not the wrapper. Only
  * an interrupt, the closing of the core that runs it, or the closing of its input source ends it.
  *
+ * <p>An input that is a {@link BatchReader} (an in-memory service input) is drained in batches:
+ * one call hands the loop every value available, each handled as above, instead of one {@link
+ * Reader#take()} per value. The loop checks for an interrupt after every value either way.
+ *
  * @param <T> value type
  */
 final class SourceService<T> implements Runnable {
@@ -26,6 +30,8 @@ final class SourceService<T> implements Runnable {
   private final Consumer<? super T> step;
   private final ErrorHandler errors;
   private final BooleanSupplier ownerClosed;
+  private final BatchReader.Sink<T> handler = this::handle; // made once: batches allocate nothing
+  private boolean ended; // the owner closed under a step: the loop ends
 
   /**
    * @param name the service's name, for the error handler
@@ -59,10 +65,14 @@ final class SourceService<T> implements Runnable {
   }
 
   private void loop() {
-    while (!Thread.currentThread().isInterrupted()) {
-      T value;
+    BatchReader<T> batches = batches(reader);
+    while (!ended && !Thread.currentThread().isInterrupted()) {
       try {
-        value = reader.take();
+        if (batches != null) {
+          batches.takeAvailable(handler);
+        } else {
+          handle(reader.take());
+        }
       } catch (InterruptedException e) {
         return;
       } catch (CoreClosedException e) {
@@ -71,19 +81,34 @@ final class SourceService<T> implements Runnable {
         }
         return;
       }
-      try {
-        step.accept(value);
-      } catch (CoreClosedException e) {
-        if (ownerClosed.getAsBoolean()) {
-          return;
-        }
-        report(value, e); // another core closed under this step: an ordinary failure, go on
-      } catch (VirtualMachineError e) {
-        throw e;
-      } catch (Throwable e) {
-        report(value, e);
-      }
     }
+  }
+
+  @SuppressWarnings("unchecked")
+  private static <T> BatchReader<T> batches(Reader<T> reader) {
+    return reader instanceof BatchReader<?> batches ? (BatchReader<T>) batches : null;
+  }
+
+  /**
+   * Runs the step on one value; a failure is reported, not thrown.
+   *
+   * @return whether to go on: false once interrupted or once the owner closed under the step
+   */
+  private boolean handle(T value) {
+    try {
+      step.accept(value);
+    } catch (CoreClosedException e) {
+      if (ownerClosed.getAsBoolean()) {
+        ended = true;
+        return false;
+      }
+      report(value, e); // another core closed under this step: an ordinary failure, go on
+    } catch (VirtualMachineError e) {
+      throw e;
+    } catch (Throwable e) {
+      report(value, e);
+    }
+    return !Thread.currentThread().isInterrupted();
   }
 
   private void report(T value, Throwable error) {

@@ -58,6 +58,27 @@ public final class WorkerCpuTime implements InternalProfiler {
     }
   }
 
+  /**
+   * The same clock for benchmarks without {@link Shape} or the megamorphic site (such as {@link
+   * RecordingOverheadBenchmark}): no per-iteration setup runs before it.
+   */
+  @State(Scope.Thread)
+  public static class PlainClock {
+    private long startNanos;
+
+    /** Starts the iteration's CPU time. */
+    @Setup(Level.Iteration)
+    public void start() {
+      startNanos = THREADS.getCurrentThreadCpuTime();
+    }
+
+    /** Stops before any per-iteration teardown. */
+    @TearDown(Level.Iteration)
+    public void stop() {
+      lastIterationNanos = THREADS.getCurrentThreadCpuTime() - startNanos;
+    }
+  }
+
   @Override
   public String getDescription() {
     return "CPU time of the benchmark thread per operation (ns/op), for single-threaded benchmarks";

@@ -186,6 +186,26 @@ public interface MetricsConformance extends ConformanceBase {
   }
 
   @Test
+  default void metricsAndRecordingWorkTogether() throws Exception {
+    CoreConfig config =
+        CoreConfig.builder().metrics(true).recording(dev.prime.RecordingOptions.ring(10)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.source("numbers", events).then(core.chain("inc", (Integer x) -> x + 1)).reader();
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 3, 4), takeOrFail(out, 3));
+      assertEquals(List.of(1, 2, 3), core.recording().getAll("numbers"));
+      assertEquals(List.of(2, 3, 4), core.recording().getAll("inc"));
+      assertCounts(core.metrics().service("numbers"), "EventSource", 3, 3, 0);
+      assertCounts(core.metrics().service("inc"), "BlockChain", 3, 3, 0);
+    }
+  }
+
+  @Test
   default void theHistogramTimesEveryValue() throws Exception {
     long sleepMillis = 5;
     try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {

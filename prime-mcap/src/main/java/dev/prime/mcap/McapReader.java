@@ -14,6 +14,7 @@ import java.util.Arrays;
 import java.util.Collections;
 import java.util.Comparator;
 import java.util.Iterator;
+import java.util.LinkedHashSet;
 import java.util.List;
 import java.util.Map;
 import java.util.Optional;
@@ -565,18 +566,37 @@ public final class McapReader implements Closeable {
   public List<Map<String, String>> metadata(String name) throws IOException {
     List<Map<String, String>> found = new ArrayList<>();
     for (long[] ref : metadataRecords) {
-      byte[] bytes = read(ref[0], ref[1], "a Metadata record");
-      RecordCursor record = cursor(bytes, ref[0], "Metadata record");
-      int opcode = record.u8("opcode");
-      record.u64("length");
-      if (opcode != Opcode.METADATA) {
-        throw problem(ref[0], "a MetadataIndex points here but the record is " + Opcode.name(opcode));
-      }
+      RecordCursor record = metadataRecord(ref);
       if (record.string("name").equals(name)) {
         found.add(Collections.unmodifiableMap(record.stringMap("metadata")));
       }
     }
     return found;
+  }
+
+  /**
+   * @return the names of the file's Metadata records, each once, in the order they first appear
+   *     (read each with {@link #metadata(String)})
+   * @throws IOException if reading fails
+   */
+  public List<String> metadataNames() throws IOException {
+    Set<String> names = new LinkedHashSet<>();
+    for (long[] ref : metadataRecords) {
+      names.add(metadataRecord(ref).string("name"));
+    }
+    return List.copyOf(names);
+  }
+
+  /** The Metadata record at {@code ref} (offset, length), positioned at its name. */
+  private RecordCursor metadataRecord(long[] ref) throws IOException {
+    byte[] bytes = read(ref[0], ref[1], "a Metadata record");
+    RecordCursor record = cursor(bytes, ref[0], "Metadata record");
+    int opcode = record.u8("opcode");
+    record.u64("length");
+    if (opcode != Opcode.METADATA) {
+      throw problem(ref[0], "a MetadataIndex points here but the record is " + Opcode.name(opcode));
+    }
+    return record;
   }
 
   /**

@@ -85,6 +85,7 @@ public final class McapWriter implements Closeable {
   private final Map<Integer, McapChannel<?>> channelsById = new ConcurrentHashMap<>();
   private final Map<Integer, Integer> schemaOfChannel = new ConcurrentHashMap<>();
   private final Map<Integer, Map<String, String>> channelMetadata = new ConcurrentHashMap<>();
+  private final List<Map.Entry<String, Map<String, String>>> metadata = new CopyOnWriteArrayList<>();
 
   private final BlockingQueue<Entry> queue;
   private final AtomicLong queuedBytes = new AtomicLong();
@@ -260,6 +261,34 @@ public final class McapWriter implements Closeable {
     }
   }
 
+  /**
+   * Adds a Metadata record (name and key/value pairs: who recorded, where, with which
+   * arguments) to the recording. It is written into every file of the recording as the file is
+   * finished (each rotated file stands alone), in the order added, before the loss report.
+   *
+   * @param name the record's name, e.g. {@code prime.process}; not empty, not {@value
+   *     #LOSS_METADATA} (the writer's own)
+   * @param pairs the key/value pairs (copied)
+   * @throws IllegalArgumentException for an empty or reserved name
+   * @throws IllegalStateException if the writer is closed
+   */
+  public void metadata(String name, Map<String, String> pairs) {
+    Objects.requireNonNull(name, "name");
+    Objects.requireNonNull(pairs, "pairs");
+    if (name.isEmpty() || name.equals(LOSS_METADATA)) {
+      throw new IllegalArgumentException(
+          "a Metadata record's name must not be empty nor '" + LOSS_METADATA
+              + "' (the writer's loss report), was '" + name + "'");
+    }
+    Map<String, String> copy = new TreeMap<>(pairs);
+    synchronized (definitions) {
+      if (closed) {
+        throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
+      }
+      metadata.add(Map.entry(name, copy));
+    }
+  }
+
   /** @return messages dropped so far, on every channel */
   public long droppedCount() {
     return dropped.sum();
@@ -403,6 +432,9 @@ public final class McapWriter implements Closeable {
         if (!file.hasChannel(id)) {
           defineInFile(id);
         }
+      }
+      for (Map.Entry<String, Map<String, String>> record : metadata) {
+        file.addMetadata(record.getKey(), record.getValue());
       }
       Map<String, String> loss = new TreeMap<>();
       loss.put("dropped_messages", Long.toString(dropped.sum() - droppedAtFileStart));

@@ -18,7 +18,11 @@ import java.util.Objects;
  * as log and publish time (nanoseconds since the Unix epoch) and its sequence number, in
  * wall-clock order across channels. Each channel's metadata holds {@code prime.service}, {@code
  * prime.pseudoname} (if one was given) and {@code prime.dropped} (values that fell out of the
- * recording's ring before it was written).
+ * recording's ring before it was written) and {@code prime.process} ({@code pid@host} of the
+ * process that recorded it). The file has a Metadata record {@value #PROCESS_METADATA} with the
+ * recording process's {@code host}, {@code pid} and {@code process_start}, and any Metadata
+ * records the caller adds (say, the run's arguments): a file of each process of an Optimus
+ * topology, joined by {@link McapMerge}, keeps what each process was.
  *
  * <p>This adapter lives here, not in {@code prime-core}, so that the core stays free of Jackson:
  * {@code prime-mcap} depends on {@code prime-core}, never the other way round.
@@ -28,6 +32,9 @@ import java.util.Objects;
  * }</pre>
  */
 public final class RecordingMcap {
+  /** The name of the Metadata record that says which process recorded the file. */
+  public static final String PROCESS_METADATA = "prime.process";
+
   private RecordingMcap() {}
 
   /**
@@ -61,9 +68,46 @@ public final class RecordingMcap {
    */
   public static long write(Recording recording, Path path, Map<String, ValueType<?>> types)
       throws IOException {
+    return write(recording, path, types, Map.of());
+  }
+
+  /**
+   * Writes what {@code recording} holds now, with the channel types given for some names and
+   * Metadata records of the caller's (what a replay needs to reproduce the run: its goal, its
+   * arguments).
+   *
+   * <pre>{@code
+   * RecordingMcap.write(core.recording(), path, Map.of(), Map.of("robot.run", Map.of("goal", "2,1")));
+   * }</pre>
+   *
+   * @param recording the recording
+   * @param path the file; overwritten if it exists
+   * @param types the value type of a name's channel; names not in it are typed by their first
+   *     value's class
+   * @param metadata Metadata records to add, by name (read back with {@link
+   *     McapReader#metadata(String)}); not {@value #PROCESS_METADATA} nor {@value
+   *     McapWriter#LOSS_METADATA}, which are written anyway
+   * @return the number of messages written
+   * @throws IOException if the file cannot be written
+   * @throws IllegalArgumentException if {@code types} names a name that is not recorded, a
+   *     channel's type cannot be made from its first value's class, or a metadata name is
+   *     reserved or empty
+   */
+  public static long write(
+      Recording recording,
+      Path path,
+      Map<String, ValueType<?>> types,
+      Map<String, Map<String, String>> metadata)
+      throws IOException {
     Objects.requireNonNull(recording, "recording must not be null");
     Objects.requireNonNull(path, "path must not be null");
     Objects.requireNonNull(types, "types must not be null");
+    Objects.requireNonNull(metadata, "metadata must not be null");
+    if (metadata.containsKey(PROCESS_METADATA)) {
+      throw new IllegalArgumentException(
+          "the Metadata record '" + PROCESS_METADATA + "' is written by RecordingMcap itself;"
+              + " give your records other names");
+    }
     for (String name : types.keySet()) {
       if (!recording.names().contains(name)) {
         throw new IllegalArgumentException(
@@ -82,7 +126,10 @@ public final class RecordingMcap {
     }
     all.sort(Comparator.comparing(RecordedValue::wallTime));
     long written = 0;
+    ProcessIdentity process = ProcessIdentity.current();
     try (McapWriter writer = McapWriter.open(path, McapWriterOptions.defaults().synchronous())) {
+      writer.metadata(PROCESS_METADATA, process.metadata());
+      metadata.forEach(writer::metadata);
       Map<String, McapChannel<Object>> channels = new LinkedHashMap<>();
       byName.forEach(
           (name, entries) ->
@@ -90,7 +137,7 @@ public final class RecordingMcap {
                   name,
                   writer.channel(
                       name, type(name, types.get(name), entries.get(0)),
-                      metadata(recording, name))));
+                      channelMetadata(recording, name, process))));
       for (RecordedValue<Object> entry : all) {
         long time = epochNanos(entry.wallTime());
         if (channels.get(entry.service()).write(time, time, entry.sequence(), entry.value())) {
@@ -101,11 +148,13 @@ public final class RecordingMcap {
     return written;
   }
 
-  private static Map<String, String> metadata(Recording recording, String name) {
+  private static Map<String, String> channelMetadata(
+      Recording recording, String name, ProcessIdentity process) {
     Map<String, String> metadata = new LinkedHashMap<>();
     metadata.put("prime.service", name);
     recording.pseudoname(name).ifPresent(p -> metadata.put("prime.pseudoname", p));
     metadata.put("prime.dropped", Long.toString(recording.dropped(name)));
+    metadata.put(PROCESS_METADATA, process.id());
     return metadata;
   }
 

@@ -25,9 +25,12 @@ import org.junit.jupiter.api.io.TempDir;
 class CrashRecoveryTest {
   @TempDir Path dir;
 
-  /** Runs the recorder, waits for it to report its writes, kills it with SIGKILL. */
   private Path recordAndKill(String name, int count, long chunkSize) throws IOException, InterruptedException {
-    Path file = dir.resolve(name);
+    return recordAndKill(dir.resolve(name), count, chunkSize);
+  }
+
+  /** Runs the recorder, waits for it to report its writes, kills it with SIGKILL. */
+  static Path recordAndKill(Path file, int count, long chunkSize) throws IOException, InterruptedException {
     String java = new File(System.getProperty("java.home"), "bin/java").getPath();
     Process recorder = new ProcessBuilder(java, "-cp", System.getProperty("java.class.path"),
         CrashingRecorder.class.getName(), file.toString(), String.valueOf(count), String.valueOf(chunkSize))

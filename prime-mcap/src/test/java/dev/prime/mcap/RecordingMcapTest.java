@@ -98,4 +98,35 @@ class RecordingMcapTest {
       }
     }
   }
+
+  @Test
+  void theFileSaysWhichProcessRecordedItAndKeepsTheCallersMetadata() throws Exception {
+    CoreConfig config = CoreConfig.builder().recording(RecordingOptions.ring(10)).build();
+    try (PrimeCore core = new LibertyCore(config)) {
+      var twice = core.chain("twice", (Integer x) -> 2 * x).toBlock();
+      core.start();
+      twice.process(21);
+      Recording recording = core.recording();
+      Path file = dir.resolve("run.mcap");
+      RecordingMcap.write(recording, file, Map.of(), Map.of("robot.run", Map.of("goal", "2,1")));
+
+      try (McapReader reader = McapReader.open(file)) {
+        List<Map<String, String>> process = reader.metadata(RecordingMcap.PROCESS_METADATA);
+        assertEquals(1, process.size());
+        String pid = Long.toString(ProcessHandle.current().pid());
+        assertEquals(pid, process.get(0).get("pid"));
+        assertTrue(!process.get(0).get("host").isBlank(), process.toString());
+        assertEquals(pid + "@" + process.get(0).get("host"),
+            reader.channel("twice").orElseThrow().metadata().get(RecordingMcap.PROCESS_METADATA));
+        assertEquals(List.of(Map.of("goal", "2,1")), reader.metadata("robot.run"));
+      }
+      IllegalArgumentException reserved = assertThrows(IllegalArgumentException.class,
+          () -> RecordingMcap.write(recording, dir.resolve("x.mcap"), Map.of(),
+              Map.of(RecordingMcap.PROCESS_METADATA, Map.of())));
+      assertTrue(reserved.getMessage().contains("other names"), reserved.getMessage());
+      assertThrows(IllegalArgumentException.class,
+          () -> RecordingMcap.write(recording, dir.resolve("y.mcap"), Map.of(),
+              Map.of(McapWriter.LOSS_METADATA, Map.of())));
+    }
+  }
 }

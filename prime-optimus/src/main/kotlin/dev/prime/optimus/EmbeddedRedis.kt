@@ -38,6 +38,7 @@ public class EmbeddedRedis private constructor(
     private val startTimeout: Duration,
     /** The port the server listens on. */
     public val port: Int,
+    private val arguments: List<String>,
 ) : AutoCloseable {
 
     private val lock = Any()
@@ -101,6 +102,7 @@ public class EmbeddedRedis private constructor(
         } else {
             command += listOf("--appendonly", "no")
         }
+        command += arguments
         val started = ProcessBuilder(command)
             .redirectErrorStream(true)
             .redirectOutput(ProcessBuilder.Redirect.appendTo(log.toFile()))
@@ -161,6 +163,7 @@ public class EmbeddedRedis private constructor(
         private var appendOnlyDir: Path? = null
         private var executable: RedisServerBinary.Binary? = null
         private var startTimeout = Duration.ofSeconds(20)
+        private var arguments = emptyList<String>()
 
         /** Listens on [port] (1–65535); by default a free port is picked. */
         public fun port(port: Int): Builder = apply {
@@ -179,6 +182,12 @@ public class EmbeddedRedis private constructor(
             require(Files.isExecutable(executable)) { "'$executable' is not an executable file" }
             this.executable = RedisServerBinary.Binary(executable, null)
         }
+
+        /**
+         * More `redis-server` options, after the ones this class sets (a later option wins), e.g.
+         * `--cluster-enabled yes` for the nodes of a test cluster.
+         */
+        internal fun arguments(vararg options: String): Builder = apply { this.arguments = options.toList() }
 
         /** Uses [binary] (checked against its pin before every start). */
         internal fun binary(binary: RedisServerBinary.Binary): Builder = apply { this.executable = binary }
@@ -201,7 +210,7 @@ public class EmbeddedRedis private constructor(
             var attempt = 0
             while (true) {
                 val chosen = if (port != 0) port else freePort()
-                val redis = EmbeddedRedis(binary, dir, persistentDir == null, persistentDir != null, startTimeout, chosen)
+                val redis = EmbeddedRedis(binary, dir, persistentDir == null, persistentDir != null, startTimeout, chosen, arguments)
                 try {
                     synchronized(redis.lock) { redis.launch() }
                     Runtime.getRuntime().addShutdownHook(redis.hook)

@@ -35,6 +35,9 @@ internal class Envelope private constructor(
         private const val PRESENT: Byte = 1
         private const val HEADER = 10
 
+        /** Whether [bytes] is a value's envelope (not a request or a reply): what a service's queue count counts. */
+        fun isValue(bytes: ByteArray): Boolean = bytes.size >= HEADER && bytes[0] == MAGIC && bytes[1] == Kind.VALUE.ordinal.toByte()
+
         fun value(id: Long, payload: ByteArray?): ByteArray = build(Kind.VALUE, id, payload) { }
 
         fun request(id: Long, replyTo: ByteArray, payload: ByteArray?): ByteArray =

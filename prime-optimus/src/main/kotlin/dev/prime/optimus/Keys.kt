@@ -1,5 +1,6 @@
 package dev.prime.optimus
 
+import redis.clients.jedis.util.JedisClusterCRC16
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
@@ -7,10 +8,17 @@ import java.nio.charset.StandardCharsets.UTF_8
  * so all keys of a topology live in one hash slot: the atomic steps (a script that stores a
  * result, publishes it and acknowledges the input) then also run on Redis Cluster. Names are
  * derived only from service and source names, so every process that declares the same topology
- * computes the same keys.
+ * computes the same keys. On a Redis Cluster the topology therefore lives on the one master that
+ * holds its slot ([clusterSlot]); many topologies (one per core name) spread over the masters.
  */
 internal class Keys(topology: String) {
     private val prefix = "prime:{$topology}:"
+
+    /**
+     * The Redis Cluster hash slot of every key of this topology: the slot of its hash tag, the
+     * core name (which holds no brace: letters, digits, `.`, `_`, `-`), so the whole name is the tag.
+     */
+    fun clusterSlot(): Int = JedisClusterCRC16.getSlot(prefix)
 
     /** The list a service takes its input from. */
     fun serviceInput(service: String): ByteArray = key("svc:$service:in")
@@ -23,6 +31,9 @@ internal class Keys(topology: String) {
 
     /** The retained values of a source (its newest `retention` values). */
     fun sourceLog(source: String): ByteArray = key("src:$source:log")
+
+    /** The number of the last value published to a source (frames in its lists carry their first value's number). */
+    fun sourceSequence(source: String): ByteArray = key("src:$source:seq")
 
     /** The set of plain reader lists a source publishes to (trimmed to its retention). */
     fun sourceReaders(source: String): ByteArray = key("src:$source:readers")
@@ -45,6 +56,9 @@ internal class Keys(topology: String) {
 
     /** The processing list that goes with an input or reader list. */
     fun processingOf(list: ByteArray): ByteArray = list + ":proc".toByteArray(UTF_8)
+
+    /** The count of values a service's input [list] holds, with its processing list (a frame holds many values). */
+    fun queuedOf(list: ByteArray): ByteArray = queuedKey(list)
 
     /** The counter of values a reader list lost to retention (maintained by the scripts). */
     fun missedOf(list: ByteArray): ByteArray = list + ":missed".toByteArray(UTF_8)
@@ -81,3 +95,6 @@ internal class Keys(topology: String) {
 
     private fun key(suffix: String) = (prefix + suffix).toByteArray(UTF_8)
 }
+
+/** The count of values a service's input [list] holds, with its processing list (see [Keys.queuedOf]). */
+internal fun queuedKey(list: ByteArray): ByteArray = list + ":queued".toByteArray(UTF_8)

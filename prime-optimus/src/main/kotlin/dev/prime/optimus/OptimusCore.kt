@@ -70,6 +70,13 @@ import java.util.concurrent.atomic.AtomicInteger
  * name is the Redis namespace) and an agreeing codec; each one is told which services it hosts
  * ([Builder.hosts]); the others are remote. Values wait in Redis until a host takes them.
  *
+ * ## Redis Cluster
+ * With a `redis-cluster://` URL ([Builder.redis]) the core runs on a Redis Cluster: every key of
+ * a topology carries its core name as the hash tag, so the topology lives in one hash slot on
+ * one master (its atomic steps need that), and the topologies of many cores spread over the
+ * masters. After a failover the core finds the promoted replica and goes on; [Builder.replicaAcks]
+ * makes sure nothing it was told is stored was only on the failed master.
+ *
  * ## Liveness, lost Redis data and one host per service
  * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
  *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
@@ -118,7 +125,12 @@ import java.util.concurrent.atomic.AtomicInteger
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
- *   ([ValueTooLargeException]); a service takes at most 256 entries or 8 MiB per step.
+ *   ([ValueTooLargeException]); a service takes at most 256 values or 8 MiB per step.
+ * - Values that are ready together (one [publishAll], one service step's outputs) travel as one
+ *   Redis entry, a frame of at most 256 values and 1 MiB; nothing waits to fill a frame, so a
+ *   lone value goes out at once. A frame is acknowledged whole and redelivered whole after a
+ *   crash; duplicates are still skipped per value. Queue limits and reader retention count
+ *   values, not entries (see docs/architecture.md, "Frames").
  * - Reply lists expire (10 minutes or twice the call timeout, whichever is longer) after each
  *   reply pushed to them, so replies to callers that died do not stay.
  * - [close] closes every connection, which wakes every blocked call, and leaves no thread.
@@ -136,7 +148,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public constructor(config: CoreConfig) : this(config, Settings())
 
     private val embedded: EmbeddedRedis?
-    private val endpoint: RedisEndpoint
+    private val endpoint: RedisTarget
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
     internal val declaredTypes: DeclaredTypes = DeclaredTypes()
@@ -152,10 +164,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         keys.replyPrefix,
         maxOf(MIN_REPLY_TTL, (callTimeout ?: MIN_REPLY_TTL).multipliedBy(2)).toMillis(),
         settings.deadLetterLimit,
-        // a value at the limit, in an envelope with the longest reply key
-        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
+        // a value at the limit, in an envelope with the longest reply key, alone in a frame
+        (maxValueBytes.toLong() + ENVELOPE_OVERHEAD + Frame.HEADER + Frame.PER_VALUE).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
         settings.batchBytes,
-    ) { input -> queueLimitOf(keys.serviceOf(input)) }
+        { input -> queueLimitOf(keys.serviceOf(input)) },
+        // a frame of many values stays within what a consumer reads whole (the entry size limit)
+        minOf(settings.frameBytes.toLong(), maxValueBytes.toLong() + ENVELOPE_OVERHEAD).toInt(),
+    )
     internal val readerMisses: ReaderMisses = ReaderMisses(name())
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
@@ -188,11 +203,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     init {
         val url = settings.redisUrl
         embedded = if (url == null) EmbeddedRedis.start() else null
-        endpoint = RedisEndpoint.parse(url ?: embedded!!.uri)
-        connections = RedisConnections(endpoint, name())
+        endpoint = RedisTarget.parse(url ?: embedded!!.uri, keys)
+        connections = RedisConnections(endpoint, name(), settings.replicaAcks)
         try {
             RedisSession(connections).use { it.once { jedis -> jedis.ping() } }
         } catch (e: Exception) {
+            connections.closeAll() // a cluster's slot map too
             shutdownResources()
             throw dev.prime.PrimeException("cannot reach Redis at $endpoint: $e", e)
         }
@@ -476,7 +492,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
-        bind(stages, null)
+        bind(stages, null, counted = false)
         return RemoteCall(this, chainName, keys.serviceInput(stages.first().name))
     }
 
@@ -559,14 +575,15 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         declarations.bindings += binding
         try {
             register(source.keys, input, service = true)
-            bind(stages, output?.keys)
+            bind(stages, output?.keys, counted = true)
         } catch (e: Throwable) {
             declarations.bindings -= binding
             throw e
         }
     }
 
-    private fun bind(stages: List<StageSpec>, output: SourceKeys?) {
+    /** [counted]: the stages are fed by a source, so values reach their queues and are counted; else only calls do. */
+    private fun bind(stages: List<StageSpec>, output: SourceKeys?, counted: Boolean) {
         stages.forEachIndexed { index, stage ->
             val last = index == stages.size - 1
             val service = StageService(
@@ -575,6 +592,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 stage.logic,
                 if (last) null else keys.serviceInput(stages[index + 1].name),
                 if (last) output else null,
+                counted,
             )
             check(services.putIfAbsent(stage.name, service) == null) { "service '${stage.name}' is bound twice" }
             if (isStarted) launchIfHosted(service)
@@ -645,7 +663,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
-        Script.REGISTER.run(jedis, listOf(if (service) source.services else source.readers, source.log, list), emptyList())
+        Script.REGISTER.run(
+            jedis,
+            listOf(if (service) source.services else source.readers, source.log, list, if (service) keys.queuedOf(list) else list),
+            listOf((if (service) "1" else "0").toByteArray(UTF_8)),
+        )
     }
 
     /**
@@ -767,14 +789,50 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         public fun config(config: CoreConfig): Builder = apply { this.config = config }
 
         /**
-         * Uses the Redis at [url] (`redis://[user[:password]@]host[:port][/database]`, or
-         * `rediss://` for TLS) instead of starting an embedded one.
+         * Uses the Redis at [url] instead of starting an embedded one:
+         * `redis://[user[:password]@]host[:port][/database]` (`rediss://` for TLS) for one server,
+         * or `redis-cluster://[user[:password]@]host:port[,host:port...]` (`rediss-cluster://` for
+         * TLS) for a Redis Cluster.
+         *
+         * On a cluster the listed nodes are seeds (any one that answers is enough; list several).
+         * Every key of a topology carries the core name as its hash tag (`prime:{name}:...`), so a
+         * topology lives in one hash slot, on one master, and the cores of many topologies (one
+         * per core name, e.g. one per robot) spread over the masters. Each connection goes to the
+         * master of the topology's slot, found through Jedis's cluster client; after a failover
+         * or a slot move (a refused connection, `MOVED`, `CLUSTERDOWN`, ...) the core looks the
+         * master up again and carries on, waiting as in an outage until the cluster has one. A
+         * cluster has database 0 only; the user and password (ACL, or `AUTH` with `requirepass`)
+         * and TLS (the JVM's trust store, full host-name verification: the nodes must announce
+         * names or addresses their certificates hold) apply to every node. Redis replicates
+         * asynchronously: to lose nothing a master acknowledged when it fails over, add
+         * [replicaAcks].
          *
          * @throws IllegalArgumentException if the URL is malformed; the message says how to fix it
          */
         public fun redis(url: String): Builder = apply {
-            RedisEndpoint.parse(url)
+            if (RedisClusterEndpoint.isClusterUrl(url)) RedisClusterEndpoint.parse(url) else RedisEndpoint.parse(url)
             settings = settings.copy(redisUrl = url)
+        }
+
+        /**
+         * Makes every Redis operation of the core wait until [replicas] replicas of the master
+         * have it (Redis `WAIT`, up to [timeout], default 1 s, at most 5 s), so that a failover
+         * to a replica (Redis Cluster, Sentinel, a managed service) loses nothing the core was
+         * told is stored: a publish returns, a service acknowledges its input, a reader hands out
+         * a value only once a replica has it. An operation that too few replicas confirm in time
+         * counts as failed on a broken connection and is retried: its effects may be stored
+         * twice, which the values' ids absorb (a service and a reader skip a value they saw);
+         * a publish gives up at [publishTimeout] with [RedisUnavailableException]. While the
+         * master has fewer than [replicas] replicas connected, the core waits as in an outage.
+         * Costs one round trip per operation and the replicas' lag. Default 0: no waiting.
+         */
+        @JvmOverloads
+        public fun replicaAcks(replicas: Int, timeout: Duration = Duration.ofSeconds(1)): Builder = apply {
+            require(replicas >= 0) { "replica acks must be 0 or more, was $replicas" }
+            require(timeout >= Duration.ofMillis(1) && timeout <= MAX_REPLICA_ACK_TIMEOUT) {
+                "replica ack timeout must be within 1 ms..${MAX_REPLICA_ACK_TIMEOUT.seconds} s (a socket waits for it), was $timeout"
+            }
+            settings = settings.copy(replicaAcks = if (replicas == 0) null else ReplicaAcks(replicas, timeout))
         }
 
         /** Encodes values with [codec] (default: [KryoCodec.standard]). */
@@ -876,6 +934,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(batchBytes = bytes)
         }
 
+        /** The bytes a frame (many values in one Redis entry) holds at most (default 1 MiB; a single value may need more). */
+        internal fun frameBytes(bytes: Int): Builder = apply {
+            require(bytes > 0) { "frame bytes must be positive, was $bytes" }
+            settings = settings.copy(frameBytes = bytes)
+        }
+
         /** Makes the core: starts an embedded Redis unless [redis] was given, and checks that Redis answers. */
         public fun build(): OptimusCore = OptimusCore(config, settings)
     }
@@ -893,6 +957,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val queueLimits: Map<String, Int> = emptyMap(),
         val deadLetterLimit: Int = 10_000,
         val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
+        val replicaAcks: ReplicaAcks? = null,
+        val frameBytes: Int = Frame.DEFAULT_BYTES,
     )
 
     public companion object {
@@ -901,6 +967,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
         private val MIN_REPLY_TTL = Duration.ofMinutes(10)
+        private val MAX_REPLICA_ACK_TIMEOUT = Duration.ofSeconds(5)
 
         /** An envelope's header, payload marker and longest reply key. */
         private const val ENVELOPE_OVERHEAD = 16 + 2 + 0xFFFF

@@ -40,8 +40,9 @@ internal class OptimusReader<T>(
     private val processing = core.keys.processingOf(list)
     private val missedKey = core.keys.missedOf(list)
     private val session = RedisSession(core.connections)
-    private val buffer = ArrayDeque<ByteArray>() // in the processing list, not handed out yet
-    private var delivered = 0 // at the head of the processing list, handed out, not yet acknowledged
+    // envelopes in the processing list, not handed out yet; null marks the end of an entry (a frame or a single value)
+    private val buffer = ArrayDeque<ByteArray?>()
+    private var delivered = 0 // entries at the head of the processing list, wholly handed out, not yet acknowledged
     private var recovering = false
     private val recent = RecentIds()
     private val backoff = Backoff()
@@ -144,7 +145,7 @@ internal class OptimusReader<T>(
                 val taken = session.once(redisDeadline, 0) { StepBatch(processing, list, null).run(it, ack = delivered, take = StageService.BATCH) }
                 delivered = 0
                 if (taken.isNotEmpty()) {
-                    buffer.addAll(taken)
+                    taken.forEach(::buffer)
                     continue
                 }
                 if (!wait) return null
@@ -158,7 +159,7 @@ internal class OptimusReader<T>(
                     Thread.interrupted()
                     throw InterruptedException("interrupted while waiting for a value of an Optimus source")
                 }
-                moved?.let(buffer::add)
+                moved?.let(::buffer)
                 backoff.reset()
             } catch (e: InterruptedException) {
                 throw e
@@ -178,16 +179,37 @@ internal class OptimusReader<T>(
         }
     }
 
-    /** Hands out the next buffered value, skipping duplicates and undecodable entries. */
+    /** Buffers the envelopes of [entry] (a frame's, or the entry itself), then the end-of-entry mark. */
+    private fun buffer(entry: ByteArray) {
+        try {
+            buffer.addAll(Frame.envelopes(entry))
+        } catch (e: CodecException) {
+            LOG.warn("a reader of core '{}' skipped an entry it cannot decode: {}", core.name(), e.message)
+        }
+        buffer.add(null)
+    }
+
+    /**
+     * Hands out the next buffered value, skipping duplicates and undecodable envelopes. An entry
+     * counts as delivered (acknowledged by the next step) once all its values were handed out:
+     * a frame is acknowledged as a whole.
+     */
     private fun deliver(): Any? {
         while (buffer.isNotEmpty()) {
             val raw = buffer.removeFirst()
-            delivered++
+            if (raw == null) {
+                delivered++
+                continue
+            }
             try {
                 val envelope = Envelope.parse(raw)
                 if (envelope.id in recent) continue
                 recent.add(envelope.id)
                 val value = envelope.payload()?.let(core.codec::decode) ?: continue
+                if (buffer.firstOrNull() == null && buffer.isNotEmpty()) {
+                    buffer.removeFirst() // the last value of its entry: the entry is delivered with it
+                    delivered++
+                }
                 return value
             } catch (e: CodecException) {
                 LOG.warn("a reader of core '{}' skipped a value it cannot decode: {}", core.name(), e.message)
@@ -202,14 +224,16 @@ internal class OptimusReader<T>(
         buffer.clear()
         delivered = 0
         for (raw in entries) {
-            val id = try {
-                Envelope.parse(raw).id
-            } catch (_: CodecException) {
-                null
-            }
-            if (buffer.isEmpty() && id != null && id in recent) delivered++ else buffer.add(raw)
+            // leading entries whose values were all handed out are acknowledged with the next step
+            if (buffer.isEmpty() && allHandedOut(raw)) delivered++ else buffer(raw)
         }
         recovering = false
+    }
+
+    private fun allHandedOut(entry: ByteArray): Boolean = try {
+        Frame.envelopes(entry).all { Envelope.parse(it).id in recent }
+    } catch (_: CodecException) {
+        false
     }
 
     private companion object {

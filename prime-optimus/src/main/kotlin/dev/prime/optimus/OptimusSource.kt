@@ -17,6 +17,7 @@ internal class OptimusSource<T>(private val core: OptimusCore, private val name:
         core.keys.sourceReaders(name),
         core.keys.sourceServices(name),
         core.config().sourceRetention(),
+        core.keys.sourceSequence(name),
     )
 
     override fun core(): PrimeCore = core

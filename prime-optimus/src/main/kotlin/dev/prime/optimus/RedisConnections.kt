@@ -5,6 +5,7 @@ import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisConnectionException
 import redis.clients.jedis.exceptions.JedisDataException
+import redis.clients.jedis.exceptions.JedisRedirectionException
 import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.CountDownLatch
@@ -17,10 +18,16 @@ import java.util.concurrent.TimeUnit
  * the socket of a blocking command gives up after [BLOCKING_SOCKET_TIMEOUT], so a half-open
  * connection is noticed instead of waiting forever. Operations with a deadline (a call, a timed
  * read) bound connecting and every socket wait by that deadline as well ([RedisSession.once]).
+ * On a Redis Cluster every connection goes to the master of the topology's slot ([ClusterRoute]);
+ * a failed or redirected connection makes the next one look that master up again. With
+ * [replicaAcks] every operation is confirmed by that many replicas before it counts as done
+ * ([RedisSession.once]).
  */
 internal class RedisConnections(
-    private val endpoint: RedisEndpoint,
+    private val endpoint: RedisTarget,
     val coreName: String,
+    /** The replicas that must confirm every operation (`WAIT`); `null`: none. */
+    val replicaAcks: ReplicaAcks? = null,
 ) {
     private val open: MutableSet<Jedis> = ConcurrentHashMap.newKeySet()
     private val closedLatch = CountDownLatch(1)
@@ -32,7 +39,12 @@ internal class RedisConnections(
     /** A new connection; [timeout] bounds connecting, logging in and each later command's reply. */
     fun open(timeout: Duration = COMMAND_TIMEOUT): Jedis {
         ensureOpen()
-        val jedis = endpoint.connect("prime-$coreName", timeout, BLOCKING_SOCKET_TIMEOUT)
+        val jedis = try {
+            endpoint.connect("prime-$coreName", timeout, BLOCKING_SOCKET_TIMEOUT)
+        } catch (e: RuntimeException) {
+            if (isTransient(e)) endpoint.routeFailed()
+            throw e
+        }
         open.add(jedis)
         if (isClosed) {
             release(jedis)
@@ -52,6 +64,11 @@ internal class RedisConnections(
 
     fun ensureOpen() {
         if (isClosed) throw CoreClosedException(coreName)
+    }
+
+    /** A connection failed or Redis redirected it: the next [open] looks up where the keys are again. */
+    fun routeFailed() {
+        endpoint.routeFailed()
     }
 
     /** Waits up to [millis] or until the core closes, whichever comes first. */
@@ -74,6 +91,7 @@ internal class RedisConnections(
         isClosed = true
         closedLatch.countDown()
         for (jedis in open.toList()) release(jedis)
+        endpoint.close()
     }
 
     companion object {
@@ -84,10 +102,17 @@ internal class RedisConnections(
         /** How long past a deadline a socket wait may end (the reply of a command sent just before it). */
         const val DEADLINE_GRACE_MS = 250L
 
-        /** Whether [e] means "try again on a new connection": the connection broke or the server is still loading. */
+        /**
+         * Whether [e] means "try again on a new connection": the connection broke, the server is
+         * still loading, or (on a Redis Cluster) the command went to a server that no longer holds
+         * the topology's slot or the cluster is between masters (redirected, `CLUSTERDOWN`,
+         * `TRYAGAIN`, `READONLY`, `MASTERDOWN`), or too few replicas confirmed it ([ReplicaAcks]).
+         */
         fun isTransient(e: Exception): Boolean =
-            e is JedisConnectionException ||
-                (e is JedisDataException && (e.message?.startsWith("LOADING") == true || e.message?.startsWith("BUSY") == true))
+            e is JedisConnectionException || e is JedisRedirectionException || e is ReplicaAcksMissing ||
+                (e is JedisDataException && TRANSIENT_ERRORS.any { e.message?.startsWith(it) == true })
+
+        private val TRANSIENT_ERRORS = listOf("LOADING", "BUSY", "CLUSTERDOWN", "TRYAGAIN", "READONLY", "MASTERDOWN")
     }
 }
 
@@ -112,7 +137,9 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * Runs [op] once, connecting if needed; every socket wait ends by [deadline] (a
      * [System.nanoTime]; `null`: the usual timeouts), or [serverWaitMillis] plus a margin after
      * the command for a command that makes the server wait that long. If the connection broke,
-     * drops it and rethrows.
+     * drops it and rethrows. With [RedisConnections.replicaAcks], [op] counts as done only once
+     * enough replicas confirmed it; if they do not in time, it fails like a broken connection
+     * ([ReplicaAcksMissing]: its effects are on the master, perhaps not on a replica).
      */
     fun <T> once(deadline: Long?, serverWaitMillis: Long, op: (Jedis) -> T): T {
         val limit = socketLimit(deadline, serverWaitMillis)
@@ -125,9 +152,14 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 current.connection.setSoTimeout(limit)
                 socketMillis = limit
             }
-            return op(current)
+            val result = op(current)
+            connections.replicaAcks?.confirm(current, deadline)
+            return result
         } catch (e: Exception) {
-            if (RedisConnections.isTransient(e)) drop(current)
+            if (RedisConnections.isTransient(e)) {
+                drop(current)
+                if (e !is ReplicaAcksMissing) connections.routeFailed()
+            }
             throw e
         } finally {
             // aborted meanwhile: Jedis may have reconnected the closed connection on its own

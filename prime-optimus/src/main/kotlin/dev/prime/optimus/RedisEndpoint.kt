@@ -3,6 +3,7 @@ package dev.prime.optimus
 import redis.clients.jedis.DefaultJedisClientConfig
 import redis.clients.jedis.HostAndPort
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.JedisClientConfig
 import redis.clients.jedis.SslOptions
 import java.io.ByteArrayOutputStream
 import java.nio.charset.StandardCharsets.UTF_8
@@ -10,7 +11,8 @@ import java.time.Duration
 
 /**
  * Where a Redis is and how to log in: parsed from `redis://[user[:password]@]host[:port][/db]`
- * or `rediss://...` (TLS).
+ * or `rediss://...` (TLS). A Redis Cluster's URL (`redis-cluster://`) is read by
+ * [RedisClusterEndpoint], with the same rules for the login part.
  *
  * The password is secret everywhere: [toString] shows `***`, and no message or cause of a parse
  * error holds any part of it. The URL is read by hand rather than by [java.net.URI], whose errors
@@ -20,12 +22,12 @@ import java.time.Duration
 internal class RedisEndpoint private constructor(
     val host: String,
     val port: Int,
-    val user: String?,
+    override val user: String?,
     /** The password; never put it in a message. */
     val password: String?,
     val database: Int,
     val tls: Boolean,
-) {
+) : RedisTarget {
     /**
      * Opens a new connection. [timeout] bounds connecting, logging in and every command;
      * [blockingTimeout] bounds how long a blocking command may keep the socket silent before the
@@ -33,29 +35,8 @@ internal class RedisEndpoint private constructor(
      * exceed the longest server-side wait the caller asks for. Errors are Jedis's, which never
      * hold the password.
      */
-    fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration): Jedis {
-        val millis = timeout.toMillis().coerceIn(1, Int.MAX_VALUE.toLong()).toInt()
-        val config = DefaultJedisClientConfig.builder()
-            .resp2()
-            .autoNegotiateProtocol(false)
-            .connectionTimeoutMillis(millis)
-            .socketTimeoutMillis(millis)
-            .blockingSocketTimeoutMillis(blockingTimeout.toMillis().toInt())
-            .database(database)
-            .clientName(clientName)
-        // TLS with the JVM's trust store and full verification (SslOptions.defaults())
-        if (tls) config.sslOptions(SslOptions.defaults())
-        if (user != null) config.user(user)
-        if (password != null) config.password(password)
-        val jedis = Jedis(HostAndPort(host, port), config.build())
-        try {
-            jedis.connect()
-        } catch (e: RuntimeException) {
-            jedis.close()
-            throw e
-        }
-        return jedis
-    }
+    override fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration): Jedis =
+        open(HostAndPort(host, port), clientConfig(user, password, tls, database, clientName, timeout, blockingTimeout))
 
     override fun toString(): String {
         val login = when {
@@ -69,8 +50,9 @@ internal class RedisEndpoint private constructor(
     }
 
     companion object {
-        private const val DEFAULT_PORT = 6379
-        private const val FORM = "expected redis://[user[:password]@]host[:port][/database] or rediss://... for TLS"
+        internal const val DEFAULT_PORT = 6379
+        private const val FORM = "expected redis://[user[:password]@]host[:port][/database] or rediss://... for TLS " +
+            "(a Redis Cluster: redis-cluster://[user[:password]@]host:port[,host:port...], or rediss-cluster://...)"
         private val HOST_NAME = Regex("[A-Za-z0-9._-]+")
         private val IPV6 = Regex("[0-9A-Fa-f:.]+(%[A-Za-z0-9._-]+)?")
 
@@ -84,14 +66,7 @@ internal class RedisEndpoint private constructor(
             }
             val rest = url.substring(schemeEnd + 3)
             val at = rest.lastIndexOf('@')
-            var user: String? = null
-            var password: String? = null
-            if (at >= 0) {
-                val info = rest.substring(0, at)
-                val colon = info.indexOf(':')
-                user = decode(if (colon < 0) info else info.substring(0, colon)).ifEmpty { null }
-                if (colon >= 0) password = decode(info.substring(colon + 1))
-            }
+            val (user, password) = if (at >= 0) login(rest.substring(0, at)) else null to null
             val location = rest.substring(at + 1) // host[:port][/database], nothing secret
             if (location.any { it == '?' || it == '#' }) {
                 throw IllegalArgumentException("Redis URL '${redact(url)}' has a query or fragment, which Optimus does not read; $FORM")
@@ -99,14 +74,65 @@ internal class RedisEndpoint private constructor(
             val slash = location.indexOf('/')
             val authority = if (slash < 0) location else location.substring(0, slash)
             val path = if (slash < 0) "" else location.substring(slash + 1)
-            val (host, portText) = splitHostPort(url, authority)
-            val port = if (portText == null) DEFAULT_PORT else portText.toIntOrNull()?.takeIf { it in 1..65535 }
-                ?: throw IllegalArgumentException("Redis URL '${redact(url)}' has port '$portText'; the port is a number within 1..65535")
+            val address = hostAndPort(url, authority)
             val database = if (path.isEmpty()) 0 else path.toIntOrNull()?.takeIf { it >= 0 }
                 ?: throw IllegalArgumentException(
                     "Redis URL '${redact(url)}' has database '$path'; the database is a number (0 if omitted)",
                 )
-            return RedisEndpoint(host, port, user, password, database, tls)
+            return RedisEndpoint(address.host, address.port, user, password, database, tls)
+        }
+
+        /** The settings of one connection: login, TLS, database, and [timeout] for connecting and every reply. */
+        fun clientConfig(
+            user: String?,
+            password: String?,
+            tls: Boolean,
+            database: Int,
+            clientName: String,
+            timeout: Duration,
+            blockingTimeout: Duration,
+        ): JedisClientConfig {
+            val millis = timeout.toMillis().coerceIn(1, Int.MAX_VALUE.toLong()).toInt()
+            val config = DefaultJedisClientConfig.builder()
+                .resp2()
+                .autoNegotiateProtocol(false)
+                .connectionTimeoutMillis(millis)
+                .socketTimeoutMillis(millis)
+                .blockingSocketTimeoutMillis(blockingTimeout.toMillis().coerceIn(1, Int.MAX_VALUE.toLong()).toInt())
+                .database(database)
+                .clientName(clientName)
+            // TLS with the JVM's trust store and full verification (SslOptions.defaults())
+            if (tls) config.sslOptions(SslOptions.defaults())
+            if (user != null) config.user(user)
+            if (password != null) config.password(password)
+            return config.build()
+        }
+
+        /** A connection to [address], connected (errors are Jedis's, which never hold the password). */
+        fun open(address: HostAndPort, config: JedisClientConfig): Jedis {
+            val jedis = Jedis(address, config)
+            try {
+                jedis.connect()
+            } catch (e: RuntimeException) {
+                jedis.close()
+                throw e
+            }
+            return jedis
+        }
+
+        /** The user and password of a URL's user information ([info]: everything before the last `@`). */
+        fun login(info: String): Pair<String?, String?> {
+            val colon = info.indexOf(':')
+            val user = decode(if (colon < 0) info else info.substring(0, colon)).ifEmpty { null }
+            return user to if (colon >= 0) decode(info.substring(colon + 1)) else null
+        }
+
+        /** A host and port of [authority] (`host[:port]` or `[ipv6][:port]`), checked; [url] only for messages. */
+        fun hostAndPort(url: String, authority: String): HostAndPort {
+            val (host, portText) = splitHostPort(url, authority)
+            val port = if (portText == null) DEFAULT_PORT else portText.toIntOrNull()?.takeIf { it in 1..65535 }
+                ?: throw IllegalArgumentException("Redis URL '${redact(url)}' has port '$portText'; the port is a number within 1..65535")
+            return HostAndPort(host, port)
         }
 
         private fun splitHostPort(url: String, authority: String): Pair<String, String?> {

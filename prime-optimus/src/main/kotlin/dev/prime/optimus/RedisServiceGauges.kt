@@ -16,9 +16,10 @@ import java.nio.charset.StandardCharsets.UTF_8
 internal class RedisServiceGauges(private val core: OptimusCore) : ServiceGauges {
     private val session = RedisSession(core.connections)
 
-    /** Waiting in the input list, plus taken into the processing list and not yet stored. */
+    /** Waiting in the input list, plus taken into the processing list and not yet stored: in values (a frame holds many). */
     override fun queueDepth(service: String): Long = read { jedis ->
-        jedis.llen(core.keys.serviceInput(service)) + jedis.llen(core.keys.serviceProcessing(service))
+        val input = core.keys.serviceInput(service)
+        Script.QUEUE_DEPTH.run(jedis, listOf(input, core.keys.serviceProcessing(service), core.keys.queuedOf(input)), emptyList()) as Long
     }
 
     override fun deadLetters(service: String): Long = read { jedis ->

@@ -9,20 +9,29 @@ import java.security.MessageDigest
 /**
  * The Lua scripts that make each step of a service one atomic operation in Redis.
  *
+ * Entries are single envelopes or [Frame]s (many values in one entry). Queue counts and
+ * retention are in values: a service's input has a count of the values it holds
+ * (`<input>:queued`, a frame counts its values, a caller's request nothing), raised by every push
+ * and lowered by every take, which the queue limit is checked against; a source numbers its
+ * values (`src:<source>:seq`) and writes the number of each frame's first value into the frame,
+ * so its log and plain readers are trimmed by value numbers, whole frames at a time.
+ *
  * [STEP] does, in order and atomically: check that this instance still holds the service's host
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
  * the step it was in, whose acknowledgement would trim its successor's processing list); check
  * that the caller's view of the output source's readers is current (else it answers `STALE` and
- * changes nothing) and that the service queues it feeds have room (else `FULL`, nothing changed); push values to the next service's input; publish
- * values to a source (its log and every plain reader list, each trimmed to the retention, counting
- * what a reader lost, and every service input, never trimmed: a service's input is a queue);
- * push replies, each only after checking that its key is in this topology's reply namespace and
- * a list (a reply list gets an expiry; a bad one is dead-lettered instead); push dead letters and
- * trim the dead-letter list to its cap, counting what it trimmed; acknowledge the first `ack`
- * entries of a processing list; and move new entries from an input list to that processing list,
- * at most `take` of them and stopping once they reach `takeBytes` (always at least one), returning
- * them (an entry above `maxBytes` comes back as its size and a prefix, not the blob). A crash
- * between any two steps therefore neither loses a value (it stays in the processing list until its
+ * changes nothing) and that the service queues it feeds have room, by their counts (else `FULL`,
+ * nothing changed); push entries to the next service's input; publish frames to a source
+ * (numbered; its log and every plain reader list, each trimmed to the newest `retention` values
+ * plus at most the rest of the oldest frame kept, counting what a reader lost in values, and every
+ * service input, never trimmed: a service's input is a queue); push replies, each only after
+ * checking that its key is in this topology's reply namespace and a list (a reply list gets an
+ * expiry; a bad one is dead-lettered instead); push dead letters and trim the dead-letter list to
+ * its cap, counting what it trimmed; acknowledge the first `ack` entries of a processing list (a
+ * frame is acknowledged whole); and move new entries from an input list to that processing list,
+ * until they hold `take` values or reach `takeBytes` (always at least one entry), returning them
+ * (an entry above `maxBytes` comes back as its size and a prefix, not the blob). A crash between
+ * any two steps therefore neither loses a value (it stays in the processing list until its
  * results are stored) nor duplicates one. Values for the same list go in one `RPUSH` (up to 1000
  * at a time), not one call each: a command called from Lua costs about as much as storing a small
  * value. Entries are taken with `LMOVE`, one at a time, which moves the stored string itself.
@@ -33,10 +42,11 @@ import java.security.MessageDigest
  *
  * [PEEK] reads the head of a processing list under the same bounds, fenced like [STEP] (after a
  * restart, and after every idle wait: a host that resumes from a freeze learns there that it lost
- * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script).
+ * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script,
+ * so [COUNT_IDLE_TAKE], pipelined behind it, lowers the queue count by what it took).
  *
  * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
- * the retained values (it starts at the oldest retained value).
+ * the retained values (it starts at the oldest retained value; a service input's count grows by them).
  *
  * Scripts run with EVALSHA and fall back to EVAL when the server does not know them (after a
  * restart), which also loads them. The liveness scripts ([LeaseScripts]) run the same way.
@@ -58,44 +68,57 @@ internal class Script(text: String) {
         pipeline.eval(source, keys, args)
     }
 
+    /**
+     * Queues the script in [pipeline] as EVALSHA (no script text to send and hash on every call):
+     * the caller reads its [redis.clients.jedis.Response] and, on [JedisNoScriptException] (the
+     * server restarted), runs the script again with [run], which loads it.
+     */
+    fun queueBySha(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>): redis.clients.jedis.Response<Any?> =
+        pipeline.evalsha(sha, keys, args)
+
     companion object {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
          * service's input, 6 source log, 7 source reader set, 8 source service set, 9 the service's
-         * host lease (any existing key when ARGV 18 is empty), then the reply keys, the reader
-         * lists, their missed counters, the service inputs.
-         * ARGV: 1-17 the counts and limits (see [StepBatch.execute]), 18 the instance id that must
-         * hold the host lease (empty: no fence, for readers and publishers), then the per-service
-         * queue limits and the values. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
+         * host lease (any existing key when ARGV 18 is empty), 10 the source's value numbers, 11
+         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, then the
+         * reply keys, the reader lists, their missed counters, the service inputs, their queue counts.
+         * ARGV: 1-17 the counts and limits (see [StepBatch.execute]; 17 is the number of published
+         * frames), 18 the instance id that must hold the host lease (empty: no fence, for readers
+         * and publishers), 19 the published values, 20 '1' if the input's queue count is kept (a
+         * service), 21 what the entries pushed to the next service add to its count, then the
+         * per-service queue limits and the entries. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
          * `{'FULL', key, length, limit}` or `{'FENCED', holder}` (the host lease is held by
          * another instance, or by none: empty; nothing was written).
          */
         val STEP = Script(
             """
-            local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease =
-              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9]
+            local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease, sequence, queued, nextQueued =
+              KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9], KEYS[10], KEYS[11], KEYS[12]
             local ack, take, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
             local retention, deadLimit, nextLimit, strict = tonumber(ARGV[5]), tonumber(ARGV[6]), tonumber(ARGV[7]), ARGV[8] == '1'
             local replyPrefix, replyTtl = ARGV[9], ARGV[10]
             local nReplyKeys, nReaders, nServices = tonumber(ARGV[11]), tonumber(ARGV[12]), tonumber(ARGV[13])
             local nNext, nReplies, nDead, nPublished = tonumber(ARGV[14]), tonumber(ARGV[15]), tonumber(ARGV[16]), tonumber(ARGV[17])
-            local fence = ARGV[18]
+            local fence, publishedValues = ARGV[18], tonumber(ARGV[19])
+            local counted, nextValues = ARGV[20] == '1', tonumber(ARGV[21])
             if fence ~= '' then
               local holder = redis.call('GET', hostLease)
               if holder ~= fence then return {'FENCED', holder or ''} end
             end
-            local readerAt = 9 + nReplyKeys
+            local readerAt = 12 + nReplyKeys
             local missedAt = readerAt + nReaders
             local serviceAt = missedAt + nReaders
-            local limitsAt = 18
+            local serviceQueuedAt = serviceAt + nServices
+            local limitsAt = 21
             local nextAt = limitsAt + nServices
             local repliesAt = nextAt + nNext
             local deadAt = repliesAt + 3 * nReplies
             local publishedAt = deadAt + nDead
-            local function pushAll(key, from, count)
+            local function pushAll(key, values, from, count)
               local length = 0
               for start = from, from + count - 1, 1000 do
-                length = redis.call('RPUSH', key, unpack(ARGV, start, math.min(start + 999, from + count - 1)))
+                length = redis.call('RPUSH', key, unpack(values, start, math.min(start + 999, from + count - 1)))
               end
               return length
             end
@@ -109,40 +132,62 @@ internal class Script(text: String) {
               for s = 1, nServices do
                 local key = KEYS[serviceAt + s]
                 if redis.call('SISMEMBER', services, key) == 0 then return {'STALE'} end
-                local limit, length = tonumber(ARGV[limitsAt + s]), redis.call('LLEN', key)
-                if (strict and length + nPublished > limit) or ((not strict) and length >= limit) then
+                local limit, length = tonumber(ARGV[limitsAt + s]), tonumber(redis.call('GET', KEYS[serviceQueuedAt + s]) or '0')
+                if (strict and length + publishedValues > limit) or ((not strict) and length >= limit) then
                   return {'FULL', key, length, limit}
                 end
               end
             end
             if nNext > 0 then
-              local length = redis.call('LLEN', nextKey)
+              local length = tonumber(redis.call('GET', nextQueued) or '0')
               if nextLimit > 0 and length >= nextLimit then return {'FULL', nextKey, length, nextLimit} end
-              pushAll(nextKey, nextAt + 1, nNext)
+              pushAll(nextKey, ARGV, nextAt + 1, nNext)
+              if nextValues > 0 then redis.call('INCRBY', nextQueued, nextValues) end
             end
             local missed = {}
             if nPublished > 0 then
-              if pushAll(log, publishedAt + 1, nPublished) > retention then
-                redis.call('LTRIM', log, -retention, -1)
+              -- drops the head entries of a source's list whose values are all older than value number keepFrom
+              local function trimValues(key, keepFrom)
+                local dropped = 0
+                if keepFrom <= 1 then return 0 end
+                while true do
+                  local head = redis.call('LINDEX', key, 0)
+                  if not head then return dropped end
+                  local first, n = 0, 1
+                  if #head >= 14 and string.byte(head, 1) == 70 then
+                    first, n = struct.unpack('>I8', head, 3), struct.unpack('>I4', head, 11)
+                  end
+                  if first + n > keepFrom then return dropped end
+                  redis.call('LPOP', key)
+                  dropped = dropped + n
+                end
               end
+              -- number the values: each frame gets the number of its first value in this source
+              local last = redis.call('INCRBY', sequence, publishedValues)
+              local at = last - publishedValues + 1
+              local frames = {}
+              for k = 1, nPublished do
+                local frame = ARGV[publishedAt + k]
+                frames[k] = string.sub(frame, 1, 2) .. struct.pack('>I8', at) .. string.sub(frame, 11)
+                at = at + struct.unpack('>I4', frame, 11)
+              end
+              pushAll(log, frames, 1, nPublished)
+              trimValues(log, last - retention + 1)
               for s = 1, nServices do
-                pushAll(KEYS[serviceAt + s], publishedAt + 1, nPublished)
+                pushAll(KEYS[serviceAt + s], frames, 1, nPublished)
+                redis.call('INCRBY', KEYS[serviceQueuedAt + s], publishedValues)
               end
               for r = 1, nReaders do
-                local over = pushAll(KEYS[readerAt + r], publishedAt + 1, nPublished) - retention
-                if over > 0 then
-                  redis.call('LTRIM', KEYS[readerAt + r], over, -1)
-                  redis.call('INCRBY', KEYS[missedAt + r], over)
-                  missed[r] = over
-                else
-                  missed[r] = 0
-                end
+                pushAll(KEYS[readerAt + r], frames, 1, nPublished)
+                local over = trimValues(KEYS[readerAt + r], last - retention + 1)
+                if over > 0 then redis.call('INCRBY', KEYS[missedAt + r], over) end
+                missed[r] = over
               end
             end
             local refused = {}
             for k = 0, nReplies - 1 do
               local at = repliesAt + 1 + 3 * k
-              local key = KEYS[9 + tonumber(ARGV[at])]
+              local key = KEYS[12 + tonumber(ARGV[at])]
               local reason = nil
               if string.sub(key, 1, #replyPrefix) ~= replyPrefix then
                 reason = "outside this topology's reply namespace " .. replyPrefix .. '*'
@@ -161,7 +206,7 @@ internal class Script(text: String) {
             end
             if nDead > 0 or #refused > 0 then
               local length = 0
-              if nDead > 0 then length = pushAll(dead, deadAt + 1, nDead) end
+              if nDead > 0 then length = pushAll(dead, ARGV, deadAt + 1, nDead) end
               if #refused > 0 then length = redis.call('RPUSH', dead, unpack(refused)) end
               if length > deadLimit then
                 redis.call('LTRIM', dead, length - deadLimit, -1)
@@ -172,14 +217,32 @@ internal class Script(text: String) {
               redis.call('LTRIM', proc, ack, -1)
             end
             local result = {'OK', missed}
-            local bytes = 0
-            for k = 1, take do
+            local bytes, values, taken, drained = 0, 0, 0, false
+            while values < take do
               if bytes >= takeBytes then break end
               local value = redis.call('LMOVE', input, proc, 'LEFT', 'RIGHT')
-              if not value then break end
+              if not value then
+                drained = true
+                break
+              end
               bytes = bytes + #value
+              if #value >= 14 and string.byte(value, 1) == 70 then
+                local n = struct.unpack('>I4', value, 11)
+                taken = taken + n
+                values = values + math.max(1, n)
+              else
+                if #value >= 10 and string.byte(value, 1) == 80 and string.byte(value, 2) == 0 then taken = taken + 1 end
+                values = values + 1
+              end
               if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
               result[#result + 1] = value
+            end
+            if counted then
+              if drained then
+                redis.call('DEL', queued) -- the input is empty: nothing is queued, whatever the count said
+              elseif taken > 0 and redis.call('INCRBY', queued, -taken) < 0 then
+                redis.call('DEL', queued) -- entries nobody counted (pushed from outside): never below zero
+              end
             end
             return result
             """,
@@ -198,11 +261,16 @@ internal class Script(text: String) {
             local count, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3])
             local length = redis.call('LLEN', KEYS[1])
             local result = {0}
-            local bytes = 0
-            for k = 0, math.min(length, count) - 1 do
-              if bytes >= takeBytes then return result end
+            local bytes, values = 0, 0
+            for k = 0, length - 1 do
+              if bytes >= takeBytes or values >= count then return result end
               local value = redis.call('LINDEX', KEYS[1], k)
               bytes = bytes + #value
+              if #value >= 14 and string.byte(value, 1) == 70 then
+                values = values + math.max(1, struct.unpack('>I4', value, 11))
+              else
+                values = values + 1
+              end
               if #value > maxBytes then value = {#value, string.sub(value, 1, 1024)} end
               result[#result + 1] = value
             end
@@ -211,7 +279,45 @@ internal class Script(text: String) {
             """,
         )
 
-        /** KEYS: the source's reader or service set, source log, the list. Returns 1 if the list is new. */
+        /**
+         * Right after an idle `BLMOVE` of a service (queued behind it in one pipeline): if the
+         * processing list holds just the entry it moved, takes that entry's values off the
+         * input's queue count, as [STEP] does for what it takes. KEYS: processing, queue count.
+         */
+        val COUNT_IDLE_TAKE = Script(
+            """
+            if redis.call('LLEN', KEYS[1]) ~= 1 then return 0 end
+            local entry = redis.call('LINDEX', KEYS[1], 0)
+            local n = 0
+            if #entry >= 14 and string.byte(entry, 1) == 70 then n = struct.unpack('>I4', entry, 11)
+            elseif #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then n = 1 end
+            if n > 0 and redis.call('INCRBY', KEYS[2], -n) < 0 then redis.call('DEL', KEYS[2]) end
+            return n
+            """,
+        )
+
+        /**
+         * A service's queue depth in values, for metrics: its input's queue count (or, for a
+         * service only called, its input's length: one request per entry) plus the values of the
+         * entries in its processing list, summed here so no frame travels to the client.
+         * KEYS: input, processing, queue count.
+         */
+        val QUEUE_DEPTH = Script(
+            """
+            local waiting = tonumber(redis.call('GET', KEYS[3]) or redis.call('LLEN', KEYS[1]))
+            local held = 0
+            for _, entry in ipairs(redis.call('LRANGE', KEYS[2], 0, -1)) do
+              if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
+              else held = held + 1 end
+            end
+            return math.max(0, waiting) + held
+            """,
+        )
+
+        /**
+         * KEYS: the source's reader or service set, source log, the list, its count of queued values.
+         * ARGV: '1' for a service's input (the count is kept), '0' for a plain reader. Returns 1 if the list is new.
+         */
         val REGISTER = Script(
             """
             if redis.call('SADD', KEYS[1], KEYS[3]) == 0 then
@@ -220,6 +326,15 @@ internal class Script(text: String) {
             local retained = redis.call('LRANGE', KEYS[2], 0, -1)
             for start = 1, #retained, 1000 do
               redis.call('RPUSH', KEYS[3], unpack(retained, start, math.min(start + 999, #retained)))
+            end
+            if ARGV[1] == '1' then
+              local values = 0
+              for k = 1, #retained do
+                local entry = retained[k]
+                if #entry >= 14 and string.byte(entry, 1) == 70 then values = values + struct.unpack('>I4', entry, 11)
+                elseif #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then values = values + 1 end
+              end
+              if values > 0 then redis.call('INCRBY', KEYS[4], values) end
             end
             return 1
             """,

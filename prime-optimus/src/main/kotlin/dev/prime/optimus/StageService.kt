@@ -51,13 +51,16 @@ internal class StageService(
     private val next: ByteArray?,
     /** Where the last service of a chain linked to a source publishes. */
     private val output: SourceKeys?,
+    /** Whether values reach this service's input (it is fed by a source), so its queue count is kept; else only calls do. */
+    private val counted: Boolean,
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
     private val processing = core.keys.serviceProcessing(name)
+    private val queued = core.keys.queuedOf(input)
     private val fence = core.hostFence(name)
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
-        fence,
+        fence, counted,
     )
     private val rules = core.stepRules
     private val recent = RecentIds()
@@ -83,7 +86,7 @@ internal class StageService(
                 pending = if (taken == null) {
                     null // the host lease lapsed: wait for the heartbeat to re-claim it
                 } else if (taken.isEmpty()) {
-                    val one = session.once { it.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS) }
+                    val one = session.once { idleTake(it) }
                     // after an idle wait, the fenced peek comes first: this host may have been frozen in it
                     if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
@@ -117,6 +120,28 @@ internal class StageService(
                 delay(backoff.next())
             }
         }
+    }
+
+    /**
+     * Waits up to a second for an entry and moves it to the processing list; in the same round
+     * trip, takes what it moved off the input's queue count (a block that then holds it for long
+     * leaves room in the queue, as a step's take does).
+     */
+    private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
+        // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
+        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        val pipeline = jedis.pipelined()
+        val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())
+        pipeline.sync()
+        val entry = moved.get()
+        try {
+            counted.get()
+        } catch (_: redis.clients.jedis.exceptions.JedisNoScriptException) {
+            // Redis restarted and forgot it: the processing list still holds just what was moved
+            Script.COUNT_IDLE_TAKE.run(jedis, listOf(processing, queued), emptyList())
+        }
+        return entry
     }
 
     private fun describeFailure(e: Throwable): String = when {
@@ -286,7 +311,7 @@ internal class StageService(
         }
     }
 
-    /** Handles one entry; never throws but a [VirtualMachineError]. */
+    /** Handles one entry (a value, a request, or a frame of them); never throws but a [VirtualMachineError]. */
     private fun handle(entry: TakenEntry, batchIds: MutableSet<Long>): Part {
         val part = Part(entry, empty.part())
         val step = part.batch
@@ -294,15 +319,28 @@ internal class StageService(
             deadLetter(step, "an entry of ${entry.size} bytes, over the limit of ${rules.maxEntryBytes}", entry, prefix = true)
             return part
         }
+        val envelopes = try {
+            Frame.envelopes(entry.bytes)
+        } catch (e: CodecException) {
+            deadLetter(step, "undecodable frame: ${e.message}", entry)
+            return part
+        }
+        // a frame is acknowledged as a whole: every value of it is handled in this part
+        for (raw in envelopes) handleEnvelope(TakenEntry(raw, raw.size.toLong()), step, batchIds)
+        return part
+    }
+
+    /** Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError]. */
+    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: MutableSet<Long>) {
         val raw = entry.bytes
         val envelope = try {
             Envelope.parse(raw)
         } catch (e: CodecException) {
             deadLetter(step, "undecodable envelope: ${e.message}", entry)
-            return part
+            return
         }
         // a duplicate of a value handled recently, or earlier in this batch
-        if (envelope.id in recent || !batchIds.add(envelope.id)) return part
+        if (envelope.id in recent || !batchIds.add(envelope.id)) return
         step.ids += envelope.id
         val replyTo = envelope.replyTo
         if (replyTo != null && !startsWith(replyTo, rules.replyPrefix)) {
@@ -312,21 +350,20 @@ internal class StageService(
                     "${rules.replyPrefix.toString(UTF_8)}*",
                 entry,
             )
-            return part
+            return
         }
         val value = try {
             envelope.payload()?.let(core.codec::decode)
         } catch (e: CodecException) {
             deadLetter(step, "cannot decode the value: ${e.message}", entry)
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
-            return part
+            return
         }
         when (envelope.kind) {
             Envelope.Kind.REQUEST -> handleRequest(envelope, value, step)
             Envelope.Kind.VALUE -> handleValue(envelope, value, entry, step)
             else -> deadLetter(step, "a ${envelope.kind} does not belong in a service's input", entry)
         }
-        return part
     }
 
     private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch) {

@@ -22,6 +22,8 @@ internal class StepBatch(
     private val rules: StepRules,
     /** The host lease this step must hold (a hosted service's step), or `null` (readers, publishers). */
     private val fence: HostFence? = null,
+    /** Whether the input's queue count is kept: a service fed by a source (a service only called gets requests, never counted). */
+    private val counted: Boolean = false,
 ) {
     /** A plain consumer's step (a reader): acknowledge and take, nothing stored. */
     constructor(processing: ByteArray, input: ByteArray, output: SourceKeys?) :
@@ -64,7 +66,7 @@ internal class StepBatch(
     val publishes: Boolean get() = published.isNotEmpty()
 
     /** A batch like this one, empty: the part for one more entry. */
-    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules, fence)
+    fun part(): StepBatch = StepBatch(processing, input, output, dead, deadTrimmed, next, rules, fence, counted)
 
     /**
      * Stores the step: acknowledges [ack] entries, takes up to [take] new ones (and at most
@@ -74,9 +76,14 @@ internal class StepBatch(
      */
     fun execute(jedis: Jedis, ack: Int, take: Int, strict: Boolean = false): StepResult {
         val view = if (published.isEmpty()) SourceView.NONE else checkNotNull(output!!.view) { "no view of the readers" }
+        // what is ready travels together: a source's values always in frames (numbered there), a hop's when more than one
+        // requests travel alone (a queue count counts a frame's elements as values, and a caller's request as nothing)
+        val (forwardedValues, requests) = nextValues.partition(Envelope::isValue)
+        val nextEntries = Frame.pack(forwardedValues, rules.frameBytes, always = false) + requests
+        val publishedFrames = Frame.pack(published, rules.frameBytes, always = true)
         val replyKeys = LinkedHashMap<ByteKey, Int>()
         for (reply in replies) replyKeys.getOrPut(ByteKey(reply.key)) { replyKeys.size + 1 }
-        val keys = ArrayList<ByteArray>(9 + replyKeys.size + 2 * view.readers.size + view.services.size)
+        val keys = ArrayList<ByteArray>(12 + replyKeys.size + 2 * view.readers.size + 2 * view.services.size)
         keys += processing
         keys += input
         keys += dead ?: processing
@@ -86,11 +93,15 @@ internal class StepBatch(
         keys += output?.readers ?: processing
         keys += output?.services ?: processing
         keys += fence?.lease ?: processing
+        keys += output?.sequence ?: processing
+        keys += if (counted) queuedKey(input) else processing
+        keys += next?.let(::queuedKey) ?: processing
         replyKeys.keys.forEach { keys += it.bytes }
         keys += view.readers
         keys += view.missed
         keys += view.services
-        val args = ArrayList<ByteArray>(18 + view.services.size + nextValues.size + 3 * replies.size + deadValues.size + published.size)
+        view.services.forEach { keys += queuedKey(it) }
+        val args = ArrayList<ByteArray>(22 + view.services.size + nextEntries.size + 3 * replies.size + deadValues.size + publishedFrames.size)
         args += number(ack)
         args += number(take)
         args += number(rules.batchBytes)
@@ -104,20 +115,23 @@ internal class StepBatch(
         args += number(replyKeys.size)
         args += number(view.readers.size)
         args += number(view.services.size)
-        args += number(nextValues.size)
+        args += number(nextEntries.size)
         args += number(replies.size)
         args += number(deadValues.size)
-        args += number(published.size)
+        args += number(publishedFrames.size)
         args += fence?.instance ?: ByteArray(0)
+        args += number(published.size)
+        args += number(if (counted) 1 else 0)
+        args += number(nextEntries.sumOf(Frame::queued))
         view.services.forEach { args += number(rules.queueLimit(it)) }
-        args += nextValues
+        args += nextEntries
         for (reply in replies) {
             args += number(replyKeys.getValue(ByteKey(reply.key)))
             args += number(reply.position)
             args += reply.value
         }
         args += deadValues
-        args += published
+        args += publishedFrames
         return StepResult.parse(Script.STEP.run(jedis, keys, args), view)
     }
 
@@ -161,12 +175,14 @@ internal class StepRules(
     val batchBytes: Int,
     /** The queue limit of a service, by its input key. */
     val queueLimit: (ByteArray) -> Int,
+    /** The most bytes of a frame (one entry holding many values; a single value may need more). */
+    val frameBytes: Int = Frame.DEFAULT_BYTES,
 ) {
     companion object {
         const val DEFAULT_BATCH_BYTES: Int = 8 * 1024 * 1024
 
         /** For consumers that only acknowledge and take. */
-        val PLAIN: StepRules = StepRules(ByteArray(0), 1, Int.MAX_VALUE, Int.MAX_VALUE, DEFAULT_BATCH_BYTES) { Int.MAX_VALUE }
+        val PLAIN: StepRules = StepRules(ByteArray(0), 1, Int.MAX_VALUE, Int.MAX_VALUE, DEFAULT_BATCH_BYTES, { Int.MAX_VALUE })
     }
 }
 
@@ -227,6 +243,8 @@ internal class SourceKeys(
     val readers: ByteArray,
     val services: ByteArray,
     val retention: Int,
+    /** The counter numbering the source's values (the step script trims the log and readers by it). */
+    val sequence: ByteArray,
 ) {
     /** The reader and service lists this process last saw; the step script says when it is out of date. */
     @Volatile

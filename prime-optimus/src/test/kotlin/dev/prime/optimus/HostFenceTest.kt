@@ -60,7 +60,7 @@ class HostFenceTest {
                 assertEquals(Optional.empty<Int>(), output.take(Duration.ofSeconds(1)), "no output was stored")
                 assertEquals(
                     listOf(21),
-                    jedis.lrange(keys.serviceProcessing("double"), 0, -1).map { decodeValue(host, it) },
+                    jedis.lrange(keys.serviceProcessing("double"), 0, -1).flatMap(Frame::envelopes).map { decodeValue(host, it) },
                     "the value stays in the processing list for the new host",
                 )
                 assertEquals(0L, jedis.llen(keys.serviceInput("double")))

@@ -42,8 +42,9 @@ class QueueLimitTest {
                 assertThrows(QueueFullException::class.java) { core.publishAll(numbers, listOf(11, 12, 13)) }
                 assertEquals((0 until 10).toList(), reader.drain(), "the refused publishes published nothing")
                 Jedis(URI(TestRedis.url)).use { raw ->
-                    assertEquals(10L, raw.llen(core.keys.serviceInput("slow")))
-                    assertEquals(10L, raw.llen(core.keys.sourceLog("numbers")))
+                    // a frame holds many values: count values, not entries
+                    assertEquals(10L, TestRedis.values(raw, core.keys.serviceInput("slow")))
+                    assertEquals(10L, TestRedis.values(raw, core.keys.sourceLog("numbers")))
                 }
             }
     }
@@ -69,7 +70,7 @@ class QueueLimitTest {
                     Thread.interrupted()
                 }
                 assertTrue(Duration.ofNanos(System.nanoTime() - started) < Duration.ofSeconds(5), "a 30 s publish timeout was not waited out")
-                Jedis(URI(TestRedis.url)).use { raw -> assertEquals(2L, raw.llen(core.keys.serviceInput("stuck"))) }
+                Jedis(URI(TestRedis.url)).use { raw -> assertEquals(2L, TestRedis.values(raw, core.keys.serviceInput("stuck"))) }
             }
     }
 
@@ -98,10 +99,11 @@ class QueueLimitTest {
             Jedis(URI(TestRedis.url)).use { raw ->
                 val second = front.keys.serviceInput("second")
                 val deadline = System.nanoTime() + PATIENCE.toNanos()
-                while (raw.llen(second) < 5 && System.nanoTime() < deadline) Thread.sleep(10)
-                val waiting = raw.llen(second)
+                while (TestRedis.values(raw, second) < 5 && System.nanoTime() < deadline) Thread.sleep(10)
+                val waiting = TestRedis.values(raw, second)
                 assertTrue(waiting in 5L..(5L + StageService.BATCH), "the next service's queue holds $waiting")
-                val upstream = raw.llen(front.keys.serviceInput("first")) + raw.llen(front.keys.serviceProcessing("first"))
+                val upstream = TestRedis.values(raw, front.keys.serviceInput("first")) +
+                    TestRedis.values(raw, front.keys.serviceProcessing("first"))
                 assertEquals(VALUES.toLong(), waiting + upstream, "every value is in one of the queues")
             }
             OptimusCore.builder().config(config).redis(TestRedis.url).hosts("second").queueLimit("second", 5).build().use { back ->

@@ -12,7 +12,7 @@ class ReaderMissesTest {
         var now = 0L
         val lines = ArrayList<String>()
         val misses = ReaderMisses("robot", intervalNanos = 10_000, clock = { now }, warn = { lines += it })
-        val source = SourceKeys("imu", "log".toByteArray(), "r".toByteArray(), "s".toByteArray(), 16)
+        val source = SourceKeys("imu", "log".toByteArray(), "r".toByteArray(), "s".toByteArray(), 16, "seq".toByteArray())
         val view = SourceView(listOf("a".toByteArray(), "b".toByteArray()), listOf("a:m".toByteArray(), "b:m".toByteArray()), emptyList())
 
         misses.record(source, view, listOf(3, 0))

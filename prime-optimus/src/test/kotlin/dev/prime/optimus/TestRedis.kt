@@ -13,6 +13,9 @@ internal object TestRedis {
 
     val url: String get() = System.getenv("PRIME_TEST_REDIS") ?: embedded!!.uri
 
+    /** The values in the Redis [list] (an entry may be a frame of many). */
+    fun values(jedis: redis.clients.jedis.Jedis, list: ByteArray): Long = jedis.lrange(list, 0, -1).sumOf { Frame.count(it).toLong() }
+
     fun core(config: CoreConfig = CoreConfig.defaults()): OptimusCore =
         OptimusCore.builder().config(config).redis(url).build()
 }

@@ -3,21 +3,25 @@ package dev.prime.examples.robot;
 import dev.prime.PrimeCore;
 import dev.prime.PrimeException;
 import dev.prime.Recording;
+import dev.prime.mcap.McapFormatException;
 import dev.prime.mcap.RecordingMcap;
 import java.io.IOException;
 import java.io.PrintStream;
 import java.io.UncheckedIOException;
 import java.nio.file.Path;
 import java.util.Locale;
+import java.util.Map;
 import java.util.stream.Collectors;
 
 /**
  * Runs the differential-drive robot example: {@code robot [--media liberty] [--goal X,Y]}. On
  * {@code --media optimus --redis URL --remote planner} the planner runs in another process, a
  * {@link RobotWorker} on the same Redis. {@code --record run.mcap} writes what every source and
- * chain produced to an MCAP file; {@code --replay run.mcap} drives a fresh controller, on any
- * media, with the encoder readings of such a file and prints the recorded run's trace (see {@link
- * RobotSimulation#replay}).
+ * chain produced to an MCAP file, with the run's arguments ({@link RunArguments}); with {@code
+ * --remote}, what this process hosts, to be merged with the worker's file ({@code
+ * dev.prime.mcap.McapMerge}). {@code --replay run.mcap} drives a fresh controller, on any media,
+ * with the encoder readings of such a file, towards the recorded goal unless {@code --goal} says
+ * otherwise, and prints the recorded run's trace (see {@link RobotSimulation#replay}).
  *
  * <p>Exit codes: 0 the goal was reached (or help was printed), 1 it was not reached in the
  * allowed steps (or in the replayed readings), 2 the command line is wrong, 3 the Redis given by
@@ -60,6 +64,20 @@ public final class RobotMain {
       out.println(RobotOptions.USAGE);
       return 0;
     }
+    String fromRecording = "";
+    if (options.replay() != null) {
+      try {
+        RunArguments.Replay replay = RunArguments.forReplay(options);
+        options = replay.options();
+        fromRecording = replay.describe();
+      } catch (IOException
+          | UncheckedIOException
+          | IllegalArgumentException
+          | McapFormatException e) {
+        err.println("error: cannot replay " + options.replay() + ": " + e.getMessage());
+        return 4;
+      }
+    }
     Mission mission = options.mission();
     if (options.replay() != null) {
       out.printf(
@@ -71,6 +89,9 @@ public final class RobotMain {
           Pose.ORIGIN,
           mission.goal(),
           Mission.DT * 1000);
+      if (!fromRecording.isEmpty()) {
+        out.println(fromRecording);
+      }
     } else {
       out.printf(
           Locale.ROOT,
@@ -105,7 +126,13 @@ public final class RobotMain {
     SimulationResult result;
     try (PrimeCore core = created) {
       result = new RobotSimulation(RobotSpec.SMALL_INDOOR).run(core, mission, out);
-      if (options.record() != null && !record(core.recording(), options.record(), out, err)) {
+      if (options.record() != null
+          && !record(
+              core.recording(),
+              options.record(),
+              Map.of(RunArguments.METADATA, RunArguments.of(options)),
+              out,
+              err)) {
         return 4;
       }
     }
@@ -113,10 +140,21 @@ public final class RobotMain {
     return result.reached() ? 0 : 1;
   }
 
-  private static boolean record(Recording recording, Path file, PrintStream out, PrintStream err) {
+  /**
+   * Writes a recording with Metadata records (the run's arguments: {@link RunArguments}) and
+   * says what it wrote.
+   *
+   * @return false (after saying why on {@code err}) if the file cannot be written
+   */
+  static boolean record(
+      Recording recording,
+      Path file,
+      Map<String, Map<String, String>> metadata,
+      PrintStream out,
+      PrintStream err) {
     long written;
     try {
-      written = RecordingMcap.write(recording, file);
+      written = RecordingMcap.write(recording, file, Map.of(), metadata);
     } catch (IOException | UncheckedIOException | IllegalArgumentException e) {
       err.println("error: cannot write the recording to " + file + ": " + e.getMessage());
       return false;

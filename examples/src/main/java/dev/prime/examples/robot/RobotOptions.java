@@ -24,6 +24,8 @@ import java.util.Set;
  * @param record write the run's recording to this MCAP file at the end, or {@code null}
  * @param replay feed the encoder readings recorded in this MCAP file instead of the simulated
  *     plant's, or {@code null}
+ * @param given the options given on the command line ({@code --goal}, ...); the others have
+ *     their defaults, which a replay takes from the recording instead (see {@link RunArguments})
  */
 public record RobotOptions(
     Media media,
@@ -35,7 +37,8 @@ public record RobotOptions(
     List<String> remote,
     String name,
     Path record,
-    Path replay) {
+    Path replay,
+    Set<String> given) {
 
   /** The usage text. */
   public static final String USAGE =
@@ -54,16 +57,29 @@ public record RobotOptions(
               + " process; services: " + String.join(", ", RobotController.SERVICES),
           "  --name NAME       the core's name, shared with the worker (default robot)",
           "  --record FILE     record every source and chain and write them to the MCAP file FILE"
-              + " at the end (one channel per recorded service)",
+              + " at the end (one channel per recorded service, and the run's arguments); with"
+              + " --remote, what this process hosts: merge it with the worker's file"
+              + " (dev.prime.mcap.McapMerge)",
           "  --replay FILE     drive the controller with the encoder readings recorded in FILE"
-              + " instead of the simulated robot (give the recorded run's --goal)",
+              + " instead of the simulated robot (the recorded run's --goal and --trace-every"
+              + " unless given)",
           "with Maven: ./mvnw -q -pl examples -am test-compile exec:java"
               + " -Dexec.args=\"--goal 1.5,-0.5\"");
 
   /** The defaults: Liberty, goal (2, 1), at most 3000 steps, a trace line every 100. */
   public static final RobotOptions DEFAULTS =
       new RobotOptions(
-          Media.LIBERTY, new Goal(2, 1), 3000, 100, false, null, List.of(), "robot", null, null);
+          Media.LIBERTY,
+          new Goal(2, 1),
+          3000,
+          100,
+          false,
+          null,
+          List.of(),
+          "robot",
+          null,
+          null,
+          Set.of());
 
   /**
    * Copies {@code remote}.
@@ -78,9 +94,33 @@ public record RobotOptions(
    * @param name the core's name; processes that share a topology on one Redis use the same one
    * @param record write the run's recording to this MCAP file at the end, or {@code null}
    * @param replay feed the encoder readings recorded in this MCAP file, or {@code null}
+   * @param given the options given on the command line
    */
   public RobotOptions {
     remote = List.copyOf(remote);
+    given = Set.copyOf(given);
+  }
+
+  /**
+   * These options with a mission's goal, step limit and trace interval (a replay's, from the
+   * recording).
+   *
+   * @param mission the mission
+   * @return new options
+   */
+  public RobotOptions withMission(Mission mission) {
+    return new RobotOptions(
+        media,
+        mission.goal(),
+        mission.maxSteps(),
+        mission.traceEvery(),
+        help,
+        redisUrl,
+        remote,
+        name,
+        record,
+        replay,
+        given);
   }
 
   /** {@return the mission these options describe} */
@@ -131,6 +171,7 @@ public record RobotOptions(
     String name = DEFAULTS.name;
     Path record = null;
     Path replay = null;
+    Set<String> given = new LinkedHashSet<>();
     for (int i = 0; i < args.length; i++) {
       String arg = args[i];
       if (arg.equals("--help") || arg.equals("-h")) {
@@ -155,6 +196,7 @@ public record RobotOptions(
         }
         default -> throw new UsageException("unknown argument '" + arg + "'");
       }
+      given.add(option);
       switch (option) {
         case "--media" -> media = media(value);
         case "--goal" -> goal = goal(value);
@@ -180,12 +222,12 @@ public record RobotOptions(
           "--record and --replay cannot be combined: record a run first, then replay its file");
     }
     return new RobotOptions(
-        media, goal, maxSteps, traceEvery, false, redisUrl, remote, name, record, replay);
+        media, goal, maxSteps, traceEvery, false, redisUrl, remote, name, record, replay, given);
   }
 
   private RobotOptions withHelp() {
     return new RobotOptions(
-        media, goal, maxSteps, traceEvery, true, redisUrl, remote, name, record, replay);
+        media, goal, maxSteps, traceEvery, true, redisUrl, remote, name, record, replay, given);
   }
 
   static Path recordFile(String value) {

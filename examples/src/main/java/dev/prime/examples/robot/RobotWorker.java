@@ -3,6 +3,7 @@ package dev.prime.examples.robot;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
 import dev.prime.PrimeException;
+import dev.prime.RecordingOptions;
 import dev.prime.optimus.EmbeddedRedis;
 import java.io.BufferedReader;
 import java.io.IOException;
@@ -10,18 +11,22 @@ import java.io.InputStream;
 import java.io.InputStreamReader;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
+import java.nio.file.Path;
 import java.util.List;
+import java.util.Map;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 
 /**
  * The other process of the two-process robot: {@code robot-worker --hosts SERVICE,... [--redis
- * URL] [--goal X,Y] [--name NAME]}. It declares the same topology as {@link RobotMain} (same core
- * name, same goal) and runs only the named services, taking their inputs from Redis and storing
- * their results there, until it is stopped: by a line {@code STOP} on its standard input, or by
+ * URL] [--goal X,Y] [--name NAME] [--record FILE]}. It declares the same topology as {@link
+ * RobotMain} (same core name, same goal) and runs only the named services, taking their inputs
+ * from Redis and storing their results there, until it is stopped: by a line {@code STOP} on its
+ * standard input, or by
  * SIGTERM / Ctrl-C (a shutdown hook closes the core and prints {@code STOPPED}). The end of its
  * standard input does not stop it, so it runs under systemd or Docker with stdin on {@code
- * /dev/null}. Pair it
+ * /dev/null}. With {@code --record FILE} it records what it hosts and writes it to the MCAP file
+ * when it stops, for {@code dev.prime.mcap.McapMerge} to join with the robot's file. Pair it
  * with {@code robot --media optimus --redis URL --remote SERVICE,...}. Without {@code --redis} it
  * starts an embedded Redis (listening on 127.0.0.1 only) and prints its URL in its {@code READY}
  * line, so both processes run on one machine with nothing installed.
@@ -30,8 +35,9 @@ import java.util.concurrent.TimeUnit;
  * (odometry, pid) serves one mission; the planner holds none and may serve many.
  *
  * <p>Exit codes: 0 stopped by a line {@code STOP}, 2 the command line is wrong, 3 the Redis cannot
- * be reached (or the embedded one cannot start); stopped by a signal the JVM exits with 128 + the
- * signal's number (143 for SIGTERM, 130 for Ctrl-C's SIGINT) after the core is closed.
+ * be reached (or the embedded one cannot start), 4 the recording cannot be written; stopped by a
+ * signal the JVM exits with 128 + the signal's number (143 for SIGTERM, 130 for Ctrl-C's SIGINT)
+ * after the core is closed.
  */
 public final class RobotWorker {
 
@@ -39,13 +45,16 @@ public final class RobotWorker {
   public static final String USAGE =
       String.join(
           System.lineSeparator(),
-          "usage: robot-worker --hosts SERVICE,... [--redis URL] [--goal X,Y] [--name NAME]",
+          "usage: robot-worker --hosts SERVICE,... [--redis URL] [--goal X,Y] [--name NAME]"
+              + " [--record FILE]",
           "  --redis URL       the Redis shared with the robot, like redis://localhost:6379"
               + " (default: start an embedded one and print its URL)",
           "  --hosts S,...     the services this process runs: "
               + String.join(", ", RobotController.SERVICES),
           "  --goal X,Y        the robot's goal, as given to the robot (default 2,1)",
           "  --name NAME       the core's name, as given to the robot (default robot)",
+          "  --record FILE     record what this worker hosts and write it to the MCAP file FILE"
+              + " when it stops (merge it with the robot's: dev.prime.mcap.McapMerge)",
           "stop it with a line STOP, SIGTERM or Ctrl-C (the end of input does not stop it)");
 
   private RobotWorker() {}
@@ -61,6 +70,12 @@ public final class RobotWorker {
       System.exit(code);
     }
   }
+
+  /**
+   * Values kept per recorded service with {@code --record}: 100,000, over 16 minutes at 100 Hz
+   * (the ring fills as values come; older values fall out, counted in the file).
+   */
+  static final int RECORDED_PER_SERVICE = 100_000;
 
   /** How long a signal's shutdown hook waits for the worker to close before the JVM exits. */
   private static final long CLOSE_ON_SIGNAL_SECONDS = 30;
@@ -92,8 +107,11 @@ public final class RobotWorker {
         embedded = EmbeddedRedis.start();
         redisUrl = embedded.getUri();
       }
-      core =
-          Media.optimus(CoreConfig.builder().name(options.name).build(), redisUrl, options.hosts);
+      CoreConfig.Builder config = CoreConfig.builder().name(options.name);
+      if (options.record != null) {
+        config.recording(RecordingOptions.ring(RECORDED_PER_SERVICE));
+      }
+      core = Media.optimus(config.build(), redisUrl, options.hosts);
     } catch (PrimeException e) {
       if (embedded != null) {
         embedded.close();
@@ -103,6 +121,7 @@ public final class RobotWorker {
     }
     EmbeddedRedis ownRedis = embedded;
     CountDownLatch stopRequested = new CountDownLatch(1);
+    boolean recordFailed = false;
     CountDownLatch stopped = new CountDownLatch(1);
     Thread closeOnExit =
         new Thread(
@@ -136,6 +155,17 @@ public final class RobotWorker {
               + "' on "
               + (ownRedis == null ? options.redisUrl : ownRedis.getUri()));
       awaitStop(in, stopRequested);
+      if (options.record != null
+          && !RobotMain.record(
+              core.recording(),
+              options.record,
+              Map.of(
+                  RunArguments.WORKER_METADATA,
+                  RunArguments.ofWorker(options.goal, options.name, options.hosts)),
+              out,
+              err)) {
+        recordFailed = true;
+      }
     } finally {
       try {
         close(core, ownRedis, err);
@@ -150,7 +180,7 @@ public final class RobotWorker {
         stopped.countDown(); // only now may a signal's hook return and the JVM halt
       }
     }
-    return 0;
+    return recordFailed ? 4 : 0;
   }
 
   private static void close(PrimeCore core, EmbeddedRedis redis, PrintStream err) {
@@ -198,12 +228,14 @@ public final class RobotWorker {
     }
   }
 
-  private record Options(String redisUrl, List<String> hosts, Goal goal, String name) {
+  private record Options(
+      String redisUrl, List<String> hosts, Goal goal, String name, Path record) {
     static Options parse(String... args) {
       String redisUrl = null;
       List<String> hosts = null;
       Goal goal = RobotOptions.DEFAULTS.goal();
       String name = RobotOptions.DEFAULTS.name();
+      Path record = null;
       for (int i = 0; i < args.length; i++) {
         String option = args[i];
         String value = null;
@@ -212,7 +244,7 @@ public final class RobotWorker {
           value = option.substring(eq + 1);
           option = option.substring(0, eq);
         }
-        if (!List.of("--redis", "--hosts", "--goal", "--name").contains(option)) {
+        if (!List.of("--redis", "--hosts", "--goal", "--name", "--record").contains(option)) {
           throw new UsageException("unknown argument '" + args[i] + "'");
         }
         if (value == null) {
@@ -225,13 +257,14 @@ public final class RobotWorker {
           case "--redis" -> redisUrl = RobotOptions.redisUrl(value);
           case "--hosts" -> hosts = RobotOptions.services(option, value);
           case "--goal" -> goal = RobotOptions.goal(value);
+          case "--record" -> record = RobotOptions.recordFile(value);
           default -> name = RobotOptions.coreName(value);
         }
       }
       if (hosts == null) {
         throw new UsageException("--hosts is required: the services this worker runs");
       }
-      return new Options(redisUrl, hosts, goal, name);
+      return new Options(redisUrl, hosts, goal, name, record);
     }
   }
 }

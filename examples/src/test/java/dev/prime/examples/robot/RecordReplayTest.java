@@ -85,6 +85,22 @@ class RecordReplayTest {
   }
 
   @Test
+  void aReplayWithoutGoalOrTraceIntervalTakesThemFromTheFile() throws Exception {
+    try (McapReader reader = McapReader.open(recorded)) {
+      Map<String, String> run = reader.metadata(RunArguments.METADATA).get(0);
+      assertEquals("1.0,0.5", run.get("goal"));
+      assertEquals("1", run.get("trace_every"));
+      assertEquals("optimus", run.get("media"));
+    }
+
+    Run replay = main("--media", "radiant", "--replay", recorded.toString());
+
+    assertEquals(0, replay.code(), replay.out() + replay.err());
+    assertTrue(replay.out().contains("  from the recording: --goal 1.0,0.5 --steps 3000 --trace-every 1"), replay.out());
+    assertEquals(new Run(0, recordRun, "").trace(), replay.trace());
+  }
+
+  @Test
   void aReplayWithAnotherGoalIsKnowinglyDifferent() {
     Run replay = main("--media", "liberty", "--goal", "1,-0.5", "--trace-every", "1", "--replay", recorded.toString());
 

@@ -8,6 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import java.nio.file.Files;
 import java.nio.file.Path;
 import java.util.List;
+import java.util.Set;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
 
@@ -27,7 +28,17 @@ class RobotOptionsTest {
 
     assertEquals(
         new RobotOptions(
-            Media.LIBERTY, new Goal(1.5, -0.5), 40, 7, false, null, List.of(), "robot", null, null),
+            Media.LIBERTY,
+            new Goal(1.5, -0.5),
+            40,
+            7,
+            false,
+            null,
+            List.of(),
+            "robot",
+            null,
+            null,
+            Set.of("--media", "--goal", "--steps", "--trace-every")),
         options);
   }
 

@@ -3,6 +3,7 @@ package dev.prime.bench.report;
 import dev.prime.bench.AsyncChainBenchmark;
 import dev.prime.bench.AsyncHandOffBenchmark;
 import dev.prime.bench.OptimusBenchmark;
+import dev.prime.bench.RecordingOverheadBenchmark;
 import dev.prime.bench.SyncChainBenchmark;
 import dev.prime.bench.SyncPeerBenchmark;
 import dev.prime.bench.SyncSourceBenchmark;
@@ -23,6 +24,13 @@ public final class Families {
   /** The Optimus table's title: one synchronous call through a linked chain, against raw Jedis. */
   public static final String OPTIMUS = "Optimus against a raw Jedis echo loop, same Redis (per call)";
 
+  /**
+   * The recording table's title: the synchronous rows with the core's recording off (the default)
+   * and on (issue 11).
+   */
+  public static final String RECORDING = "Recording off and on (synchronous, monomorphic)";
+
+  private static final List<String> RECORDING_SCENARIOS = List.of("recordingOff", "recordingOn");
   private static final List<String> HOPS = List.of("1hop", "4hops");
   private static final List<String> BOTH = List.of("monomorphic", "polluted");
   private static final List<String> MONO = List.of("monomorphic");
@@ -50,7 +58,15 @@ public final class Families {
               MONO),
           new Family(OPTIMUS, "raw Jedis echo loop", OptimusBenchmark.class, "rawCall", true, HOPS),
           new Family(OPTIMUS, "Optimus linked chain", OptimusBenchmark.class, "optimusCall", false,
-              HOPS));
+              HOPS),
+          new Family(RECORDING, "FOR", RecordingOverheadBenchmark.class, "forHandWritten", true,
+              RECORDING_SCENARIOS),
+          new Family(RECORDING, "Radiant chains", RecordingOverheadBenchmark.class, "radiant",
+              false, RECORDING_SCENARIOS),
+          new Family(RECORDING, "Liberty chains", RecordingOverheadBenchmark.class, "liberty",
+              false, RECORDING_SCENARIOS),
+          new Family(RECORDING, "Prime sources + collector", RecordingOverheadBenchmark.class,
+              "primeSource", false, RECORDING_SCENARIOS));
 
   private Families() {}
 }

@@ -34,6 +34,10 @@ public final class MarkdownTables {
       - **polluted**: ten other chains (other lengths and block classes) are run in the same JVM \
       before and between the measurements, as in a controller with many chains, so call sites \
       that chains share have seen several block classes. Closer to a real program.
+      - **recordingOff** / **recordingOn**: the synchronous rows in a core created with the \
+      default settings (recording off: the rows must match the monomorphic synchronous table) and \
+      with `RecordingOptions.defaults()` (every block's output and every published packet stamped \
+      and kept in a ring of 10,000 per name).
       - **payload**: bytes each packet carries (100 B, 1 KB, 10 KB); nothing local copies them.
       - **± error**: JMH's 99.9 % confidence interval of the mean. When it is as large as the \
       time itself, the cell is noise: read the rows that agree across the three columns.
