@@ -1,7 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.RateLimitedLog;
+import dev.prime.internal.RateLimitedLog;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Arrays;
