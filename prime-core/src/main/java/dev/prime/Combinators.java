@@ -1,7 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.RateLimitedLog;
+import dev.prime.internal.RateLimitedLog;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Arrays;
@@ -119,7 +119,7 @@ final class Combinators {
               threads,
               name,
               inputs,
-              core.modelCompiler().combinator(name, (input, value) -> latest.set(value)));
+              core.model().combinator(name, (input, value) -> latest.set(value)));
           schedule(
               name + " clock",
               new Ticking(
@@ -176,7 +176,7 @@ final class Combinators {
     EventBlock<Object> events = new EventBlock<>();
     Source<Object> out = core.newSource(name, events);
     CombinedInputs.InputStep step = (input, value) -> pairing.accept(input, value, events::publish);
-    CombinedInputs.run(core, threads, name, inputs, core.modelCompiler().combinator(name, step));
+    CombinedInputs.run(core, threads, name, inputs, core.model().combinator(name, step));
     return typed(out);
   }
 

@@ -1,7 +1,5 @@
 package dev.prime;
 
-import dev.prime.spi.NodeLogic;
-import dev.prime.spi.ServiceGauges;
 import dev.prime.topology.TopologyNode;
 import java.time.Duration;
 import java.util.Iterator;

@@ -1,7 +1,5 @@
 package dev.prime;
 
-import dev.prime.spi.ServiceGauges;
-import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.LinkedHashMap;
