@@ -45,10 +45,10 @@ import java.util.function.Predicate;
  *       the media accepted, processing = how long the media took to accept each.
  * </ul>
  *
- * Where a media has them, {@link
- * ServiceMetrics#deadLetters()} (Optimus), {@link ServiceMetrics#queueDepth()} (a filter's,
- * flat-map's or listener's input on every media, each Optimus service's lists) and {@link
- * ServiceMetrics#missed()} (what an event source's plain readers missed) are read when a snapshot
+ * Where a media has them, {@link ServiceMetrics#deadLetters()} (Optimus), {@link
+ * ServiceMetrics#queueDepth()} (a filter's, flat-map's or listener's input on every media, each
+ * Optimus service's lists) and {@link ServiceMetrics#missed()} (what the plain readers of an
+ * event source, a combinator or a timer missed) are read when a snapshot
  * is taken.
  *
  * <p>Cost and threads. When metrics are off nothing is compiled into any chain, service or
