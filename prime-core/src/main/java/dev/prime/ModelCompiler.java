@@ -65,6 +65,24 @@ final class ModelCompiler<F> {
     return metering.metrics();
   }
 
+  /** A generic service just recorded as {@code name}, with its tap if metrics are on. */
+  GenericService genericService(String name, GenericService service) {
+    return metering == null
+        ? service
+        : metering.genericService(
+            core.topologyRecorder().node(name),
+            service,
+            () -> core.isClosed() || !core.isHostedHere(name));
+  }
+
+  /**
+   * The input step of combinator {@code name}, whose output source is compiled, with its tap if
+   * metrics are on.
+   */
+  CombinedInputs.InputStep combinator(String name, CombinedInputs.InputStep step) {
+    return metering == null ? step : metering.combinator(name, step);
+  }
+
   /** The core's recording; throws if recording is off. */
   Recording recording() {
     if (recording == null) {

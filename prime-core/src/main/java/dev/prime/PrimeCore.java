@@ -850,7 +850,8 @@ public abstract class PrimeCore implements AutoCloseable {
     ensureOpen();
     declared(
         () -> {
-          runGenericService(topologyRecorder().genericService(name, service), service);
+          String claimed = topologyRecorder().genericService(name, service);
+          runGenericService(claimed, model().genericService(claimed, service));
           return null;
         });
   }
