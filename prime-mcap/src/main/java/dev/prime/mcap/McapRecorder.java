@@ -9,6 +9,7 @@ import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.atomic.AtomicBoolean;
 import java.util.concurrent.atomic.AtomicReference;
 import java.util.concurrent.atomic.LongAdder;
 import java.util.logging.Logger;
@@ -40,6 +41,7 @@ public final class McapRecorder implements AutoCloseable {
   private final LongAdder unwritable = new LongAdder();
   private final AtomicReference<String> firstUnwritable = new AtomicReference<>();
   private final Recording.Subscription subscription;
+  private final AtomicBoolean closed = new AtomicBoolean();
 
   McapRecorder(
       Recording recording,
@@ -143,6 +145,9 @@ public final class McapRecorder implements AutoCloseable {
    */
   @Override
   public void close() throws IOException {
+    if (!closed.compareAndSet(false, true)) {
+      return;
+    }
     subscription.close();
     writer.close();
     long dropped = droppedCount();
