@@ -14,6 +14,8 @@ import java.util.NoSuchElementException;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.Set;
+import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.atomic.LongAdder;
 import java.util.function.BooleanSupplier;
 
 /**
@@ -56,6 +58,7 @@ public final class Recording {
   private final RecordingOptions options;
   private final Map<String, RecordingRing> rings; // guarded by itself
   private final BooleanSupplier finished; // true: nothing more will be recorded
+  private final CopyOnWriteArrayList<Subscription> subscriptions = new CopyOnWriteArrayList<>();
 
   Recording(String core, RecordingOptions options, BooleanSupplier finished) {
     this(core, options, new LinkedHashMap<>(), finished);
@@ -76,7 +79,52 @@ public final class Recording {
   RecordingRing ring(String name, String pseudoname) {
     synchronized (rings) {
       return rings.computeIfAbsent(
-          name, n -> new RecordingRing(n, pseudoname, options.capacity()));
+          name, n -> new RecordingRing(n, pseudoname, options.capacity(), subscriptions));
+    }
+  }
+
+  /**
+   * Calls {@code listener} with every value recorded from now on, as it is recorded, until the
+   * subscription is closed; see {@link RecordingListener} for the threading contract (called on
+   * the recording thread, must not block). A merged recording records nothing, so its listeners
+   * are never called.
+   *
+   * @param listener the listener
+   * @return the subscription; close it to stop the calls
+   */
+  public Subscription subscribe(RecordingListener listener) {
+    Subscription subscription =
+        new Subscription(Objects.requireNonNull(listener, "listener must not be null"));
+    subscriptions.add(subscription);
+    return subscription;
+  }
+
+  /** A {@link RecordingListener}'s subscription to a recording; close it to unsubscribe. */
+  public final class Subscription implements AutoCloseable {
+    private final RecordingListener listener;
+    private final LongAdder failures = new LongAdder();
+
+    private Subscription(RecordingListener listener) {
+      this.listener = listener;
+    }
+
+    void deliver(RecordedValue<Object> value) {
+      try {
+        listener.recorded(value);
+      } catch (RuntimeException e) {
+        failures.increment();
+      }
+    }
+
+    /** {@return how many calls of the listener threw (each caught, never reaching the controller)} */
+    public long failures() {
+      return failures.sum();
+    }
+
+    /** Stops the calls; a call under way on another thread may still finish. Idempotent. */
+    @Override
+    public void close() {
+      subscriptions.remove(this);
     }
   }
 

@@ -18,7 +18,9 @@ import java.util.function.Predicate;
  * publishing thread, not across threads publishing to one event block at once.
  * Readers copy what they return under the same monitor. Slots are allocated as the ring fills, so
  * a name that records little costs little. A ring made by {@link #frozen} (a merged recording)
- * is never recorded into.
+ * is never recorded into. Subscribed listeners ({@link Recording#subscribe}) are called inside
+ * the monitor after each store, so each name's values reach them in sequence order; they must not
+ * block (their contract says so).
  */
 final class RecordingRing {
   private final String service;
@@ -28,8 +30,18 @@ final class RecordingRing {
   private long written; // entries ever stored; the next live value's sequence number
   private long dropped;
   private int waiters;
+  private final List<Recording.Subscription> subscriptions; // called after each store
 
   RecordingRing(String service, String pseudoname, int capacity) {
+    this(service, pseudoname, capacity, List.of());
+  }
+
+  RecordingRing(
+      String service,
+      String pseudoname,
+      int capacity,
+      List<Recording.Subscription> subscriptions) {
+    this.subscriptions = subscriptions;
     this.service = service;
     this.pseudoname = pseudoname;
     this.capacity = capacity;
@@ -72,6 +84,11 @@ final class RecordingRing {
     written++;
     if (waiters > 0) {
       notifyAll();
+    }
+    if (!subscriptions.isEmpty()) {
+      for (Recording.Subscription subscription : subscriptions) {
+        subscription.deliver(entry);
+      }
     }
   }
 

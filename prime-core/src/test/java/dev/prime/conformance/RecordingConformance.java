@@ -409,6 +409,55 @@ public interface RecordingConformance extends ConformanceBase {
   }
 
   /** Waits (busily, at most 1 s) until the wall clock has moved past {@code then}. */
+  @Test
+  default void aSubscriberSeesEveryValueAsRecordedPastTheRingAndThrowingIsCounted()
+      throws Exception {
+    try (PrimeCore core = recordingCore(2)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> reader =
+          core.source("numbers", events).then(core.chain("double", (Integer x) -> x * 2)).reader();
+      core.start();
+      Recording recording = core.recording();
+      java.util.Map<String, List<RecordedValue<Object>>> seen =
+          new java.util.concurrent.ConcurrentHashMap<>();
+      CountDownLatch all = new CountDownLatch(20);
+      Recording.Subscription listening =
+          recording.subscribe(
+              v -> {
+                seen.computeIfAbsent(v.service(), n -> new java.util.concurrent.CopyOnWriteArrayList<>())
+                    .add(v);
+                all.countDown();
+              });
+      Recording.Subscription throwing =
+          recording.subscribe(
+              v -> {
+                throw new IllegalStateException("a listener bug");
+              });
+      for (int i = 1; i <= 10; i++) {
+        events.publish(i);
+      }
+      assertEquals(10, takeOrFail(reader, 10).size());
+      assertTrue(all.await(20, TimeUnit.SECONDS), "the subscriber saw " + seen);
+      assertEquals(8, recording.dropped("numbers")); // the ring kept 2, the subscriber all 10
+      assertEquals(LongStream.range(0, 10).boxed().toList(),
+          seen.get("numbers").stream().map(RecordedValue::sequence).toList());
+      assertEquals(List.of(1, 2, 3, 4, 5, 6, 7, 8, 9, 10),
+          seen.get("numbers").stream().map(RecordedValue::value).toList());
+      assertEquals(List.of(2, 4, 6, 8, 10, 12, 14, 16, 18, 20),
+          seen.get("double").stream().map(RecordedValue::value).toList());
+      assertEquals(20, throwing.failures());
+      assertEquals(0, listening.failures());
+
+      listening.close();
+      throwing.close();
+      events.publish(11);
+      assertEquals(22, takeOrFail(reader));
+      assertEquals(11, recording.recorded("numbers"));
+      assertEquals(10, seen.get("numbers").size(), "a closed subscription is not called");
+      assertEquals(20, throwing.failures());
+    }
+  }
+
   private static void awaitNextMicrosecond(Instant then) {
     long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(1);
     for (int i = 0; i < 10_000_000 && System.nanoTime() < deadline; i++) {

@@ -27,8 +27,19 @@ import java.util.Objects;
  * <p>This adapter lives here, not in {@code prime-core}, so that the core stays free of Jackson:
  * {@code prime-mcap} depends on {@code prime-core}, never the other way round.
  *
+ * <p>Two ways: {@link #write} takes a snapshot of what the rings hold now (the latest {@link
+ * dev.prime.RecordingOptions#capacity()} values per name), synchronously; {@link #stream} records
+ * every value as it is recorded, for as long as the run lasts, through the bounded queue and the
+ * rotation by size of an {@link McapWriter}, never stalling the controller (a writer that cannot
+ * keep up drops, counted and reported). Use {@link #stream} for long runs.
+ *
  * <pre>{@code
  * RecordingMcap.write(core.recording(), Path.of("run.mcap"));
+ *
+ * try (McapRecorder recorder = RecordingMcap.stream(core.recording(), Path.of("long.mcap"),
+ *     McapWriterOptions.defaults().rotateAtSize(256L << 20))) {
+ *   ... run ...
+ * } // flushed and finished here
  * }</pre>
  */
 public final class RecordingMcap {
@@ -36,6 +47,77 @@ public final class RecordingMcap {
   public static final String PROCESS_METADATA = "prime.process";
 
   private RecordingMcap() {}
+
+  /**
+   * Starts recording every value {@code recording} records from now on into MCAP files, as it is
+   * recorded; see {@link McapRecorder}. Each name's channel is typed by its first value's class.
+   *
+   * @param recording the core's recording (not a merged one: it records nothing more)
+   * @param path the first file; overwritten if it exists; rotated files are named by {@link
+   *     McapWriter#rotatedPath}
+   * @param options the writer's queue, chunk size and rotation; must have a queue (not {@link
+   *     McapWriterOptions#synchronous()}), so that recording never waits for the disk
+   * @return the recorder; close it to flush and finish the file
+   * @throws IOException if the file cannot be opened
+   * @throws IllegalArgumentException if {@code options} are synchronous
+   */
+  public static McapRecorder stream(Recording recording, Path path, McapWriterOptions options)
+      throws IOException {
+    return stream(recording, path, options, Map.of(), Map.of());
+  }
+
+  /**
+   * Like {@link #stream(Recording, Path, McapWriterOptions)}, with channel types given for some
+   * names and Metadata records of the caller's.
+   *
+   * @param recording the core's recording
+   * @param path the first file; overwritten if it exists
+   * @param options the writer's options; must have a queue
+   * @param types the value type of a name's channel, e.g. for a generic class; names not in it
+   *     are typed by their first value's class
+   * @param metadata Metadata records to add, by name; not {@value #PROCESS_METADATA} nor {@value
+   *     McapWriter#LOSS_METADATA}
+   * @return the recorder; close it to flush and finish the file
+   * @throws IOException if the file cannot be opened
+   * @throws IllegalArgumentException if {@code options} are synchronous or a metadata name is
+   *     reserved or empty (a type given for a name never recorded is never used)
+   */
+  public static McapRecorder stream(
+      Recording recording,
+      Path path,
+      McapWriterOptions options,
+      Map<String, ValueType<?>> types,
+      Map<String, Map<String, String>> metadata)
+      throws IOException {
+    return stream(recording, path, options, types, metadata, OutputOpener.FILES);
+  }
+
+  static McapRecorder stream(
+      Recording recording,
+      Path path,
+      McapWriterOptions options,
+      Map<String, ValueType<?>> types,
+      Map<String, Map<String, String>> metadata,
+      OutputOpener opener)
+      throws IOException {
+    Objects.requireNonNull(recording, "recording must not be null");
+    Objects.requireNonNull(path, "path must not be null");
+    Objects.requireNonNull(options, "options must not be null");
+    Objects.requireNonNull(types, "types must not be null");
+    Objects.requireNonNull(metadata, "metadata must not be null");
+    if (options.isSynchronous()) {
+      throw new IllegalArgumentException(
+          "a streaming recorder needs a writer with a queue, so that recording never waits for"
+              + " the disk; use McapWriterOptions.defaults() (or .queue(messages, bytes)), not"
+              + " synchronous()");
+    }
+    if (metadata.containsKey(PROCESS_METADATA)) {
+      throw new IllegalArgumentException(
+          "the Metadata record '" + PROCESS_METADATA + "' is written by RecordingMcap itself;"
+              + " give your records other names");
+    }
+    return new McapRecorder(recording, path, options, types, metadata, opener);
+  }
 
   /**
    * Writes what {@code recording} holds now, typing each channel by the class of its first value

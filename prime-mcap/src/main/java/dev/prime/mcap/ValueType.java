@@ -1,6 +1,8 @@
 package dev.prime.mcap;
 
 import com.fasterxml.jackson.databind.JavaType;
+import com.fasterxml.jackson.core.JsonParser;
+import com.fasterxml.jackson.core.JsonToken;
 import com.fasterxml.jackson.databind.ObjectReader;
 import com.fasterxml.jackson.databind.ObjectWriter;
 import com.fasterxml.jackson.databind.node.ObjectNode;
@@ -26,14 +28,23 @@ import java.nio.charset.StandardCharsets;
  * class that is not a record) is refused when the {@code ValueType} is made, with the path to
  * the offending part.
  *
+ * <p>For Foxglove, every message is a JSON object: a record is its own object, and any other
+ * type's value is wrapped as {@code {"value": ...}} (its schema an object with that one
+ * property); {@link #fromJson} unwraps it. Schemas have no {@code $ref}: a record that contains
+ * itself is described {@value dev.prime.mcap.internal.JsonSchemaGenerator#RECURSION_DEPTH} levels
+ * deep and any JSON below (such values are written and read in full).
+ *
  * @param <T> the Java type
  */
 public abstract class ValueType<T> {
+  private static final byte[] WRAP_OPEN = "{\"value\":".getBytes(StandardCharsets.UTF_8);
+
   private final Type type;
   private final JavaType javaType;
   private final String jsonSchema;
   private final ObjectWriter writer;
   private final ObjectReader reader;
+  private final boolean wrapped; // messages are {"value": ...}: Foxglove wants objects
 
   /**
    * For an anonymous subclass: {@code new ValueType<List<Pose>>() {}} captures
@@ -52,6 +63,7 @@ public abstract class ValueType<T> {
     this.jsonSchema = schemaText(javaType);
     this.writer = JsonCodec.MAPPER.writerFor(javaType);
     this.reader = JsonCodec.MAPPER.readerFor(javaType);
+    this.wrapped = JsonSchemaGenerator.isWrapped(javaType);
   }
 
   private ValueType(Type type) {
@@ -60,6 +72,7 @@ public abstract class ValueType<T> {
     this.jsonSchema = schemaText(javaType);
     this.writer = JsonCodec.MAPPER.writerFor(javaType);
     this.reader = JsonCodec.MAPPER.readerFor(javaType);
+    this.wrapped = JsonSchemaGenerator.isWrapped(javaType);
   }
 
   private static final class Plain<T> extends ValueType<T> {
@@ -119,7 +132,15 @@ public abstract class ValueType<T> {
    */
   public byte[] toJson(T value) {
     try {
-      return writer.writeValueAsBytes(value);
+      byte[] json = writer.writeValueAsBytes(value);
+      if (!wrapped) {
+        return json;
+      }
+      byte[] out = new byte[WRAP_OPEN.length + json.length + 1];
+      System.arraycopy(WRAP_OPEN, 0, out, 0, WRAP_OPEN.length);
+      System.arraycopy(json, 0, out, WRAP_OPEN.length, json.length);
+      out[out.length - 1] = '}';
+      return out;
     } catch (java.io.IOException e) {
       throw new IllegalArgumentException("cannot write " + name() + " as JSON: " + e.getMessage(), e);
     }
@@ -132,7 +153,22 @@ public abstract class ValueType<T> {
    */
   public T fromJson(byte[] json) {
     try {
-      return reader.readValue(json);
+      if (!wrapped) {
+        return reader.readValue(json);
+      }
+      try (JsonParser parser = JsonCodec.MAPPER.createParser(json)) {
+        if (parser.nextToken() != JsonToken.START_OBJECT
+            || parser.nextToken() != JsonToken.FIELD_NAME
+            || !"value".equals(parser.currentName())) {
+          throw notWrapped(json);
+        }
+        parser.nextToken();
+        T value = reader.readValue(parser);
+        if (parser.nextToken() != JsonToken.END_OBJECT || parser.nextToken() != null) {
+          throw notWrapped(json);
+        }
+        return value;
+      }
     } catch (com.fasterxml.jackson.core.JsonProcessingException e) {
       String text = new String(json, 0, Math.min(json.length, 200), StandardCharsets.UTF_8);
       throw new IllegalArgumentException(
@@ -141,6 +177,14 @@ public abstract class ValueType<T> {
     } catch (java.io.IOException e) {
       throw new java.io.UncheckedIOException(e);
     }
+  }
+
+  private IllegalArgumentException notWrapped(byte[] json) {
+    String text = new String(json, 0, Math.min(json.length, 200), StandardCharsets.UTF_8);
+    return new IllegalArgumentException(
+        "JSON " + text + (json.length > 200 ? "..." : "") + " is not a " + name()
+            + ": a value that is not a record is written as {\"value\": ...}, an object with"
+            + " that one property");
   }
 
   @Override

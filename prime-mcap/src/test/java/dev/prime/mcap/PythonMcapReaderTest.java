@@ -94,7 +94,7 @@ class PythonMcapReaderTest {
     assertEquals(0.0, channels.at("/odometry/first/x").asDouble());
     assertEquals(0.0, channels.at("/labels/first/first").asDouble());
     assertEquals("label 0", channels.at("/labels/first/second").asText());
-    assertEquals("INSTANCE", channels.at("/ticks/first").asText());
+    assertEquals("INSTANCE", channels.at("/ticks/first/value").asText()); // wrapped for Foxglove
     assertEquals("IDLE", channels.at("/status/first/mode").asText());
     assertEquals("AQIA", channels.at("/status/first/blob").asText());
   }

@@ -2,6 +2,7 @@ package dev.prime.mcap;
 
 import static org.junit.jupiter.api.Assertions.assertArrayEquals;
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
@@ -12,6 +13,7 @@ import dev.prime.Tuple2;
 import dev.prime.Tuple3;
 import dev.prime.Tuple4;
 import dev.prime.Tuple5;
+import dev.prime.mcap.internal.JsonSchemaGenerator;
 import java.io.IOException;
 import java.math.BigDecimal;
 import java.math.BigInteger;
@@ -177,11 +179,66 @@ class RoundTripTest {
   void recursiveRecordsAndAnyJson() throws IOException {
     Tree tree = new Tree("root", List.of(new Tree("leaf", List.of())));
     assertRoundTrip(ValueType.of(Tree.class), List.of(tree));
-    assertTrue(ValueType.of(Tree.class).jsonSchema().contains("\"$ref\" : \"#\""));
+    // Foxglove follows no $ref: a recursive record is inlined to a bounded depth, then any JSON.
+    String treeSchema = ValueType.of(Tree.class).jsonSchema();
+    assertFalse(treeSchema.contains("$ref"), treeSchema);
+    assertEquals(
+        JsonSchemaGenerator.RECURSION_DEPTH,
+        treeSchema.split("\"label\"", -1).length - 1, treeSchema);
+    assertTrue(treeSchema.contains("nested deeper than"), treeSchema);
+    Tree deep = new Tree("0", List.of());
+    for (int i = 1; i <= JsonSchemaGenerator.RECURSION_DEPTH + 3; i++) {
+      deep = new Tree(Integer.toString(i), List.of(deep));
+    }
+    assertRoundTrip(ValueType.of(Tree.class), List.of(deep)); // written and read in full
     assertRoundTrip(ValueType.of(Wrapper.class), List.of(new Wrapper(Optional.of(tree)), new Wrapper(Optional.empty())));
-    assertTrue(ValueType.of(Wrapper.class).jsonSchema().contains("\"$ref\" : \"#/$defs/Tree\""));
+    assertFalse(ValueType.of(Wrapper.class).jsonSchema().contains("$ref"));
     JsonNode any = new ObjectMapper().readTree("{\"a\":[1,{\"b\":null}],\"c\":\"d\"}");
     assertRoundTrip(ValueType.of(JsonNode.class), List.of(any));
+  }
+
+  @Test
+  void everyMessageIsAJsonObjectAValueNotARecordWrappedAsValue() throws IOException {
+    Path file = dir.resolve("wrapped.mcap");
+    try (McapWriter writer = McapWriter.open(file)) {
+      writer.channel("int", Integer.class).write(1, 1, 0, 42);
+      writer.channel("gear", Gear.class).write(1, 1, 0, Gear.DRIVE);
+      writer.channel("token", Token.class).write(1, 1, 0, Token.INSTANCE);
+      writer.channel("text", String.class).write(1, 1, 0, "hi");
+      writer.channel("list", new ValueType<List<Double>>() {}).write(1, 1, 0, List.of(1.0, 2.0));
+      writer.channel("map", new ValueType<Map<String, Integer>>() {}).write(1, 1, 0, Map.of("a", 1));
+      writer.channel("optional", new ValueType<Optional<String>>() {}).write(1, 1, 0, Optional.empty());
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      List<String> texts = reader.messages().map(McapMessage::text).collect(Collectors.toList());
+      assertEquals(
+          List.of("{\"value\":42}", "{\"value\":\"DRIVE\"}", "{\"value\":\"INSTANCE\"}",
+              "{\"value\":\"hi\"}", "{\"value\":[1.0,2.0]}", "{\"value\":{\"a\":1}}",
+              "{\"value\":null}"),
+          texts);
+      assertEquals(7, reader.schemas().size());
+      for (SchemaInfo info : reader.schemas()) {
+        JsonNode schema = new ObjectMapper().readTree(info.data());
+        assertEquals("object", schema.get("type").asText(), info.name());
+        assertEquals(Set.of("value"), fieldNames(schema.get("properties")), info.name());
+      }
+      assertEquals(42, reader.messages("int", Integer.class).findFirst().orElseThrow().value());
+      assertEquals(Token.INSTANCE, reader.messages("token", Token.class).findFirst().orElseThrow().value());
+      assertEquals(Map.of("a", 1),
+          reader.messages("map", new ValueType<Map<String, Integer>>() {}).findFirst().orElseThrow().value());
+      assertEquals(Optional.empty(),
+          reader.messages("optional", new ValueType<Optional<String>>() {}).findFirst().orElseThrow().value());
+    }
+    IllegalArgumentException bare =
+        assertThrows(IllegalArgumentException.class,
+            () -> ValueType.of(Integer.class).fromJson("42".getBytes(java.nio.charset.StandardCharsets.UTF_8)));
+    assertTrue(bare.getMessage().contains("{\"value\": ...}"), bare.getMessage());
+  }
+
+  private static Set<String> fieldNames(JsonNode node) {
+    Set<String> names = new java.util.HashSet<>();
+    node.fieldNames().forEachRemaining(names::add);
+    return names;
   }
 
   @Test

@@ -4,6 +4,8 @@ import dev.prime.PrimeCore;
 import dev.prime.PrimeException;
 import dev.prime.Recording;
 import dev.prime.mcap.McapFormatException;
+import dev.prime.mcap.McapRecorder;
+import dev.prime.mcap.McapWriterOptions;
 import dev.prime.mcap.RecordingMcap;
 import java.io.IOException;
 import java.io.PrintStream;
@@ -125,19 +127,72 @@ public final class RobotMain {
     }
     SimulationResult result;
     try (PrimeCore core = created) {
+      McapRecorder recorder = null;
+      if (options.record() != null) {
+        recorder =
+            startRecording(
+                core.recording(),
+                options.record(),
+                Map.of(RunArguments.METADATA, RunArguments.of(options)),
+                err);
+        if (recorder == null) {
+          return 4;
+        }
+      }
       result = new RobotSimulation(RobotSpec.SMALL_INDOOR).run(core, mission, out);
-      if (options.record() != null
-          && !record(
-              core.recording(),
-              options.record(),
-              Map.of(RunArguments.METADATA, RunArguments.of(options)),
-              out,
-              err)) {
+      if (recorder != null && !finishRecording(recorder, out, err)) {
         return 4;
       }
     }
     out.println(summary(result, mission));
     return result.reached() ? 0 : 1;
+  }
+
+  /**
+   * Starts streaming every value the core records to {@code file} (rotation off, the writer's
+   * default bounded queue: a disk that cannot keep up drops values, counted, never stalling the
+   * robot), with Metadata records (the run's arguments).
+   *
+   * @return the recorder, or null (after saying why on {@code err}) if the file cannot be opened
+   */
+  static McapRecorder startRecording(
+      Recording recording, Path file, Map<String, Map<String, String>> metadata, PrintStream err) {
+    try {
+      return RecordingMcap.stream(recording, file, McapWriterOptions.defaults(), Map.of(), metadata);
+    } catch (IOException | UncheckedIOException | IllegalArgumentException e) {
+      err.println("error: cannot write the recording to " + file + ": " + e.getMessage());
+      return null;
+    }
+  }
+
+  /**
+   * Finishes a streamed recording and says what it wrote and what it lost.
+   *
+   * @return false (after saying why on {@code err}) if the file could not be written
+   */
+  static boolean finishRecording(McapRecorder recorder, PrintStream out, PrintStream err) {
+    try {
+      recorder.close();
+    } catch (IOException | UncheckedIOException e) {
+      err.println("error: cannot write the recording to " + recorder.files() + ": " + e.getMessage());
+      return false;
+    }
+    Recording recording = recorder.recording();
+    out.println(
+        "recorded "
+            + recorder.writtenCount()
+            + " values to "
+            + recorder.files().stream().map(Path::toString).collect(Collectors.joining(", "))
+            + (recorder.droppedCount() + recorder.unwritableCount() == 0
+                ? ""
+                : " (lost " + recorder.droppedCount() + " the disk could not keep up with, "
+                    + recorder.unwritableCount() + " unwritable)")
+            + ": "
+            + recording.names().stream()
+                .filter(name -> recording.recorded(name) > 0)
+                .map(name -> name + " " + recording.recorded(name))
+                .collect(Collectors.joining(", ")));
+    return true;
   }
 
   /**

@@ -11,9 +11,6 @@ import java.math.BigInteger;
 import java.util.ArrayDeque;
 import java.util.Collection;
 import java.util.Deque;
-import java.util.HashMap;
-import java.util.HashSet;
-import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Optional;
@@ -26,10 +23,14 @@ import java.util.Set;
  * Builds the JSON Schema (draft 2020-12) of a value type, matching what {@link JsonCodec}
  * writes: records are objects with one property per component, enums strings with their
  * constants, byte arrays base64 strings, collections and arrays arrays, maps objects, Optional
- * the content or null. Schemas are inlined (Foxglove reads nested properties for its plots); a
- * record that contains itself is referenced with {@code $ref} ({@code #} for the root,
- * {@code #/$defs/Name} otherwise). Any other type is refused with the path to it, so a channel
- * never records values its schema does not describe.
+ * the content or null. Foxglove wants every message to be a JSON object and does not follow
+ * {@code $ref}, so: a type that is not a record is wrapped ({@link #isWrapped}: the message is
+ * {@code {"value": ...}} and the schema an object with that one required property), and schemas
+ * are inlined, with no {@code $ref}. A record that contains itself is inlined {@value
+ * #RECURSION_DEPTH} levels deep; below that its schema is {@code {}} (any JSON, with a
+ * description saying so): such values still validate, but Foxglove sees no fields under that
+ * depth. Any other type is refused with the path to it, so a channel never records values its
+ * schema does not describe.
  */
 public final class JsonSchemaGenerator {
   private static final JsonNodeFactory NODES = JsonNodeFactory.instance;
@@ -40,14 +41,19 @@ public final class JsonSchemaGenerator {
           + " arrays, List/Set/Collection, Map with String, enum or integer keys, Optional,"
           + " OptionalInt/Long/Double and JsonNode";
 
-  private final JavaType root;
-  private final Deque<JavaType> visiting = new ArrayDeque<>();
-  private final Set<JavaType> recursive = new HashSet<>();
-  private final Map<JavaType, String> defNames = new HashMap<>();
-  private final Map<String, JsonNode> defs = new LinkedHashMap<>();
+  /** How many levels of a record that contains itself a schema describes. */
+  public static final int RECURSION_DEPTH = 4;
 
-  private JsonSchemaGenerator(JavaType root) {
-    this.root = root;
+  private final Deque<JavaType> visiting = new ArrayDeque<>();
+
+  private JsonSchemaGenerator() {}
+
+  /**
+   * @param type a value type
+   * @return whether its messages are {@code {"value": ...}} (every type but a record)
+   */
+  public static boolean isWrapped(JavaType type) {
+    return !type.getRawClass().isRecord();
   }
 
   /**
@@ -56,15 +62,18 @@ public final class JsonSchemaGenerator {
    * @throws IllegalArgumentException naming the unsupported part of the type
    */
   public static ObjectNode schemaOf(JavaType type) {
-    JsonSchemaGenerator generator = new JsonSchemaGenerator(type);
+    JsonSchemaGenerator generator = new JsonSchemaGenerator();
     ObjectNode body = generator.schema(type, "value");
     ObjectNode schema = NODES.objectNode();
     schema.put("$schema", "https://json-schema.org/draft/2020-12/schema");
     schema.put("title", type.toCanonical());
-    schema.setAll(body);
-    if (!generator.defs.isEmpty()) {
-      ObjectNode defsNode = schema.putObject("$defs");
-      generator.defs.forEach(defsNode::set);
+    if (isWrapped(type)) {
+      schema.put("type", "object");
+      schema.putObject("properties").set("value", body);
+      schema.putArray("required").add("value");
+      schema.put("additionalProperties", false);
+    } else {
+      schema.setAll(body);
     }
     return schema;
   }
@@ -155,9 +164,14 @@ public final class JsonSchemaGenerator {
   }
 
   private ObjectNode record(JavaType type, String path) {
-    if (visiting.contains(type)) {
-      recursive.add(type);
-      return reference(type);
+    long depth = visiting.stream().filter(type::equals).count();
+    if (depth >= RECURSION_DEPTH) {
+      ObjectNode any = NODES.objectNode();
+      any.put(
+          "description",
+          type.toCanonical() + " nested deeper than " + RECURSION_DEPTH
+              + " levels: not described (recursive records are inlined to a bounded depth)");
+      return any;
     }
     visiting.push(type);
     ObjectNode s = typed("object");
@@ -177,28 +191,7 @@ public final class JsonSchemaGenerator {
     }
     s.put("additionalProperties", false);
     visiting.pop();
-    if (recursive.contains(type) && !type.equals(root)) {
-      defs.put(defName(type), s);
-      return reference(type);
-    }
     return s;
-  }
-
-  private ObjectNode reference(JavaType type) {
-    ObjectNode ref = NODES.objectNode();
-    ref.put("$ref", type.equals(root) ? "#" : "#/$defs/" + defName(type));
-    return ref;
-  }
-
-  private String defName(JavaType type) {
-    return defNames.computeIfAbsent(type, t -> {
-      String base = t.getRawClass().getSimpleName();
-      String name = base;
-      for (int i = 2; defNames.containsValue(name); i++) {
-        name = base + i;
-      }
-      return name;
-    });
   }
 
   private static ObjectNode keySchema(JavaType key, String path) {

@@ -1,0 +1,173 @@
+package dev.prime.mcap;
+
+import dev.prime.RecordedValue;
+import dev.prime.Recording;
+import java.io.IOException;
+import java.nio.file.Path;
+import java.time.Instant;
+import java.util.LinkedHashMap;
+import java.util.List;
+import java.util.Map;
+import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.atomic.AtomicBoolean;
+import java.util.concurrent.atomic.AtomicReference;
+import java.util.concurrent.atomic.LongAdder;
+import java.util.logging.Logger;
+
+/**
+ * Records a core's {@link Recording} to MCAP continuously: every value, as it is recorded, goes
+ * to an {@link McapWriter} with its bounded queue and rotation by size, so a long run keeps every
+ * value (the recording's rings keep only the latest few per name) in files of bounded size, and
+ * memory stays bounded by the writer's queue. Made by {@link RecordingMcap#stream}.
+ *
+ * <p>Design note (concurrency): a {@link dev.prime.RecordingListener} on the recording thread
+ * encodes the value and offers it to the writer's queue, which never waits: when the writer
+ * cannot keep up the value is dropped and counted ({@link #droppedCount()}), never stalling the
+ * controller. A name's channel is defined on its first value (typed by that value's class unless
+ * a type was given). A value that cannot be written (no channel type for its class, or JSON
+ * encoding fails) is counted in {@link #unwritableCount()} with its first reason. {@link #close()}
+ * unsubscribes, flushes the queue, finishes the file (whose {@code prime.mcap} Metadata record
+ * reports the drops) and logs a line when anything was lost.
+ */
+public final class McapRecorder implements AutoCloseable {
+  private static final Logger LOG = Logger.getLogger(McapRecorder.class.getName());
+
+  private final Recording recording;
+  private final McapWriter writer;
+  private final Map<String, ValueType<?>> types;
+  private final ProcessIdentity process;
+  private final Map<String, McapChannel<Object>> channels = new ConcurrentHashMap<>();
+  private final LongAdder accepted = new LongAdder();
+  private final LongAdder unwritable = new LongAdder();
+  private final AtomicReference<String> firstUnwritable = new AtomicReference<>();
+  private final Recording.Subscription subscription;
+  private final AtomicBoolean closed = new AtomicBoolean();
+
+  McapRecorder(
+      Recording recording,
+      Path path,
+      McapWriterOptions options,
+      Map<String, ValueType<?>> types,
+      Map<String, Map<String, String>> metadata,
+      OutputOpener opener)
+      throws IOException {
+    this.recording = recording;
+    this.types = Map.copyOf(types);
+    this.process = ProcessIdentity.current();
+    this.writer = McapWriter.open(path, options, opener);
+    try {
+      writer.metadata(RecordingMcap.PROCESS_METADATA, process.metadata());
+      metadata.forEach(writer::metadata);
+    } catch (RuntimeException e) {
+      writer.close();
+      throw e;
+    }
+    this.subscription = recording.subscribe(this::record);
+  }
+
+  private void record(RecordedValue<Object> entry) {
+    McapChannel<Object> channel = channels.get(entry.service());
+    if (channel == null) {
+      channel = define(entry);
+      if (channel == null) {
+        return;
+      }
+    }
+    long time = epochNanos(entry.wallTime());
+    try {
+      if (channel.write(time, time, entry.sequence(), entry.value())) {
+        accepted.increment();
+      }
+    } catch (IllegalArgumentException | IllegalStateException e) {
+      unwritable(entry.service() + ": " + e.getMessage());
+    }
+  }
+
+  @SuppressWarnings("unchecked")
+  private McapChannel<Object> define(RecordedValue<Object> entry) {
+    String name = entry.service();
+    try {
+      ValueType<?> given = types.get(name);
+      ValueType<Object> type =
+          (ValueType<Object>) (given != null ? given : ValueType.of(entry.value().getClass()));
+      Map<String, String> metadata = new LinkedHashMap<>();
+      metadata.put("prime.service", name);
+      if (entry.pseudoname() != null) {
+        metadata.put("prime.pseudoname", entry.pseudoname());
+      }
+      metadata.put(RecordingMcap.PROCESS_METADATA, process.id());
+      McapChannel<Object> channel = writer.channel(name, type, metadata);
+      McapChannel<Object> raced = channels.putIfAbsent(name, channel);
+      return raced != null ? raced : channel;
+    } catch (IllegalArgumentException | IllegalStateException e) {
+      unwritable(
+          name + ": values of " + entry.value().getClass().getName() + " have no channel type ("
+              + e.getMessage() + "); give its type in RecordingMcap.stream(..., types)");
+      return null;
+    }
+  }
+
+  private void unwritable(String reason) {
+    unwritable.increment();
+    firstUnwritable.compareAndSet(null, reason);
+  }
+
+  /** {@return the recording this recorder writes} */
+  public Recording recording() {
+    return recording;
+  }
+
+  /** {@return values handed to the writer so far (written or about to be)} */
+  public long writtenCount() {
+    return accepted.sum();
+  }
+
+  /** {@return values dropped so far because the writer's queue was full (it could not keep up)} */
+  public long droppedCount() {
+    return writer.droppedCount();
+  }
+
+  /** {@return values that could not be written (no channel type for their class, or encoding failed)} */
+  public long unwritableCount() {
+    return unwritable.sum();
+  }
+
+  /** {@return the files written so far: the first, then each rotated one} */
+  public List<Path> files() {
+    return writer.files();
+  }
+
+  /**
+   * Stops recording, writes what is queued, finishes the file and logs (at WARNING) what was
+   * lost, if anything. Idempotent.
+   *
+   * @throws IOException if writing failed at any point
+   */
+  @Override
+  public void close() throws IOException {
+    if (!closed.compareAndSet(false, true)) {
+      return;
+    }
+    subscription.close();
+    writer.close();
+    long dropped = droppedCount();
+    long failed = unwritableCount() + subscription.failures();
+    if (dropped > 0 || failed > 0) {
+      LOG.warning(
+          "MCAP recording " + writer.files() + ": wrote " + writtenCount() + " values, dropped "
+              + dropped + " (the writer could not keep up; see the prime.mcap Metadata record),"
+              + " could not write " + failed
+              + (firstUnwritable.get() == null ? "" : " (first: " + firstUnwritable.get() + ")"));
+    }
+  }
+
+  private static long epochNanos(Instant time) {
+    return Math.addExact(Math.multiplyExact(time.getEpochSecond(), 1_000_000_000L), time.getNano());
+  }
+
+  @Override
+  public String toString() {
+    return "McapRecorder[" + writer.files() + ", written " + writtenCount() + ", dropped "
+        + droppedCount() + "]";
+  }
+}

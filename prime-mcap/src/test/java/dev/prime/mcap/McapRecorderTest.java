@@ -1,0 +1,196 @@
+package dev.prime.mcap;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.RecordingOptions;
+import dev.prime.liberty.LibertyCore;
+import java.nio.file.Path;
+import java.time.Duration;
+import java.util.List;
+import java.util.Map;
+import java.util.Set;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.stream.Collectors;
+import java.util.stream.LongStream;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+
+/**
+ * {@link RecordingMcap#stream}: a core's recording written continuously, past what its rings
+ * hold, with rotation, counted drops when the disk stalls, and a flush on close.
+ */
+class McapRecorderTest {
+  @TempDir Path dir;
+
+  record Pose(double x, double y) {}
+
+  private static PrimeCore core(int capacity) {
+    return new LibertyCore(
+        CoreConfig.builder().recording(RecordingOptions.ring(capacity)).build());
+  }
+
+  @Test
+  void aLongRunWithASmallRingGetsEveryValueIntoTheFile() throws Exception {
+    Path file = dir.resolve("long.mcap");
+    int published = 5_000;
+    try (PrimeCore core = core(4)) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Reader<Pose> poses =
+          core.source("ticks", "Wheel ticks", ticks)
+              .then(core.chain("odometry", (Integer t) -> new Pose(t, -t)))
+              .reader();
+      core.start();
+      McapRecorder recorder;
+      try (McapRecorder r =
+          RecordingMcap.stream(
+              core.recording(), file, McapWriterOptions.defaults().queue(published * 2 + 10, 1 << 30))) {
+        recorder = r;
+        for (int i = 0; i < published; i++) {
+          ticks.publish(i);
+          assertTrue(poses.take(Duration.ofSeconds(20)).isPresent());
+        }
+      }
+      assertEquals(published - 4, core.recording().dropped("ticks")); // the ring kept 4
+      assertEquals(0, recorder.droppedCount());
+      assertEquals(2L * published, recorder.writtenCount());
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(published, reader.messageCount("ticks"));
+      assertEquals(published, reader.messageCount("odometry"));
+      assertEquals(
+          LongStream.range(0, published).boxed().toList(),
+          reader.messages("ticks", Integer.class).map(m -> (long) m.value()).toList());
+      assertEquals(
+          LongStream.range(0, published).boxed().toList(),
+          reader.messages("odometry", Pose.class).map(TypedMessage::sequence).toList());
+      assertEquals("Wheel ticks", reader.channel("ticks").orElseThrow().metadata().get("prime.pseudoname"));
+      assertEquals(1, reader.metadata(RecordingMcap.PROCESS_METADATA).size());
+      assertEquals("0", reader.metadata(McapWriter.LOSS_METADATA).get(0).get("dropped_messages"));
+    }
+  }
+
+  @Test
+  void rotationBySizeGivesSeveralFilesEachReadableWithAllChannels() throws Exception {
+    Path file = dir.resolve("rotated.mcap");
+    int published = 2_000;
+    List<Path> files;
+    try (PrimeCore core = core(8)) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Reader<Pose> poses =
+          core.source("ticks", ticks).then(core.chain("odometry", (Integer t) -> new Pose(t, t))).reader();
+      core.start();
+      McapWriterOptions options =
+          McapWriterOptions.defaults().chunkSize(4096).rotateAtSize(16 * 1024).queue(10_000, 1 << 30);
+      McapRecorder recorder =
+          RecordingMcap.stream(core.recording(), file, options, Map.of(), Map.of("run", Map.of("goal", "2,1")));
+      for (int i = 0; i < published; i++) {
+        ticks.publish(i);
+        assertTrue(poses.take(Duration.ofSeconds(20)).isPresent());
+      }
+      recorder.close();
+      files = recorder.files();
+      assertEquals(0, recorder.droppedCount());
+    }
+    assertTrue(files.size() >= 3, "expected several files, got " + files);
+    long ticksTotal = 0;
+    long posesTotal = 0;
+    for (Path part : files) {
+      try (McapReader reader = McapReader.open(part)) {
+        assertEquals(
+            Set.of("ticks", "odometry"),
+            reader.channels().stream().map(ChannelInfo::topic).collect(Collectors.toSet()),
+            part.toString());
+        assertTrue(reader.messageCount("ticks") > 0, part.toString());
+        ticksTotal += reader.messageCount("ticks");
+        posesTotal += reader.messages("odometry", Pose.class).count();
+        assertEquals("2,1", reader.metadata("run").get(0).get("goal"));
+      }
+    }
+    assertEquals(published, ticksTotal);
+    assertEquals(published, posesTotal);
+  }
+
+  @Test
+  void aStalledDiskDropsWithACountAndNeverBlocksThePublisher() throws Exception {
+    Path file = dir.resolve("stalled.mcap");
+    StallingOutput[] output = new StallingOutput[1];
+    int queue = 16;
+    int published = 500;
+    try (PrimeCore core = core(4)) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      core.source("ticks", ticks);
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(
+              core.recording(), file,
+              McapWriterOptions.defaults().chunkSize(1).queue(queue, 1 << 30), Map.of(), Map.of(),
+              path -> output[0] = new StallingOutput(path));
+      output[0].stall();
+      ticks.publish(-1);
+      assertTrue(output[0].awaitBlocked(20), "the writer thread never reached the disk");
+      CountDownLatch publisherDone = new CountDownLatch(1);
+      Thread publisher =
+          new Thread(
+              () -> {
+                for (int i = 0; i < published; i++) {
+                  ticks.publish(i);
+                }
+                publisherDone.countDown();
+              });
+      publisher.start();
+      assertTrue(publisherDone.await(20, TimeUnit.SECONDS), "the publisher was stalled by the disk");
+      long dropped = recorder.droppedCount();
+      assertTrue(dropped >= published - queue, "dropped " + dropped);
+      assertEquals(published + 1, recorder.writtenCount() + dropped);
+      output[0].release();
+      recorder.close();
+      try (McapReader reader = McapReader.open(file)) {
+        assertEquals(published + 1 - dropped, reader.messageCount("ticks"));
+        Map<String, String> loss = reader.metadata(McapWriter.LOSS_METADATA).get(0);
+        assertEquals(Long.toString(dropped), loss.get("dropped_messages"));
+        assertEquals(Long.toString(dropped), loss.get("dropped.ticks"));
+      }
+    }
+  }
+
+  @Test
+  void closeFlushesWhatIsQueuedAndStopsRecording() throws Exception {
+    Path file = dir.resolve("flush.mcap");
+    try (PrimeCore core = core(2)) {
+      EventBlock<String> words = new EventBlock<>();
+      core.source("words", words);
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults().chunkSize(1 << 20));
+      for (int i = 0; i < 100; i++) {
+        words.publish("w" + i);
+      }
+      recorder.close(); // one open chunk, never written before close
+      words.publish("after close");
+      assertEquals(100, recorder.writtenCount());
+      try (McapReader reader = McapReader.open(file)) {
+        assertEquals(100, reader.messageCount("words"));
+        assertEquals("w99", reader.messages("words", String.class).reduce((a, b) -> b).orElseThrow().value());
+      }
+    }
+  }
+
+  @Test
+  void synchronousOptionsAreRefusedWithTheFix() throws Exception {
+    try (PrimeCore core = core(2)) {
+      IllegalArgumentException e =
+          assertThrows(
+              IllegalArgumentException.class,
+              () -> RecordingMcap.stream(
+                  core.recording(), dir.resolve("x.mcap"), McapWriterOptions.defaults().synchronous()));
+      assertTrue(e.getMessage().contains("queue"), e.getMessage());
+    }
+  }
+}
