@@ -91,20 +91,24 @@ final class MeteringPoints {
 
     /**
      * Subscribes the subscriber that counts what the media accepted, after the media's; an
-     * in-memory source's readers' misses are counted by the source.
+     * in-memory source's readers' misses are counted by the source. Both subscribers leave the
+     * event block when the core closes.
      */
     void afterMedia(Source<?> source) {
       if (source instanceof MemorySource<?> memory) {
         meter.missed(memory::missedByReaders);
       }
-      events.subscribe(
-          value -> {
-            if (core.isClosed()) {
-              return;
-            }
-            meter.out();
-            meter.processed(System.nanoTime() - started.get()[0], false);
-          });
+      core.inProcessServices().unsubscribeOnClose(counting);
+      EventBlock.Subscription accepted =
+          events.subscribe(
+              value -> {
+                if (core.isClosed()) {
+                  return;
+                }
+                meter.out();
+                meter.processed(System.nanoTime() - started.get()[0], false);
+              });
+      core.inProcessServices().unsubscribeOnClose(accepted);
     }
 
     /** Stops counting: the media made no source. */

@@ -62,22 +62,28 @@ final class RecordingPoints {
               });
     }
 
-    /** Subscribes the recording subscriber, after the media's. */
+    /**
+     * Subscribes the recording subscriber, after the media's; both subscribers leave the event
+     * block when the core closes.
+     */
     void afterMedia() {
       RecordingRing ring = recording.ring(name, core.topologyRecorder().pseudoname(name));
-      events.subscribe(
-          value -> {
-            if (core.isClosed()) {
-              return;
-            }
-            Stamp stamp = stamps.get();
-            if (stamp.value == value) { // not overwritten by a nested publish of this thread
-              stamp.value = null;
-              ring.record(value, stamp.wallTime, stamp.monotonicNanos);
-            } else {
-              ring.record(value);
-            }
-          });
+      core.inProcessServices().unsubscribeOnClose(stamping);
+      EventBlock.Subscription recorder =
+          events.subscribe(
+              value -> {
+                if (core.isClosed()) {
+                  return;
+                }
+                Stamp stamp = stamps.get();
+                if (stamp.value == value) { // not overwritten by a nested publish of this thread
+                  stamp.value = null;
+                  ring.record(value, stamp.wallTime, stamp.monotonicNanos);
+                } else {
+                  ring.record(value);
+                }
+              });
+      core.inProcessServices().unsubscribeOnClose(recorder);
     }
 
     /** Stops stamping: the media made no source. */

@@ -16,6 +16,8 @@ import dev.prime.Recording;
 import dev.prime.RecordingOptions;
 import dev.prime.Source;
 import dev.prime.Reader;
+import java.lang.ref.ReferenceQueue;
+import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.time.Instant;
 import java.util.ArrayList;
@@ -192,6 +194,40 @@ public interface RecordingConformance extends ConformanceBase {
         assertEquals(on, tapped, "recording " + (on ? "on" : "off") + ", stack " + stack);
       }
     }
+  }
+
+  @Test
+  default void aClosedCoreLeavesNoSubscriberOnTheProgramsEventBlock() throws Exception {
+    EventBlock<String> events = new EventBlock<>();
+    Recording recording;
+    try (PrimeCore core = recordingCore(10)) {
+      Reader<String> words = core.source("words", events).reader();
+      core.start();
+      events.publish("before");
+      assertEquals("before", takeOrFail(words));
+      recording = core.recording();
+      assertEquals(List.of("before"), recording.getAll("words"));
+    }
+    // A subscriber left by the core would hold the value published after close (its stamp).
+    ReferenceQueue<String> collected = new ReferenceQueue<>();
+    WeakReference<String> after = publishAndForget(events, collected);
+    assertEquals(List.of("before"), recording.getAll("words"), "nothing recorded after close");
+    assertEquals(1, recording.recorded("words"));
+    for (int attempt = 0; attempt < 20 && collected.poll() == null; attempt++) {
+      System.gc();
+      if (collected.remove(100) != null) {
+        break;
+      }
+    }
+    assertNull(after.get(), "a subscriber of the closed core still holds the value published");
+  }
+
+  /** Publishes a fresh value to {@code events} and keeps only a weak reference to it. */
+  private static WeakReference<String> publishAndForget(
+      EventBlock<String> events, ReferenceQueue<String> collected) {
+    String value = new String("after close".toCharArray());
+    events.publish(value);
+    return new WeakReference<>(value, collected);
   }
 
   @Test
