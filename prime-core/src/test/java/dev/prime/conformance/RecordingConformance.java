@@ -231,6 +231,45 @@ public interface RecordingConformance extends ConformanceBase {
   }
 
   @Test
+  default void onlyEventSourcesAndChainsOfABlockAreRecorded() throws Exception {
+    try (PrimeCore core = recordingCore(100)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", events);
+      Reader<Integer> evens = numbers.filter(x -> x % 2 == 0).reader();
+      Reader<Integer> pairs = numbers.flatMap(x -> List.of(x, x)).reader();
+      CountDownLatch heard = new CountDownLatch(4);
+      numbers.listen(x -> heard.countDown());
+      Block<Integer, String> parity =
+          core.ifThenElse(
+                  x -> x % 2 == 0,
+                  core.chain("even", (Integer x) -> "even"),
+                  core.chain("odd", (Integer x) -> "odd"))
+              .toBlock();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 4), takeOrFail(evens, 2));
+      assertEquals(List.of(1, 1, 2, 2, 3, 3, 4, 4), takeOrFail(pairs, 8));
+      assertTrue(heard.await(10, TimeUnit.SECONDS), "the listener heard every value");
+      assertEquals("odd", parity.process(1));
+      assertEquals("even", parity.process(2));
+
+      Recording recording = core.recording();
+      assertEquals(List.of("numbers", "even", "odd"), List.copyOf(recording.names()));
+      assertEquals(List.of(1, 2, 3, 4), recording.getAll("numbers"));
+      assertEquals(List.of("even"), recording.getAll("even"));
+      assertEquals(List.of("odd"), recording.getAll("odd"));
+      for (String notRecorded :
+          List.of("filter(numbers)", "flatMap(numbers)", "listen(numbers)", "if(even|odd)")) {
+        IllegalArgumentException e =
+            assertThrows(IllegalArgumentException.class, () -> recording.getAll(notRecorded));
+        assertTrue(e.getMessage().contains("numbers"), e.getMessage());
+      }
+    }
+  }
+
+  @Test
   default void getWaitsForAFirstValueUpToItsTimeout() throws Exception {
     try (PrimeCore core = recordingCore(10)) {
       EventBlock<String> events = new EventBlock<>();
