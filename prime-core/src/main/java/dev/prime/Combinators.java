@@ -1,7 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.RateLimitedLog;
+import dev.prime.internal.RateLimitedLog;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Arrays;
@@ -114,7 +114,12 @@ final class Combinators {
           EventBlock<Object> events = new EventBlock<>();
           Source<Object> out = core.newSource(name, events);
           AtomicReference<Object> latest = new AtomicReference<>();
-          CombinedInputs.run(core, threads, name, inputs, (input, value) -> latest.set(value));
+          CombinedInputs.run(
+              core,
+              threads,
+              name,
+              inputs,
+              core.model().combinator(name, (input, value) -> latest.set(value)));
           schedule(
               name + " clock",
               new Ticking(
@@ -170,8 +175,8 @@ final class Combinators {
   private <R> Source<R> combine(String name, List<Source<?>> inputs, Pairing pairing) {
     EventBlock<Object> events = new EventBlock<>();
     Source<Object> out = core.newSource(name, events);
-    CombinedInputs.run(
-        core, threads, name, inputs, (input, value) -> pairing.accept(input, value, events::publish));
+    CombinedInputs.InputStep step = (input, value) -> pairing.accept(input, value, events::publish);
+    CombinedInputs.run(core, threads, name, inputs, core.model().combinator(name, step));
     return typed(out);
   }
 

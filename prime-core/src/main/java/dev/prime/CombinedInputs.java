@@ -1,7 +1,6 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.MediaSource;
 import java.util.List;
 import java.util.function.Consumer;
 

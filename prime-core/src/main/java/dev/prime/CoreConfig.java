@@ -1,9 +1,8 @@
 package dev.prime;
 
-import dev.prime.spi.ValueCodec;
 import java.time.Duration;
 import java.util.Objects;
-import dev.prime.spi.RateLimitedLog;
+import dev.prime.internal.RateLimitedLog;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 

@@ -1,25 +1,28 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.GenericServiceLoop;
-import dev.prime.spi.MediaSource;
-import dev.prime.spi.NodeLogic;
+import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
+import java.util.function.Supplier;
 
 /**
- * {@link PrimeCore}'s in-process defaults, which a media that runs in one process uses as they
- * are: in-memory broadcast sources fed by event blocks, and services (a chain on a source, a
- * filter, a flat-map, a listener) that each run on a thread of the core.
+ * The core's in-memory {@link SourceCompiler}, which a media that runs in one process uses as it
+ * is: in-memory broadcast sources fed by event blocks, and services (a chain on a source, a
+ * filter, a flat-map, a listener) that each run on a thread of the core. A media with a source
+ * compiler of its own (Optimus) still gets this one for the services of sources that are not its
+ * own (another core's): they read any source through its readers, so their "form" of a source is
+ * the source itself, and of a source link's chain a supplier of the chain's block, taken once the
+ * service's input is open (making a block may have effects, such as binding Optimus services).
  *
  * <p>Design note. The sources and the event-block subscriptions are kept in lists guarded by the
  * sources list, so that {@link #close()} unsubscribes and closes every one exactly once, and a
  * source made after the core closed is refused ({@link PrimeCore#ensureOpen()} under the same
  * lock). Service threads belong to {@link ServiceThreads}, which starts, names and stops them.
  */
-final class InProcessServices {
+final class InProcessServices implements SourceCompiler<Source<?>> {
   private final PrimeCore core;
   private final ServiceThreads threads;
   private final List<MemorySource<?>> sources = new ArrayList<>(); // guarded by itself
@@ -29,6 +32,12 @@ final class InProcessServices {
   InProcessServices(PrimeCore core, ServiceThreads threads) {
     this.core = core;
     this.threads = threads;
+  }
+
+  @Override
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  public Class<Source<?>> form() {
+    return (Class) Source.class;
   }
 
   /** Meters the filters, flat-maps and listeners made from now on ({@code null}: none). */
@@ -53,7 +62,8 @@ final class InProcessServices {
   }
 
   /** An in-memory source publishing what {@code events} publishes. */
-  <T> Source<T> eventSource(String name, EventBlock<T> events) {
+  @Override
+  public <T> Source<T> eventSource(String name, EventBlock<T> events) {
     MemorySource<T> source = newSource(name);
     synchronized (sources) {
       subscriptions.add(
@@ -70,20 +80,47 @@ final class InProcessServices {
   }
 
   /**
-   * A service running {@code chain} on every value of {@code input}; its non-null outputs. The
-   * chain is consumed only once the service's input is open, so a link whose input fails leaves
-   * the chain usable.
+   * Compiles a service of any source: a {@link TopologyNode.SourceLink} running {@code chain} (a
+   * {@code Supplier} of the chain's block, which the model compiler claims once this returned), a {@link
+   * TopologyNode.Filter}, a {@link TopologyNode.FlatMap} or a {@link TopologyNode.Listener}.
    */
-  <I, O> Source<O> link(String name, Source<I> input, Chain<? super I, O> chain) {
+  @Override
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  public Source<?> service(TopologyNode node, NodeLogic logic, Source<?> input, Object chain) {
+    String name = node.name();
+    Source in = input;
+    if (node instanceof TopologyNode.SourceLink) {
+      return link(name, in, (Supplier) chain);
+    }
+    if (node instanceof TopologyNode.Filter) {
+      return filter(name, in, ((NodeLogic.Condition) logic).condition());
+    }
+    if (node instanceof TopologyNode.FlatMap) {
+      return flatMap(name, in, ((NodeLogic.Expand) logic).block());
+    }
+    if (node instanceof TopologyNode.Listener) {
+      listen(name, in, ((NodeLogic.Listen) logic).listener());
+      return null;
+    }
+    throw new IllegalStateException("not a service of a source: " + node);
+  }
+
+  /**
+   * A service running the chain's block on every value of {@code input}; its non-null outputs.
+   * The block is made only once the service's input is open, so a link whose input fails has
+   * done nothing to the chain.
+   */
+  private <I, O> Source<O> link(String name, Source<I> input, Supplier<Block<I, O>> chain) {
     Reader<I> values = serviceInput(name, input);
+    MemorySource<O> out;
     Block<I, O> block;
     try {
-      block = Block.narrow(chain.toBlock());
+      block = chain.get();
+      out = newSource(name);
     } catch (RuntimeException | Error e) {
       values.close();
       throw e;
     }
-    MemorySource<O> out = newSource(name);
     run(
         name,
         values,
@@ -98,7 +135,7 @@ final class InProcessServices {
 
   /** A service republishing the values of {@code input} that pass. */
   @SuppressWarnings("unchecked")
-  <T> Source<T> filter(String name, Source<T> input, Predicate<? super T> predicate) {
+  private <T> Source<T> filter(String name, Source<T> input, Predicate<? super T> predicate) {
     MemorySource<T> out = newSource(name);
     Reader<T> values = serviceInput(name, input);
     Predicate<? super T> test =
@@ -118,7 +155,7 @@ final class InProcessServices {
 
   /** A service publishing every non-null value {@code block} makes of each value of {@code input}. */
   @SuppressWarnings("unchecked")
-  <T, R> Source<R> flatMap(
+  private <T, R> Source<R> flatMap(
       String name, Source<T> input, Block<? super T, ? extends Iterable<? extends R>> block) {
     MemorySource<R> out = newSource(name);
     Reader<T> values = serviceInput(name, input);
@@ -143,7 +180,7 @@ final class InProcessServices {
 
   /** A service calling {@code listener} with every value of {@code input}. */
   @SuppressWarnings("unchecked")
-  <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
+  private <T> void listen(String name, Source<T> input, Consumer<? super T> listener) {
     Reader<T> values = serviceInput(name, input);
     run(
         name,

@@ -3,6 +3,8 @@ package dev.prime;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
+import java.util.Set;
+import org.slf4j.LoggerFactory;
 
 /**
  * The hooks of {@link PrimeCore#whenRunning}: work tied to a core's lifecycle that is not a
@@ -77,5 +79,23 @@ final class LifecycleHooks {
       }
       core.config().errorHandler().handle(name, phase, e);
     }
+  }
+
+  /** The most service names the start line lists (a core may have thousands). */
+  private static final int START_LINE_SERVICES = 20;
+
+  /** Logs the one INFO line of {@link PrimeCore#start()}: the core, its media, what it hosts. */
+  static void logStarted(PrimeCore core, String media, String details, Set<String> services) {
+    List<String> hosted = List.copyOf(services);
+    LoggerFactory.getLogger(PrimeCore.class)
+        .info(
+            "core '{}' started on {}{}, hosting services {}{}",
+            core.name(),
+            media,
+            details,
+            hosted.subList(0, Math.min(hosted.size(), START_LINE_SERVICES)),
+            hosted.size() > START_LINE_SERVICES
+                ? " and " + (hosted.size() - START_LINE_SERVICES) + " more"
+                : "");
   }
 }

@@ -1,8 +1,6 @@
 package dev.prime;
 
-import dev.prime.spi.MediaSource;
-import dev.prime.spi.RateLimitedLog;
-import dev.prime.spi.ValueCodec;
+import dev.prime.internal.RateLimitedLog;
 import java.lang.invoke.MethodHandles;
 import java.lang.invoke.VarHandle;
 import java.time.Duration;

@@ -1,9 +1,9 @@
 package dev.prime;
 
-import dev.prime.spi.NodeLogic;
-import dev.prime.spi.ServiceGauges;
 import dev.prime.topology.TopologyNode;
+import java.time.Duration;
 import java.util.Iterator;
+import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
 
@@ -20,10 +20,12 @@ import java.util.function.Predicate;
  */
 final class MeteringPoints {
   private final PrimeCore core;
+  private final InProcessServices unsubscriber; // closes its event block subscriptions at close
   private final Metrics metrics;
 
-  MeteringPoints(PrimeCore core, String media, ServiceGauges gauges) {
+  MeteringPoints(PrimeCore core, String media, ServiceGauges gauges, InProcessServices memory) {
     this.core = core;
+    this.unsubscriber = memory;
     this.metrics =
         new Metrics(core.name(), media, core.topologyRecorder(), gauges, core::isHostedHere);
   }
@@ -68,7 +70,72 @@ final class MeteringPoints {
 
   /** Starts metering an event source; see {@link RecordingPoints#beforeSource}. */
   SourcePoint beforeSource(TopologyNode node, EventBlock<?> events) {
-    return new SourcePoint(meter(node), events);
+    return new SourcePoint(meter(node), events, node instanceof TopologyNode.Combinator);
+  }
+
+  /**
+   * The step of a combinator's inputs with its tap: in = values taken from the inputs, timed,
+   * failures = values whose step threw; out is what its output source accepted (counted by its
+   * {@link SourcePoint}, so the combinator's output source must be compiled first).
+   */
+  CombinedInputs.InputStep combinator(String name, CombinedInputs.InputStep step) {
+    ServiceMeter meter = metrics.registered(name);
+    if (meter == null) {
+      throw new IllegalStateException("combinator '" + name + "' has no output source yet");
+    }
+    return (input, value) -> {
+      meter.in();
+      long start = System.nanoTime();
+      try {
+        step.accept(input, value);
+      } catch (RuntimeException | Error failed) {
+        meter.processed(System.nanoTime() - start, true);
+        throw failed;
+      }
+      meter.processed(System.nanoTime() - start, false);
+    };
+  }
+
+  /**
+   * A generic service with its tap: each {@link GenericService#work()} is one value in and, if it
+   * returns, one out; if it throws, a failure, unless {@code stopping} holds (the step ended
+   * because the service stops: timed, neither out nor failed, as the loop does not report it).
+   */
+  GenericService genericService(TopologyNode node, GenericService service, BooleanSupplier stopping) {
+    return new GenericServiceTap(meter(node), service, stopping);
+  }
+
+  private record GenericServiceTap(
+      ServiceMeter meter, GenericService service, BooleanSupplier stopping)
+      implements GenericService {
+    @Override
+    public void initialize() throws Exception {
+      service.initialize();
+    }
+
+    @Override
+    public void work() throws Exception {
+      meter.in();
+      long start = System.nanoTime();
+      try {
+        service.work();
+      } catch (Exception | Error failed) {
+        meter.processed(System.nanoTime() - start, !stopping.getAsBoolean());
+        throw failed;
+      }
+      meter.processed(System.nanoTime() - start, false);
+      meter.out();
+    }
+
+    @Override
+    public void shutdown() throws Exception {
+      service.shutdown();
+    }
+
+    @Override
+    public Duration backoff(int failures) {
+      return service.backoff(failures);
+    }
   }
 
   /** The metering of one event source: publishes in, accepted by the media out, and the time. */
@@ -78,15 +145,20 @@ final class MeteringPoints {
     private final ThreadLocal<long[]> started = ThreadLocal.withInitial(() -> new long[1]);
     private final EventBlock.Subscription counting;
 
-    private SourcePoint(ServiceMeter meter, EventBlock<?> events) {
+    private final boolean outputOnly; // a combinator's: its inputs are counted by its input tap
+
+    private SourcePoint(ServiceMeter meter, EventBlock<?> events, boolean outputOnly) {
       this.meter = meter;
       this.events = events;
+      this.outputOnly = outputOnly;
       this.counting =
-          events.subscribe(
-              value -> {
-                meter.in();
-                started.get()[0] = System.nanoTime();
-              });
+          outputOnly
+              ? () -> {}
+              : events.subscribe(
+                  value -> {
+                    meter.in();
+                    started.get()[0] = System.nanoTime();
+                  });
     }
 
     /**
@@ -98,7 +170,7 @@ final class MeteringPoints {
       if (source instanceof MemorySource<?> memory) {
         meter.missed(memory::missedByReaders);
       }
-      core.inProcessServices().unsubscribeOnClose(counting);
+      unsubscriber.unsubscribeOnClose(counting);
       EventBlock.Subscription accepted =
           events.subscribe(
               value -> {
@@ -106,9 +178,11 @@ final class MeteringPoints {
                   return;
                 }
                 meter.out();
-                meter.processed(System.nanoTime() - started.get()[0], false);
+                if (!outputOnly) {
+                  meter.processed(System.nanoTime() - started.get()[0], false);
+                }
               });
-      core.inProcessServices().unsubscribeOnClose(accepted);
+      unsubscriber.unsubscribeOnClose(accepted);
     }
 
     /** Stops counting: the media made no source. */

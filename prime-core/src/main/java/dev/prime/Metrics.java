@@ -1,7 +1,5 @@
 package dev.prime;
 
-import dev.prime.spi.ServiceGauges;
-import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.LinkedHashMap;
@@ -32,13 +30,25 @@ import java.util.function.Predicate;
  *       values its function threw on. A chain linked to a source is metered as its chains;
  *   <li>every source fed by an event block ({@code EventSource}): in = publishes, out = publishes
  *       the media accepted (the difference: publishes it refused, such as a {@link
- *       QueueFullException}), processing = how long the media took to accept each.
+ *       QueueFullException}), processing = how long the media took to accept each;
+ *   <li>every generic service ({@code GenericServiceNode}, {@link PrimeCore#service(String,
+ *       GenericService)}): in = calls of {@link GenericService#work()}, out = calls that returned,
+ *       failures = calls that threw (but for a call ended because the service stops, which the
+ *       error handler is not told of either), processing = the time of each call (a {@code work}
+ *       that waits for its next piece of work counts its wait);
+ *   <li>every combinator ({@code Combinator}: {@code combineLatest}, {@code zip}, {@code merge},
+ *       {@code withLatestFrom}, {@code sample}): in = values it took from its inputs, out = values
+ *       it published that the media accepted (tuples, merged or sampled values), failures = input
+ *       values whose step threw, processing = the time of each input value's step (its publish
+ *       included);
+ *   <li>every timer ({@code Timer}, {@link PrimeCore#timer}): in = ticks published, out = ticks
+ *       the media accepted, processing = how long the media took to accept each.
  * </ul>
  *
- * Generic services, combinators and timers are not metered. Where a media has them, {@link
- * ServiceMetrics#deadLetters()} (Optimus), {@link ServiceMetrics#queueDepth()} (a filter's,
- * flat-map's or listener's input on every media, each Optimus service's lists) and {@link
- * ServiceMetrics#missed()} (what an event source's plain readers missed) are read when a snapshot
+ * Where a media has them, {@link ServiceMetrics#deadLetters()} (Optimus), {@link
+ * ServiceMetrics#queueDepth()} (a filter's, flat-map's or listener's input on every media, each
+ * Optimus service's lists) and {@link ServiceMetrics#missed()} (what the plain readers of an
+ * event source, a combinator or a timer missed) are read when a snapshot
  * is taken.
  *
  * <p>Cost and threads. When metrics are off nothing is compiled into any chain, service or
@@ -144,6 +154,13 @@ public final class Metrics {
     void close();
   }
 
+  /** {@return the meter registered under {@code name}, or {@code null}} */
+  ServiceMeter registered(String name) {
+    synchronized (meters) {
+      return meters.get(name);
+    }
+  }
+
   /** Registers the meter of a node being compiled (replacing one a failed declaration left). */
   void add(ServiceMeter meter) {
     synchronized (meters) {
@@ -160,7 +177,8 @@ public final class Metrics {
     if (meter == null || !declared(name)) {
       throw new IllegalArgumentException(
           "no metered node is named '" + name + "' in core '" + core + "': the metered names"
-              + " (chains that run logic, filters, flat-maps, listeners and event sources) are "
+              + " (chains that run logic, filters, flat-maps, listeners, event sources, generic"
+              + " services, combinators and timers) are "
               + names());
     }
     return meter;
@@ -196,7 +214,7 @@ public final class Metrics {
     long missed = meter.missed();
     if (gauges != null && meter.isSource()) { // a source has neither queue nor dead letters
       missed += gauges.missed(name);
-    } else if (gauges != null) {
+    } else if (gauges != null && !meter.runByCore()) { // nor has a generic service
       if (depth < 0) {
         depth = gauges.queueDepth(name);
       }

@@ -1,52 +1,69 @@
 package dev.prime;
 
-import dev.prime.spi.AbstractChain;
-import dev.prime.spi.ChainCompiler;
+import java.util.concurrent.atomic.AtomicBoolean;
 
 /**
  * A chain of a core: the name of its node in the topology model and the form its media compiled
- * that node to. A link or template of the same core takes the form ({@link #compiledForm()});
- * {@link #toBlock()} asks the media for the block that runs it.
+ * that node to. A link or template of the same core takes the form ({@link #formOf}); {@link
+ * #toBlock()} asks the media for the block that runs it.
+ *
+ * <p>Design note (single use). A chain is claimed once: by {@link #toBlock()} or by the link or
+ * template that takes it ({@link #claim()}). Both run under the core's declaration lock ({@link
+ * DeclarationLock}), so a {@code toBlock()} on one thread and a link taking the same chain on
+ * another never interleave between the link's checks and its claims: whichever comes second is
+ * refused before it consumed anything.
  *
  * @param <I> input type
  * @param <O> output type
  * @param <F> the media's compiled form
  */
-final class ModelChain<I, O, F> extends AbstractChain<I, O> {
+final class ModelChain<I, O, F> implements Chain<I, O> {
+  private final PrimeCore core;
+  private final String name;
   private final F form;
   private final ChainCompiler<F> media;
+  private final AtomicBoolean used = new AtomicBoolean();
 
   ModelChain(PrimeCore core, String name, F form, ChainCompiler<F> media) {
-    super(core, name);
+    this.core = core;
+    this.name = name;
     this.form = form;
     this.media = media;
   }
 
   @Override
-  protected Object compiledForm() {
-    return form;
+  public PrimeCore core() {
+    return core;
   }
 
   @Override
-  @SuppressWarnings("unchecked")
-  protected Block<I, O> createBlock() {
-    return (Block<I, O>) media.toBlock(name(), form);
-  }
-
-  @Override
-  protected boolean copiesValuesItself() {
-    return media.copiesValues();
+  public String name() {
+    return name;
   }
 
   /**
-   * This chain's compiled form if it is a {@code type}, else {@code null}; consumes nothing.
+   * Consumes the chain and returns its block, under the core's declaration lock. If the core
+   * copies values ({@link CoreConfig#valueCopies()}) and the media does not already, the block
+   * copies each input before the chain sees it and each result before the caller does.
    */
+  @Override
+  public Block<I, O> toBlock() {
+    return DeclarationLock.run(
+        core,
+        () -> {
+          consume();
+          return partBlock();
+        });
+  }
+
+  /** This chain's compiled form if it is a {@code type}, else {@code null}; consumes nothing. */
   <T> T formOf(Class<T> type) {
     return type.isInstance(form) ? type.cast(form) : null;
   }
 
   /**
-   * Consumes this chain as a part of a link or template of its core that compiled.
+   * Consumes this chain as a part of a link or template of its core that compiled (inside that
+   * declaration).
    *
    * @throws ChainAlreadyUsedException if it was consumed before
    * @throws CoreClosedException if the core is closed
@@ -57,14 +74,54 @@ final class ModelChain<I, O, F> extends AbstractChain<I, O> {
 
   /** {@return whether this chain was consumed} */
   boolean used() {
-    return isUsed();
+    return used.get();
   }
 
   /**
    * The block a generic template calls this chain through, once the template took it as a part:
    * what {@link #toBlock()} would have given.
    */
+  @SuppressWarnings("unchecked")
   Block<I, O> partBlock() {
-    return copyingValues(createBlock());
+    Block<I, O> block = (Block<I, O>) media.toBlock(name, form);
+    ValueCodec copies = core.config().valueCopies();
+    return copies == null || media.copiesValues() ? block : new CopyingBlock<>(name, block, copies);
+  }
+
+  private void consume() {
+    if (core.isClosed()) {
+      throw new CoreClosedException(core.name());
+    }
+    if (!used.compareAndSet(false, true)) {
+      throw new ChainAlreadyUsedException(name);
+    }
+  }
+
+  /** A synchronous call that copies its input and its result, like a call between processes. */
+  private static final class CopyingBlock<I, O> implements Block<I, O> {
+    private final String chainName;
+    private final Block<I, O> block;
+    private final ValueCodec copies;
+
+    CopyingBlock(String chainName, Block<I, O> block, ValueCodec copies) {
+      this.chainName = chainName;
+      this.block = block;
+      this.copies = copies;
+    }
+
+    @Override
+    public O process(I input) {
+      O result = block.process(copies.copy(input));
+      try {
+        return copies.copy(result);
+      } catch (RuntimeException e) {
+        throw new ChainFailedException(chainName, e); // the result could not leave the service
+      }
+    }
+  }
+
+  @Override
+  public String toString() {
+    return "ModelChain[" + name + "]";
   }
 }

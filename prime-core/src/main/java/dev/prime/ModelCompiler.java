@@ -1,34 +1,22 @@
 package dev.prime;
 
-import dev.prime.blocks.AsyncCollectorBlock;
-import dev.prime.blocks.ForEachBlock;
-import dev.prime.blocks.ForkBlock;
-import dev.prime.blocks.GuardBlock;
-import dev.prime.blocks.IfThenElseBlock;
-import dev.prime.blocks.LinkBlock;
-import dev.prime.blocks.RepeaterLoopBlock;
-import dev.prime.blocks.SyncCollectorBlock;
-import dev.prime.blocks.UnionBlock;
-import dev.prime.spi.ChainCompiler;
-import dev.prime.spi.NodeLogic;
-import dev.prime.spi.ServiceGauges;
-import dev.prime.spi.SourceCompiler;
-import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
+import java.util.function.Supplier;
 
 /**
  * Compiles the chain nodes of a core's topology model with its media's {@link ChainCompiler}: the
  * one place that says what each kind of chain node is made of and, for the templates a media does
- * not compile in its own way, which generic block of {@code dev.prime.blocks} runs it.
+ * not compile in its own way, which generic block ({@link IfThenElseBlock}, {@link UnionBlock},
+ * ...) runs it.
  *
  * <p>A node is compiled as soon as it is recorded, from the node, its {@link NodeLogic} and the
  * compiled forms of its parts (which it consumes): bottom-up, without recursion, each node once.
  * Event sources and the services of the media's own sources go to its {@link SourceCompiler}, if
- * it has one; otherwise (and for services of any other source) {@link PrimeCore} runs them in
- * memory.
+ * it has one; otherwise (and for services of any other source) to the core's in-memory one
+ * ({@link InProcessServices}). The shared block of {@link PrimeCore#isolate} is built here too.
  *
  * <p>Design note. Stateless apart from its final references to the core, the media's compilers
  * and the core's recording points (which keep their own state): every call reads what it needs from the recorder and runs inside the declaration
@@ -42,18 +30,23 @@ final class ModelCompiler<F> {
   private final PrimeCore core;
   private final ChainCompiler<F> media;
   private final SourceCompiler<?> sources; // null: in-memory sources
+  private final InProcessServices memory; // the in-memory source compiler
   private final RecordingPoints recording; // null: recording is off
   private final MeteringPoints metering; // null: metrics are off
 
-  ModelCompiler(PrimeCore core, ChainCompiler<F> media, SourceCompiler<?> sources) {
+  ModelCompiler(
+      PrimeCore core, ChainCompiler<F> media, SourceCompiler<?> sources, InProcessServices memory) {
     this.core = core;
     this.media = Objects.requireNonNull(media, "the media's chain compiler");
     this.sources = sources;
+    this.memory = memory;
     RecordingOptions options = core.config().recording();
-    this.recording = options == null ? null : new RecordingPoints(core, options);
+    this.recording = options == null ? null : new RecordingPoints(core, options, memory);
     this.metering =
-        core.config().metrics() ? new MeteringPoints(core, core.mediaName(), gauges()) : null;
-    core.inProcessServices().meterWith(metering);
+        core.config().metrics()
+            ? new MeteringPoints(core, core.mediaName(), gauges(), memory)
+            : null;
+    memory.meterWith(metering);
   }
 
   /** The media's gauges of its services, if its chain or source compiler has them. */
@@ -74,6 +67,23 @@ final class ModelCompiler<F> {
     return metering.metrics();
   }
 
+  /** A generic service just recorded as {@code name}, with its tap if metrics are on. */
+  GenericService genericService(String name, GenericService service) {
+    return metering == null
+        ? service
+        : metering.genericService(
+            core.topologyRecorder().node(name),
+            service,
+            () -> core.isClosed() || !core.isHostedHere(name));
+  }
+
+  /**
+   * The input step of combinator {@code name}, whose output source is compiled, with its tap if
+   * metrics are on.
+   */
+  CombinedInputs.InputStep combinator(String name, CombinedInputs.InputStep step) {
+    return metering == null ? step : metering.combinator(name, step);
+  }
 
   /** The core's recording; throws if recording is off. */
   Recording recording() {
@@ -88,10 +98,9 @@ final class ModelCompiler<F> {
 
   /** Compiles a just recorded event source: the media's own, or an in-memory one. */
   <T> Source<T> eventSource(String name, EventBlock<T> events) {
+    SourceCompiler<?> compiler = sources == null ? memory : sources;
     if (recording == null && metering == null) {
-      return sources == null
-          ? core.inProcessServices().eventSource(name, events)
-          : sources.eventSource(name, events);
+      return compiler.eventSource(name, events);
     }
     MeteringPoints.SourcePoint metered =
         metering == null
@@ -100,10 +109,7 @@ final class ModelCompiler<F> {
     RecordingPoints.SourcePoint point =
         recording == null ? null : recording.beforeSource(name, events);
     try {
-      Source<T> source =
-          sources == null
-              ? core.inProcessServices().eventSource(name, events)
-              : sources.eventSource(name, events);
+      Source<T> source = compiler.eventSource(name, events);
       if (point != null) {
         point.afterMedia();
       }
@@ -122,31 +128,66 @@ final class ModelCompiler<F> {
     }
   }
 
-  /** Whether {@code source} is one of the media's own sources, whose services it compiles. */
-  boolean ownsSource(Source<?> source) {
-    return sources != null && core.sourcePart(source, sources.form()) != null;
-  }
-
   /**
-   * Compiles a just recorded service of one of the media's own sources ({@link #ownsSource}),
-   * consuming {@code chain} (a source link's; {@code null} for the other services).
+   * Compiles a just recorded service of a source (a source link, filter, flat-map or listener),
+   * consuming {@code chain} (a source link's; {@code null} for the other services): by the
+   * media's {@link SourceCompiler} if the source is one of its own (in its form), else in memory.
+   *
+   * @return the source of its outputs; {@code null} for a listener
    */
-  Source<?> service(String name, Source<?> input, Chain<?, ?> chain) {
+  @SuppressWarnings("unchecked")
+  <T> Source<T> service(String name, Source<?> input, Chain<?, ?> chain) {
     TopologyRecorder model = core.topologyRecorder();
     TopologyNode node = model.node(name);
+    NodeLogic logic = model.logic(name);
     Part<F> part = null;
     if (node instanceof TopologyNode.SourceLink link) {
       part = part(chain, link.chain(), model);
     }
-    NodeLogic logic = model.logic(name);
-    if (metering != null && part == null) { // a filter, flat-map or listener: its function
-      logic = metering.service(node, logic).logic();
+    boolean mediaOwn = sources != null && core.sourcePart(input, sources.form()) != null;
+    if (mediaOwn && metering != null && part == null) { // a filter, flat-map or listener
+      logic = metering.service(node, logic).logic(); // (in memory, the service meters itself)
     }
-    Source<?> output = service(sources, node, logic, input, part == null ? null : part.form());
+    Source<?> output =
+        mediaOwn
+            ? service(sources, node, logic, input, part == null ? null : part.form())
+            : memory.service(node, logic, input, part == null ? null : blockOf(part));
     if (part != null) {
       part.claim();
     }
-    return output;
+    return (Source<T>) output;
+  }
+
+  /** {@link PrimeCore#sourcePart}: the media's form of one of {@code core}'s sources, or null. */
+  static <S> S sourceForm(PrimeCore core, Source<?> source, Class<S> form) {
+    if (source.core() == core && source instanceof MediaSource<?> own) {
+      Object compiled = own.compiledForm();
+      if (form.isInstance(compiled)) {
+        return form.cast(compiled);
+      }
+    }
+    return null;
+  }
+
+  /** A part's block, made when the in-memory service asks for it (its input open). */
+  private static Supplier<Block<?, ?>> blockOf(Part<?> part) {
+    return part::block;
+  }
+
+  /**
+   * Compiles the shared block of {@link PrimeCore#isolate}, consuming {@code chain}: the chain's
+   * block behind a fair lock that never runs it for two callers at once, and ends a waiting
+   * caller's wait when the core closes. Its users are chain nodes of their own ({@link
+   * NodeLogic.Shared}).
+   *
+   * @param node the shared chain's node, just taken ({@link TopologyRecorder#isolate})
+   */
+  <I, O> Isolated<I, O> isolate(String node, Chain<I, O> chain) {
+    Part<F> part = part(chain, node, core.topologyRecorder());
+    @SuppressWarnings("unchecked")
+    Block<I, O> shared = new IsolateBlock<>((Block<I, O>) part.block(), core::ensureOpen);
+    part.claim();
+    return new IsolatedChain<>(core, node, chain.name(), shared);
   }
 
   private <S> Source<?> service(

@@ -1,24 +1,17 @@
 package dev.prime;
 
-import dev.prime.blocks.IsolateBlock;
 import dev.prime.internal.ServiceThreads;
-import dev.prime.spi.ChainCompiler;
-import dev.prime.spi.MediaSource;
-import dev.prime.spi.SourceCompiler;
-import dev.prime.spi.TopologyRecorder;
 import dev.prime.topology.Topology;
-import java.util.Collections;
-import java.util.LinkedHashSet;
 import java.util.List;
 import java.util.Objects;
 import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.atomic.AtomicInteger;
+import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Consumer;
+import java.util.function.Function;
 import java.util.function.Predicate;
 import java.util.function.Supplier;
-import org.slf4j.Logger;
-import org.slf4j.LoggerFactory;
 
 /**
  * The media layer: turns blocks into chains and event blocks into sources, links them, and runs
@@ -60,15 +53,17 @@ import org.slf4j.LoggerFactory;
  *
  * <h2>For media authors</h2>
  * A media is a compiler of the topology model. Every declaration is recorded as a node with its
- * logic ({@link TopologyRecorder}) and compiled at once by the media's {@link #chainCompiler()},
- * which a media implements; templates it does not compile in its own way become the core's
- * generic blocks. Sources and their services are in memory, one thread per service, unless the
- * media has a {@link #sourceCompiler()} (Optimus: Redis lists and services).
+ * logic ({@link NodeLogic}) and compiled at once by the media's {@link #chainCompiler()}, which a
+ * media implements; templates it does not compile in its own way become the core's generic
+ * blocks. Sources and their services are the core's in-memory ones, one thread per service,
+ * unless the media has a {@link #sourceCompiler()} (Optimus: Redis lists and services). The
+ * protected methods are all a media uses of this class.
  */
 public abstract class PrimeCore implements AutoCloseable {
 
   private static final ConcurrentHashMap<String, AtomicInteger> CORE_COUNTERS =
       new ConcurrentHashMap<>();
+  private static final AtomicLong CREATED = new AtomicLong();
 
   private enum State {
     NEW,
@@ -77,10 +72,9 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   private final CoreConfig config;
-  private static final Logger LOG = LoggerFactory.getLogger(PrimeCore.class);
   private final String name;
   private final String media;
-  private volatile TopologyRecorder recorder; // made on first use: it refers to this core
+  private final TopologyRecorder recorder = new TopologyRecorder(this);
   private volatile ModelCompiler<?> compiler; // made on first use: the media's compilers
   private final ServiceThreads services;
   private final InProcessServices inProcess;
@@ -88,6 +82,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
+  private final long creationOrder = CREATED.incrementAndGet();
 
   /**
    * @param media the media's short name, for generated core names ({@code liberty-1})
@@ -103,6 +98,11 @@ public abstract class PrimeCore implements AutoCloseable {
     this.services = new ServiceThreads(name);
     this.inProcess = new InProcessServices(this, services);
     this.combinators = new Combinators(this, services);
+  }
+
+  /** The order in which cores take each other's declaration locks ({@link DeclarationLock}). */
+  final long creationOrder() {
+    return creationOrder;
   }
 
   /** {@return the core's name (from {@link CoreConfig#name()} or generated)} */
@@ -188,14 +188,20 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   protected abstract ChainCompiler<?> chainCompiler();
 
-  /**
-   * Compiles a chain node just recorded, consuming the chains it is made of.
-   *
-   * @param name the node's name
-   * @param parts the chains given for its parts, in order, already checked
-   */
+  /** Compiles a chain node just recorded, consuming {@code parts} (checked, in the node's order). */
   private <I, O> Chain<I, O> compiled(String name, Chain<?, ?>... parts) {
     return model().chain(name, parts);
+  }
+
+  /** Declares a chain node made of {@code parts}: checks them, records, compiles and claims. */
+  private <I, O> Chain<I, O> declaredChain(
+      Function<TopologyRecorder, String> record, Chain<?, ?>... parts) {
+    return declared(
+        () -> {
+          requireChains(parts);
+          return compiled(record.apply(topologyRecorder()), parts);
+        },
+        parts);
   }
 
   /**
@@ -219,13 +225,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the form, or {@code null}
    */
   protected final <S> S sourcePart(Source<?> source, Class<S> form) {
-    if (source.core() == this && source instanceof MediaSource<?> own) {
-      Object compiled = own.compiledForm();
-      if (form.isInstance(compiled)) {
-        return form.cast(compiled);
-      }
-    }
-    return null;
+    return ModelCompiler.sourceForm(this, source, form);
   }
 
   /** Compiles the event source of a node just recorded (for the core's combinators). */
@@ -233,26 +233,22 @@ public abstract class PrimeCore implements AutoCloseable {
     return model().eventSource(name, events);
   }
 
-  /** The in-memory sources and services of this core. */
-  InProcessServices inProcessServices() {
-    return inProcess;
-  }
-
   /**
-   * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes
-   * ({@link TopologyRecorder#declare}).
+   * Runs a declaration atomically: its checks, the nodes it records and the chains it consumes,
+   * holding the declaration locks of this core and of the cores of the chains it takes.
    */
-  private <T> T declared(Supplier<T> declaration) {
-    return topologyRecorder().declare(declaration);
+  private <T> T declared(Supplier<T> declaration, Chain<?, ?>... takes) {
+    return DeclarationLock.run(this, declaration, takes);
   }
 
-  private ModelCompiler<?> model() {
+  /** The compiler of this core's model (made on first use: it asks the media for its compilers). */
+  ModelCompiler<?> model() {
     ModelCompiler<?> c = compiler;
     if (c == null) {
       synchronized (lifecycle) {
         c = compiler;
         if (c == null) {
-          c = new ModelCompiler<>(this, chainCompiler(), sourceCompiler());
+          c = new ModelCompiler<>(this, chainCompiler(), sourceCompiler(), inProcess);
           compiler = c;
         }
       }
@@ -274,11 +270,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain, named {@code first>second}
    */
   public final <I, M, O> Chain<I, O> link(Chain<I, M> first, Chain<? super M, O> second) {
-    return declared(
-        () -> {
-          requireChains(first, second);
-          return compiled(topologyRecorder().link(first, second), first, second);
-        });
+    return declaredChain(recorder -> recorder.link(first, second), first, second);
   }
 
   // ---------------------------------------------------------------- templates
@@ -300,11 +292,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Chain<? super I, ? extends O> then,
       Chain<? super I, ? extends O> otherwise) {
     Objects.requireNonNull(condition, "condition must not be null");
-    return declared(
-        () -> {
-          requireChains(then, otherwise);
-          return compiled(topologyRecorder().ifElse(then, otherwise, condition), then, otherwise);
-        });
+    return declaredChain(recorder -> recorder.ifElse(then, otherwise, condition), then, otherwise);
   }
 
   /**
@@ -317,11 +305,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return the combined chain
    */
   public final <I, O> Chain<List<I>, List<O>> forEach(Chain<? super I, ? extends O> body) {
-    return declared(
-        () -> {
-          requireChains(body);
-          return compiled(topologyRecorder().forEach(body), body);
-        });
+    return declaredChain(recorder -> recorder.forEach(body), body);
   }
 
   /**
@@ -406,11 +390,7 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /** A union of 2 to 5 chains; the tuple type follows from the number of parts. */
   private <I, T> Chain<I, T> unionOf(Chain<?, ?>... parts) {
-    return declared(
-        () -> {
-          requireChains(parts);
-          return compiled(topologyRecorder().union(parts), parts);
-        });
+    return declaredChain(recorder -> recorder.union(parts), parts);
   }
 
   /**
@@ -425,11 +405,7 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final <I, O> Chain<I, O> fork(Chain<I, O> chain, EventBlock<? super O> events) {
     Objects.requireNonNull(events, "events must not be null");
-    return declared(
-        () -> {
-          requireChains(chain);
-          return compiled(topologyRecorder().fork(chain, events), chain);
-        });
+    return declaredChain(recorder -> recorder.fork(chain, events), chain);
   }
 
   /**
@@ -450,11 +426,7 @@ public abstract class PrimeCore implements AutoCloseable {
       Block<? super I, ? extends O> substitute) {
     Objects.requireNonNull(pass, "pass predicate must not be null");
     Objects.requireNonNull(substitute, "substitute must not be null");
-    return declared(
-        () -> {
-          requireChains(chain);
-          return compiled(topologyRecorder().guard(chain, pass, substitute), chain);
-        });
+    return declaredChain(recorder -> recorder.guard(chain, pass, substitute), chain);
   }
 
   /**
@@ -466,32 +438,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a factory of user chains
    */
   public final <I, O> Isolated<I, O> isolate(Chain<I, O> chain) {
-    String sharedName = chain == null ? null : chain.name();
-    Block<I, O> shared =
-        declared(
-            () -> {
-              requireChains(chain);
-              topologyRecorder().isolate(chain);
-              return new IsolateBlock<>(chain.toBlock(), this::ensureOpen);
-            });
-    String sharedNode = topologyRecorder().isolate(chain);
-    AtomicInteger users = new AtomicInteger();
-    return new Isolated<>() {
-      @Override
-      public String name() {
-        return sharedName;
-      }
-
-      @Override
-      public Chain<I, O> newUser() {
-        ensureOpen();
-        return declared(
-            () ->
-                compiled(
-                    topologyRecorder()
-                        .isolatedUser(sharedNode, sharedName, users.incrementAndGet(), shared)));
-      }
-    };
+    return declared(
+        () -> {
+          requireChains(chain);
+          return model().isolate(topologyRecorder().isolate(chain), chain);
+        },
+        chain);
   }
 
   /**
@@ -535,11 +487,7 @@ public abstract class PrimeCore implements AutoCloseable {
   public final <I, R, O> Chain<I, O> repeater(
       Chain<I, R> inner, RepeaterBlock<I, R, Void, O> repeater) {
     Objects.requireNonNull(repeater, "repeater block must not be null");
-    return declared(
-        () -> {
-          requireChains(inner);
-          return compiled(topologyRecorder().repeater(inner, null, repeater), inner);
-        });
+    return declaredChain(recorder -> recorder.repeater(inner, null, repeater), inner);
   }
 
   /**
@@ -566,7 +514,8 @@ public abstract class PrimeCore implements AutoCloseable {
           Chain<Token, List<E>> collector = asyncCollector(source);
           return compiled(
               topologyRecorder().repeater(inner, collector.name(), repeater), inner, collector);
-        });
+        },
+        inner);
   }
 
   // ---------------------------------------------------------------- combinators and timers
@@ -817,18 +766,14 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <O> output type
    * @return the source of outputs, named {@code source>chain}
    */
-  @SuppressWarnings("unchecked")
   public final <I, O> Source<O> link(Source<I> source, Chain<? super I, O> chain) {
     requireSource(source);
     return declared(
         () -> {
           requireChains(chain);
-          String name = topologyRecorder().sourceLink(source, chain);
-          ModelCompiler<?> model = model();
-          return model.ownsSource(source)
-              ? (Source<O>) model.service(name, source, chain)
-              : inProcess.link(name, source, chain);
-        });
+          return model().service(topologyRecorder().sourceLink(source, chain), source, chain);
+        },
+        chain);
   }
 
   /**
@@ -840,18 +785,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <T> value type
    * @return the filtered source
    */
-  @SuppressWarnings("unchecked")
-  protected final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
+  final <T> Source<T> filterSource(Source<T> source, Predicate<? super T> predicate) {
     requireSource(source);
     Objects.requireNonNull(predicate, "predicate must not be null");
     return declared(
-        () -> {
-          String name = topologyRecorder().filter(source, predicate);
-          ModelCompiler<?> model = model();
-          return model.ownsSource(source)
-              ? (Source<T>) model.service(name, source, null)
-              : inProcess.filter(name, source, predicate);
-        });
+        () -> model().service(topologyRecorder().filter(source, predicate), source, null));
   }
 
   /**
@@ -864,19 +802,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param <R> output type
    * @return the flattened source
    */
-  @SuppressWarnings("unchecked")
-  protected final <T, R> Source<R> flatMapSource(
+  final <T, R> Source<R> flatMapSource(
       Source<T> source, Block<? super T, ? extends Iterable<? extends R>> block) {
     requireSource(source);
     Objects.requireNonNull(block, "block must not be null");
     return declared(
-        () -> {
-          String name = topologyRecorder().flatMap(source, block);
-          ModelCompiler<?> model = model();
-          return model.ownsSource(source)
-              ? (Source<R>) model.service(name, source, null)
-              : inProcess.flatMap(name, source, block);
-        });
+        () -> model().service(topologyRecorder().flatMap(source, block), source, null));
   }
 
   /**
@@ -887,18 +818,12 @@ public abstract class PrimeCore implements AutoCloseable {
    * @param listener the listener
    * @param <T> value type
    */
-  protected final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
+  final <T> void listenSource(Source<T> source, Consumer<? super T> listener) {
     requireSource(source);
     Objects.requireNonNull(listener, "listener must not be null");
     declared(
         () -> {
-          String name = topologyRecorder().listener(source, listener);
-          ModelCompiler<?> model = model();
-          if (model.ownsSource(source)) {
-            model.service(name, source, null);
-          } else {
-            inProcess.listen(name, source, listener);
-          }
+          model().service(topologyRecorder().listener(source, listener), source, null);
           return null;
         });
   }
@@ -925,14 +850,15 @@ public abstract class PrimeCore implements AutoCloseable {
     ensureOpen();
     declared(
         () -> {
-          runGenericService(topologyRecorder().genericService(name, service), service);
+          String claimed = topologyRecorder().genericService(name, service);
+          runGenericService(claimed, model().genericService(claimed, service));
           return null;
         });
   }
 
   /**
    * Runs a generic service, whose name is already claimed: by default on a thread of this core
-   * (started with the other services), through {@link dev.prime.spi.GenericServiceLoop}. A media
+   * (started with the other services), through {@link dev.prime.GenericServiceLoop}. A media
    * that spreads services over processes overrides it to run the service only where it is hosted.
    *
    * @param name the service's name
@@ -952,14 +878,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * @return a snapshot
    */
   public final Set<String> serviceNames() {
-    Topology topology = topology();
-    Set<String> hosted = new LinkedHashSet<>();
-    for (String service : topology.services()) {
-      if (topology.isHostedHere(service)) {
-        hosted.add(service);
-      }
-    }
-    return Collections.unmodifiableSet(hosted);
+    return topologyRecorder().hostedServices(this::isHostedHere);
   }
 
   /**
@@ -1015,23 +934,19 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * Where this core's diagram is recorded and every name is made; a media names what it builds
-   * through it (see {@link TopologyRecorder}).
+   * Records a reader the program opened on one of this core's sources of the media's own ({@link
+   * SourceCompiler}) in the {@linkplain #topology() topology} (the core records the readers of
+   * its in-memory sources itself).
    *
-   * @return the recorder of this core
+   * @param source the source's name
    */
-  protected final TopologyRecorder topologyRecorder() {
-    TopologyRecorder r = recorder;
-    if (r == null) {
-      synchronized (lifecycle) {
-        r = recorder;
-        if (r == null) {
-          r = new TopologyRecorder(this);
-          recorder = r;
-        }
-      }
-    }
-    return r;
+  protected final void recordReader(String source) {
+    topologyRecorder().reader(source);
+  }
+
+  /** Where this core's diagram is recorded and every name is made. */
+  final TopologyRecorder topologyRecorder() {
+    return recorder;
   }
 
   // ---------------------------------------------------------------- lifecycle
@@ -1057,20 +972,8 @@ public abstract class PrimeCore implements AutoCloseable {
     combinators.started();
     services.startAll();
     hooks.started();
-    List<String> hosted = serviceNames().stream().filter(this::isHostedHere).toList();
-    LOG.info(
-        "core '{}' started on {}{}, hosting services {}{}",
-        name,
-        media,
-        startDetails(),
-        hosted.subList(0, Math.min(hosted.size(), START_LINE_SERVICES)),
-        hosted.size() > START_LINE_SERVICES
-            ? " and " + (hosted.size() - START_LINE_SERVICES) + " more"
-            : "");
+    LifecycleHooks.logStarted(this, media, startDetails(), serviceNames());
   }
-
-  /** The most service names the start line lists (a core may have thousands). */
-  private static final int START_LINE_SERVICES = 20;
 
   /**
    * {@return what the start line logged by {@link #start()} adds after the media's name, such as
@@ -1141,46 +1044,13 @@ public abstract class PrimeCore implements AutoCloseable {
     }
   }
 
-  /**
-   * Checks that chains given to a link or template are usable, before anything is consumed: a
-   * link or template that fails changes nothing (every chain given to it stays usable). Call it
-   * first, then consume the chains.
-   *
-   * @param chains the chains
-   * @throws ChainAlreadyUsedException if a chain was consumed before or is given twice
-   * @throws CoreClosedException if this core or a chain's core is closed
-   */
-  protected final void requireChains(Chain<?, ?>... chains) {
-    ensureOpen();
-    for (int i = 0; i < chains.length; i++) {
-      Chain<?, ?> chain = chains[i];
-      if (chain == null) {
-        throw new NullPointerException("chain argument " + (i + 1) + " must not be null");
-      }
-      for (int j = 0; j < i; j++) {
-        if (chains[j] == chain) {
-          throw new ChainAlreadyUsedException(chain.name());
-        }
-      }
-      if (chain.core().isClosed()) {
-        throw new CoreClosedException(chain.core().name());
-      }
-      if (chain instanceof ModelChain<?, ?, ?> known && known.used()) {
-        throw new ChainAlreadyUsedException(chain.name());
-      }
-    }
+  /** Checks chains given to a declaration before it consumes any ({@link DeclarationChecks}). */
+  final void requireChains(Chain<?, ?>... chains) {
+    DeclarationChecks.requireChains(this, chains);
   }
 
-  /**
-   * Checks that a source given to a link or template is usable.
-   *
-   * @param source the source
-   */
-  protected final void requireSource(Source<?> source) {
-    ensureOpen();
-    Objects.requireNonNull(source, "source must not be null");
-    if (source.core().isClosed()) {
-      throw new CoreClosedException(source.core().name());
-    }
+  /** Checks a source given to a declaration ({@link DeclarationChecks}). */
+  final void requireSource(Source<?> source) {
+    DeclarationChecks.requireSource(this, source);
   }
 }

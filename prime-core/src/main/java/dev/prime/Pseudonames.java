@@ -1,6 +1,5 @@
 package dev.prime;
 
-import dev.prime.spi.TopologyRecorder;
 
 /** Records a chain or source with a pseudoname, for {@link PrimeCore}'s creating methods. */
 final class Pseudonames {

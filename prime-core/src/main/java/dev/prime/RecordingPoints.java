@@ -14,10 +14,12 @@ import java.time.Instant;
  */
 final class RecordingPoints {
   private final PrimeCore core;
+  private final InProcessServices unsubscriber; // closes its event block subscriptions at close
   private final Recording recording;
 
-  RecordingPoints(PrimeCore core, RecordingOptions options) {
+  RecordingPoints(PrimeCore core, RecordingOptions options, InProcessServices memory) {
     this.core = core;
+    this.unsubscriber = memory;
     this.recording = new Recording(core.name(), options, core::isClosed);
   }
 
@@ -68,7 +70,7 @@ final class RecordingPoints {
      */
     void afterMedia() {
       RecordingRing ring = recording.ring(name, core.topologyRecorder().pseudoname(name));
-      core.inProcessServices().unsubscribeOnClose(stamping);
+      unsubscriber.unsubscribeOnClose(stamping);
       EventBlock.Subscription recorder =
           events.subscribe(
               value -> {
@@ -83,7 +85,7 @@ final class RecordingPoints {
                   ring.record(value);
                 }
               });
-      core.inProcessServices().unsubscribeOnClose(recorder);
+      unsubscriber.unsubscribeOnClose(recorder);
     }
 
     /** Stops stamping: the media made no source. */

@@ -1,6 +1,6 @@
 package dev.prime;
 
-import dev.prime.spi.RateLimitedLog;
+import dev.prime.internal.RateLimitedLog;
 import java.util.Arrays;
 import java.util.concurrent.atomic.AtomicLongArray;
 import java.util.concurrent.atomic.LongAccumulator;
@@ -47,9 +47,21 @@ final class ServiceMeter {
     return name;
   }
 
-  /** {@return whether this is an event source's meter} */
+  /**
+   * {@return whether the node's output is an event source of the media and its input no queue of
+   * the media: an event source, a combinator, a timer (the media counts what its readers missed,
+   * and keeps no queue or dead letters for it)}
+   */
   boolean isSource() {
-    return kind.equals("EventSource");
+    return kind.equals("EventSource") || kind.equals("Combinator") || kind.equals("Timer");
+  }
+
+  /**
+   * {@return whether the core runs the node on a thread of its own on every media (a generic
+   * service, a combinator, a timer): the media keeps no queue or dead letters for it}
+   */
+  boolean runByCore() {
+    return kind.equals("GenericServiceNode") || kind.equals("Combinator") || kind.equals("Timer");
   }
 
   /** A value went in. */

@@ -17,9 +17,11 @@ import java.util.Objects;
  * @param kind the kind of node: the simple name of its {@link dev.prime.topology.TopologyNode}
  *     record ({@code BlockChain}, {@code IfElse}, {@code Filter}, {@code EventSource}, ...)
  * @param valuesIn values given to the node: calls of a chain, values a filter, flat-map or
- *     listener took from its input, publishes to a source
+ *     listener took from its input, publishes to a source, calls of a generic service's {@code
+ *     work}, values a combinator took from its inputs, ticks a timer published
  * @param valuesOut values it gave out: a chain's non-null outputs, values a filter passed, values
- *     a flat-map made (non-null), publishes a source's media accepted; always 0 for a listener
+ *     a flat-map made (non-null), publishes a source's media accepted, a generic service's {@code
+ *     work} calls that returned, values a combinator published, ticks; always 0 for a listener
  * @param failures values on which the node's logic threw
  * @param deadLetters values the media set aside as dead letters (Optimus: the service's dead-letter
  *     list in Redis, counted for every process since the topology's Redis data was created,
@@ -27,7 +29,8 @@ import java.util.Objects;
  * @param queueDepth values in the node's input queue that it has not finished now: those waiting
  *     and those it is processing (on Optimus, until the step that stores their results); {@code
  *     -1} where the media has no queue for the node (a chain on Liberty and Radiant runs in its
- *     caller's thread or inside the service it is linked into; a source has no input) or cannot
+ *     caller's thread or inside the service it is linked into; a source has no input; generic
+ *     services, combinators and timers have none on any media) or cannot
  *     read it now (Optimus with Redis unreachable)
  * @param missed for an event source, the values its plain readers missed (see {@link
  *     Reader#missed()}), as this process counted them: on Liberty and Radiant when a lagging

@@ -1,6 +1,5 @@
 package dev.prime;
 
-import dev.prime.spi.FailureReport;
 import java.util.Objects;
 import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;

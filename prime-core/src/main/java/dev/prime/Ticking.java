@@ -1,6 +1,5 @@
 package dev.prime;
 
-import dev.prime.spi.FailureReport;
 import java.time.Instant;
 import java.util.function.BiConsumer;
 

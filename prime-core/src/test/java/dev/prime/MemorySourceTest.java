@@ -5,7 +5,6 @@ import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.conformance.CapturedStderr;
-import dev.prime.spi.ChainCompiler;
 import dev.prime.spi.GenericChainCompiler;
 import java.time.Duration;
 import java.util.ArrayList;

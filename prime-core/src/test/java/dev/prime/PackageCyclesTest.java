@@ -23,9 +23,10 @@ import java.util.stream.Stream;
 import org.junit.jupiter.api.Test;
 
 /**
- * The package dependencies of prime-core's compiled classes, as jdeps reads them: the API never
- * depends on the internals that implement it, so no cycle joins {@code dev.prime} and {@code
- * dev.prime.internal}; the topology model depends on nothing else of Prime.
+ * The package dependencies of prime-core's compiled classes, as jdeps reads them: no two Prime
+ * packages depend on each other, directly or through others. The API never depends on the
+ * internals that implement it ({@code dev.prime.internal}) nor on the media SPI ({@code
+ * dev.prime.spi}), which depends on the API; the topology model depends on nothing else of Prime.
  */
 class PackageCyclesTest {
   private static final Pattern EDGE = Pattern.compile("^\\s+(dev\\.prime\\S*)\\s+->\\s+(dev\\.prime\\S*)\\s");
@@ -92,6 +93,30 @@ class PackageCyclesTest {
             + String.join(" -> ", there)
             + " and "
             + String.join(" -> ", back));
+  }
+
+  @Test
+  void noPackageCycleAtAll() throws IOException {
+    Map<String, Set<String>> graph = dependencies();
+    List<String> cycles = new ArrayList<>();
+    for (Map.Entry<String, Set<String>> from : graph.entrySet()) {
+      for (String to : from.getValue()) {
+        List<String> back = path(graph, to, from.getKey());
+        if (!back.isEmpty()) {
+          cycles.add(from.getKey() + " -> " + String.join(" -> ", back));
+        }
+      }
+    }
+    assertEquals(List.of(), cycles, "package cycles in prime-core");
+  }
+
+  @Test
+  void theApiDependsOnNeitherTheSpiNorTheInternalsThroughTheSpi() throws IOException {
+    Map<String, Set<String>> graph = dependencies();
+    assertEquals(List.of(), path(graph, "dev.prime", "dev.prime.spi"), "dev.prime reaches the SPI");
+    assertTrue(
+        graph.getOrDefault("dev.prime.spi", Set.of()).contains("dev.prime"),
+        "the SPI is built on the API: " + graph);
   }
 
   @Test

@@ -4,9 +4,7 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.conformance.ConformanceBase;
-import dev.prime.spi.ChainCompiler;
 import dev.prime.spi.GenericChainCompiler;
-import dev.prime.spi.AbstractChain;
 import dev.prime.spi.FailureNamingBlock;
 import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.CountDownLatch;

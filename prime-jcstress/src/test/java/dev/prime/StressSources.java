@@ -1,6 +1,6 @@
 package dev.prime;
 
-import dev.prime.spi.ChainCompiler;
+import dev.prime.ChainCompiler;
 import dev.prime.spi.GenericChainCompiler;
 import java.time.Duration;
 

@@ -76,7 +76,7 @@ public interface ConformanceBase {
    * {@link SerializingCodec}, which copies any {@link java.io.Serializable} value. A media with a
    * codec of its own may return it; Optimus copies through its own codec whatever this is.
    */
-  default dev.prime.spi.ValueCodec copyCodec() {
+  default dev.prime.ValueCodec copyCodec() {
     return SerializingCodec.INSTANCE;
   }
 

@@ -15,6 +15,7 @@ public interface MediaConformance
         TopologyConformance,
         ThrowableConformance,
         AtomicLinkConformance,
+        ClaimRaceConformance,
         InterruptConformance,
         ValueCopyConformance,
         LongChainConformance,

@@ -10,19 +10,27 @@ import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
+import dev.prime.GenericService;
 import dev.prime.Metrics;
 import dev.prime.PrimeCore;
 import dev.prime.ProcessingTimes;
 import dev.prime.Reader;
 import dev.prime.ServiceMetrics;
 import dev.prime.Source;
+import dev.prime.Tick;
+import dev.prime.Tuple2;
+import dev.prime.VirtualClock;
+import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Arrays;
 import java.util.List;
 import java.util.Collections;
+import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicLong;
+import java.util.function.Predicate;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -403,6 +411,103 @@ public interface MetricsConformance extends ConformanceBase {
         assertEquals(on, tapped, "metrics " + (on ? "on" : "off") + ", stack " + stack);
       }
     }
+  }
+
+  @Test
+  default void aGenericServiceCountsItsWorkCallsAndFailures() throws Exception {
+    List<Throwable> handled = Collections.synchronizedList(new ArrayList<>());
+    BlockingQueue<String> jobs = new LinkedBlockingQueue<>();
+    PrimeCore core = meteredCore(handled);
+    try {
+      core.service(
+          "driver",
+          new GenericService() {
+            @Override
+            public void work() throws Exception {
+              if (jobs.take().equals("fail")) {
+                throw new IllegalStateException("the device said no");
+              }
+            }
+
+            @Override
+            public Duration backoff(int failures) {
+              return Duration.ZERO;
+            }
+          });
+      core.start();
+      jobs.addAll(List.of("ok", "fail", "ok"));
+      // three calls done, the fourth waits for its job
+      ServiceMetrics driver =
+          settled(core, "driver", m -> m.valuesOut() == 2 && m.failures() == 1 && m.valuesIn() == 4);
+      assertEquals("GenericServiceNode", driver.kind(), driver.toString());
+      assertEquals(4, driver.valuesIn(), driver.toString());
+      assertEquals(3, driver.processing().count(), "the waiting call is not timed yet: " + driver);
+      assertEquals(-1, driver.queueDepth(), "a generic service has no input queue: " + driver);
+      assertEquals(0, driver.deadLetters(), driver.toString());
+      assertTrue(core.metrics().names().contains("driver"), core.metrics().names().toString());
+      assertEquals(1, handled.size(), "the error handler saw the failure: " + handled);
+    } finally {
+      core.close();
+    }
+    assertEquals(1, handled.size(), "stopping is no failure: " + handled);
+  }
+
+  @Test
+  default void aCombinatorCountsTheValuesItTookAndTheTuplesItPublished() throws Exception {
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(failures)) {
+      EventBlock<Integer> left = new EventBlock<>();
+      EventBlock<Integer> right = new EventBlock<>();
+      Source<Tuple2<Integer, Integer>> pairs =
+          core.zip(core.source("left", left), core.source("right", right));
+      Reader<Tuple2<Integer, Integer>> out = pairs.reader();
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        left.publish(i);
+      }
+      right.publish(10);
+      right.publish(20);
+      assertEquals(List.of(new Tuple2<>(1, 10), new Tuple2<>(2, 20)), takeOrFail(out, 2));
+      ServiceMetrics zip =
+          settled(core, pairs.name(), m -> m.valuesIn() == 5 && m.valuesOut() == 2);
+      assertCounts(zip, "Combinator", 5, 2, 0);
+      assertEquals(-1, zip.queueDepth(), zip.toString());
+      assertEquals(0, zip.deadLetters(), zip.toString());
+      assertCounts(core.metrics().service("left"), "EventSource", 3, 3, 0);
+      assertEquals(List.of(), failures);
+    }
+  }
+
+  @Test
+  default void aTimerCountsItsTicksOnAVirtualClock() throws Exception {
+    VirtualClock clock = new VirtualClock();
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).clock(clock).build())) {
+      Reader<Tick> ticks = core.timer("beat", Duration.ofMillis(10)).reader();
+      core.start();
+      assertEquals(0, core.metrics().service("beat").valuesOut(), "virtual time stands still");
+      clock.advance(Duration.ofSeconds(1));
+      List<Tick> hundred = takeOrFail(ticks, 100);
+      assertEquals(100, hundred.get(99).count());
+      ServiceMetrics beat = settled(core, "beat", m -> m.valuesOut() == 100);
+      assertCounts(beat, "Timer", 100, 100, 0);
+      assertEquals(-1, beat.queueDepth(), beat.toString());
+      assertEquals(0, beat.deadLetters(), beat.toString());
+    }
+  }
+
+  /**
+   * The snapshot of {@code name} once {@code done} holds of it: what a service counts after it
+   * handed its value on shows a little after the value arrives. Bounded in time and count.
+   */
+  private ServiceMetrics settled(PrimeCore core, String name, Predicate<ServiceMetrics> done) {
+    ServiceMetrics now = core.metrics().service(name);
+    long deadline = System.nanoTime() + patience().toNanos();
+    for (int i = 0; i < 10_000_000 && !done.test(now) && System.nanoTime() < deadline; i++) {
+      Thread.yield();
+      now = core.metrics().service(name);
+    }
+    assertTrue(done.test(now), "not settled within " + patience() + ": " + now);
+    return now;
   }
 
   private static void assertCounts(

@@ -1,6 +1,6 @@
 package dev.prime.conformance;
 
-import dev.prime.spi.ValueCodec;
+import dev.prime.ValueCodec;
 import java.io.ByteArrayInputStream;
 import java.io.ByteArrayOutputStream;
 import java.io.IOException;

@@ -1,6 +1,7 @@
 package dev.prime.spi;
 
 import dev.prime.Block;
+import dev.prime.ChainCompiler;
 
 /**
  * The simplest {@link ChainCompiler}: a chain compiles to a block. A chain made of a block is that

@@ -1,8 +1,8 @@
 package dev.prime.liberty;
 
 import dev.prime.Block;
-import dev.prime.spi.ChainCompiler;
-import dev.prime.spi.NodeLogic;
+import dev.prime.ChainCompiler;
+import dev.prime.NodeLogic;
 import dev.prime.topology.TopologyNode;
 import java.util.List;
 

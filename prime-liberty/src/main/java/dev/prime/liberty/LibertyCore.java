@@ -2,7 +2,7 @@ package dev.prime.liberty;
 
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
-import dev.prime.spi.ChainCompiler;
+import dev.prime.ChainCompiler;
 
 /**
  * The Liberty media: a chain is a function, and linking chains composes their functions, so a

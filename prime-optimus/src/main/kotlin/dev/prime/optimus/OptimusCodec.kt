@@ -1,6 +1,6 @@
 package dev.prime.optimus
 
-import dev.prime.spi.ValueCodec
+import dev.prime.ValueCodec
 
 /**
  * Turns the values that travel between Optimus services into bytes and back.

@@ -3,10 +3,10 @@ package dev.prime.optimus
 import dev.prime.Block
 import dev.prime.EventBlock
 import dev.prime.Source
-import dev.prime.spi.ChainCompiler
-import dev.prime.spi.NodeLogic
-import dev.prime.spi.ServiceGauges
-import dev.prime.spi.SourceCompiler
+import dev.prime.ChainCompiler
+import dev.prime.NodeLogic
+import dev.prime.ServiceGauges
+import dev.prime.SourceCompiler
 import dev.prime.topology.TopologyNode
 
 /** A service of a chain, before it is bound to what follows it. */

@@ -10,9 +10,9 @@ import dev.prime.GenericService
 import dev.prime.PrimeCore
 import dev.prime.Reader
 import dev.prime.Source
-import dev.prime.spi.ChainCompiler
-import dev.prime.spi.GenericServiceLoop
-import dev.prime.spi.SourceCompiler
+import dev.prime.ChainCompiler
+import dev.prime.GenericServiceLoop
+import dev.prime.SourceCompiler
 import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
@@ -498,7 +498,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /** Records a reader the program opened on [source] in the topology. */
     internal fun recordReader(source: OptimusSource<*>) {
-        topologyRecorder().reader(source.name())
+        recordReader(source.name())
     }
 
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {

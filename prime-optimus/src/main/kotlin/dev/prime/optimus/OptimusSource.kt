@@ -2,7 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.PrimeCore
 import dev.prime.Reader
-import dev.prime.spi.MediaSource
+import dev.prime.MediaSource
 
 /**
  * A source kept in Redis: its newest values in a log list (for readers that come late), a set of

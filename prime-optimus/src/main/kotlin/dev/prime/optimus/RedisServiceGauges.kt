@@ -1,6 +1,6 @@
 package dev.prime.optimus
 
-import dev.prime.spi.ServiceGauges
+import dev.prime.ServiceGauges
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**

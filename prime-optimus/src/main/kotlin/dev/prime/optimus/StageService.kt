@@ -2,7 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
-import dev.prime.spi.RateLimitedLog
+import dev.prime.internal.RateLimitedLog
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.currentCoroutineContext
 import kotlinx.coroutines.delay

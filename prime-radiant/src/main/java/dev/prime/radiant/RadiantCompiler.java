@@ -3,8 +3,8 @@ package dev.prime.radiant;
 import dev.prime.Block;
 import dev.prime.radiant.internal.FusedCompiler;
 import dev.prime.radiant.internal.Node;
-import dev.prime.spi.ChainCompiler;
-import dev.prime.spi.NodeLogic;
+import dev.prime.ChainCompiler;
+import dev.prime.NodeLogic;
 import dev.prime.topology.TopologyNode;
 import java.util.List;
 

@@ -3,7 +3,7 @@ package dev.prime.radiant;
 import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.PrimeCore;
-import dev.prime.spi.ChainCompiler;
+import dev.prime.ChainCompiler;
 
 /**
  * The Radiant media: a chain is a tree of nodes, and {@link Chain#toBlock()} compiles the whole

@@ -1,6 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.Block;
 import dev.prime.topology.TopologyNode;
 import java.util.List;
 
@@ -16,8 +15,8 @@ import java.util.List;
  * <p>A media compiles what it can do better ({@link #template}: Radiant fuses links, if/else,
  * for-each, unions, forks and guards; Liberty and Optimus join the parts of a link); every other
  * node (a template it leaves alone, isolate's users, the collectors, the repeater) the core
- * compiles once for every media, into the template's block from {@code dev.prime.blocks} over
- * the blocks of its parts ({@link #toBlock}), which it gives to {@link #block}. The templates
+ * compiles once for every media, into the template's generic block (written once, in the core)
+ * over the blocks of its parts ({@link #toBlock}), which it gives to {@link #block}. The templates
  * are therefore described in one place: the model node, its logic and that generic block.
  *
  * @param <F> the media's compiled form of a chain
@@ -30,7 +29,7 @@ public interface ChainCompiler<F> {
   /**
    * Compiles a chain that runs a block: a {@link TopologyNode.BlockChain} (the user's block) or
    * a node the core compiled to a generic block. What the block throws must reach a caller as a
-   * {@link dev.prime.ChainFailedException} naming {@code chain} (see {@link FailureNamingBlock}).
+   * {@link dev.prime.ChainFailedException} naming {@code chain} (see {@link dev.prime.spi.FailureNamingBlock}).
    *
    * @param chain the node's name
    * @param block the block

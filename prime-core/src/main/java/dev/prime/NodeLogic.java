@@ -1,11 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.Chain;
-import dev.prime.EventBlock;
-import dev.prime.GenericService;
-import dev.prime.RepeaterBlock;
-import dev.prime.Source;
 import java.util.Objects;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
@@ -13,8 +7,8 @@ import java.util.function.Predicate;
 /**
  * The logic of one node of the topology model: what a media needs, besides the node itself
  * ({@link dev.prime.topology.TopologyNode}: name, kind, parts), to compile it. The public model
- * stays free of logic (it is data to draw and compare); the {@link TopologyRecorder} keeps each
- * node's logic next to it ({@link TopologyRecorder#logic(String)}), and a {@link ChainCompiler}
+ * stays free of logic (it is data to draw and compare); the core keeps each node's logic next to
+ * it while the node is declared and compiled, and a {@link ChainCompiler}
  * receives it with the node.
  *
  * <p>Which node kind carries which logic:

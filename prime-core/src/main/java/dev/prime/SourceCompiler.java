@@ -1,7 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.EventBlock;
-import dev.prime.Source;
 import dev.prime.topology.TopologyNode;
 
 /**

@@ -1,6 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
 import java.util.Objects;
 import java.util.function.Predicate;
 
@@ -10,7 +9,7 @@ import java.util.function.Predicate;
  * @param <I> input type
  * @param <O> output type
  */
-public final class IfThenElseBlock<I, O> implements Block<I, O> {
+final class IfThenElseBlock<I, O> implements Block<I, O> {
   private final Predicate<? super I> condition;
   private final Block<I, O> then;
   private final Block<I, O> otherwise;
@@ -20,7 +19,7 @@ public final class IfThenElseBlock<I, O> implements Block<I, O> {
    * @param then runs when the condition holds
    * @param otherwise runs when it does not
    */
-  public IfThenElseBlock(Predicate<? super I> condition, Block<I, O> then, Block<I, O> otherwise) {
+  IfThenElseBlock(Predicate<? super I> condition, Block<I, O> then, Block<I, O> otherwise) {
     this.condition = Objects.requireNonNull(condition, "condition must not be null");
     this.then = Objects.requireNonNull(then, "then block must not be null");
     this.otherwise = Objects.requireNonNull(otherwise, "otherwise block must not be null");

@@ -1,10 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.PrimeException;
-import dev.prime.Repeat;
-import dev.prime.RepeaterBlock;
-import dev.prime.Token;
 import java.util.List;
 import java.util.Objects;
 
@@ -23,7 +18,7 @@ import java.util.Objects;
  * @param <E> type of the collected values
  * @param <O> output type: the conclusion
  */
-public final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
+final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
   private final Block<I, R> inner;
   private final Block<Token, List<E>> collector;
   private final RepeaterBlock<I, R, E, O> repeater;
@@ -36,7 +31,7 @@ public final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
    * @param collector returns the values gathered since its previous call; {@code null} for none
    * @param repeater decides after each round
    */
-  public RepeaterLoopBlock(
+  RepeaterLoopBlock(
       Block<I, R> inner, Block<Token, List<E>> collector, RepeaterBlock<I, R, E, O> repeater) {
     this(inner, collector, repeater, () -> {});
   }
@@ -47,7 +42,7 @@ public final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
    * @param repeater decides after each round
    * @param betweenRounds runs before every round after the first; throws to end the loop
    */
-  public RepeaterLoopBlock(
+  RepeaterLoopBlock(
       Block<I, R> inner,
       Block<Token, List<E>> collector,
       RepeaterBlock<I, R, E, O> repeater,

@@ -1,7 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.PrimeException;
 import java.util.Objects;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.locks.ReentrantLock;
@@ -18,7 +16,7 @@ import java.util.concurrent.locks.ReentrantLock;
  * @param <I> input type
  * @param <O> output type
  */
-public final class IsolateBlock<I, O> implements Block<I, O> {
+final class IsolateBlock<I, O> implements Block<I, O> {
   private final Block<I, O> block;
   /** How often a waiting caller runs the owner's check. */
   private static final long CHECK_MILLIS = 50;
@@ -31,7 +29,7 @@ public final class IsolateBlock<I, O> implements Block<I, O> {
    *
    * @param block the shared block
    */
-  public IsolateBlock(Block<I, O> block) {
+  IsolateBlock(Block<I, O> block) {
     this(block, () -> {});
   }
 
@@ -40,7 +38,7 @@ public final class IsolateBlock<I, O> implements Block<I, O> {
    * @param whileWaiting runs repeatedly while a caller waits for its turn; throws to end the wait
    *     (the block is then not run for that caller)
    */
-  public IsolateBlock(Block<I, O> block, Runnable whileWaiting) {
+  IsolateBlock(Block<I, O> block, Runnable whileWaiting) {
     this.block = Objects.requireNonNull(block, "isolated block must not be null");
     this.whileWaiting = Objects.requireNonNull(whileWaiting, "whileWaiting must not be null");
   }

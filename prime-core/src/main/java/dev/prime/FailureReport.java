@@ -1,7 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.ChainFailedException;
-import dev.prime.ErrorHandler;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 

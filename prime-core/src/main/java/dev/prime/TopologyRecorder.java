@@ -1,16 +1,12 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.Chain;
-import dev.prime.EventBlock;
-import dev.prime.GenericService;
-import dev.prime.PrimeCore;
-import dev.prime.RepeaterBlock;
-import dev.prime.Source;
 import dev.prime.internal.Names;
 import dev.prime.topology.Topology;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
+import java.util.Collections;
+import java.util.LinkedHashSet;
+import java.util.Set;
 import java.util.HashMap;
 import java.util.List;
 import java.util.Map;
@@ -44,7 +40,7 @@ import java.util.function.Supplier;
  * declaration under way; nothing here waits for another thread while holding the monitor, except
  * what a media's compiler does in a declaration.
  */
-public final class TopologyRecorder {
+final class TopologyRecorder {
   private final PrimeCore owner;
   private final Names names = new Names();
   private final List<TopologyNode> nodes = new ArrayList<>(); // guarded by this
@@ -57,7 +53,7 @@ public final class TopologyRecorder {
   /**
    * @param owner the core whose diagram this records
    */
-  public TopologyRecorder(PrimeCore owner) {
+  TopologyRecorder(PrimeCore owner) {
     this.owner = Objects.requireNonNull(owner, "owner");
   }
 
@@ -69,7 +65,7 @@ public final class TopologyRecorder {
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String blockChain(String name, Block<?, ?> block) {
+  synchronized String blockChain(String name, Block<?, ?> block) {
     NodeLogic run = new NodeLogic.Run(block);
     return add(
         new TopologyNode.BlockChain(name == null ? names.fresh("chain") : names.claim(name)), run);
@@ -83,7 +79,7 @@ public final class TopologyRecorder {
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String eventSource(String name, EventBlock<?> events) {
+  synchronized String eventSource(String name, EventBlock<?> events) {
     NodeLogic published = new NodeLogic.Events(events);
     return add(
         new TopologyNode.EventSource(name == null ? names.fresh("source") : names.claim(name)),
@@ -97,7 +93,7 @@ public final class TopologyRecorder {
    * @param second runs on its outputs
    * @return the linked chain's name, {@code first>second}
    */
-  public synchronized String link(Chain<?, ?> first, Chain<?, ?> second) {
+  synchronized String link(Chain<?, ?> first, Chain<?, ?> second) {
     String a = part(first);
     String b = part(second);
     return add(
@@ -113,7 +109,7 @@ public final class TopologyRecorder {
    * @param condition chooses the branch
    * @return the template chain's name, {@code if(then|otherwise)}
    */
-  public synchronized String ifElse(
+  synchronized String ifElse(
       Chain<?, ?> then, Chain<?, ?> otherwise, Predicate<?> condition) {
     NodeLogic chooses = new NodeLogic.Condition(condition);
     String a = part(then);
@@ -128,7 +124,7 @@ public final class TopologyRecorder {
    * @param body the chain for one element
    * @return the template chain's name, {@code forEach(body)}
    */
-  public synchronized String forEach(Chain<?, ?> body) {
+  synchronized String forEach(Chain<?, ?> body) {
     String b = part(body);
     return add(
         new TopologyNode.ForEach(names.derived("forEach(" + body.name() + ")", "forEach"), b),
@@ -141,7 +137,7 @@ public final class TopologyRecorder {
    * @param chains the chains, in tuple order
    * @return the template chain's name, {@code union(a|b|...)}
    */
-  public synchronized String union(Chain<?, ?>... chains) {
+  synchronized String union(Chain<?, ?>... chains) {
     List<String> parts = new ArrayList<>(chains.length);
     StringBuilder preferred = new StringBuilder("union(");
     for (int i = 0; i < chains.length; i++) {
@@ -159,7 +155,7 @@ public final class TopologyRecorder {
    * @param events receives every output
    * @return the template chain's name, {@code fork(chain)}
    */
-  public synchronized String fork(Chain<?, ?> chain, EventBlock<?> events) {
+  synchronized String fork(Chain<?, ?> chain, EventBlock<?> events) {
     NodeLogic publishes = new NodeLogic.Events(events);
     String c = part(chain);
     return add(
@@ -174,7 +170,7 @@ public final class TopologyRecorder {
    * @param substitute the output for the others
    * @return the template chain's name, {@code guard(chain)}
    */
-  public synchronized String guard(
+  synchronized String guard(
       Chain<?, ?> chain, Predicate<?> pass, Block<?, ?> substitute) {
     NodeLogic guarded = new NodeLogic.Guarded(pass, substitute);
     String c = part(chain);
@@ -188,7 +184,7 @@ public final class TopologyRecorder {
    * @param chain the shared chain
    * @return the name of the shared chain's node
    */
-  public synchronized String isolate(Chain<?, ?> chain) {
+  synchronized String isolate(Chain<?, ?> chain) {
     return part(chain);
   }
 
@@ -201,7 +197,7 @@ public final class TopologyRecorder {
    * @param block the block every user calls, which runs the shared chain one call at a time
    * @return the user chain's name, {@code shared@user}
    */
-  public synchronized String isolatedUser(
+  synchronized String isolatedUser(
       String shared, String sharedName, int user, Block<?, ?> block) {
     NodeLogic calls = new NodeLogic.Shared(block);
     return add(
@@ -215,7 +211,7 @@ public final class TopologyRecorder {
    * @param source the source it reads
    * @return the collector chain's name, {@code collect(source)}
    */
-  public synchronized String syncCollector(Source<?> source) {
+  synchronized String syncCollector(Source<?> source) {
     String s = sourcePart(source);
     return add(
         new TopologyNode.SyncCollector(
@@ -229,7 +225,7 @@ public final class TopologyRecorder {
    * @param source the source it reads
    * @return the collector chain's name, {@code collectAll(source)}
    */
-  public synchronized String asyncCollector(Source<?> source) {
+  synchronized String asyncCollector(Source<?> source) {
     String s = sourcePart(source);
     return add(
         new TopologyNode.AsyncCollector(
@@ -246,7 +242,7 @@ public final class TopologyRecorder {
    * @param repeater decides after each round
    * @return the repeater chain's name, {@code repeat(inner)}
    */
-  public synchronized String repeater(
+  synchronized String repeater(
       Chain<?, ?> inner, String collector, RepeaterBlock<?, ?, ?, ?> repeater) {
     NodeLogic decides = new NodeLogic.Repeat(repeater);
     String i = part(inner);
@@ -263,7 +259,7 @@ public final class TopologyRecorder {
    * @param chain the chain that runs on it
    * @return the output source's name, {@code source>chain}
    */
-  public synchronized String sourceLink(Source<?> source, Chain<?, ?> chain) {
+  synchronized String sourceLink(Source<?> source, Chain<?, ?> chain) {
     String s = sourcePart(source);
     String c = part(chain);
     return add(
@@ -279,7 +275,7 @@ public final class TopologyRecorder {
    * @param predicate decides which values pass
    * @return the filtered source's name, {@code filter(source)}
    */
-  public synchronized String filter(Source<?> source, Predicate<?> predicate) {
+  synchronized String filter(Source<?> source, Predicate<?> predicate) {
     NodeLogic passes = new NodeLogic.Condition(predicate);
     String s = sourcePart(source);
     return add(
@@ -294,7 +290,7 @@ public final class TopologyRecorder {
    * @param block makes the values published for each input
    * @return the flattened source's name, {@code flatMap(source)}
    */
-  public synchronized String flatMap(Source<?> source, Block<?, ? extends Iterable<?>> block) {
+  synchronized String flatMap(Source<?> source, Block<?, ? extends Iterable<?>> block) {
     NodeLogic expands = new NodeLogic.Expand(block);
     String s = sourcePart(source);
     return add(
@@ -309,7 +305,7 @@ public final class TopologyRecorder {
    * @param listener called with every value
    * @return the listener's name, {@code listen(source)}
    */
-  public synchronized String listener(Source<?> source, Consumer<?> listener) {
+  synchronized String listener(Source<?> source, Consumer<?> listener) {
     NodeLogic listens = new NodeLogic.Listen(listener);
     String s = sourcePart(source);
     return add(
@@ -325,7 +321,7 @@ public final class TopologyRecorder {
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String genericService(String name, GenericService service) {
+  synchronized String genericService(String name, GenericService service) {
     NodeLogic works = new NodeLogic.Work(service);
     return add(new TopologyNode.GenericServiceNode(names.claim(name)), works);
   }
@@ -338,7 +334,7 @@ public final class TopologyRecorder {
    * @param sources its inputs, in order
    * @return the output source's name, {@code kind(a|b|...)}
    */
-  public synchronized String combinator(String kind, List<? extends Source<?>> sources) {
+  synchronized String combinator(String kind, List<? extends Source<?>> sources) {
     List<String> parts = new ArrayList<>(sources.size());
     StringBuilder preferred = new StringBuilder(kind).append('(');
     for (int i = 0; i < sources.size(); i++) {
@@ -357,7 +353,7 @@ public final class TopologyRecorder {
    * @return the claimed name
    * @throws IllegalArgumentException if the name is invalid or taken
    */
-  public synchronized String timer(String name, java.time.Duration period) {
+  synchronized String timer(String name, java.time.Duration period) {
     return add(new TopologyNode.Timer(names.claim(name), period), NodeLogic.None.NONE);
   }
 
@@ -366,7 +362,7 @@ public final class TopologyRecorder {
    *
    * @param source the source's name
    */
-  public synchronized void reader(String source) {
+  synchronized void reader(String source) {
     if (!byName.containsKey(source)) {
       throw new IllegalStateException("no source named '" + source + "' was recorded");
     }
@@ -384,7 +380,7 @@ public final class TopologyRecorder {
    * @param kind the fallback prefix if it is too long or invalid ({@code kind-N})
    * @return a unique name
    */
-  public synchronized String derived(String preferred, String kind) {
+  synchronized String derived(String preferred, String kind) {
     return names.derived(preferred, kind);
   }
 
@@ -395,7 +391,7 @@ public final class TopologyRecorder {
    * @return the node
    * @throws IllegalArgumentException if nothing of that name was recorded
    */
-  public synchronized TopologyNode node(String name) {
+  synchronized TopologyNode node(String name) {
     TopologyNode node = byName.get(name);
     if (node == null) {
       throw new IllegalArgumentException("nothing named '" + name + "' was recorded");
@@ -413,7 +409,7 @@ public final class TopologyRecorder {
    * @throws IllegalArgumentException if nothing of that name was recorded
    * @throws IllegalStateException if the node was compiled and its logic released
    */
-  public synchronized NodeLogic logic(String name) {
+  synchronized NodeLogic logic(String name) {
     node(name);
     NodeLogic kept = logic.get(name);
     if (kept == null) {
@@ -437,7 +433,7 @@ public final class TopologyRecorder {
    * @param <T> what it makes
    * @return what it made
    */
-  public synchronized <T> T declare(Supplier<T> declaration) {
+  synchronized <T> T declare(Supplier<T> declaration) {
     int mark = nodes.size();
     T made;
     try {
@@ -476,7 +472,7 @@ public final class TopologyRecorder {
    * @param name a recorded node's name
    * @param pseudoname the readable name, checked
    */
-  public synchronized void pseudoname(String name, String pseudoname) {
+  synchronized void pseudoname(String name, String pseudoname) {
     node(name);
     pseudonames.put(name, checkPseudoname(pseudoname));
   }
@@ -487,7 +483,7 @@ public final class TopologyRecorder {
    * @param name a node's name
    * @return its pseudoname, or {@code null} if it has none
    */
-  public synchronized String pseudoname(String name) {
+  synchronized String pseudoname(String name) {
     return pseudonames.get(name);
   }
 
@@ -499,7 +495,7 @@ public final class TopologyRecorder {
    * @return it
    * @throws IllegalArgumentException if it is not a valid pseudoname
    */
-  public static String checkPseudoname(String pseudoname) {
+  static String checkPseudoname(String pseudoname) {
     Objects.requireNonNull(pseudoname, "pseudoname must not be null");
     boolean control = pseudoname.chars().anyMatch(Character::isISOControl);
     if (pseudoname.isBlank() || pseudoname.length() > 120 || control) {
@@ -516,7 +512,7 @@ public final class TopologyRecorder {
    * @param hostedHere whether this process runs a service
    * @return the topology
    */
-  public synchronized Topology snapshot(Predicate<String> hostedHere) {
+  synchronized Topology snapshot(Predicate<String> hostedHere) {
     List<String> elsewhere = new ArrayList<>();
     for (TopologyNode node : nodes) {
       if (node.isService() && !hostedHere.test(node.name())) {
@@ -524,6 +520,22 @@ public final class TopologyRecorder {
       }
     }
     return Topology.of(nodes, elsewhere, pseudonames);
+  }
+
+  /**
+   * The services this process runs, in declaration order ({@link PrimeCore#serviceNames()}).
+   *
+   * @param hostedHere whether this process runs a service
+   * @return an unmodifiable set
+   */
+  synchronized Set<String> hostedServices(Predicate<String> hostedHere) {
+    Set<String> hosted = new LinkedHashSet<>();
+    for (TopologyNode node : nodes) {
+      if (node.isService() && hostedHere.test(node.name())) {
+        hosted.add(node.name());
+      }
+    }
+    return Collections.unmodifiableSet(hosted);
   }
 
   private String add(TopologyNode node, NodeLogic runs) {

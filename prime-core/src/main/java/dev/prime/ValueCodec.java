@@ -1,4 +1,4 @@
-package dev.prime.spi;
+package dev.prime;
 
 /**
  * Turns values into bytes and back: what a media that carries values between processes does to

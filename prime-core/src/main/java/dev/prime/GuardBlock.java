@@ -1,6 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
 import java.util.Objects;
 import java.util.function.Predicate;
 
@@ -10,7 +9,7 @@ import java.util.function.Predicate;
  * @param <I> input type
  * @param <O> output type
  */
-public final class GuardBlock<I, O> implements Block<I, O> {
+final class GuardBlock<I, O> implements Block<I, O> {
   private final Predicate<? super I> pass;
   private final Block<I, O> block;
   private final Block<? super I, ? extends O> substitute;
@@ -20,7 +19,7 @@ public final class GuardBlock<I, O> implements Block<I, O> {
    * @param block the guarded block
    * @param substitute computes the output for inputs that do not pass
    */
-  public GuardBlock(
+  GuardBlock(
       Predicate<? super I> pass, Block<I, O> block, Block<? super I, ? extends O> substitute) {
     this.pass = Objects.requireNonNull(pass, "guard predicate must not be null");
     this.block = Objects.requireNonNull(block, "guarded block must not be null");

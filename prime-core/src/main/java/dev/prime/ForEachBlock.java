@@ -1,6 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
@@ -11,13 +10,13 @@ import java.util.Objects;
  * @param <I> element type of the input list
  * @param <O> element type of the output list
  */
-public final class ForEachBlock<I, O> implements Block<List<I>, List<O>> {
+final class ForEachBlock<I, O> implements Block<List<I>, List<O>> {
   private final Block<I, O> body;
 
   /**
    * @param body runs once per element
    */
-  public ForEachBlock(Block<I, O> body) {
+  ForEachBlock(Block<I, O> body) {
     this.body = Objects.requireNonNull(body, "body block must not be null");
   }
 

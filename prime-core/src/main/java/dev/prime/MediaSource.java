@@ -1,7 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.Reader;
-import dev.prime.Source;
 
 /**
  * A media's source that can open readers for the core's own services (a chain linked to it, a

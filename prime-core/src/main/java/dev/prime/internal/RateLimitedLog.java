@@ -1,4 +1,4 @@
-package dev.prime.spi;
+package dev.prime.internal;
 
 import java.util.Map;
 import java.util.Objects;

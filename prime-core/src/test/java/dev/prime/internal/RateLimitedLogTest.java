@@ -1,4 +1,4 @@
-package dev.prime.spi;
+package dev.prime.internal;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;

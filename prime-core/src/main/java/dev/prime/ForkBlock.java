@@ -1,7 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.EventBlock;
 import java.util.Objects;
 
 /**
@@ -11,7 +9,7 @@ import java.util.Objects;
  * @param <I> input type
  * @param <O> output type
  */
-public final class ForkBlock<I, O> implements Block<I, O> {
+final class ForkBlock<I, O> implements Block<I, O> {
   private final Block<I, O> block;
   private final EventBlock<? super O> events;
 
@@ -19,7 +17,7 @@ public final class ForkBlock<I, O> implements Block<I, O> {
    * @param block computes the output
    * @param events receives a copy of every non-null output
    */
-  public ForkBlock(Block<I, O> block, EventBlock<? super O> events) {
+  ForkBlock(Block<I, O> block, EventBlock<? super O> events) {
     this.block = Objects.requireNonNull(block, "block must not be null");
     this.events = Objects.requireNonNull(events, "events must not be null");
   }

@@ -1,6 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
 import java.util.Objects;
 
 /**
@@ -10,7 +9,7 @@ import java.util.Objects;
  * @param <M> type passed between the blocks
  * @param <O> output type
  */
-public final class LinkBlock<I, M, O> implements Block<I, O> {
+final class LinkBlock<I, M, O> implements Block<I, O> {
   private final Block<? super I, ? extends M> first;
   private final Block<? super M, ? extends O> second;
 
@@ -18,7 +17,7 @@ public final class LinkBlock<I, M, O> implements Block<I, O> {
    * @param first runs first
    * @param second runs on the first block's output
    */
-  public LinkBlock(Block<? super I, ? extends M> first, Block<? super M, ? extends O> second) {
+  LinkBlock(Block<? super I, ? extends M> first, Block<? super M, ? extends O> second) {
     this.first = Objects.requireNonNull(first, "first block must not be null");
     this.second = Objects.requireNonNull(second, "second block must not be null");
   }

@@ -1,8 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.Reader;
-import dev.prime.Token;
 import java.util.List;
 import java.util.Objects;
 
@@ -11,13 +8,13 @@ import java.util.Objects;
  *
  * @param <T> value type
  */
-public final class AsyncCollectorBlock<T> implements Block<Token, List<T>> {
+final class AsyncCollectorBlock<T> implements Block<Token, List<T>> {
   private final Reader<T> reader;
 
   /**
    * @param reader where the values come from
    */
-  public AsyncCollectorBlock(Reader<T> reader) {
+  AsyncCollectorBlock(Reader<T> reader) {
     this.reader = Objects.requireNonNull(reader, "reader must not be null");
   }
 

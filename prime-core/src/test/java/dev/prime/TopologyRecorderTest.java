@@ -1,15 +1,11 @@
-package dev.prime.spi;
+package dev.prime;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
-import dev.prime.Block;
-import dev.prime.Chain;
-import dev.prime.CoreConfig;
-import dev.prime.EventBlock;
-import dev.prime.PrimeCore;
-import dev.prime.Source;
+import dev.prime.spi.FailureNamingBlock;
+import dev.prime.spi.GenericChainCompiler;
 import dev.prime.topology.TopologyNode;
 import java.util.List;
 import org.junit.jupiter.api.Test;
@@ -31,9 +27,19 @@ class TopologyRecorderTest {
     /** A chain of this core that a media made without recording it. */
     <I, O> Chain<I, O> unrecorded(String name, Block<I, O> block) {
       PrimeCore self = this;
-      return new AbstractChain<>(self, name) {
+      return new Chain<>() {
         @Override
-        protected Block<I, O> createBlock() {
+        public PrimeCore core() {
+          return self;
+        }
+
+        @Override
+        public String name() {
+          return name;
+        }
+
+        @Override
+        public Block<I, O> toBlock() {
           return new FailureNamingBlock<>(name, block);
         }
       };

@@ -1,4 +1,4 @@
-package dev.prime.blocks;
+package dev.prime;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertNull;
@@ -6,15 +6,6 @@ import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
-import dev.prime.Block;
-import dev.prime.EventBlock;
-import dev.prime.PrimeException;
-import dev.prime.Repeat;
-import dev.prime.Token;
-import dev.prime.Tuple2;
-import dev.prime.Tuple3;
-import dev.prime.Tuple4;
-import dev.prime.Tuple5;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.concurrent.atomic.AtomicInteger;

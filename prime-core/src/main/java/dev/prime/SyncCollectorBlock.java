@@ -1,9 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.PrimeException;
-import dev.prime.Reader;
-import dev.prime.Token;
 import java.util.Objects;
 
 /**
@@ -14,13 +10,13 @@ import java.util.Objects;
  *
  * @param <T> value type
  */
-public final class SyncCollectorBlock<T> implements Block<Token, T> {
+final class SyncCollectorBlock<T> implements Block<Token, T> {
   private final Reader<T> reader;
 
   /**
    * @param reader where the values come from
    */
-  public SyncCollectorBlock(Reader<T> reader) {
+  SyncCollectorBlock(Reader<T> reader) {
     this.reader = Objects.requireNonNull(reader, "reader must not be null");
   }
 

@@ -1,4 +1,4 @@
-package dev.prime.spi;
+package dev.prime;
 
 /**
  * What only a media can tell about its services, for {@link dev.prime.Metrics}: how many values

@@ -1,10 +1,5 @@
-package dev.prime.blocks;
+package dev.prime;
 
-import dev.prime.Block;
-import dev.prime.Tuple2;
-import dev.prime.Tuple3;
-import dev.prime.Tuple4;
-import dev.prime.Tuple5;
 import java.util.Arrays;
 import java.util.List;
 import java.util.Objects;
@@ -17,7 +12,7 @@ import java.util.Objects;
  * @param <I> input type
  * @param <T> tuple type
  */
-public final class UnionBlock<I, T> implements Block<I, T> {
+final class UnionBlock<I, T> implements Block<I, T> {
 
   /** Assembles a tuple from the parts' outputs. */
   @FunctionalInterface
@@ -47,7 +42,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
    * @return the union
    */
   @SuppressWarnings("unchecked")
-  public static <I, A, B> Block<I, Tuple2<A, B>> of(Block<I, A> a, Block<I, B> b) {
+  static <I, A, B> Block<I, Tuple2<A, B>> of(Block<I, A> a, Block<I, B> b) {
     return new UnionBlock<>(o -> new Tuple2<>((A) o[0], (B) o[1]), Arrays.<Block<? super I, ?>>asList(a, b));
   }
 
@@ -62,7 +57,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
    * @return the union
    */
   @SuppressWarnings("unchecked")
-  public static <I, A, B, C> Block<I, Tuple3<A, B, C>> of(
+  static <I, A, B, C> Block<I, Tuple3<A, B, C>> of(
       Block<I, A> a, Block<I, B> b, Block<I, C> c) {
     return new UnionBlock<>(o -> new Tuple3<>((A) o[0], (B) o[1], (C) o[2]), Arrays.<Block<? super I, ?>>asList(a, b, c));
   }
@@ -80,7 +75,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
    * @return the union
    */
   @SuppressWarnings("unchecked")
-  public static <I, A, B, C, D> Block<I, Tuple4<A, B, C, D>> of(
+  static <I, A, B, C, D> Block<I, Tuple4<A, B, C, D>> of(
       Block<I, A> a, Block<I, B> b, Block<I, C> c, Block<I, D> d) {
     return new UnionBlock<>(
         o -> new Tuple4<>((A) o[0], (B) o[1], (C) o[2], (D) o[3]),
@@ -102,7 +97,7 @@ public final class UnionBlock<I, T> implements Block<I, T> {
    * @return the union
    */
   @SuppressWarnings("unchecked")
-  public static <I, A, B, C, D, E> Block<I, Tuple5<A, B, C, D, E>> of(
+  static <I, A, B, C, D, E> Block<I, Tuple5<A, B, C, D, E>> of(
       Block<I, A> a, Block<I, B> b, Block<I, C> c, Block<I, D> d, Block<I, E> e) {
     return new UnionBlock<>(
         o -> new Tuple5<>((A) o[0], (B) o[1], (C) o[2], (D) o[3], (E) o[4]),

@@ -1,4 +1,4 @@
-package dev.prime.spi;
+package dev.prime;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertInstanceOf;
@@ -7,15 +7,7 @@ import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
-import dev.prime.Block;
-import dev.prime.Chain;
-import dev.prime.ChainAlreadyUsedException;
-import dev.prime.CoreConfig;
-import dev.prime.EventBlock;
-import dev.prime.PrimeCore;
-import dev.prime.Reader;
-import dev.prime.Source;
-import dev.prime.blocks.IfThenElseBlock;
+import dev.prime.spi.FailureNamingBlock;
 import dev.prime.topology.TopologyNode;
 import java.lang.ref.WeakReference;
 import java.time.Duration;
@@ -198,7 +190,7 @@ class ModelCompileTest {
       assertEquals(new Call("template", "fork(twice)", new NodeLogic.Events(events), List.of("twice")),
           calls.get(0));
       assertEquals("block", calls.get(1).method());
-      assertEquals("dev.prime.blocks.ForkBlock", calls.get(1).logic().getClass().getName());
+      assertEquals("dev.prime.ForkBlock", calls.get(1).logic().getClass().getName());
       core.start();
       assertEquals(6, forked.toBlock().process(3));
     }

@@ -1,8 +1,5 @@
-package dev.prime.spi;
+package dev.prime;
 
-import dev.prime.ChainFailedException;
-import dev.prime.ErrorHandler;
-import dev.prime.GenericService;
 import dev.prime.GenericService.Step;
 import java.time.Duration;
 import java.util.Objects;

@@ -1,0 +1,11 @@
+/**
+ * Prime from Kotlin: suspending calls of a chain's block, sources as flows and flows as sources
+ * ({@code dev.prime.kotlin}), on the core and coroutines only.
+ */
+module dev.prime.kotlin {
+  requires transitive dev.prime;
+  requires transitive kotlin.stdlib;
+  requires transitive kotlinx.coroutines.core;
+
+  exports dev.prime.kotlin;
+}
