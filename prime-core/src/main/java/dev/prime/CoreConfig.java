@@ -292,8 +292,11 @@ public final class CoreConfig {
     }
 
     /**
-     * Turns recording on: the core records every value each of its sources publishes and each of
-     * its chains made of a block returns, with time stamps, in a ring per name; read it with
+     * Turns recording on: the core records every value each of its event sources ({@link
+     * PrimeCore#source(String, EventBlock)}) publishes and each of its chains made of a block
+     * ({@link PrimeCore#chain(String, Block)}) returns, with time stamps, in a ring per name (only
+     * those: filters, flat-maps, listeners, templates and other services are not recorded, see
+     * {@link Recording}); read it with
      * {@link PrimeCore#recording()}. Off by default, and then free: no recording code is compiled
      * into any chain or subscribed to any source.
      *

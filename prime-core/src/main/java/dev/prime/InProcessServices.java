@@ -204,6 +204,20 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
         new SourceService<>(name, reader, step, core.config().errorHandler(), core::isClosed));
   }
 
+  /**
+   * Closes {@code subscription} when the core closes (at once if it is closing): for the
+   * recording's and metering's subscribers to the program's event blocks, which outlive no core.
+   */
+  void unsubscribeOnClose(EventBlock.Subscription subscription) {
+    synchronized (sources) {
+      if (!core.isClosed()) { // close() marks the core closed before it takes this lock
+        subscriptions.add(subscription);
+        return;
+      }
+    }
+    subscription.close();
+  }
+
   /** Unsubscribes from every event block and closes every source, waking their readers. */
   void close() {
     List<MemorySource<?>> closing;

@@ -20,10 +20,12 @@ import java.util.function.Predicate;
  */
 final class MeteringPoints {
   private final PrimeCore core;
+  private final InProcessServices unsubscriber; // closes its event block subscriptions at close
   private final Metrics metrics;
 
-  MeteringPoints(PrimeCore core, String media, ServiceGauges gauges) {
+  MeteringPoints(PrimeCore core, String media, ServiceGauges gauges, InProcessServices memory) {
     this.core = core;
+    this.unsubscriber = memory;
     this.metrics =
         new Metrics(core.name(), media, core.topologyRecorder(), gauges, core::isHostedHere);
   }
@@ -161,22 +163,26 @@ final class MeteringPoints {
 
     /**
      * Subscribes the subscriber that counts what the media accepted, after the media's; an
-     * in-memory source's readers' misses are counted by the source.
+     * in-memory source's readers' misses are counted by the source. Both subscribers leave the
+     * event block when the core closes.
      */
     void afterMedia(Source<?> source) {
       if (source instanceof MemorySource<?> memory) {
         meter.missed(memory::missedByReaders);
       }
-      events.subscribe(
-          value -> {
-            if (core.isClosed()) {
-              return;
-            }
-            meter.out();
-            if (!outputOnly) {
-              meter.processed(System.nanoTime() - started.get()[0], false);
-            }
-          });
+      unsubscriber.unsubscribeOnClose(counting);
+      EventBlock.Subscription accepted =
+          events.subscribe(
+              value -> {
+                if (core.isClosed()) {
+                  return;
+                }
+                meter.out();
+                if (!outputOnly) {
+                  meter.processed(System.nanoTime() - started.get()[0], false);
+                }
+              });
+      unsubscriber.unsubscribeOnClose(accepted);
     }
 
     /** Stops counting: the media made no source. */

@@ -41,9 +41,11 @@ final class ModelCompiler<F> {
     this.sources = sources;
     this.memory = memory;
     RecordingOptions options = core.config().recording();
-    this.recording = options == null ? null : new RecordingPoints(core, options);
+    this.recording = options == null ? null : new RecordingPoints(core, options, memory);
     this.metering =
-        core.config().metrics() ? new MeteringPoints(core, core.mediaName(), gauges()) : null;
+        core.config().metrics()
+            ? new MeteringPoints(core, core.mediaName(), gauges(), memory)
+            : null;
     memory.meterWith(metering);
   }
 

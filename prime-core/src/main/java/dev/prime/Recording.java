@@ -23,7 +23,14 @@ import java.util.function.BooleanSupplier;
  * a block returned, under the source's or chain's name in the topology, with its pseudoname (see
  * {@link PrimeCore#chain(String, String, Block)}), a wall-clock and a monotonic time stamp and a
  * sequence number per name. Get it with {@link PrimeCore#recording()} from a core whose {@link
- * CoreConfig} turns recording on ({@link CoreConfig.Builder#recording(RecordingOptions)}).
+ * CoreConfig} turns recording on ({@link CoreConfig.Builder#recording(RecordingOptions)}). *
+ * <p>Recorded are exactly two kinds of node: every event source ({@link PrimeCore#source(String,
+ * EventBlock)}: each value its event block publishes that the media accepted) and every chain made
+ * of a block ({@link PrimeCore#chain(String, Block)}: each non-null value its block returns,
+ * wherever the media runs it). Nothing else has a name here: filters, flat-maps, listeners,
+ * readers, timers, combinators, generic services, templates (if/else, for-each, union, fork,
+ * guard...), links and collectors are not recorded; a value they make is recorded only where it
+ * comes out of a recorded chain.
  *
  * <p>Reading never consumes: every method returns what the ring of a name holds now, and many
  * readers may read the same values.

@@ -4,7 +4,9 @@ import java.time.Duration;
 import java.util.Objects;
 
 /**
- * How a core records what its sources publish and its chains return (see {@link Recording}):
+ * How a core records what its event sources publish and its chains made of a block return (only
+ * those: filters, flat-maps, listeners, templates and other services are not recorded; see {@link
+ * Recording}):
  * the size of the ring kept per recorded name and how long {@link Recording#get(String)} waits for
  * a first value. Immutable. Give it to {@link CoreConfig.Builder#recording(RecordingOptions)};
  * without it a core records nothing and pays nothing.

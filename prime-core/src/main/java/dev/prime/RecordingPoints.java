@@ -14,10 +14,12 @@ import java.time.Instant;
  */
 final class RecordingPoints {
   private final PrimeCore core;
+  private final InProcessServices unsubscriber; // closes its event block subscriptions at close
   private final Recording recording;
 
-  RecordingPoints(PrimeCore core, RecordingOptions options) {
+  RecordingPoints(PrimeCore core, RecordingOptions options, InProcessServices memory) {
     this.core = core;
+    this.unsubscriber = memory;
     this.recording = new Recording(core.name(), options, core::isClosed);
   }
 
@@ -62,22 +64,28 @@ final class RecordingPoints {
               });
     }
 
-    /** Subscribes the recording subscriber, after the media's. */
+    /**
+     * Subscribes the recording subscriber, after the media's; both subscribers leave the event
+     * block when the core closes.
+     */
     void afterMedia() {
       RecordingRing ring = recording.ring(name, core.topologyRecorder().pseudoname(name));
-      events.subscribe(
-          value -> {
-            if (core.isClosed()) {
-              return;
-            }
-            Stamp stamp = stamps.get();
-            if (stamp.value == value) { // not overwritten by a nested publish of this thread
-              stamp.value = null;
-              ring.record(value, stamp.wallTime, stamp.monotonicNanos);
-            } else {
-              ring.record(value);
-            }
-          });
+      unsubscriber.unsubscribeOnClose(stamping);
+      EventBlock.Subscription recorder =
+          events.subscribe(
+              value -> {
+                if (core.isClosed()) {
+                  return;
+                }
+                Stamp stamp = stamps.get();
+                if (stamp.value == value) { // not overwritten by a nested publish of this thread
+                  stamp.value = null;
+                  ring.record(value, stamp.wallTime, stamp.monotonicNanos);
+                } else {
+                  ring.record(value);
+                }
+              });
+      unsubscriber.unsubscribeOnClose(recorder);
     }
 
     /** Stops stamping: the media made no source. */

@@ -214,6 +214,26 @@ public interface MetricsConformance extends ConformanceBase {
   }
 
   @Test
+  default void aClosedCoreCountsNothingPublishedAfterClose() throws Exception {
+    EventBlock<Integer> events = new EventBlock<>();
+    Metrics metrics;
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      Reader<Integer> numbers = core.source("numbers", events).reader();
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 2, 3), takeOrFail(numbers, 3));
+      metrics = core.metrics();
+      assertCounts(metrics.service("numbers"), "EventSource", 3, 3, 0);
+    }
+    for (int i = 4; i <= 5; i++) {
+      events.publish(i); // no subscriber of the closed core may count these
+    }
+    assertCounts(metrics.service("numbers"), "EventSource", 3, 3, 0);
+  }
+
+  @Test
   default void theHistogramTimesEveryValue() throws Exception {
     long sleepMillis = 5;
     try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {

@@ -16,6 +16,8 @@ import dev.prime.Recording;
 import dev.prime.RecordingOptions;
 import dev.prime.Source;
 import dev.prime.Reader;
+import java.lang.ref.ReferenceQueue;
+import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.time.Instant;
 import java.util.ArrayList;
@@ -190,6 +192,79 @@ public interface RecordingConformance extends ConformanceBase {
         List<String> stack = frames.process(1);
         boolean tapped = stack.stream().anyMatch(c -> c.startsWith("dev.prime.Recording"));
         assertEquals(on, tapped, "recording " + (on ? "on" : "off") + ", stack " + stack);
+      }
+    }
+  }
+
+  @Test
+  default void aClosedCoreLeavesNoSubscriberOnTheProgramsEventBlock() throws Exception {
+    EventBlock<String> events = new EventBlock<>();
+    Recording recording;
+    try (PrimeCore core = recordingCore(10)) {
+      Reader<String> words = core.source("words", events).reader();
+      core.start();
+      events.publish("before");
+      assertEquals("before", takeOrFail(words));
+      recording = core.recording();
+      assertEquals(List.of("before"), recording.getAll("words"));
+    }
+    // A subscriber left by the core would hold the value published after close (its stamp).
+    ReferenceQueue<String> collected = new ReferenceQueue<>();
+    WeakReference<String> after = publishAndForget(events, collected);
+    assertEquals(List.of("before"), recording.getAll("words"), "nothing recorded after close");
+    assertEquals(1, recording.recorded("words"));
+    for (int attempt = 0; attempt < 20 && collected.poll() == null; attempt++) {
+      System.gc();
+      if (collected.remove(100) != null) {
+        break;
+      }
+    }
+    assertNull(after.get(), "a subscriber of the closed core still holds the value published");
+  }
+
+  /** Publishes a fresh value to {@code events} and keeps only a weak reference to it. */
+  private static WeakReference<String> publishAndForget(
+      EventBlock<String> events, ReferenceQueue<String> collected) {
+    String value = new String("after close".toCharArray());
+    events.publish(value);
+    return new WeakReference<>(value, collected);
+  }
+
+  @Test
+  default void onlyEventSourcesAndChainsOfABlockAreRecorded() throws Exception {
+    try (PrimeCore core = recordingCore(100)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", events);
+      Reader<Integer> evens = numbers.filter(x -> x % 2 == 0).reader();
+      Reader<Integer> pairs = numbers.flatMap(x -> List.of(x, x)).reader();
+      CountDownLatch heard = new CountDownLatch(4);
+      numbers.listen(x -> heard.countDown());
+      Block<Integer, String> parity =
+          core.ifThenElse(
+                  x -> x % 2 == 0,
+                  core.chain("even", (Integer x) -> "even"),
+                  core.chain("odd", (Integer x) -> "odd"))
+              .toBlock();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 4), takeOrFail(evens, 2));
+      assertEquals(List.of(1, 1, 2, 2, 3, 3, 4, 4), takeOrFail(pairs, 8));
+      assertTrue(heard.await(10, TimeUnit.SECONDS), "the listener heard every value");
+      assertEquals("odd", parity.process(1));
+      assertEquals("even", parity.process(2));
+
+      Recording recording = core.recording();
+      assertEquals(List.of("numbers", "even", "odd"), List.copyOf(recording.names()));
+      assertEquals(List.of(1, 2, 3, 4), recording.getAll("numbers"));
+      assertEquals(List.of("even"), recording.getAll("even"));
+      assertEquals(List.of("odd"), recording.getAll("odd"));
+      for (String notRecorded :
+          List.of("filter(numbers)", "flatMap(numbers)", "listen(numbers)", "if(even|odd)")) {
+        IllegalArgumentException e =
+            assertThrows(IllegalArgumentException.class, () -> recording.getAll(notRecorded));
+        assertTrue(e.getMessage().contains("numbers"), e.getMessage());
       }
     }
   }

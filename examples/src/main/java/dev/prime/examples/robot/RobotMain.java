@@ -11,6 +11,7 @@ import java.io.IOException;
 import java.io.PrintStream;
 import java.io.UncheckedIOException;
 import java.nio.file.Path;
+import java.util.LinkedHashMap;
 import java.util.Locale;
 import java.util.Map;
 import java.util.stream.Collectors;
@@ -197,7 +198,8 @@ public final class RobotMain {
 
   /**
    * Writes a recording with Metadata records (the run's arguments: {@link RunArguments}) and
-   * says what it wrote.
+   * says what it wrote: the values written per channel, and how many a full ring dropped before
+   * (those are not in the file).
    *
    * @return false (after saying why on {@code err}) if the file cannot be written
    */
@@ -207,6 +209,10 @@ public final class RobotMain {
       Map<String, Map<String, String>> metadata,
       PrintStream out,
       PrintStream err) {
+    Map<String, Integer> held = new LinkedHashMap<>(); // what the file gets per name
+    for (String name : recording.names()) {
+      held.put(name, recording.getAll(name).size());
+    }
     long written;
     try {
       written = RecordingMcap.write(recording, file, Map.of(), metadata);
@@ -220,11 +226,17 @@ public final class RobotMain {
             + " values to "
             + file
             + ": "
-            + recording.names().stream()
-                .filter(name -> recording.recorded(name) > 0)
-                .map(name -> name + " " + recording.recorded(name))
+            + held.entrySet().stream()
+                .filter(channel -> recording.recorded(channel.getKey()) > 0)
+                .map(channel -> written(channel.getKey(), channel.getValue(), recording))
                 .collect(Collectors.joining(", ")));
     return true;
+  }
+
+  /** "name N" for the N values of a channel in the file, with what its full ring dropped. */
+  private static String written(String name, int held, Recording recording) {
+    long dropped = recording.dropped(name);
+    return name + " " + held + (dropped == 0 ? "" : " (" + dropped + " dropped)");
   }
 
   private static int replay(

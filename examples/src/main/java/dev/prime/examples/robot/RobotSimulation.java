@@ -79,11 +79,11 @@ public final class RobotSimulation {
    * Declares the robot on {@code core}, starts the core and feeds it the encoder readings
    * recorded in {@code recording} (the {@value RobotController#ENCODERS} channel of a file written
    * with {@code --record}), one per control step, as fast as possible, until the controller
-   * declares the goal reached or the readings run out. Trace lines are printed as {@link #run}
+   * declares the goal reached, the readings run out or the mission's steps run out. Trace lines are printed as {@link #run}
    * prints them. The caller owns and closes the core.
    *
    * @param core a new core, not started
-   * @param mission the recorded run's mission (its goal; its step limit is not used)
+   * @param mission the recorded run's mission: its goal, its step limit and its trace interval
    * @param recording an MCAP file with an {@value RobotController#ENCODERS} channel
    * @param trace receives a line every {@link Mission#traceEvery()} steps
    * @return the outcome
@@ -116,7 +116,7 @@ public final class RobotSimulation {
             .feed(RobotController.ENCODERS, encoders.events(), EncoderReading.class)
             .open()) {
       Optional<TypedMessage<Object>> fed;
-      while ((fed = session.feedNext()).isPresent()) {
+      while (steps < mission.maxSteps() && (fed = session.feedNext()).isPresent()) {
         EncoderReading reading = (EncoderReading) fed.get().value();
         command = control.process(Token.INSTANCE);
         steps++;

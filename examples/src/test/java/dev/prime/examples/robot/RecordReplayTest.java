@@ -23,6 +23,8 @@ import java.util.List;
 import java.util.Map;
 import java.util.TreeMap;
 import java.util.concurrent.TimeUnit;
+import java.util.regex.Matcher;
+import java.util.regex.Pattern;
 import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
@@ -101,6 +103,23 @@ class RecordReplayTest {
   }
 
   @Test
+  void aReplayStopsAfterTheStepsGiven() {
+    List<String> trace = new Run(0, recordRun, "").trace();
+    int steps = 10;
+    assertTrue(trace.size() > steps, "the recorded run took more steps: " + trace.size());
+
+    Run replay =
+        main("--media", "liberty", "--steps", String.valueOf(steps), "--trace-every", "1", "--replay", recorded.toString());
+
+    assertEquals(1, replay.code(), "stopped before the goal: " + replay.out());
+    assertEquals(trace.subList(0, steps), replay.trace());
+    assertTrue(
+        replay.out().contains("did NOT reach goal " + new Goal(1, 0.5) + " after " + steps + " of " + trace.size()
+            + " recorded encoder readings"),
+        replay.out());
+  }
+
+  @Test
   void aReplayWithAnotherGoalIsKnowinglyDifferent() {
     Run replay = main("--media", "liberty", "--goal", "1,-0.5", "--trace-every", "1", "--replay", recorded.toString());
 
@@ -122,6 +141,38 @@ class RecordReplayTest {
 
     assertEquals(4, replay.code(), replay.out());
     assertTrue(replay.err().contains("no channel [encoders] in it; its channels: [poses]"), replay.err());
+  }
+
+  /**
+   * The file the command line wrote with {@code --record} (with its {@code robot.run} Metadata
+   * record) read by the Python {@code mcap} package: the channels and counts the run printed, every
+   * message valid against its schema, the summary intact.
+   */
+  @Test
+  @Timeout(value = 6, unit = TimeUnit.MINUTES) // a first pip install may take minutes
+  void anIndependentReaderReadsTheFileTheCommandLineWrote() throws Exception {
+    PythonMcapCheck python = PythonMcapCheck.installOrSkip();
+    try (McapReader reader = McapReader.open(recorded)) {
+      assertEquals(1, reader.metadata(RunArguments.METADATA).size(), "the run's arguments are in it");
+    }
+    Matcher said = Pattern.compile("recorded (\\d+) values to .*: (.*)").matcher(recordRun);
+    assertTrue(said.find(), recordRun);
+    Map<String, Long> printed = new TreeMap<>();
+    for (String channel : said.group(2).strip().split(", ")) {
+      String[] nameAndCount = channel.split(" ");
+      printed.put(nameAndCount[0], Long.parseLong(nameAndCount[1]));
+    }
+    assertTrue(printed.keySet().containsAll(List.of("encoders", "odometry", "planner", "pid")), printed.toString());
+
+    JsonNode check = python.check(recorded, dir);
+
+    Map<String, Long> read = new TreeMap<>();
+    check.get("channels").properties().forEach(e -> read.put(e.getKey(), e.getValue().get("read_count").asLong()));
+    assertEquals(printed, read, check.toString());
+    assertEquals(Long.parseLong(said.group(1)), check.get("message_count").asLong());
+    assertEquals(List.of(), new ObjectMapper().convertValue(check.get("schema_errors"), List.class));
+    assertTrue(check.get("log_time_sorted").asBoolean(), check.toString());
+    assertTrue(check.get("summary_crc_ok").asBoolean(), check.toString());
   }
 
   /**
