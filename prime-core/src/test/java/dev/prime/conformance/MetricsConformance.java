@@ -438,7 +438,14 @@ public interface MetricsConformance extends ConformanceBase {
       jobs.addAll(List.of("ok", "fail", "ok"));
       // three calls done, the fourth waits for its job
       ServiceMetrics driver =
-          settled(core, "driver", m -> m.valuesOut() == 2 && m.failures() == 1 && m.valuesIn() == 4);
+          settled(
+              core,
+              "driver",
+              m ->
+                  m.valuesOut() == 2
+                      && m.failures() == 1
+                      && m.valuesIn() == 4
+                      && m.processing().count() == 3);
       assertEquals("GenericServiceNode", driver.kind(), driver.toString());
       assertEquals(4, driver.valuesIn(), driver.toString());
       assertEquals(3, driver.processing().count(), "the waiting call is not timed yet: " + driver);
@@ -469,7 +476,10 @@ public interface MetricsConformance extends ConformanceBase {
       right.publish(20);
       assertEquals(List.of(new Tuple2<>(1, 10), new Tuple2<>(2, 20)), takeOrFail(out, 2));
       ServiceMetrics zip =
-          settled(core, pairs.name(), m -> m.valuesIn() == 5 && m.valuesOut() == 2);
+          settled(
+              core,
+              pairs.name(),
+              m -> m.valuesIn() == 5 && m.valuesOut() == 2 && m.processing().count() == 5);
       assertCounts(zip, "Combinator", 5, 2, 0);
       assertEquals(-1, zip.queueDepth(), zip.toString());
       assertEquals(0, zip.deadLetters(), zip.toString());
@@ -488,7 +498,11 @@ public interface MetricsConformance extends ConformanceBase {
       clock.advance(Duration.ofSeconds(1));
       List<Tick> hundred = takeOrFail(ticks, 100);
       assertEquals(100, hundred.get(99).count());
-      ServiceMetrics beat = settled(core, "beat", m -> m.valuesOut() == 100);
+      ServiceMetrics beat =
+          settled(
+              core,
+              "beat",
+              m -> m.valuesOut() == 100 && m.valuesIn() == 100 && m.processing().count() == 100);
       assertCounts(beat, "Timer", 100, 100, 0);
       assertEquals(-1, beat.queueDepth(), beat.toString());
       assertEquals(0, beat.deadLetters(), beat.toString());
