@@ -394,19 +394,7 @@ public interface MetricsConformance extends ConformanceBase {
   default void metricsOffCompileNoTapIntoAChain() throws Exception {
     for (boolean on : new boolean[] {false, true}) {
       try (PrimeCore core = newCore(CoreConfig.builder().metrics(on).build())) {
-        Block<Integer, List<String>> frames =
-            core.chain(
-                    "frames",
-                    (Integer x) -> {
-                      List<String> classes = new ArrayList<>();
-                      for (StackTraceElement frame : Thread.currentThread().getStackTrace()) {
-                        classes.add(frame.getClassName());
-                      }
-                      return classes;
-                    })
-                .toBlock();
-        core.start();
-        List<String> stack = frames.process(1);
+        List<String> stack = RunningStack.classesOfAChainIn(core);
         boolean tapped = stack.stream().anyMatch(c -> c.startsWith("dev.prime.MeteringPoints"));
         assertEquals(on, tapped, "metrics " + (on ? "on" : "off") + ", stack " + stack);
       }

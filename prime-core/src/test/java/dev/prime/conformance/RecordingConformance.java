@@ -177,19 +177,7 @@ public interface RecordingConformance extends ConformanceBase {
         config.recording(RecordingOptions.ring(10));
       }
       try (PrimeCore core = newCore(config.build())) {
-        Block<Integer, List<String>> frames =
-            core.chain(
-                    "frames",
-                    (Integer x) -> {
-                      List<String> classes = new ArrayList<>();
-                      for (StackTraceElement frame : Thread.currentThread().getStackTrace()) {
-                        classes.add(frame.getClassName());
-                      }
-                      return classes;
-                    })
-                .toBlock();
-        core.start();
-        List<String> stack = frames.process(1);
+        List<String> stack = RunningStack.classesOfAChainIn(core);
         boolean tapped = stack.stream().anyMatch(c -> c.startsWith("dev.prime.Recording"));
         assertEquals(on, tapped, "recording " + (on ? "on" : "off") + ", stack " + stack);
       }

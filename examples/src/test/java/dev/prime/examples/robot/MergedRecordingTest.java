@@ -12,18 +12,13 @@ import dev.prime.mcap.McapMessage;
 import dev.prime.mcap.McapReader;
 import dev.prime.mcap.PythonMcapCheck;
 import dev.prime.mcap.RecordingMcap;
-import java.io.BufferedReader;
-import java.io.File;
 import java.io.IOException;
-import java.io.InputStreamReader;
 import java.io.OutputStream;
 import java.nio.charset.StandardCharsets;
 import java.nio.file.Path;
 import java.util.List;
 import java.util.Map;
 import java.util.TreeMap;
-import java.util.concurrent.BlockingQueue;
-import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
@@ -45,63 +40,11 @@ class MergedRecordingTest {
   @TempDir Path dir;
 
   /** The worker JVM with its output lines collected by a daemon thread. */
-  private record Worker(Process process, BlockingQueue<String> lines, StringBuilder seen) {
-    static Worker start(Path record) throws IOException {
-      return start(record, false);
-    }
-
-    static Worker start(Path record, boolean stdinClosed) throws IOException {
-      String java = new File(System.getProperty("java.home"), "bin/java").getPath();
-      ProcessBuilder builder =
-          new ProcessBuilder(
-                  java, "-Xmx256m", "-cp", System.getProperty("java.class.path"),
-                  RobotWorker.class.getName(), "--hosts", "planner", "--goal", GOAL,
-                  "--name", CORE, "--record", record.toString())
-              .redirectErrorStream(true);
-      if (stdinClosed) {
-        builder.redirectInput(new File("/dev/null"));
-      }
-      Process process = builder.start();
-      BlockingQueue<String> lines = new LinkedBlockingQueue<>();
-      StringBuilder seen = new StringBuilder();
-      Thread pump =
-          new Thread(
-              () -> {
-                try (BufferedReader in =
-                    new BufferedReader(
-                        new InputStreamReader(process.getInputStream(), StandardCharsets.UTF_8))) {
-                  for (String line = in.readLine(); line != null; line = in.readLine()) {
-                    synchronized (seen) {
-                      seen.append(line).append('\n');
-                    }
-                    lines.add(line);
-                  }
-                } catch (IOException e) {
-                  // the process is gone
-                }
-              },
-              "worker-output");
-      pump.setDaemon(true);
-      pump.start();
-      return new Worker(process, lines, seen);
-    }
-
-    String awaitLine(String prefix, long seconds) throws InterruptedException {
-      long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(seconds);
-      while (System.nanoTime() < deadline) {
-        String line = lines.poll(deadline - System.nanoTime(), TimeUnit.NANOSECONDS);
-        if (line != null && line.startsWith(prefix)) {
-          return line;
-        }
-      }
-      throw new AssertionError("no line '" + prefix + "...' in " + seconds + " s; output:\n" + output());
-    }
-
-    String output() {
-      synchronized (seen) {
-        return seen.toString();
-      }
-    }
+  /** A worker JVM hosting and recording the planner into {@code record}. */
+  private static WorkerJvm startWorker(Path record, boolean stdinClosed) throws IOException {
+    return WorkerJvm.start(
+        stdinClosed,
+        "--hosts", "planner", "--goal", GOAL, "--name", CORE, "--record", record.toString());
   }
 
   private static Map<String, Long> counts(Path file) throws IOException {
@@ -119,7 +62,7 @@ class MergedRecordingTest {
   void twoProcessesRecordWhatTheyHostAndTheMergedFileReplaysTheRun() throws Exception {
     Path robotFile = dir.resolve("robot.mcap");
     Path workerFile = dir.resolve("worker.mcap");
-    Worker worker = Worker.start(workerFile);
+    WorkerJvm worker = startWorker(workerFile, false);
     RecordReplayTest.Run recorded;
     try {
       String ready = "READY robot worker hosting [planner] of core '" + CORE + "' on ";
@@ -212,7 +155,7 @@ class MergedRecordingTest {
   @Test
   void aWorkerStoppedBySigtermWritesItsRecording() throws Exception {
     Path workerFile = dir.resolve("worker.mcap");
-    Worker worker = Worker.start(workerFile, true);
+    WorkerJvm worker = startWorker(workerFile, true);
     try {
       String ready = "READY robot worker hosting [planner] of core '" + CORE + "' on ";
       String redisUrl = worker.awaitLine(ready, 60).substring(ready.length());

@@ -4,17 +4,12 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
-import java.io.BufferedReader;
 import java.io.ByteArrayOutputStream;
-import java.io.File;
 import java.io.IOException;
-import java.io.InputStreamReader;
 import java.io.OutputStream;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
-import java.util.concurrent.BlockingQueue;
-import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 
@@ -28,79 +23,14 @@ class RobotWorkerProcessTest {
   private static final String READY_PREFIX =
       "READY robot worker hosting [planner] of core 'robot-p' on ";
 
-  /** A worker JVM whose output lines are collected by a daemon thread. */
-  private record Worker(Process process, BlockingQueue<String> lines, StringBuilder seen) {
-
-    static Worker start(boolean stdinClosed) throws IOException {
-      String java = new File(System.getProperty("java.home"), "bin/java").getPath();
-      ProcessBuilder builder =
-          new ProcessBuilder(
-                  java,
-                  "-Xmx256m",
-                  "-cp",
-                  System.getProperty("java.class.path"),
-                  RobotWorker.class.getName(),
-                  "--hosts",
-                  "planner",
-                  "--goal",
-                  "-1,0.5",
-                  "--name",
-                  "robot-p")
-              .redirectErrorStream(true);
-      if (stdinClosed) {
-        builder.redirectInput(new File("/dev/null"));
-      }
-      Process process = builder.start();
-      BlockingQueue<String> lines = new LinkedBlockingQueue<>();
-      StringBuilder seen = new StringBuilder();
-      Thread pump =
-          new Thread(
-              () -> {
-                try (BufferedReader in =
-                    new BufferedReader(
-                        new InputStreamReader(process.getInputStream(), StandardCharsets.UTF_8))) {
-                  for (String line = in.readLine(); line != null; line = in.readLine()) {
-                    synchronized (seen) {
-                      seen.append(line).append('\n');
-                    }
-                    lines.add(line);
-                  }
-                } catch (IOException e) {
-                  // the process is gone
-                }
-              },
-              "worker-output");
-      pump.setDaemon(true);
-      pump.start();
-      return new Worker(process, lines, seen);
-    }
-
-    /** Waits (bounded) for a line starting with {@code prefix} and returns it. */
-    String awaitLine(String prefix, long seconds) throws InterruptedException {
-      long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(seconds);
-      for (long left = seconds; left > 0; ) {
-        String line = lines.poll(deadline - System.nanoTime(), TimeUnit.NANOSECONDS);
-        if (line == null) {
-          break;
-        }
-        if (line.startsWith(prefix)) {
-          return line;
-        }
-        left = deadline - System.nanoTime();
-      }
-      throw new AssertionError("no line '" + prefix + "...' in " + seconds + " s; output:\n" + output());
-    }
-
-    String output() {
-      synchronized (seen) {
-        return seen.toString();
-      }
-    }
+  private static WorkerJvm start(boolean stdinClosed) throws IOException {
+    return WorkerJvm.start(
+        stdinClosed, "--hosts", "planner", "--goal", "-1,0.5", "--name", "robot-p");
   }
 
   @Test
   void workerWithClosedStdinServesAndStopsOnSigterm() throws Exception {
-    Worker worker = Worker.start(true);
+    WorkerJvm worker = start(true);
     try {
       String redisUrl = worker.awaitLine(READY_PREFIX, 60).substring(READY_PREFIX.length());
       // stdin was /dev/null from the start: the worker is still there to plan every step
@@ -130,7 +60,7 @@ class RobotWorkerProcessTest {
 
   @Test
   void workerStopsOnStopLineWithExitCodeZero() throws Exception {
-    Worker worker = Worker.start(false);
+    WorkerJvm worker = start(false);
     try {
       worker.awaitLine(READY_PREFIX, 60);
       OutputStream stdin = worker.process().getOutputStream();

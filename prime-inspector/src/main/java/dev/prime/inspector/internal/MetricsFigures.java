@@ -14,7 +14,7 @@ import java.util.Map;
 public final class MetricsFigures implements LiveFigures {
   private final Metrics metrics;
   private final Map<String, ServiceMetrics> last = new HashMap<>();
-  private long lastNanos;
+  private final SamplingClock clock = new SamplingClock();
 
   /**
    * @param metrics the core's metrics
@@ -25,9 +25,7 @@ public final class MetricsFigures implements LiveFigures {
 
   @Override
   public Map<String, NodeFigures> sample() {
-    long now = System.nanoTime();
-    double seconds = lastNanos == 0 ? 0 : (now - lastNanos) / 1e9;
-    lastNanos = now;
+    double seconds = clock.secondsSinceLast();
     Map<String, NodeFigures> figures = new LinkedHashMap<>();
     for (ServiceMetrics service : metrics.services()) {
       ServiceMetrics before = last.put(service.name(), service);

@@ -13,7 +13,7 @@ import java.util.Map;
 public final class RecordingRates implements LiveFigures {
   private final Recording recording;
   private final Map<String, Long> lastCounts = new HashMap<>();
-  private long lastNanos;
+  private final SamplingClock clock = new SamplingClock();
 
   /**
    * @param recording the core's recording
@@ -24,9 +24,7 @@ public final class RecordingRates implements LiveFigures {
 
   @Override
   public Map<String, NodeFigures> sample() {
-    long now = System.nanoTime();
-    double seconds = lastNanos == 0 ? 0 : (now - lastNanos) / 1e9;
-    lastNanos = now;
+    double seconds = clock.secondsSinceLast();
     Map<String, NodeFigures> figures = new LinkedHashMap<>();
     for (String name : recording.names()) {
       long count = recording.recorded(name);
