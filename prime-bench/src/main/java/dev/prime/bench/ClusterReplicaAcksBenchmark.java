@@ -87,6 +87,13 @@ public class ClusterReplicaAcksBenchmark {
 
   /** A cluster and a core on it, for one trial; the Redis profile of the topology's master. */
   public abstract static class OnCluster {
+    /**
+     * A running cluster for the states to use instead of starting one each, and not to close
+     * ({@code null}: each trial starts and closes its own); lets a test run several states on one
+     * cluster.
+     */
+    static LocalRedisCluster shared;
+
     LocalRedisCluster cluster;
     OptimusCore core;
     private String label;
@@ -97,7 +104,7 @@ public class ClusterReplicaAcksBenchmark {
     final void open(String name, int replicaAcks) {
       label = name + " replicaAcks=" + replicaAcks;
       // a long node timeout: a node starved of CPU on a loaded machine is not failed over
-      cluster = LocalRedisCluster.start(3, Duration.ofSeconds(5), false);
+      cluster = shared != null ? shared : LocalRedisCluster.start(3, Duration.ofSeconds(5), false);
       core = OptimusCore.builder()
           .redis(cluster.getUrl())
           .replicaAcks(replicaAcks)
@@ -115,13 +122,28 @@ public class ClusterReplicaAcksBenchmark {
       }
     }
 
+    /** How often the topology's master ran {@code command} since {@link #resetStats} ({@code INFO commandstats}). */
+    final long masterCalls(String command) {
+      try (Jedis jedis = master.jedis()) {
+        String prefix = "cmdstat_" + command + ":calls=";
+        for (String line : jedis.info("commandstats").split("\r?\n")) {
+          if (line.startsWith(prefix)) {
+            return Long.parseLong(line.substring(prefix.length(), line.indexOf(',')));
+          }
+        }
+        return 0;
+      }
+    }
+
     /** Prints the master's profile per value, closes the core and the cluster. */
     final void close(long operations, int valuesPerOperation) {
       try (Jedis jedis = master.jedis()) {
         RedisRig.report(jedis, cpuAtReset, label, operations, valuesPerOperation);
       } finally {
         core.close();
-        cluster.close();
+        if (cluster != shared) {
+          cluster.close();
+        }
       }
     }
   }
