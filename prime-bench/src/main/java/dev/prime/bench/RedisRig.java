@@ -1,6 +1,7 @@
 package dev.prime.bench;
 
 import dev.prime.optimus.EmbeddedRedis;
+import java.lang.management.ManagementFactory;
 import java.net.URI;
 import java.util.ArrayList;
 import java.util.List;
@@ -11,7 +12,9 @@ import redis.clients.jedis.Jedis;
  * One embedded {@code redis-server} for one benchmark trial, and the profile of what the trial
  * made it do: after the trial, {@link #report} prints Redis's command counts and CPU time per
  * benchmark operation (from {@code INFO commandstats} and {@code INFO cpu}), which shows how many
- * round trips and how much server time a value costs.
+ * round trips and how much server time a value costs. Next to it, the CPU time of this JVM (the
+ * benchmark's own process: client, services, JMH) per value, so the two sides of a round trip can
+ * be compared on a machine whose cores are shared.
  *
  * <p>Not thread-safe: the benchmark's setup and teardown use it; the connections it hands out
  * belong to their callers.
@@ -19,6 +22,7 @@ import redis.clients.jedis.Jedis;
 final class RedisRig implements AutoCloseable {
   private final EmbeddedRedis redis = EmbeddedRedis.start();
   private double cpuAtReset;
+  private long jvmCpuAtReset;
 
   /** The server's URL, {@code redis://127.0.0.1:port}. */
   String uri() {
@@ -36,6 +40,7 @@ final class RedisRig implements AutoCloseable {
       jedis.configResetStat();
       cpuAtReset = cpuSeconds(jedis);
     }
+    jvmCpuAtReset = jvmCpuNanos();
   }
 
   /**
@@ -46,6 +51,7 @@ final class RedisRig implements AutoCloseable {
   void report(String scenario, long operations, int valuesPerOperation) {
     double values = Math.max(1, operations) * (double) valuesPerOperation;
     List<String> lines = new ArrayList<>();
+    double jvmCpu = (jvmCpuNanos() - jvmCpuAtReset) / 1e9;
     try (Jedis jedis = connect()) {
       double cpu = cpuSeconds(jedis) - cpuAtReset;
       for (String line : jedis.info("commandstats").split("\r?\n")) {
@@ -58,8 +64,8 @@ final class RedisRig implements AutoCloseable {
         lines.add(String.format(Locale.ROOT, "  %-10s %8.3f calls/value  %8.2f us/call  %8.3f us/value",
             command, calls / values, usecPerCall, calls * usecPerCall / values));
       }
-      System.out.printf(Locale.ROOT, "%n[redis profile] %s: %d values; redis CPU %.2f us/value%n",
-          scenario, (long) values, cpu * 1e6 / values);
+      System.out.printf(Locale.ROOT, "%n[redis profile] %s: %d values; redis CPU %.2f us/value; JVM CPU %.2f us/value%n",
+          scenario, (long) values, cpu * 1e6 / values, jvmCpu * 1e6 / values);
     }
     lines.forEach(System.out::println);
   }
@@ -67,6 +73,13 @@ final class RedisRig implements AutoCloseable {
   @Override
   public void close() {
     redis.close();
+  }
+
+  /** The CPU time of this JVM so far (every thread), or 0 where the platform does not tell. */
+  private static long jvmCpuNanos() {
+    return ManagementFactory.getOperatingSystemMXBean() instanceof com.sun.management.OperatingSystemMXBean os
+        ? Math.max(0, os.getProcessCpuTime())
+        : 0;
   }
 
   private static double cpuSeconds(Jedis jedis) {
