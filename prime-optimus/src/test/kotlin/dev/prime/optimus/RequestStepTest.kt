@@ -45,9 +45,10 @@ class RequestStepTest {
                     assertEquals(CALLS.toLong(), calls["evalsha"], "one step per call: $calls")
                     assertEquals(CALLS.toLong(), calls["del"], "the caller clears its reply list once per call: $calls")
                     assertEquals(2L * CALLS, calls["rpush"], "the request and the reply: $calls")
-                    // the caller's wait and the service's take; a take that waited a whole poll slice (1 s) counts too
+                    // the caller's wait and the service's take; a take that waited a whole poll slice (1 s) counts too,
+                    // and the one the service was blocked in when the count was reset may fall on either side of it
                     val moves = calls.getValue("blmove")
-                    assertTrue(moves in 2L * CALLS..2L * CALLS + 2 * (seconds + 1), "two blocking moves per call: $calls")
+                    assertTrue(moves in 2L * CALLS - 1..2L * CALLS + 2 * (seconds + 1), "two blocking moves per call: $calls")
                     assertEquals(CALLS.toLong(), calls["get"], "the fence, once per step: $calls")
                     assertEquals(CALLS.toLong(), calls["pexpire"], "the reply list's expiry: $calls")
                     assertEquals(CALLS.toLong(), calls["ltrim"], "the acknowledgement: $calls")
