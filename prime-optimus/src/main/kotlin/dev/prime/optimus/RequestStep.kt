@@ -1,6 +1,8 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.Protocol
+import redis.clients.jedis.exceptions.JedisNoScriptException
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
@@ -18,6 +20,12 @@ internal class RequestOutput(val target: ByteArray, val entry: ByteArray, val is
  * reply namespace check and expiry, the acknowledgement of the request, and the take of the next
  * entries under the same bounds; what it cannot store itself (a reply key it refuses) it leaves
  * untouched, and the caller then runs the general step, which dead-letters the request.
+ *
+ * [executeThenWait] writes the service's next blocking take (`BLMOVE input processing`) behind
+ * the step, in the same write, as a raw echo's pop follows its push: a service that is keeping up
+ * costs Redis one read per request, not two. The step then leaves one entry of a backlog in the
+ * input for that take, so the take never waits while the service holds entries to handle. What the
+ * take moved is in the processing list behind what the step took, as a crash would leave it.
  */
 internal class RequestStep(
     private val processing: ByteArray,
@@ -34,19 +42,52 @@ internal class RequestStep(
      * [take] entries. Returns [StepResult.Stored] or [StepResult.Fenced], or `null` if the script
      * refused the reply key and stored nothing (run the general step for this request).
      */
-    fun execute(jedis: Jedis, output: RequestOutput, take: Int): StepResult? {
-        val keys = listOf(processing, input, fence.lease, output.target)
-        val args = listOf(
-            fence.instance,
-            output.entry,
-            if (output.isReply) ONE else ZERO,
-            rules.replyPrefix,
-            replyTtl,
-            number(take),
-            batchBytes,
-            maxEntryBytes,
-        )
-        val items = Script.REQUEST_STEP.run(jedis, keys, args) as List<*>
+    fun execute(jedis: Jedis, output: RequestOutput, take: Int): StepResult? =
+        parse(Script.REQUEST_STEP.run(jedis, keys(output), args(output, take, waitBehind = false)))
+
+    /**
+     * [execute] with a full take, then the blocking take of the next entry (waiting up to
+     * [waitSeconds]), in one write; the step's result (its taken entries followed by the one the
+     * blocking take moved, if any) and the blocking take's entry, or `null` if it waited in vain.
+     * A step Redis refused throws its error once both answers are read (what the blocking take
+     * moved is then in the processing list, for the service to read there).
+     */
+    fun executeThenWait(jedis: Jedis, output: RequestOutput, take: Int, waitSeconds: ByteArray): Pair<StepResult?, TakenEntry?> {
+        val connection = jedis.connection
+        Script.REQUEST_STEP.send(connection, keys(output), args(output, take, waitBehind = true))
+        connection.sendCommand(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        val answers = connection.getMany(2)
+        val moved = answers[1].let { if (it is RuntimeException) throw it else (it as ByteArray?)?.let { e -> TakenEntry(e, e.size.toLong()) } }
+        val step = answers[0]
+        val result = when (step) {
+            // Redis lost its scripts (a restart): nothing was stored; the request is still the processing list's head
+            is JedisNoScriptException -> execute(jedis, output, take = 0)
+            is RuntimeException -> throw step
+            else -> parse(step)
+        }
+        return if (result is StepResult.Stored && moved != null) {
+            StepResult.Stored(result.taken + moved, result.missed, result.view) to moved
+        } else {
+            result to moved
+        }
+    }
+
+    private fun keys(output: RequestOutput) = listOf(processing, input, fence.lease, output.target)
+
+    private fun args(output: RequestOutput, take: Int, waitBehind: Boolean) = listOf(
+        fence.instance,
+        output.entry,
+        if (output.isReply) ONE else ZERO,
+        rules.replyPrefix,
+        replyTtl,
+        number(take),
+        batchBytes,
+        maxEntryBytes,
+        if (waitBehind) ONE else ZERO,
+    )
+
+    private fun parse(answer: Any?): StepResult? {
+        val items = answer as List<*>
         return when (val status = (items[0] as ByteArray).toString(UTF_8)) {
             "OK" -> StepResult.Stored(
                 if (items.size == 1) emptyList() else items.subList(1, items.size).map(::takenEntry),
@@ -62,6 +103,8 @@ internal class RequestStep(
     private companion object {
         val ONE = "1".toByteArray(UTF_8)
         val ZERO = "0".toByteArray(UTF_8)
+        val LEFT = "LEFT".toByteArray(UTF_8)
+        val RIGHT = "RIGHT".toByteArray(UTF_8)
 
         fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)
 

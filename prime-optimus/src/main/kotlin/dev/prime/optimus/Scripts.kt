@@ -83,6 +83,20 @@ internal class Script(text: String) {
     fun queueBySha(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>): redis.clients.jedis.Response<Any?> =
         pipeline.evalsha(sha, keys, args)
 
+    /**
+     * Writes the script's EVALSHA to [connection] without reading its answer (the caller sends
+     * more commands behind it and reads the answers in order; on [JedisNoScriptException] it runs
+     * the script again with [run], which loads it).
+     */
+    fun send(connection: redis.clients.jedis.Connection, keys: List<ByteArray>, args: List<ByteArray>) {
+        val command = ArrayList<ByteArray>(2 + keys.size + args.size)
+        command += sha
+        command += keys.size.toString().toByteArray(UTF_8)
+        command += keys
+        command += args
+        connection.sendCommand(redis.clients.jedis.Protocol.Command.EVALSHA, *command.toTypedArray())
+    }
+
     companion object {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
@@ -359,7 +373,9 @@ internal class Script(text: String) {
          * written, for [STEP] to dead-letter the request), the acknowledgement of the request
          * (the head of the processing list), then the take as [STEP]'s (each entry one value: a
          * called service's input holds requests). Returns `{'OK', taken...}`, an entry above
-         * the largest size as `{size, prefix}`.
+         * the largest size as `{size, prefix}`. With ARGV 9 '1' a blocking take is queued behind the
+         * step (see [RequestStep.executeThenWait]): a take that empties the input puts its last
+         * entry back at the input's head, for that blocking take to move instead of waiting.
          */
         val REQUEST_STEP = Script(
             """
@@ -385,6 +401,10 @@ internal class Script(text: String) {
               bytes = bytes + #entry
               if #entry > maxBytes then entry = {#entry, string.sub(entry, 1, 1024)} end
               result[#result + 1] = entry
+            end
+            if ARGV[9] == '1' and #result > 1 and redis.call('LLEN', KEYS[2]) == 0 then
+              redis.call('LMOVE', KEYS[1], KEYS[2], 'RIGHT', 'LEFT')
+              result[#result] = nil
             end
             return result
             """,

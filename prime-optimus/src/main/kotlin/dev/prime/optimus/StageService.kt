@@ -187,9 +187,10 @@ internal class StageService(
      */
     private suspend fun store(session: RedisSession, parts: List<Part>, take: Int): List<TakenEntry>? {
         val whole = if (parts.size == 1) parts[0].batch else StepBatch.combine(parts.map { it.batch })
+        val output = parts.singleOrNull()?.output
         val stored = try {
-            parts.singleOrNull()?.output?.let { runRequestStep(session, it, take) }
-                ?: runStep(session, whole, ack = parts.size, take = take)
+            if (output != null && requestStep != null) return storeRequest(session, whole, output, take)
+            runStep(session, whole, ack = parts.size, take = take)
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
             storeOneByOne(session, parts, e)
@@ -197,6 +198,32 @@ internal class StageService(
         }
         whole.ids.forEach(recent::add)
         return stored.taken
+    }
+
+    /**
+     * Stores a lone request's [output] with the request step (a service only called) and, when
+     * this step takes ([take] > 0), waits for the next entry in the same write; returns the entries
+     * taken next, or `null` to read the processing list again: after a wait in vain (the fenced
+     * peek then comes first, as after an idle take), or after the general step stored what the
+     * request step could not (a reply key it refused: the general step dead-letters the request;
+     * a lease held by nobody: the general step waits for it).
+     */
+    private suspend fun storeRequest(session: RedisSession, whole: StepBatch, output: RequestOutput, take: Int): List<TakenEntry>? {
+        val step = requestStep!!
+        // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
+        val result = if (take > 0 && core.connections.replicaAcks == null) {
+            session.once(null, POLL_MILLIS) { step.executeThenWait(it, output, take, POLL_SECONDS) }.first
+        } else {
+            session.once { step.execute(it, output, take) }
+        }
+        if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
+        if (result !is StepResult.Stored) {
+            runStep(session, whole, ack = 1, take = 0)
+            whole.ids.forEach(recent::add)
+            return null
+        }
+        whole.ids.forEach(recent::add)
+        return result.taken.takeIf { take == 0 || it.isNotEmpty() }
     }
 
     /**
@@ -235,20 +262,6 @@ internal class StageService(
             )
         }
         part.batch.ids.forEach(recent::add)
-    }
-
-    /**
-     * Stores a lone request's [output] with the request step (a service only called); `null` if
-     * the general step must store it instead: the script refused the reply key (the general step
-     * dead-letters the request), or nobody holds the host lease (the general step waits for it).
-     */
-    private fun runRequestStep(session: RedisSession, output: RequestOutput, take: Int): StepResult.Stored? {
-        val step = requestStep ?: return null
-        return when (val result = session.once { step.execute(it, output, take) }) {
-            is StepResult.Stored -> result
-            is StepResult.Fenced -> if (result.holder.isEmpty()) null else throw HostingLost(result.holder)
-            else -> null
-        }
     }
 
     /** Runs [batch]; refreshes a stale view of the output's readers, and waits while the queue it feeds is full. */
@@ -455,6 +468,8 @@ internal class StageService(
     companion object {
         /** The most values one step takes. */
         const val BATCH = 256
+        private val POLL_MILLIS = (RedisConnections.POLL_SECONDS * 1000).toLong()
+        private val POLL_SECONDS = RedisConnections.POLL_SECONDS.toString().toByteArray(UTF_8)
         private val LOG = LoggerFactory.getLogger(StageService::class.java)
 
         private fun isOutOfMemory(e: JedisDataException): Boolean =
