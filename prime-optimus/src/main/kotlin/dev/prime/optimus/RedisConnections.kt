@@ -185,18 +185,19 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * `RPUSH input request`, then `BLMOVE reply reply LEFT RIGHT` waiting as [blockingMove] does;
      * the reply (left in the list: a rotation), or `null` if none came within the wait. Redis runs
      * the wait after the push, on this connection. One attempt, like [once]; a command Redis
-     * refused throws its error.
+     * refused throws its error. Without [wait] only the push (`null`): with
+     * [RedisConnections.replicaAcks] the push is confirmed by the replicas before the wait.
      */
-    fun pushAndWait(deadline: Long?, input: ByteArray, request: ByteArray, reply: ByteArray): ByteArray? {
-        val waitMillis = waitMillis(deadline)
+    fun pushAndWait(deadline: Long?, input: ByteArray, request: ByteArray, reply: ByteArray, wait: Boolean = true): ByteArray? {
+        val waitMillis = if (wait) waitMillis(deadline) else 0
         return once(deadline, waitMillis) { jedis ->
             val connection = jedis.connection
             connection.sendCommand(Protocol.Command.DEL, reply)
             connection.sendCommand(Protocol.Command.RPUSH, input, request)
-            connection.sendCommand(Protocol.Command.BLMOVE, reply, reply, LEFT, RIGHT, seconds(waitMillis))
-            val answers = connection.getMany(3)
+            if (wait) connection.sendCommand(Protocol.Command.BLMOVE, reply, reply, LEFT, RIGHT, seconds(waitMillis))
+            val answers = connection.getMany(if (wait) 3 else 2)
             answers.forEach { if (it is RuntimeException) throw it }
-            answers[2] as ByteArray?
+            if (wait) answers[2] as ByteArray? else null
         }
     }
 

@@ -51,6 +51,7 @@ internal class RemoteCall<I, O>(
  * one pipeline: Redis runs the wait after the push, on the same connection), so a call costs
  * the caller one write and Redis one read, where a bare push then pop costs two of each; only a
  * wait that outlasts the poll slice, a late reply of an earlier call, or a retry waits again.
+ * With `replicaAcks` the push is confirmed by the replicas first, then the wait is sent.
  *
  * With a call timeout every Redis operation of the call, connecting included, ends by the
  * deadline ([RedisSession.retryingUntil]): the call fails with [RedisUnavailableException] if
@@ -66,7 +67,8 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         val deadline = timeout?.let { System.nanoTime() + it.toNanos() }
         val what = "the call to service '$chainName'"
         var pending = try {
-            InterruptibleWait(session).run { session.pushAndWait(deadline, input, request, replyKey) }
+            val wait = core.connections.replicaAcks == null // else the push is confirmed before the wait
+            InterruptibleWait(session).run { session.pushAndWait(deadline, input, request, replyKey, wait) }
         } catch (_: ClosedByInterruptException) {
             Thread.currentThread().interrupt() // the check in the loop below withdraws the request
             null

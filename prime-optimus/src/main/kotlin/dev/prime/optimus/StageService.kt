@@ -65,6 +65,14 @@ internal class StageService(
     private val rules = core.stepRules
     /** The cheaper step of a lone request, for a service only called (see [RequestStep]). */
     private val requestStep = if (counted) null else RequestStep(processing, input, fence, rules)
+
+    /**
+     * Whether the last request step on this connection stored its request: only then is the next
+     * blocking take written behind a request step. A step the script could not store (its script
+     * not loaded after a Redis restart, a lease lapsed) would otherwise be answered only once that
+     * take ended, up to a poll slice later.
+     */
+    private var waitBehindStep = false
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
@@ -118,6 +126,7 @@ internal class StageService(
                     }
                 }
                 outage = true
+                waitBehindStep = false
                 pending = null
                 delay(backoff.next())
             }
@@ -211,11 +220,14 @@ internal class StageService(
     private suspend fun storeRequest(session: RedisSession, whole: StepBatch, output: RequestOutput, take: Int): List<TakenEntry>? {
         val step = requestStep!!
         // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
-        val result = if (take > 0 && core.connections.replicaAcks == null) {
+        val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
+        waitBehindStep = false // until this step is stored
+        val result = if (waitBehind) {
             session.once(null, POLL_MILLIS) { step.executeThenWait(it, output, take, POLL_SECONDS) }.first
         } else {
             session.once { step.execute(it, output, take) }
         }
+        waitBehindStep = result is StepResult.Stored
         if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
         if (result !is StepResult.Stored) {
             runStep(session, whole, ack = 1, take = 0)
