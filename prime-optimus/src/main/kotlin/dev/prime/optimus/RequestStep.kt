@@ -47,17 +47,17 @@ internal class RequestStep(
 
     /**
      * [execute] with a full take, then the blocking take of the next entry (waiting up to
-     * [waitSeconds]), in one write; the step's result (its taken entries followed by the one the
-     * blocking take moved, if any) and the blocking take's entry, or `null` if it waited in vain.
+     * [waitSeconds]), in one write; the step's result as [execute]'s, a stored step's taken
+     * entries followed by the one the blocking take moved, if it moved one.
      * A step Redis refused throws its error once both answers are read (what the blocking take
-     * moved is then in the processing list, for the service to read there).
+     * moved is then in the processing list, for the service to read there); a blocking take Redis
+     * refused counts as one that moved nothing.
      */
-    fun executeThenWait(jedis: Jedis, output: RequestOutput, take: Int, waitSeconds: ByteArray): Pair<StepResult?, TakenEntry?> {
+    fun executeThenWait(jedis: Jedis, output: RequestOutput, take: Int, waitSeconds: ByteArray): StepResult? {
         val connection = jedis.connection
         Script.REQUEST_STEP.send(connection, keys(output), args(output, take, waitBehind = true))
         connection.sendCommand(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
         val answers = connection.getMany(2)
-        val moved = answers[1].let { if (it is RuntimeException) throw it else (it as ByteArray?)?.let { e -> TakenEntry(e, e.size.toLong()) } }
         val step = answers[0]
         val result = when (step) {
             // Redis lost its scripts (a restart): nothing was stored; the request is still the processing list's head
@@ -65,11 +65,9 @@ internal class RequestStep(
             is RuntimeException -> throw step
             else -> parse(step)
         }
-        return if (result is StepResult.Stored && moved != null) {
-            StepResult.Stored(result.taken + moved, result.missed, result.view) to moved
-        } else {
-            result to moved
-        }
+        // a blocking take Redis refused moved nothing (never thrown here: the step may be stored); the next take meets it again
+        val moved = (answers[1] as? ByteArray)?.let { TakenEntry(it, it.size.toLong()) }
+        return if (result is StepResult.Stored && moved != null) StepResult.Stored(result.taken + moved, result.missed, result.view) else result
     }
 
     private fun keys(output: RequestOutput) = listOf(processing, input, fence.lease, output.target)

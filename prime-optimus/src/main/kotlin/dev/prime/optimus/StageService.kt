@@ -212,7 +212,7 @@ internal class StageService(
     /**
      * Stores a lone request's [output] with the request step (a service only called) and, when
      * this step takes ([take] > 0), waits for the next entry in the same write; returns the entries
-     * taken next, or `null` to read the processing list again: after a wait in vain (the fenced
+     * taken next, or `null` to read the processing list again: after a blocking take in vain (the fenced
      * peek then comes first, as after an idle take), or after the general step stored what the
      * request step could not (a reply key it refused: the general step dead-letters the request;
      * a lease held by nobody: the general step waits for it).
@@ -223,7 +223,7 @@ internal class StageService(
         val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
         waitBehindStep = false // until this step is stored
         val result = if (waitBehind) {
-            session.once(null, POLL_MILLIS) { step.executeThenWait(it, output, take, POLL_SECONDS) }.first
+            session.once(null, POLL_MILLIS) { step.executeThenWait(it, output, take, POLL_SECONDS) }
         } else {
             session.once { step.execute(it, output, take) }
         }
@@ -235,7 +235,7 @@ internal class StageService(
             return null
         }
         whole.ids.forEach(recent::add)
-        return result.taken.takeIf { take == 0 || it.isNotEmpty() }
+        return if (waitBehind && result.taken.isEmpty()) null else result.taken
     }
 
     /**
