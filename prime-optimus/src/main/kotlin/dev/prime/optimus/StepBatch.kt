@@ -83,7 +83,7 @@ internal class StepBatch(
         val publishedFrames = Frame.pack(published, rules.frameBytes, always = true)
         val replyKeys = LinkedHashMap<ByteKey, Int>()
         for (reply in replies) replyKeys.getOrPut(ByteKey(reply.key)) { replyKeys.size + 1 }
-        val keys = ArrayList<ByteArray>(12 + replyKeys.size + 2 * view.readers.size + 2 * view.services.size)
+        val keys = ArrayList<ByteArray>(13 + replyKeys.size + 2 * view.readers.size + 2 * view.services.size)
         keys += processing
         keys += input
         keys += dead ?: processing
@@ -96,6 +96,7 @@ internal class StepBatch(
         keys += output?.sequence ?: processing
         keys += if (counted) queuedKey(input) else processing
         keys += next?.let(::queuedKey) ?: processing
+        keys += output?.numbers ?: processing
         replyKeys.keys.forEach { keys += it.bytes }
         keys += view.readers
         keys += view.missed
@@ -246,6 +247,13 @@ internal class SourceKeys(
     /** The counter numbering the source's values (the step script trims the log and readers by it). */
     val sequence: ByteArray,
 ) {
+    /**
+     * A list parallel to the log: for each log entry, the number of its first value and its count
+     * (`>I8I4`), so the step script trims the log and the reader lists (each the newest entries of
+     * the log) by value numbers without reading a frame.
+     */
+    val numbers: ByteArray = log + ":numbers".toByteArray(UTF_8)
+
     /** The reader and service lists this process last saw; the step script says when it is out of date. */
     @Volatile
     var view: SourceView? = null
