@@ -35,7 +35,7 @@ internal class StepBatch(
     private val published = ArrayList<ByteArray>()
 
     /** Ids of the values this step handled; remembered once the step is stored. */
-    val ids: MutableSet<Long> = LinkedHashSet()
+    val ids: IdList = IdList()
 
     private class Reply(val key: ByteArray, val position: Int, val value: ByteArray)
 
@@ -274,6 +274,29 @@ internal class SourceView(val readers: List<ByteArray>, val missed: List<ByteArr
     companion object {
         val NONE: SourceView = SourceView(emptyList(), emptyList(), emptyList())
     }
+}
+
+/** Ids in the order they were added, unboxed (a step handles up to [StageService.BATCH] values, each with its id). */
+internal class IdList {
+    private var ids = LongArray(16)
+    private var size = 0
+
+    operator fun plusAssign(id: Long) {
+        if (size == ids.size) ids = ids.copyOf(size * 2)
+        ids[size++] = id
+    }
+
+    operator fun plusAssign(other: IdList) {
+        for (k in 0 until other.size) this += other.ids[k]
+    }
+
+    inline fun forEach(action: (Long) -> Unit) {
+        for (k in 0 until size()) action(get(k))
+    }
+
+    fun size(): Int = size
+
+    operator fun get(index: Int): Long = ids[index]
 }
 
 /** A byte array as a map key (by content). */
