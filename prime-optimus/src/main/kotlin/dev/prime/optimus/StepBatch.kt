@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.args.ListDirection
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
@@ -160,6 +161,22 @@ internal class StepBatch(
 
         private fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)
     }
+}
+
+/**
+ * A plain reader's step without the script, for a list that carries frames: acknowledges the
+ * first [ack] entries of [processing] and moves up to [entries] entries from [list] to it, each
+ * with its own `LMOVE` (atomic: an entry is always in one of the two lists), all in one pipelined
+ * round trip. Redis then copies a frame once, into the reply, instead of into a Lua string and
+ * then into the reply (the script's `LMOVE` costs about twice the plain command for a frame of
+ * 256 values of 100 B). Returns the entries moved, in order.
+ */
+internal fun takeEntries(jedis: Jedis, processing: ByteArray, list: ByteArray, ack: Int, entries: Int): List<ByteArray> {
+    val pipeline = jedis.pipelined()
+    if (ack > 0) pipeline.ltrim(processing, ack.toLong(), -1)
+    val moved = (1..entries).map { pipeline.lmove(list, processing, ListDirection.LEFT, ListDirection.RIGHT) }
+    pipeline.sync()
+    return moved.mapNotNull { it.get() }
 }
 
 /** Limits and namespaces every step of one core follows. */
