@@ -13,8 +13,12 @@ import java.security.MessageDigest
  * retention are in values: a service's input has a count of the values it holds
  * (`<input>:queued`, a frame counts its values, a caller's request nothing), raised by every push
  * and lowered by every take, which the queue limit is checked against; a source numbers its
- * values (`src:<source>:seq`) and writes the number of each frame's first value into the frame,
- * so its log and plain readers are trimmed by value numbers, whole frames at a time.
+ * values (`src:<source>:seq`) and keeps, beside its log, a list of each log entry's first value
+ * number and count (`src:<source>:log:numbers`, [SourceKeys.numbers]). A plain reader's list holds
+ * the newest entries of the log (it registered with a copy of the log, gets every later frame, and
+ * takes from its head), so the log and every reader are trimmed by value numbers, whole frames at
+ * a time, reading only those small numbers: a frame is stored as it came and never copied into
+ * Lua again to be renumbered or to read its head.
  *
  * [STEP] does, in order and atomically: check that this instance still holds the service's host
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
@@ -164,7 +168,12 @@ internal class Script(text: String) {
                 redis.call('INCRBY', KEYS[serviceQueuedAt + s], publishedValues)
               end
               -- the log's entries whose values are all older than keepFrom: how many, and their values one by one
-              local numberedEntries = redis.call('LLEN', numbers)
+              local numberedEntries, logLength = redis.call('LLEN', numbers), redis.call('LLEN', log)
+              if numberedEntries > logLength then
+                -- numbers of entries the log no longer holds (it was deleted or trimmed outside these scripts)
+                redis.call('LTRIM', numbers, numberedEntries - logLength, -1)
+                numberedEntries = logLength
+              end
               local stale, staleValues = 0, {}
               while stale < numberedEntries do
                 local first, n = struct.unpack('>I8I4', redis.call('LINDEX', numbers, stale))
@@ -201,7 +210,7 @@ internal class Script(text: String) {
                 if over > 0 then redis.call('INCRBY', KEYS[missedAt + r], over) end
                 missed[r] = over
               end
-              dropUnnumbered(log, redis.call('LLEN', log) - numberedEntries)
+              dropUnnumbered(log, logLength - numberedEntries)
               if stale > 0 then
                 redis.call('LTRIM', log, stale, -1)
                 redis.call('LTRIM', numbers, stale, -1)

@@ -127,6 +127,28 @@ class FramedDeliveryTest {
     }
 
     @Test
+    fun entriesWhoseNumbersWereLostAreTrimmedOnceTheNumberedOnesHoldTheRetention() {
+        OptimusCore.builder().config(config(100)).redis(TestRedis.url).build().use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val reader = numbers.reader()
+            core.start()
+            val log = core.keys.sourceLog("numbers")
+            val logNumbers = log + ":numbers".toByteArray()
+            Jedis(URI(TestRedis.url)).use { raw ->
+                repeat(2) { batch -> core.publishAll(numbers, (batch * 50 until batch * 50 + 50).toList()) }
+                raw.del(logNumbers) // as if Redis lost them: two entries without numbers in the log and the reader
+                core.publishAll(numbers, (100 until 150).toList())
+                assertEquals(150L, TestRedis.values(raw, log), "kept while the numbered entries hold less than the retention")
+                (3 until 5).forEach { batch -> core.publishAll(numbers, (batch * 50 until batch * 50 + 50).toList()) }
+                assertEquals(100L, TestRedis.values(raw, log))
+                assertEquals(listOf(151L to 50, 201L to 50), raw.lrange(logNumbers, 0, -1).map(Frame::numbered))
+            }
+            assertEquals(150L, reader.missed())
+            assertEquals((150 until 250).toList(), reader.drain())
+        }
+    }
+
+    @Test
     fun requestsOfManyCallersAreNeverCountedAgainstAQueue() {
         OptimusCore.builder().config(config()).redis(TestRedis.url).build().use { core ->
             val chain = core.link(core.chain("first") { x: Int -> x + 1 }, core.chain("second") { x: Int -> x * 2 })
