@@ -1,0 +1,283 @@
+package dev.prime.bench.report;
+
+import dev.prime.bench.report.TargetVerdict.Outcome;
+import java.io.IOException;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.ArrayList;
+import java.util.List;
+import java.util.Locale;
+import java.util.Map;
+import java.util.Optional;
+import org.openjdk.jmh.profile.GCProfiler;
+import org.openjdk.jmh.results.RunResult;
+import org.openjdk.jmh.runner.NoBenchmarksException;
+import org.openjdk.jmh.runner.Runner;
+import org.openjdk.jmh.runner.RunnerException;
+import org.openjdk.jmh.runner.options.ChainedOptionsBuilder;
+import org.openjdk.jmh.runner.options.OptionsBuilder;
+import org.openjdk.jmh.runner.options.TimeValue;
+
+/**
+ * The command that runs the throughput targets' benchmarks and judges each target: the in-memory
+ * hand-off against the Disruptor, Kotlin Channels and Reactor (5 forks of Prime, so the spread
+ * across forks shows), the synchronous sources row, Optimus flows and calls against raw Jedis,
+ * and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
+ * result with its environment) and {@code targets.md} (one line per target: target, figures,
+ * verdict).
+ *
+ * <pre>
+ * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.report.ThroughputTargets run DIR
+ * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.report.ThroughputTargets report DIR
+ * </pre>
+ *
+ * <p>{@code report} judges an existing {@code DIR/targets.json} again. About 10 minutes on 2 cores.
+ */
+public final class ThroughputTargets {
+  /** The raw results' file name. */
+  public static final String JSON = "targets.json";
+
+  /** The verdicts' file name. */
+  public static final String MARKDOWN = "targets.md";
+
+  /** The payloads the in-memory targets hold at. */
+  static final List<String> PAYLOADS = List.of("100", "1024", "10240");
+
+  private static final String HAND_OFF = "in-memory hand-off";
+  private static final String FRAMES = "Optimus frames";
+  private static final String CONSUMERS = "competing consumers";
+
+  private ThroughputTargets() {}
+
+  /**
+   * Runs the benchmarks and judges them, or judges an existing run.
+   *
+   * @param args {@code run} or {@code report}, and the output directory
+   * @throws IOException if a file cannot be read or written
+   * @throws RunnerException if a benchmark fails
+   */
+  public static void main(String[] args) throws IOException, RunnerException {
+    if (args.length != 2 || !(args[0].equals("run") || args[0].equals("report"))) {
+      System.err.println("usage: ThroughputTargets run|report OUTPUT_DIR");
+      System.exit(2);
+    }
+    Path directory = Path.of(args[1]);
+    Files.createDirectories(directory);
+    Path json = directory.resolve(JSON);
+    if (args[0].equals("run")) {
+      Environment environment = Environment.capture();
+      List<RunResult> results = new ArrayList<>();
+      for (ChainedOptionsBuilder options : runs()) {
+        try {
+          results.addAll(new Runner(options.shouldFailOnError(true).build()).run());
+        } catch (NoBenchmarksException absent) {
+          // judged "not measured" below: the other groups' results still count
+          System.err.println("no benchmark in this jar matches one group of the targets: "
+              + absent.getMessage());
+        }
+      }
+      String annotated = ResultsFile.annotate(SuiteRunner.json(results), environment.finished());
+      Files.writeString(json, annotated, StandardCharsets.UTF_8);
+    }
+    String markdown = render(judge(Score.readAll(json)), ResultsFile.environment(json));
+    Files.writeString(directory.resolve(MARKDOWN), markdown, StandardCharsets.UTF_8);
+    System.out.print(markdown);
+  }
+
+  /** One JMH run per group of benchmarks, each with the forks its targets need. */
+  private static List<ChainedOptionsBuilder> runs() {
+    String[] payloads = PAYLOADS.toArray(String[]::new);
+    return List.of(
+        timed("AsyncHandOffBenchmark\\.primeSource$", 5, 3, 1000, 5, 1000)
+            .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
+            .addProfiler(GCProfiler.class),
+        timed("AsyncHandOffBenchmark\\.(disruptor|kotlinChannel|reactorPublishOn)$", 2, 3, 1000, 5,
+            1000)
+            .param("payload", payloads).param("scenario", "monomorphic").param("length", "4"),
+        timed("SyncSourceBenchmark\\.primeSource$", 1, 3, 500, 5, 1000)
+            .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
+            .addProfiler(GCProfiler.class),
+        timed("OptimusBenchmark\\.(optimusFlow|rawFlow|optimusCall|rawCall)$", 1, 2, 2000, 5, 2000)
+            .param("payload", "100").param("scenario", "1hop", "4hops"),
+        timed("CompetingConsumersBenchmark\\.", 1, 2, 2000, 5, 2000));
+  }
+
+  private static ChainedOptionsBuilder timed(
+      String include, int forks, int warmups, int warmupMillis, int iterations,
+      int iterationMillis) {
+    return new OptionsBuilder()
+        .include(include)
+        .forks(forks)
+        .warmupIterations(warmups)
+        .warmupTime(TimeValue.milliseconds(warmupMillis))
+        .measurementIterations(iterations)
+        .measurementTime(TimeValue.milliseconds(iterationMillis));
+  }
+
+  /**
+   * Judges every target against a run's results.
+   *
+   * @param scores the run's results
+   * @return one verdict per target, in the issue's order
+   */
+  public static List<TargetVerdict> judge(List<Score> scores) {
+    List<TargetVerdict> verdicts = new ArrayList<>();
+    for (String payload : PAYLOADS) {
+      Map<String, String> at = Map.of("payload", payload, "scenario", "monomorphic");
+      String bytes = bytesName(payload);
+      Optional<Score> prime = find(scores, "AsyncHandOffBenchmark.primeSource", at);
+      verdicts.add(prime.map(p -> stable(p, bytes))
+          .orElse(missing(HAND_OFF, "slowest fork of Prime sources ≤ 1.5× the fastest, " + bytes)));
+      verdicts.add(compare(HAND_OFF, "Prime sources ≤ 2× the LMAX Disruptor, " + bytes, prime,
+          find(scores, "AsyncHandOffBenchmark.disruptor", at), 2.0, true));
+      verdicts.add(compare(HAND_OFF, "Kotlin Channels ≥ 1.5× Prime sources' time, " + bytes,
+          find(scores, "AsyncHandOffBenchmark.kotlinChannel", at), prime, 1.5, false));
+      verdicts.add(compare(HAND_OFF, "Reactor publishOn ≥ 1.5× Prime sources' time, " + bytes,
+          find(scores, "AsyncHandOffBenchmark.reactorPublishOn", at), prime, 1.5, false));
+      verdicts.add(prime.map(p -> allocation(p, bytes))
+          .orElse(missing(HAND_OFF, "0 B allocated per value, " + bytes)));
+      verdicts.add(find(scores, "SyncSourceBenchmark.primeSource", at)
+          .map(s -> atMost(HAND_OFF, "synchronous Prime-sources row ≤ 0.4 µs, " + bytes, s, 400))
+          .orElse(missing(HAND_OFF, "synchronous Prime-sources row ≤ 0.4 µs, " + bytes)));
+    }
+    verdicts.add(atLeast(FRAMES, "optimusFlow ≥ 400,000 values/s through one hop, 100 B",
+        find(scores, "OptimusBenchmark.optimusFlow", Map.of("payload", "100", "scenario", "1hop")),
+        400_000));
+    verdicts.add(atLeast(FRAMES, "optimusFlow ≥ 150,000 values/s through four hops, 100 B",
+        find(scores, "OptimusBenchmark.optimusFlow", Map.of("payload", "100", "scenario", "4hops")),
+        150_000));
+    for (String hops : List.of("1hop", "4hops")) {
+      Map<String, String> at = Map.of("payload", "100", "scenario", hops);
+      verdicts.add(compare(FRAMES, "optimusCall ≤ 1.1× the raw Jedis echo loop, " + hops + ", 100 B",
+          find(scores, "OptimusBenchmark.optimusCall", at),
+          find(scores, "OptimusBenchmark.rawCall", at), 1.1, true));
+    }
+    Optional<Score> one = find(scores, "CompetingConsumersBenchmark.hosted", Map.of("hosts", "1"));
+    verdicts.add(speedUp("2", 1.8, one, scores));
+    verdicts.add(speedUp("3", 2.6, one, scores));
+    return verdicts;
+  }
+
+  private static TargetVerdict speedUp(
+      String hosts, double wanted, Optional<Score> one, List<Score> scores) {
+    String target = hosts + " hosts ≥ " + wanted + "× one host's values/s (a 1 ms block)";
+    Optional<Score> many =
+        find(scores, "CompetingConsumersBenchmark.hosted", Map.of("hosts", hosts));
+    if (one.isEmpty() || many.isEmpty()) {
+      return missing(CONSUMERS, target);
+    }
+    double ratio = many.get().value() / one.get().value();
+    return new TargetVerdict(CONSUMERS, target,
+        String.format(Locale.ROOT, "%s against %s values/s: %.2f×",
+            figure(many.get()), figure(one.get()), ratio),
+        ratio >= wanted ? Outcome.MET : Outcome.NOT_MET);
+  }
+
+  /**
+   * {@code subject} against {@code baseline}: with {@code atMost}, subject ≤ factor × baseline
+   * (times); else subject ≥ factor × baseline.
+   */
+  private static TargetVerdict compare(
+      String item, String target, Optional<Score> subject, Optional<Score> baseline,
+      double factor, boolean atMost) {
+    if (subject.isEmpty() || baseline.isEmpty()) {
+      return missing(item, target);
+    }
+    double ratio = subject.get().value() / baseline.get().value();
+    boolean met = atMost ? ratio <= factor : ratio >= factor;
+    return new TargetVerdict(item, target,
+        String.format(Locale.ROOT, "%s against %s: %.2f×",
+            figure(subject.get()), figure(baseline.get()), ratio),
+        met ? Outcome.MET : Outcome.NOT_MET);
+  }
+
+  private static TargetVerdict stable(Score prime, String bytes) {
+    String target = "slowest fork of Prime sources ≤ 1.5× the fastest, " + bytes;
+    if (prime.forkMeans().size() < 2) {
+      return missing(HAND_OFF, target + " (needs at least 2 forks)");
+    }
+    double fastest = prime.forkMeans().stream().mapToDouble(Double::doubleValue).min().orElseThrow();
+    double slowest = prime.forkMeans().stream().mapToDouble(Double::doubleValue).max().orElseThrow();
+    StringBuilder forks = new StringBuilder();
+    for (double mean : prime.forkMeans()) {
+      forks.append(forks.length() == 0 ? "" : ", ").append(String.format(Locale.ROOT, "%.0f", mean));
+    }
+    return new TargetVerdict(HAND_OFF, target,
+        String.format(Locale.ROOT, "%d forks, ns: %s; %.2f×", prime.forkMeans().size(), forks,
+            slowest / fastest),
+        slowest <= 1.5 * fastest ? Outcome.MET : Outcome.NOT_MET);
+  }
+
+  private static TargetVerdict allocation(Score prime, String bytes) {
+    String target = "0 B allocated per value, " + bytes;
+    if (Double.isNaN(prime.bytesPerOp())) {
+      return missing(HAND_OFF, target + " (run without -prof gc)");
+    }
+    // JMH's normalised allocation carries the measurement's own noise: under 1 byte is none
+    return new TargetVerdict(HAND_OFF, target,
+        String.format(Locale.ROOT, "%.3f B/value", prime.bytesPerOp()),
+        prime.bytesPerOp() < 1 ? Outcome.MET : Outcome.NOT_MET);
+  }
+
+  private static TargetVerdict atMost(String item, String target, Score score, double nanos) {
+    return new TargetVerdict(item, target, figure(score),
+        score.value() <= nanos ? Outcome.MET : Outcome.NOT_MET);
+  }
+
+  private static TargetVerdict atLeast(
+      String item, String target, Optional<Score> score, double perSecond) {
+    return score
+        .map(s -> new TargetVerdict(item, target, figure(s),
+            s.value() >= perSecond ? Outcome.MET : Outcome.NOT_MET))
+        .orElse(missing(item, target));
+  }
+
+  private static TargetVerdict missing(String item, String target) {
+    return new TargetVerdict(item, target, "no result in this run", Outcome.NOT_MEASURED);
+  }
+
+  private static Optional<Score> find(List<Score> scores, String method, Map<String, String> at) {
+    return scores.stream().filter(s -> s.is(method, at)).findFirst();
+  }
+
+  private static String figure(Score score) {
+    return score.throughput()
+        ? String.format(Locale.ROOT, "%,.0f ± %,.0f values/s", score.value(), score.error())
+        : String.format(Locale.ROOT, "%,.1f ± %,.1f ns", score.value(), score.error());
+  }
+
+  private static String bytesName(String payload) {
+    return switch (payload) {
+      case "1024" -> "1 KB";
+      case "10240" -> "10 KB";
+      default -> payload + " B";
+    };
+  }
+
+  /**
+   * The verdicts as Markdown: the run's environment, then one table row per target.
+   *
+   * @param verdicts the verdicts
+   * @param environment where and when the run took place, or {@code null} if unknown
+   * @return the Markdown
+   */
+  public static String render(List<TargetVerdict> verdicts, Environment environment) {
+    StringBuilder out = new StringBuilder();
+    if (environment != null) {
+      out.append(String.format(Locale.ROOT,
+          "Run %s on %s (%d CPUs), %s, %s; 1-minute load %.2f before, %.2f after.%n%n",
+          environment.date(), environment.cpuModel(), environment.cpus(), environment.jdk(),
+          environment.os(), environment.loadBefore(), environment.loadAfter()));
+    }
+    long met = verdicts.stream().filter(v -> v.outcome() == Outcome.MET).count();
+    out.append(String.format(Locale.ROOT, "%d of %d targets met.%n%n", met, verdicts.size()));
+    out.append("| item | target | measured | verdict |\n|---|---|---|---|\n");
+    for (TargetVerdict verdict : verdicts) {
+      out.append("| ").append(verdict.item()).append(" | ").append(verdict.target())
+          .append(" | ").append(verdict.measured()).append(" | ")
+          .append(verdict.outcome().words()).append(" |\n");
+    }
+    return out.toString();
+  }
+}

@@ -1,0 +1,121 @@
+package dev.prime.bench.report;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.bench.report.TargetVerdict.Outcome;
+import java.io.IOException;
+import java.net.URISyntaxException;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.List;
+import org.junit.jupiter.api.BeforeAll;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+
+/** The throughput targets judged on a small, hand-written results file (targets-fixture.json). */
+class ThroughputTargetsTest {
+  private static List<TargetVerdict> verdicts;
+
+  @BeforeAll
+  static void judge() throws IOException, URISyntaxException {
+    Path fixture =
+        Path.of(ThroughputTargetsTest.class.getResource("/targets-fixture.json").toURI());
+    verdicts = ThroughputTargets.judge(Score.readAll(fixture));
+  }
+
+  private static TargetVerdict verdict(String target) {
+    return verdicts.stream()
+        .filter(v -> v.target().equals(target))
+        .findFirst()
+        .orElseThrow(() -> new AssertionError("no verdict for " + target + " in " + verdicts));
+  }
+
+  @Test
+  void readsEachForksMeanInNanosecondsOrValuesPerSecond() throws IOException, URISyntaxException {
+    List<Score> scores =
+        Score.readAll(Path.of(getClass().getResource("/targets-fixture.json").toURI()));
+    Score prime = scores.get(0);
+    assertEquals(List.of(100.0, 120.0, 300.0), prime.forkMeans());
+    Score sync = scores.get(4);
+    assertEquals(350.0, sync.value(), 1e-9); // written in us/op
+    Score fourHops = scores.get(8);
+    assertTrue(fourHops.throughput());
+    assertEquals(140_000.0, fourHops.value(), 1e-9); // written in ops/ms
+  }
+
+  @Test
+  void aSlowForkFailsStabilityEvenWhenTheMeanLooksFine() {
+    TargetVerdict stable = verdict("slowest fork of Prime sources ≤ 1.5× the fastest, 100 B");
+    assertEquals(Outcome.NOT_MET, stable.outcome());
+    assertTrue(stable.measured().contains("100, 120, 300; 3.00×"), stable.measured());
+    assertEquals(Outcome.MET,
+        verdict("slowest fork of Prime sources ≤ 1.5× the fastest, 1 KB").outcome());
+  }
+
+  @Test
+  void ratiosAgainstPeersGoTheRightWay() {
+    // 150 ns against the Disruptor's 60: 2.5×, more than 2×
+    assertEquals(Outcome.NOT_MET,
+        verdict("Prime sources ≤ 2× the LMAX Disruptor, 100 B").outcome());
+    // 110 against 50: 2.2×
+    assertEquals(Outcome.NOT_MET,
+        verdict("Prime sources ≤ 2× the LMAX Disruptor, 1 KB").outcome());
+    // Kotlin 300 ns is 2× Prime's 150: met; Reactor 200 is 1.33×: not met
+    assertEquals(Outcome.MET,
+        verdict("Kotlin Channels ≥ 1.5× Prime sources' time, 100 B").outcome());
+    assertEquals(Outcome.NOT_MET,
+        verdict("Reactor publishOn ≥ 1.5× Prime sources' time, 100 B").outcome());
+  }
+
+  @Test
+  void allocationAndTheSynchronousRow() {
+    assertEquals(Outcome.MET, verdict("0 B allocated per value, 100 B").outcome());
+    assertEquals(Outcome.NOT_MET, verdict("0 B allocated per value, 1 KB").outcome());
+    assertEquals(Outcome.MET,
+        verdict("synchronous Prime-sources row ≤ 0.4 µs, 100 B").outcome());
+  }
+
+  @Test
+  void optimusFlowsAndCalls() {
+    assertEquals(Outcome.MET,
+        verdict("optimusFlow ≥ 400,000 values/s through one hop, 100 B").outcome());
+    assertEquals(Outcome.NOT_MET,
+        verdict("optimusFlow ≥ 150,000 values/s through four hops, 100 B").outcome());
+    assertEquals(Outcome.MET,
+        verdict("optimusCall ≤ 1.1× the raw Jedis echo loop, 1hop, 100 B").outcome());
+    assertEquals(Outcome.NOT_MEASURED,
+        verdict("optimusCall ≤ 1.1× the raw Jedis echo loop, 4hops, 100 B").outcome());
+  }
+
+  @Test
+  void competingConsumersSpeedUp() {
+    // 1700 / 900 = 1.89 ≥ 1.8; 2700 / 900 = 3.0 ≥ 2.6
+    assertEquals(Outcome.MET,
+        verdict("2 hosts ≥ 1.8× one host's values/s (a 1 ms block)").outcome());
+    assertEquals(Outcome.MET,
+        verdict("3 hosts ≥ 2.6× one host's values/s (a 1 ms block)").outcome());
+  }
+
+  @Test
+  void aBenchmarkMissingFromTheRunIsNotMeasuredNotMet() {
+    assertEquals(Outcome.NOT_MEASURED,
+        verdict("Prime sources ≤ 2× the LMAX Disruptor, 10 KB").outcome());
+    assertEquals(Outcome.NOT_MEASURED,
+        verdict("slowest fork of Prime sources ≤ 1.5× the fastest, 10 KB").outcome());
+  }
+
+  @Test
+  void theReportCountsWhatIsMetAndRefusesAForeignFile(@TempDir Path dir) throws IOException {
+    String markdown = ThroughputTargets.render(verdicts, null);
+    long met = verdicts.stream().filter(v -> v.outcome() == Outcome.MET).count();
+    assertTrue(markdown.startsWith(met + " of " + verdicts.size() + " targets met."), markdown);
+    assertEquals(verdicts.size() + 2 + 2, markdown.split("\n").length);
+    Path notJmh = dir.resolve("other.json");
+    Files.writeString(notJmh, "{\"benchmark\": 1}");
+    IllegalArgumentException refused =
+        assertThrows(IllegalArgumentException.class, () -> Score.readAll(notJmh));
+    assertTrue(refused.getMessage().contains("not JMH's JSON"), refused.getMessage());
+  }
+}
