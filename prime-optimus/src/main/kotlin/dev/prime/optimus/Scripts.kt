@@ -84,9 +84,10 @@ internal class Script(text: String) {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
          * service's input, 6 source log, 7 source reader set, 8 source service set, 9 the service's
-         * host lease (any existing key when ARGV 18 is empty), 10 the source's value numbers, 11
-         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, 13 the numbers of
-         * the source log's entries (see [SourceKeys.numbers]), then the reply keys, the reader lists, their missed counters, the service inputs, their queue counts.
+         * host lease (any existing key when ARGV 18 is empty), 10 the source's value counter, 11
+         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, 13 the
+         * numbers of the source log's entries ([SourceKeys.numbers]), then the reply keys, the
+         * reader lists, their missed counters, the service inputs, their queue counts.
          * ARGV: 1-17 the counts and limits (see [StepBatch.execute]; 17 is the number of published
          * frames), 18 the instance id that must hold the host lease (empty: no fence, for readers
          * and publishers), 19 the published values, 20 '1' if the input's queue count is kept (a
