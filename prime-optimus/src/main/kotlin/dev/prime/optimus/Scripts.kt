@@ -13,8 +13,12 @@ import java.security.MessageDigest
  * retention are in values: a service's input has a count of the values it holds
  * (`<input>:queued`, a frame counts its values, a caller's request nothing), raised by every push
  * and lowered by every take, which the queue limit is checked against; a source numbers its
- * values (`src:<source>:seq`) and writes the number of each frame's first value into the frame,
- * so its log and plain readers are trimmed by value numbers, whole frames at a time.
+ * values (`src:<source>:seq`) and keeps, beside its log, a list of each log entry's first value
+ * number and count (`src:<source>:log:numbers`, [SourceKeys.numbers]). A plain reader's list holds
+ * the newest entries of the log (it registered with a copy of the log, gets every later frame, and
+ * takes from its head), so the log and every reader are trimmed by value numbers, whole frames at
+ * a time, reading only those small numbers: a frame is stored as it came and never copied into
+ * Lua again to be renumbered or to read its head.
  *
  * [STEP] does, in order and atomically: check that this instance still holds the service's host
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
@@ -101,9 +105,10 @@ internal class Script(text: String) {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
          * service's input, 6 source log, 7 source reader set, 8 source service set, 9 the service's
-         * host lease (any existing key when ARGV 18 is empty), 10 the source's value numbers, 11
-         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, then the
-         * reply keys, the reader lists, their missed counters, the service inputs, their queue counts.
+         * host lease (any existing key when ARGV 18 is empty), 10 the source's value counter, 11
+         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, 13 the
+         * numbers of the source log's entries ([SourceKeys.numbers]), then the reply keys, the
+         * reader lists, their missed counters, the service inputs, their queue counts.
          * ARGV: 1-17 the counts and limits (see [StepBatch.execute]; 17 is the number of published
          * frames), 18 the instance id that must hold the host lease (empty: no fence, for readers
          * and publishers), 19 the published values, 20 '1' if the input's queue count is kept (a
@@ -116,6 +121,7 @@ internal class Script(text: String) {
             """
             local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease, sequence, queued, nextQueued =
               KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9], KEYS[10], KEYS[11], KEYS[12]
+            local numbers = KEYS[13]
             local ack, take, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
             local retention, deadLimit, nextLimit, strict = tonumber(ARGV[5]), tonumber(ARGV[6]), tonumber(ARGV[7]), ARGV[8] == '1'
             local replyPrefix, replyTtl = ARGV[9], ARGV[10]
@@ -127,7 +133,7 @@ internal class Script(text: String) {
               local holder = redis.call('GET', hostLease)
               if holder ~= fence then return {'FENCED', holder or ''} end
             end
-            local readerAt = 12 + nReplyKeys
+            local readerAt = 13 + nReplyKeys
             local missedAt = readerAt + nReaders
             local serviceAt = missedAt + nReaders
             local serviceQueuedAt = serviceAt + nServices
@@ -167,48 +173,75 @@ internal class Script(text: String) {
             end
             local missed = {}
             if nPublished > 0 then
-              -- drops the head entries of a source's list whose values are all older than value number keepFrom
-              local function trimValues(key, keepFrom)
-                local dropped = 0
-                if keepFrom <= 1 then return 0 end
-                while true do
-                  local head = redis.call('LINDEX', key, 0)
-                  if not head then return dropped end
-                  local first, n = 0, 1
-                  if #head >= 14 and string.byte(head, 1) == 70 then
-                    first, n = struct.unpack('>I8', head, 3), struct.unpack('>I4', head, 11)
-                  end
-                  if first + n > keepFrom then return dropped end
-                  redis.call('LPOP', key)
-                  dropped = dropped + n
-                end
-              end
-              -- number the values: each frame gets the number of its first value in this source
+              -- number the values: the log's side list (numbers) holds each log entry's first value number and count
               local last = redis.call('INCRBY', sequence, publishedValues)
+              local keepFrom = last - retention + 1
               local at = last - publishedValues + 1
-              local frames = {}
+              local numbered = {}
               for k = 1, nPublished do
-                local frame = ARGV[publishedAt + k]
-                frames[k] = string.sub(frame, 1, 2) .. struct.pack('>I8', at) .. string.sub(frame, 11)
-                at = at + struct.unpack('>I4', frame, 11)
+                local n = struct.unpack('>I4', ARGV[publishedAt + k], 11)
+                numbered[k] = struct.pack('>I8I4', at, n)
+                at = at + n
               end
-              pushAll(log, frames, 1, nPublished)
-              trimValues(log, last - retention + 1)
+              pushAll(log, ARGV, publishedAt + 1, nPublished)
+              pushAll(numbers, numbered, 1, nPublished)
               for s = 1, nServices do
-                pushAll(KEYS[serviceAt + s], frames, 1, nPublished)
+                pushAll(KEYS[serviceAt + s], ARGV, publishedAt + 1, nPublished)
                 redis.call('INCRBY', KEYS[serviceQueuedAt + s], publishedValues)
               end
+              -- the log's entries whose values are all older than keepFrom: how many, and their values one by one
+              local numberedEntries, logLength = redis.call('LLEN', numbers), redis.call('LLEN', log)
+              if numberedEntries > logLength then
+                -- numbers of entries the log no longer holds (it was deleted or trimmed outside these scripts)
+                redis.call('LTRIM', numbers, numberedEntries - logLength, -1)
+                numberedEntries = logLength
+              end
+              local stale, staleValues = 0, {}
+              while stale < numberedEntries do
+                local first, n = struct.unpack('>I8I4', redis.call('LINDEX', numbers, stale))
+                if first + n > keepFrom then break end
+                stale = stale + 1
+                staleValues[stale] = n
+              end
+              -- entries without a number (none unless Redis lost the numbers) are older than every numbered one:
+              -- dropped (their values counted) once the numbered entries alone hold the retention
+              local function dropUnnumbered(key, extra)
+                local dropped = 0
+                if extra <= 0 or numberedEntries == 0 then return 0 end
+                local first = struct.unpack('>I8', redis.call('LINDEX', numbers, 0))
+                if first > keepFrom then return 0 end
+                for _ = 1, extra do
+                  local head = redis.call('LPOP', key)
+                  if #head >= 14 and string.byte(head, 1) == 70 then dropped = dropped + struct.unpack('>I4', head, 11)
+                  else dropped = dropped + 1 end
+                end
+                return dropped
+              end
               for r = 1, nReaders do
-                pushAll(KEYS[readerAt + r], frames, 1, nPublished)
-                local over = trimValues(KEYS[readerAt + r], last - retention + 1)
+                -- a reader list holds the newest entries of the log (it took its oldest ones away)
+                local key = KEYS[readerAt + r]
+                pushAll(key, ARGV, publishedAt + 1, nPublished)
+                local length = redis.call('LLEN', key)
+                local over = dropUnnumbered(key, length - numberedEntries)
+                local skipped = numberedEntries - math.min(length, numberedEntries)
+                local drop = stale - skipped
+                if drop > 0 then
+                  redis.call('LTRIM', key, drop, -1)
+                  for k = skipped + 1, stale do over = over + staleValues[k] end
+                end
                 if over > 0 then redis.call('INCRBY', KEYS[missedAt + r], over) end
                 missed[r] = over
+              end
+              dropUnnumbered(log, logLength - numberedEntries)
+              if stale > 0 then
+                redis.call('LTRIM', log, stale, -1)
+                redis.call('LTRIM', numbers, stale, -1)
               end
             end
             local refused = {}
             for k = 0, nReplies - 1 do
               local at = repliesAt + 1 + 3 * k
-              local key = KEYS[12 + tonumber(ARGV[at])]
+              local key = KEYS[13 + tonumber(ARGV[at])]
               local reason = nil
               if string.sub(key, 1, #replyPrefix) ~= replyPrefix then
                 reason = "outside this topology's reply namespace " .. replyPrefix .. '*'
