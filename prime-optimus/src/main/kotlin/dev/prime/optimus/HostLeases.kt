@@ -84,6 +84,21 @@ internal class HostLeases(
     }
 
     /**
+     * Claims the leases of [services] once, without waiting (a standby of an [Hosting.ORDERED]
+     * service); returns those another instance holds, each with the milliseconds its lease has left.
+     */
+    fun tryClaim(jedis: Jedis, services: List<String>): Map<String, Long> {
+        if (services.isEmpty()) return emptyMap()
+        val holders = claimOnce(jedis, services)
+        val refused = LinkedHashMap<String, Long>()
+        services.forEachIndexed { i, service ->
+            val (holder, remaining) = holders[i]
+            if (holder == instance) held += service else refused[service] = remaining
+        }
+        return refused
+    }
+
+    /**
      * Renews every held lease (re-claiming one that is gone, after Redis lost its data or this
      * instance was frozen); returns the services whose lease another instance holds now, with that
      * holder. Those are no longer held.
