@@ -177,6 +177,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
 
+    /** This core instance's id in the topology (random per core), as its leases and seats name it. */
+    internal val instanceId: String get() = instance
+
     private val services = ConcurrentHashMap<String, StageService>()
     private val genericServices = ConcurrentHashMap<String, GenericServiceLoop>() // hosted here only
     private val launched: MutableSet<String> = ConcurrentHashMap.newKeySet()
