@@ -79,7 +79,7 @@ import java.util.concurrent.atomic.AtomicInteger
  * masters. After a failover the core finds the promoted replica and goes on; [Builder.replicaAcks]
  * makes sure nothing it was told is stored was only on the failed master.
  *
- * ## Liveness, lost Redis data and one host per service
+ * ## Liveness, lost Redis data and the hosts of a service
  * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
  *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
  *   are recorded as its own. When a process dies, any live process of the topology reclaims them
@@ -91,6 +91,11 @@ import java.util.concurrent.atomic.AtomicInteger
  *   [IllegalStateException] ("already hosted by", naming the service and the holder). A process
  *   that finds its host lease taken (it was frozen longer than the lease) stops the service, logs
  *   a WARN and tells the error handler.
+ * - That is the default, [Hosting.EXCLUSIVE]. [Builder.hosting] makes a service
+ *   [Hosting.ORDERED] (one active host, other hosts stand by and take over within about a lease
+ *   time, in order) or [Hosting.UNORDERED] (competing consumers: all hosts take values at once,
+ *   each into a processing list of its own that a survivor gives back to the input when the host
+ *   dies). All hosts of a service must declare the same mode, or [start] fails saying so.
  * - If Redis loses the topology's data (a restart without persistence, a failover to a replica
  *   that was behind), every live core notices within about one heartbeat, logs a WARN, counts it
  *   ([redisResets]) and declares again what it hosts and reads: the codec fingerprint, the
