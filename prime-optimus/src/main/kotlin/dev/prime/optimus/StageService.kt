@@ -40,6 +40,11 @@ internal fun interface StageLogic {
  * queue this service feeds is full, the service holds its results and waits for room: an
  * internal hop never drops a value (the wait shows at the publisher as [QueueFullException]).
  *
+ * Where it keeps what it took is its [HostSeat]: the service's own processing list, fenced by its
+ * host lease (one host at a time), or, for a host of an [Hosting.UNORDERED] service, a list and a
+ * lease of this host's own, with steps sized to about 5 ms of its block's work so that hosts share
+ * the input ([HostSeat.nextTake]). A new run of an unordered service gets a new seat ([seatedAt]).
+ *
  * Memory: one batch of at most [BATCH] values and [StepRules.batchBytes] bytes (one entry may be
  * bigger, up to the entry size limit), and the last 4096 ids.
  */
