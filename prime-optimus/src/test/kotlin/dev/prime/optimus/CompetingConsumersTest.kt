@@ -54,6 +54,43 @@ class CompetingConsumersTest {
     }
 
     @Test
+    fun callsToAnUnorderedServiceAreSharedByItsHostsAndEachAnswered() {
+        val name = "competing-calls"
+        fun core(hosting: Boolean) = OptimusCore.builder().config(dev.prime.CoreConfig.builder().name(name).build())
+            .redis(TestRedis.url).leaseTime(CompetingTopology.LEASE)
+            .let { if (hosting) it.hosts("square").hosting("square", Hosting.UNORDERED) else it.hosts(emptyList()) }
+            .build()
+        val counts = List(2) { AtomicInteger() }
+        val hosts = counts.map { count ->
+            core(true).also { host ->
+                host.chain("square") { x: Int ->
+                    count.incrementAndGet()
+                    Thread.sleep(5)
+                    x * x
+                }.toBlock()
+            }
+        }
+        try {
+            core(false).use { caller ->
+                val square = caller.chain("square") { x: Int -> x * x }.toBlock()
+                caller.start()
+                hosts.forEach { it.start() }
+                val callers = (0 until 4).map { t ->
+                    java.util.concurrent.CompletableFuture.supplyAsync {
+                        (0 until 25).map { i -> (t * 25 + i).let { x -> square.process(x) == x * x } }
+                    }
+                }
+                val answers = callers.flatMap { it.get(PATIENCE.seconds, TimeUnit.SECONDS) }
+                assertEquals(List(100) { true }, answers, "every call got its own answer")
+                assertEquals(100, counts.sumOf { it.get() }, "each request processed once: ${counts.map { it.get() }}")
+                counts.forEach { assertTrue(it.get() > 0, "both hosts answered calls: ${counts.map { c -> c.get() }}") }
+            }
+        } finally {
+            hosts.forEach { it.close() }
+        }
+    }
+
+    @Test
     fun queueDepthCountsTheProcessingListOfEveryHost() {
         val name = "competing-depth"
         val gate = CountDownLatch(1)

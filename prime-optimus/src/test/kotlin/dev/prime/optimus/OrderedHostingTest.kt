@@ -99,6 +99,40 @@ class OrderedHostingTest {
     }
 
     @Test
+    fun anActiveHostThatLosesItsLeaseStandsByAndTakesOverAgain() {
+        val name = "ordered-lost"
+        val reported = java.util.concurrent.CompletableFuture<Throwable>()
+        val host = OptimusCore.builder()
+            .config(dev.prime.CoreConfig.builder().name(name).errorHandler { _, _, error -> reported.complete(error) }.build())
+            .redis(TestRedis.url).leaseTime(CompetingTopology.LEASE)
+            .hosts(CompetingTopology.SERVICE).hosting(CompetingTopology.SERVICE, Hosting.ORDERED).build()
+        host.use {
+            CompetingTopology.declare(host, 0)
+            CompetingTopology.core(TestRedis.url, name, null).use { publisher ->
+                val (numbers, output) = CompetingTopology.declare(publisher, 0)
+                val reader = output.reader()
+                publisher.start()
+                host.start()
+                numbers.publish(1)
+                assertEquals(listOf(1), takeAll(reader, 1))
+                val lease = publisher.keys.hostLease(CompetingTopology.SERVICE)
+                Jedis(URI(TestRedis.url)).use { jedis ->
+                    // another instance holds the lease, as if this host had been frozen longer than it
+                    jedis.set(lease, "intruder".toByteArray(UTF_8), redis.clients.jedis.params.SetParams().px(60_000))
+                    val error = reported.get(CompetingConsumersTest.PATIENCE.seconds, java.util.concurrent.TimeUnit.SECONDS)
+                    assertTrue(error.message!!.contains("stands by"), error.message)
+                    assertFalse(CompetingTopology.SERVICE in host.serviceNames(), "it stopped the service")
+                    jedis.del(lease) // the other host is gone: the former active one, standing by, takes over
+                    numbers.publish(2)
+                    assertEquals(listOf(2), takeAll(reader, 1))
+                    assertEquals(host.instanceId, jedis.get(lease)?.toString(UTF_8))
+                    assertTrue(CompetingTopology.SERVICE in host.serviceNames())
+                }
+            }
+        }
+    }
+
+    @Test
     fun processesThatDisagreeOnAServicesHostingAreRefusedWithTheFix() {
         val name = "hosting-mismatch"
         CompetingTopology.core(TestRedis.url, name, Hosting.UNORDERED).use { first ->
