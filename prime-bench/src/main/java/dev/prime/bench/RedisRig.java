@@ -44,23 +44,32 @@ final class RedisRig implements AutoCloseable {
    * server time, and Redis's CPU time per value.
    */
   void report(String scenario, long operations, int valuesPerOperation) {
+    try (Jedis jedis = connect()) {
+      report(jedis, cpuAtReset, scenario, operations, valuesPerOperation);
+    }
+  }
+
+  /**
+   * Prints the profile of {@link #report} for the server {@code jedis} is connected to (any
+   * Redis: one node of a cluster, say), whose statistics were reset when its CPU time was
+   * {@code cpuAtReset} ({@link #cpuSeconds}).
+   */
+  static void report(Jedis jedis, double cpuAtReset, String scenario, long operations, int valuesPerOperation) {
     double values = Math.max(1, operations) * (double) valuesPerOperation;
     List<String> lines = new ArrayList<>();
-    try (Jedis jedis = connect()) {
-      double cpu = cpuSeconds(jedis) - cpuAtReset;
-      for (String line : jedis.info("commandstats").split("\r?\n")) {
-        if (!line.startsWith("cmdstat_")) {
-          continue;
-        }
-        String command = line.substring("cmdstat_".length(), line.indexOf(':'));
-        long calls = Long.parseLong(field(line, "calls="));
-        double usecPerCall = Double.parseDouble(field(line, "usec_per_call="));
-        lines.add(String.format(Locale.ROOT, "  %-10s %8.3f calls/value  %8.2f us/call  %8.3f us/value",
-            command, calls / values, usecPerCall, calls * usecPerCall / values));
+    double cpu = cpuSeconds(jedis) - cpuAtReset;
+    for (String line : jedis.info("commandstats").split("\r?\n")) {
+      if (!line.startsWith("cmdstat_")) {
+        continue;
       }
-      System.out.printf(Locale.ROOT, "%n[redis profile] %s: %d values; redis CPU %.2f us/value%n",
-          scenario, (long) values, cpu * 1e6 / values);
+      String command = line.substring("cmdstat_".length(), line.indexOf(':'));
+      long calls = Long.parseLong(field(line, "calls="));
+      double usecPerCall = Double.parseDouble(field(line, "usec_per_call="));
+      lines.add(String.format(Locale.ROOT, "  %-10s %8.3f calls/value  %8.2f us/call  %8.3f us/value",
+          command, calls / values, usecPerCall, calls * usecPerCall / values));
     }
+    System.out.printf(Locale.ROOT, "%n[redis profile] %s: %d values; redis CPU %.2f us/value%n",
+        scenario, (long) values, cpu * 1e6 / values);
     lines.forEach(System.out::println);
   }
 
@@ -69,7 +78,8 @@ final class RedisRig implements AutoCloseable {
     redis.close();
   }
 
-  private static double cpuSeconds(Jedis jedis) {
+  /** The server's CPU time so far (user and system), in seconds. */
+  static double cpuSeconds(Jedis jedis) {
     String info = jedis.info("cpu");
     return Double.parseDouble(field(info, "used_cpu_user:")) + Double.parseDouble(field(info, "used_cpu_sys:"));
   }

@@ -6,6 +6,7 @@ import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
 import redis.clients.jedis.args.ClientType
 import redis.clients.jedis.params.ClientKillParams
+import redis.clients.jedis.util.JedisClusterCRC16
 import java.io.IOException
 import java.net.ServerSocket
 import java.nio.file.Files
@@ -22,8 +23,12 @@ import java.time.Duration
  * The nodes fail over on their own: a master unreachable for `nodeTimeout` is marked failed by
  * the other masters and its replica promotes itself (`cluster-replica-validity-factor 0`: it
  * always may). `cluster-require-full-coverage no` keeps the other masters serving meanwhile.
+ *
+ * Shared: the cluster tests of this module use it, and so does prime-bench's
+ * `ClusterReplicaAcksBenchmark`, through this module's test-jar (which holds this class only):
+ * hence public, and [start] callable from Java.
  */
-internal class LocalRedisCluster private constructor(
+public class LocalRedisCluster private constructor(
     private val root: Path,
     val nodes: List<Node>,
 ) : AutoCloseable {
@@ -39,6 +44,9 @@ internal class LocalRedisCluster private constructor(
 
         override fun toString(): String = "node $HOST:$port"
     }
+
+    /** The master of the hash slot of [key] now (see [masterOf]); for a topology, any of its keys, e.g. `prime:{name}:`. */
+    public fun masterOfKey(key: String): Node = masterOf(JedisClusterCRC16.getSlot(key))
 
     /** Every node as a seed: `redis-cluster://127.0.0.1:p1,127.0.0.1:p2,...`. */
     val url: String get() = "redis-cluster://" + nodes.joinToString(",") { "$HOST:${it.port}" }
@@ -138,6 +146,8 @@ internal class LocalRedisCluster private constructor(
          * assigned; waits until every node says `cluster_state:ok` and every replica is in sync.
          * [appendOnly]: every node keeps an append-only file synced on every write.
          */
+        @JvmStatic
+        @JvmOverloads
         fun start(masters: Int = 3, nodeTimeout: Duration = Duration.ofMillis(1000), appendOnly: Boolean = false): LocalRedisCluster {
             val root = Files.createTempDirectory("prime-cluster-")
             val nodes = ArrayList<Node>()
