@@ -60,21 +60,29 @@ import org.slf4j.LoggerFactory;
  * a batch is one value, taken as soon as it is published.
  *
  * <p>Waiting: a reader with nothing to read first spins watching {@code count} for {@link
- * #SPIN_NANOS}, then yields its core until {@link #YIELD_NANOS}, because waking a parked thread
- * costs microseconds to milliseconds (on a virtual machine the idle CPU halts and must be woken;
- * on a busy one the woken thread waits for a time slice), far more than a transmission. The
- * budget is measured in time, not in spin rounds: a round's length depends on the CPU's pause
- * instruction and on how the JIT compiled the loop, so a budget in rounds covered the gap between
- * two bursts of values in one JVM and not in the next, which then parked at every burst (the
- * hand-off's slow mode). Then it registers in {@code sleepers}
+ * #SPIN_NANOS} (2 µs), then yields its core between looks until {@link #YIELD_NANOS} (200 µs),
+ * because waking a parked thread costs microseconds to milliseconds (on a virtual machine the idle
+ * CPU halts and must be woken; on a busy one the woken thread waits for a time slice), far more
+ * than a transmission. The budget is measured in time, not in spin rounds: a round's length
+ * depends on the CPU's pause instruction and on how the JIT compiled the loop. The spin is short
+ * because the reader may share its core with the very thread it waits for: on a machine with two
+ * cores the scheduler often keeps a publisher and its service on one core (every sample of the
+ * hand-off benchmark's slow forks showed both threads on the same CPU, each with half of it). A
+ * reader that spun 50 µs there held the core for 50 µs in which nothing could be published, at
+ * every hand-over, twice per burst of values: the hand-off's slow mode (~360 ns a value instead of
+ * ~110). Yielding gives the core to the publisher within 2 µs; on a core of its own a yield
+ * returns at once and costs a system call, so a reader still sees a value within about a
+ * microsecond. Then it registers in {@code sleepers}
  * (raising {@code parked}), looks once more and parks. A publisher reads {@code parked} after
  * writing {@code count} (both volatile, so either the publisher sees the sleeper or the sleeper
  * sees the value) and, only if it is not zero, unparks every sleeper and empties the list: a
  * reader is woken once, not once per value, and a woken reader never contends with the publisher
- * for a lock. This is what keeps the hand-off out of a slow mode: before, readers waited on a
- * condition of the publishers' lock, so a woken reader had to take that lock back while the
- * publisher wanted it for the next value, and the two threads could settle into parking and
- * waking each other for every value.
+ * for a lock. Before the rewrite, readers waited on a condition of the publishers' lock, so a
+ * woken reader had to take that lock back while the publisher wanted it for the next value.
+ *
+ * <p>Layout: {@code claimed} and {@code count}, written per value by publishers, and each
+ * reader's {@code cursor}, written per value by its reader, are padded onto cache lines of their
+ * own ({@link HandOffPadding}), so neither thread's writes evict the fields the other only reads.
  *
  * <p>Copies: with a {@link ValueCodec} (the core's {@code copyValues} option) the ring holds each
  * value encoded at publish time, and every read decodes a copy of its own, as if each reader were
@@ -83,22 +91,21 @@ import org.slf4j.LoggerFactory;
  *
  * @param <T> value type
  */
-final class MemorySource<T> implements MediaSource<T> {
-  /** Rounds a reader spins, watching for a publication, before it reads the clock. */
-  static final int SPINS = 256;
-
+final class MemorySource<T> extends HandOffPadding.PaddedSequences implements MediaSource<T> {
   /** Rounds between two clock reads of a spinning reader. */
-  private static final int SPINS_PER_CLOCK_READ = 64;
+  private static final int SPINS_PER_CLOCK_READ = 16;
 
   /**
-   * How long a reader with nothing to read spins before it starts yielding its core: covers the
-   * gaps of a steady flow (a publisher's batch boundary, a short pause) without a park.
+   * How long a reader with nothing to read spins before it starts yielding its core: long enough
+   * for the next value of a steady flow from a thread on another core, short enough that a reader
+   * sharing its core with the publisher it waits for hands the core over almost at once.
    */
-  static final long SPIN_NANOS = TimeUnit.MICROSECONDS.toNanos(50);
+  static final long SPIN_NANOS = TimeUnit.MICROSECONDS.toNanos(2);
 
   /**
    * How long a reader waits without parking in all (spinning, then yielding, which lets another
-   * thread run on a busy machine); then it parks until a publish wakes it.
+   * thread, perhaps the publisher it waits for, run on its core); then it parks until a publish
+   * wakes it. Values further apart than this find their reader parked, whatever the spin.
    */
   static final long YIELD_NANOS = TimeUnit.MICROSECONDS.toNanos(200);
 
@@ -118,8 +125,8 @@ final class MemorySource<T> implements MediaSource<T> {
   static {
     try {
       MethodHandles.Lookup lookup = MethodHandles.lookup();
-      CLAIMED = lookup.findVarHandle(MemorySource.class, "claimed", long.class);
-      CURSOR = lookup.findVarHandle(MemorySource.MemoryReader.class, "cursor", long.class);
+      CLAIMED = lookup.findVarHandle(HandOffPadding.Sequences.class, "claimed", long.class);
+      CURSOR = lookup.findVarHandle(HandOffPadding.Cursor.class, "cursor", long.class);
       MISSED = lookup.findVarHandle(MemorySource.MemoryReader.class, "missed", long.class);
     } catch (ReflectiveOperationException e) {
       throw new ExceptionInInitializerError(e);
@@ -134,8 +141,10 @@ final class MemorySource<T> implements MediaSource<T> {
   private final Runnable onReader;
   private final Object[] ring;
   private final ValueCodec copies; // null: values are shared by reference
-  private volatile long claimed; // the token: count, or count + 1 while a publisher holds it
-  private volatile long count; // values fully published; written by the token's holder
+  private final long spinNanos; // how long a reader with nothing to read spins
+  private final long waitNanos; // how long it spins and yields in all before it parks
+  // claimed (the token: count, or count + 1 while a publisher holds it) and count (values fully
+  // published, written by the token's holder) are inherited, alone on their cache lines
   private volatile int parked; // sleepers.size(), written under sleepers' monitor
   private volatile boolean closed; // written by the token's holder
   private volatile MemoryReader[] gates = noGates(); // replaced by the token's holder: inputs
@@ -167,6 +176,35 @@ final class MemorySource<T> implements MediaSource<T> {
    */
   MemorySource(
       PrimeCore core, String name, int retention, ValueCodec copies, Runnable onReader) {
+    this(core, name, retention, copies, onReader, SPIN_NANOS, YIELD_NANOS);
+  }
+
+  /**
+   * A source whose readers wait by other budgets than {@link #SPIN_NANOS} and {@link
+   * #YIELD_NANOS}: for tests that must reach the sleeper list at once (both 0).
+   *
+   * @param core the owning core
+   * @param name the source's name
+   * @param retention how many latest values to keep
+   * @param copies see {@link #MemorySource(PrimeCore, String, int, ValueCodec, Runnable)}
+   * @param onReader see {@link #MemorySource(PrimeCore, String, int, ValueCodec, Runnable)}
+   * @param spinNanos how long a reader with nothing to read spins before it yields its core
+   * @param waitNanos how long it spins and yields in all before it parks
+   */
+  MemorySource(
+      PrimeCore core,
+      String name,
+      int retention,
+      ValueCodec copies,
+      Runnable onReader,
+      long spinNanos,
+      long waitNanos) {
+    if (spinNanos < 0 || waitNanos < spinNanos) {
+      throw new IllegalArgumentException(
+          "need 0 <= spinNanos <= waitNanos, were " + spinNanos + " and " + waitNanos);
+    }
+    this.spinNanos = spinNanos;
+    this.waitNanos = waitNanos;
     this.copies = copies;
     this.core = Objects.requireNonNull(core, "core");
     this.name = Objects.requireNonNull(name, "name");
@@ -491,14 +529,16 @@ final class MemorySource<T> implements MediaSource<T> {
     return "MemorySource[" + name + "]";
   }
 
-  private final class MemoryReader implements Reader<T>, BatchReader<T> {
-    private volatile long cursor; // moved by compare-and-set (or by its only consumer, batches)
+  private final class MemoryReader extends HandOffPadding.PaddedCursor
+      implements Reader<T>, BatchReader<T> {
+    // cursor (inherited, alone on its cache lines): moved by compare-and-set, or by the release
+    // stores of its only consumer (a service input's batches)
     private volatile long missed; // added to with MISSED
     private volatile boolean readerClosed;
     private final String service; // null: a plain reader, which never gates
 
     MemoryReader(long cursor, String service) {
-      this.cursor = cursor;
+      super(cursor);
       this.service = service;
     }
 
@@ -568,36 +608,40 @@ final class MemorySource<T> implements MediaSource<T> {
     }
 
     /**
-     * Waits without parking while there is nothing to read: {@link #SPINS} rounds of {@link
-     * Thread#onSpinWait()}, then spinning until {@link #SPIN_NANOS} have passed, then yielding
-     * the core until {@link #YIELD_NANOS} have passed (or the deadline, if {@code timed}). The
-     * budget is time, not rounds, so it does not depend on how a JVM compiled the loop.
+     * Waits without parking while there is nothing to read: spins for {@code spinNanos} ({@link
+     * #SPIN_NANOS}), then yields the core between looks until {@code waitNanos} ({@link
+     * #YIELD_NANOS}) have passed (or the deadline, if
+     * {@code timed}). The budget is time, not rounds, so it does not depend on how a JVM compiled
+     * the loop or on the CPU's pause instruction.
      *
      * @return whether the reader is ready; false: the caller parks
      */
     private boolean spin(long deadline, boolean timed) {
-      for (int i = 0; i < SPINS; i++) {
+      for (int i = 0; i < SPINS_PER_CLOCK_READ; i++) { // most waits of a steady flow end here
         if (ready()) {
           return true;
         }
         Thread.onSpinWait();
       }
       long start = System.nanoTime();
-      while (true) {
+      long now = start;
+      while (now - start < spinNanos && !(timed && now - deadline >= 0)) {
         for (int i = 0; i < SPINS_PER_CLOCK_READ; i++) {
           if (ready()) {
             return true;
           }
           Thread.onSpinWait();
         }
-        long now = System.nanoTime();
-        if (now - start > YIELD_NANOS || (timed && now - deadline >= 0)) {
-          return ready();
-        }
-        if (now - start > SPIN_NANOS) {
-          Thread.yield();
-        }
+        now = System.nanoTime();
       }
+      while (now - start < waitNanos && !(timed && now - deadline >= 0)) {
+        Thread.yield();
+        if (ready()) {
+          return true;
+        }
+        now = System.nanoTime();
+      }
+      return ready();
     }
 
     @Override

@@ -10,6 +10,8 @@ import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Optional;
+import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 
 /** Ring and cursor arithmetic of the in-memory source, without running any service. */
@@ -311,6 +313,43 @@ class MemorySourceTest {
       source.close();
       Throwable thrown = failure.get(5, java.util.concurrent.TimeUnit.SECONDS);
       assertTrue(thrown instanceof CoreClosedException, String.valueOf(thrown));
+    }
+  }
+
+  @Test
+  void waitingBudgetsAreCheckedAndAReaderWithoutOneIsWokenByAPublish() throws Exception {
+    try (BareCore core = new BareCore()) {
+      IllegalArgumentException negative =
+          assertThrows(
+              IllegalArgumentException.class,
+              () -> new MemorySource<Integer>(core, "s", 2, null, () -> {}, -1, 0));
+      assertTrue(negative.getMessage().contains("spinNanos"), negative.getMessage());
+      assertThrows(
+          IllegalArgumentException.class,
+          () -> new MemorySource<Integer>(core, "s", 2, null, () -> {}, 10, 5));
+
+      // no spin, no yield: the reader parks at once, and only the publish can wake it
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 2, null, () -> {}, 0, 0);
+      Reader<Integer> reader = source.reader();
+      CompletableFuture<Integer> taken = new CompletableFuture<>();
+      Thread taker =
+          new Thread(
+              () -> {
+                try {
+                  taken.complete(reader.take());
+                } catch (Throwable e) {
+                  taken.completeExceptionally(e);
+                }
+              });
+      taker.start();
+      long deadline = System.nanoTime() + Duration.ofSeconds(10).toNanos();
+      while (taker.getState() != Thread.State.WAITING && System.nanoTime() < deadline) {
+        Thread.onSpinWait(); // bounded: until the taker parks, at most 10 s
+      }
+      assertEquals(Thread.State.WAITING, taker.getState(), "the reader parked at once");
+      source.publish(7);
+      assertEquals(7, taken.get(10, TimeUnit.SECONDS));
+      taker.join(10_000);
     }
   }
 }

@@ -27,7 +27,7 @@ class JcstressRunTest {
 
   private static final String TOY_NAME = "dev.prime.selfcheck.UnlockedClaimToy";
 
-  private static final int SUITE_SIZE = 15;
+  private static final int SUITE_SIZE = 19;
 
   private static SortedSet<String> suite;
   private static Map<String, JcstressRun.Verdict> verdicts;

@@ -54,4 +54,14 @@ final class StressSources {
   static MemorySource<Integer> source(int retention) {
     return new MemorySource<>(CORE, "stress", retention);
   }
+
+  /**
+   * {@return a new in-memory source like {@link #source(int)} whose readers neither spin nor
+   * yield: one with nothing to read goes straight to the sleeper list and parks, so the race
+   * between parking and a publish or close is hit in most samples, not only when the standard
+   * waiting budget (microseconds) runs out}
+   */
+  static MemorySource<Integer> parkingSource(int retention) {
+    return new MemorySource<>(CORE, "stress", retention, null, () -> {}, 0, 0);
+  }
 }
