@@ -353,16 +353,21 @@ internal class Script(text: String) {
         /**
          * A service's queue depth in values, for metrics: its input's queue count (or, for a
          * service only called, its input's length: one request per entry) plus the values of the
-         * entries in its processing list, summed here so no frame travels to the client.
-         * KEYS: input, processing, queue count.
+         * entries in its processing list (and in those of the hosts of an unordered service), summed
+         * here so no frame travels to the client. KEYS: input, processing, queue count, then any
+         * further processing lists.
          */
         val QUEUE_DEPTH = Script(
             """
             local waiting = tonumber(redis.call('GET', KEYS[3]) or redis.call('LLEN', KEYS[1]))
             local held = 0
-            for _, entry in ipairs(redis.call('LRANGE', KEYS[2], 0, -1)) do
-              if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
-              else held = held + 1 end
+            for k = 2, #KEYS do
+              if k ~= 3 then
+                for _, entry in ipairs(redis.call('LRANGE', KEYS[k], 0, -1)) do
+                  if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
+                  else held = held + 1 end
+                end
+              end
             end
             return math.max(0, waiting) + held
             """,

@@ -40,6 +40,11 @@ internal fun interface StageLogic {
  * queue this service feeds is full, the service holds its results and waits for room: an
  * internal hop never drops a value (the wait shows at the publisher as [QueueFullException]).
  *
+ * Where it keeps what it took is its [HostSeat]: the service's own processing list, fenced by its
+ * host lease (one host at a time), or, for a host of an [Hosting.UNORDERED] service, a list and a
+ * lease of this host's own, with steps sized to about 5 ms of its block's work so that hosts share
+ * the input ([HostSeat.nextTake]). A new run of an unordered service gets a new seat ([seatedAt]).
+ *
  * Memory: one batch of at most [BATCH] values and [StepRules.batchBytes] bytes (one entry may be
  * bigger, up to the entry size limit), and the last 4096 ids.
  */
@@ -52,12 +57,15 @@ internal class StageService(
     /** Where the last service of a chain linked to a source publishes. */
     private val output: SourceKeys?,
     /** Whether values reach this service's input (it is fed by a source), so its queue count is kept; else only calls do. */
-    private val counted: Boolean,
+    val counted: Boolean,
+    /** Where this run keeps what it took: `null` for the service's own processing list (one host at a time). */
+    seat: HostSeat? = null,
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
-    private val processing = core.keys.serviceProcessing(name)
+    private val seat: HostSeat = seat ?: core.soleSeat(name)
+    private val processing = this.seat.processing
     private val queued = core.keys.queuedOf(input)
-    private val fence = core.hostFence(name)
+    private val fence = this.seat.fence
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
         fence, counted,
@@ -78,6 +86,9 @@ internal class StageService(
 
     /** The reply owed to a caller whose request's block threw a [VirtualMachineError] (see [loop]). */
     private var fatalReply: Pair<ByteArray, ByteArray>? = null
+
+    /** This service as one run of a host of a shared ([Hosting.UNORDERED]) service, in [seat]. */
+    fun seatedAt(seat: HostSeat): StageService = StageService(name, core, logic, next, output, counted, seat)
 
     suspend fun run() {
         RedisSession(core.connections).use { session -> loop(session) }
@@ -101,8 +112,10 @@ internal class StageService(
                     if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
                     val batchIds = HashSet<Long>()
+                    val handling = System.nanoTime()
                     val parts = taken.map { handle(it, batchIds) }
-                    store(session, parts, take = if (complete) BATCH else 0)?.takeIf { complete }
+                    val take = if (complete) seat.nextTake(parts.size, System.nanoTime() - handling) else 0
+                    store(session, parts, take)?.takeIf { complete }
                 }
                 if (outage) LOG.info("service '{}' reconnected to Redis", name)
                 outage = false
@@ -110,7 +123,7 @@ internal class StageService(
             } catch (e: CancellationException) {
                 throw e
             } catch (e: HostingLost) {
-                core.hostingLost(session, name, e.holder)
+                core.hostingLost(session, seat, e.holder)
                 return
             } catch (e: VirtualMachineError) {
                 replyFatal(session)
@@ -140,9 +153,9 @@ internal class StageService(
      */
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
         // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
-        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
         val pipeline = jedis.pipelined()
-        val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
         val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())
         pipeline.sync()
         val entry = moved.get()
