@@ -81,6 +81,8 @@ internal class StageService(
      * take ended, up to a poll slice later.
      */
     private var waitBehindStep = false
+    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
+    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8)
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
@@ -236,7 +238,7 @@ internal class StageService(
         val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
         waitBehindStep = false // until this step is stored
         val result = if (waitBehind) {
-            session.once(null, POLL_MILLIS) { step.executeThenWait(it, output, take, POLL_SECONDS) }
+            session.once(null, idleWaitMillis) { step.executeThenWait(it, output, take, idleWaitArgument) }
         } else {
             session.once { step.execute(it, output, take) }
         }
@@ -493,8 +495,6 @@ internal class StageService(
     companion object {
         /** The most values one step takes. */
         const val BATCH = 256
-        private val POLL_MILLIS = (RedisConnections.POLL_SECONDS * 1000).toLong()
-        private val POLL_SECONDS = RedisConnections.POLL_SECONDS.toString().toByteArray(UTF_8)
         private val LOG = LoggerFactory.getLogger(StageService::class.java)
 
         private fun isOutOfMemory(e: JedisDataException): Boolean =
