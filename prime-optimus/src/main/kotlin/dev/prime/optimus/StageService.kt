@@ -71,6 +71,18 @@ internal class StageService(
         fence, counted,
     )
     private val rules = core.stepRules
+    /** The cheaper step of a lone request, for a service only called (see [RequestStep]). */
+    private val requestStep = if (counted) null else RequestStep(processing, input, fence, rules)
+
+    /**
+     * Whether the last request step on this connection stored its request: only then is the next
+     * blocking take written behind a request step. A step the script could not store (its script
+     * not loaded after a Redis restart, a lease lapsed) would otherwise be answered only once that
+     * take ended, up to a poll slice later.
+     */
+    private var waitBehindStep = false
+    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
+    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8)
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
@@ -129,6 +141,7 @@ internal class StageService(
                     }
                 }
                 outage = true
+                waitBehindStep = false
                 pending = null
                 delay(backoff.next())
             }
@@ -198,7 +211,9 @@ internal class StageService(
      */
     private suspend fun store(session: RedisSession, parts: List<Part>, take: Int): List<TakenEntry>? {
         val whole = if (parts.size == 1) parts[0].batch else StepBatch.combine(parts.map { it.batch })
+        val output = parts.singleOrNull()?.output
         val stored = try {
+            if (output != null && requestStep != null) return storeRequest(session, whole, output, take)
             runStep(session, whole, ack = parts.size, take = take)
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
@@ -207,6 +222,35 @@ internal class StageService(
         }
         whole.ids.forEach(recent::add)
         return stored.taken
+    }
+
+    /**
+     * Stores a lone request's [output] with the request step (a service only called) and, when
+     * this step takes ([take] > 0), waits for the next entry in the same write; returns the entries
+     * taken next, or `null` to read the processing list again: after a blocking take in vain (the fenced
+     * peek then comes first, as after an idle take), or after the general step stored what the
+     * request step could not (a reply key it refused: the general step dead-letters the request;
+     * a lease held by nobody: the general step waits for it).
+     */
+    private suspend fun storeRequest(session: RedisSession, whole: StepBatch, output: RequestOutput, take: Int): List<TakenEntry>? {
+        val step = requestStep!!
+        // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
+        val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
+        waitBehindStep = false // until this step is stored
+        val result = if (waitBehind) {
+            session.once(null, idleWaitMillis) { step.executeThenWait(it, output, take, idleWaitArgument) }
+        } else {
+            session.once { step.execute(it, output, take) }
+        }
+        waitBehindStep = result is StepResult.Stored
+        if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
+        if (result !is StepResult.Stored) {
+            runStep(session, whole, ack = 1, take = 0)
+            whole.ids.forEach(recent::add)
+            return null
+        }
+        whole.ids.forEach(recent::add)
+        return if (waitBehind && result.taken.isEmpty()) null else result.taken
     }
 
     /**
@@ -305,8 +349,14 @@ internal class StageService(
     /** A step found this service's host lease held by another instance ([holder]): the service stops, storing nothing. */
     private class HostingLost(val holder: String) : Exception("the host lease is held by instance $holder")
 
-    /** One entry of a batch and what its handling stores. */
-    private class Part(val entry: TakenEntry, val batch: StepBatch)
+    /**
+     * One entry of a batch and what its handling stores; [output] when that is just one request's
+     * one result (the reply, or the request for the next service), which a step of this entry
+     * alone can store with the request step.
+     */
+    private class Part(val entry: TakenEntry, val batch: StepBatch) {
+        var output: RequestOutput? = null
+    }
 
     /**
      * Dead-letters [entry] for [reason] (its first bytes only if [prefix]) and logs it at WARN: the
@@ -339,21 +389,27 @@ internal class StageService(
             return part
         }
         // a frame is acknowledged as a whole: every value of it is handled in this part
-        for (raw in envelopes) handleEnvelope(TakenEntry(raw, raw.size.toLong()), step, batchIds)
+        for (raw in envelopes) {
+            val output = handleEnvelope(TakenEntry(raw, raw.size.toLong()), step, batchIds)
+            if (envelopes.size == 1) part.output = output
+        }
         return part
     }
 
-    /** Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError]. */
-    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: MutableSet<Long>) {
+    /**
+     * Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError].
+     * Returns a request's one result, when that is all [step] got from it.
+     */
+    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: MutableSet<Long>): RequestOutput? {
         val raw = entry.bytes
         val envelope = try {
             Envelope.parse(raw)
         } catch (e: CodecException) {
             deadLetter(step, "undecodable envelope: ${e.message}", entry)
-            return
+            return null
         }
         // a duplicate of a value handled recently, or earlier in this batch
-        if (envelope.id in recent || !batchIds.add(envelope.id)) return
+        if (envelope.id in recent || !batchIds.add(envelope.id)) return null
         step.ids += envelope.id
         val replyTo = envelope.replyTo
         if (replyTo != null && !startsWith(replyTo, rules.replyPrefix)) {
@@ -363,32 +419,34 @@ internal class StageService(
                     "${rules.replyPrefix.toString(UTF_8)}*",
                 entry,
             )
-            return
+            return null
         }
         val value = try {
             envelope.payload()?.let(core.codec::decode)
         } catch (e: CodecException) {
             deadLetter(step, "cannot decode the value: ${e.message}", entry)
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
-            return
+            return null
         }
         when (envelope.kind) {
-            Envelope.Kind.REQUEST -> handleRequest(envelope, value, step)
+            Envelope.Kind.REQUEST -> return handleRequest(envelope, value, step)
             Envelope.Kind.VALUE -> handleValue(envelope, value, entry, step)
             else -> deadLetter(step, "a ${envelope.kind} does not belong in a service's input", entry)
         }
+        return null
     }
 
-    private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch) {
+    /** Handles a request into [step]; returns its one result (also put in [step]). */
+    private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch): RequestOutput {
         val replyTo = envelope.replyTo!!
         try {
             var result: Any? = null
             logic.process(value) { result = it }
             val payload = core.encode(result)
-            if (next != null) {
-                step.next(Envelope.request(envelope.id, replyTo, payload))
+            return if (next != null) {
+                Envelope.request(envelope.id, replyTo, payload).let { step.next(it); RequestOutput(next, it, isReply = false) }
             } else {
-                step.reply(replyTo, Envelope.replyOk(envelope.id, payload))
+                Envelope.replyOk(envelope.id, payload).let { step.reply(replyTo, it); RequestOutput(replyTo, it, isReply = true) }
             }
         } catch (e: VirtualMachineError) {
             // the caller gets it promptly (see replyFatal), this service then ends
@@ -398,7 +456,9 @@ internal class StageService(
         } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)
             core.rememberFailure(envelope.id, failure)
-            step.reply(replyTo, Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString()))
+            val reply = Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString())
+            step.reply(replyTo, reply)
+            return RequestOutput(replyTo, reply, isReply = true)
         }
     }
 
