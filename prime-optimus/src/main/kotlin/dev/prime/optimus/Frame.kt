@@ -12,10 +12,9 @@ import java.nio.ByteBuffer
  * 'F'  version(1)  sequence(8)  count(4)  { length(4) envelope(length) } x count
  * ```
  * Each element is a whole [Envelope] (magic `'P'`, kind, id, ...), so every value keeps its own
- * id inside a frame and consumers skip duplicates per value. `sequence` is the number of the
- * frame's first value in its source (set by the step script when the frame is published to a
- * source: the log and the plain readers are trimmed by it, in values), or 0 for a frame that is
- * not in a source (an internal hop).
+ * id inside a frame and consumers skip duplicates per value. `sequence` is always 0: a source
+ * numbers its frames in a list of its own beside its log ([SourceKeys.numbers]), so publishing
+ * stores the frame as it came, without the script building a renumbered copy of it.
  *
  * Batching is adaptive and adds no latency: a frame holds what is ready at that moment (one
  * step's outputs, one `publishAll`), nothing ever waits to fill one. A frame is acknowledged as a
@@ -117,6 +116,6 @@ internal object Frame {
         else -> 0
     }
 
-    /** The sequence number of the first value of a published frame (0: not set). */
-    fun sequence(entry: ByteArray): Long = if (!isFrame(entry) || entry.size < HEADER) 0L else ByteBuffer.wrap(entry, 2, 8).long
+    /** The number of the first value and the count of one entry of a source's [SourceKeys.numbers] list. */
+    fun numbered(number: ByteArray): Pair<Long, Int> = ByteBuffer.wrap(number).let { it.long to it.int }
 }

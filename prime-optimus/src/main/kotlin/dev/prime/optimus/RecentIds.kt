@@ -4,19 +4,82 @@ package dev.prime.optimus
  * The ids of the last [capacity] values a consumer handled, to recognise a value delivered twice
  * (a producer's retry after a lost reply). Memory is bounded: the oldest id is forgotten first.
  * Not thread-safe: one consumer owns it.
+ *
+ * Design note. Every value a service or reader handles is looked up and added, so the set holds
+ * primitive longs (open addressing with linear probing in a table at most half full, deletion by
+ * shifting the following entries back) instead of boxing each id into a `HashSet<Long>`. Slot
+ * value 0 means empty; the id 0 itself is kept in a flag.
  */
 internal class RecentIds(private val capacity: Int = 4096) {
     private val ring = LongArray(capacity)
     private var next = 0
     private var size = 0
-    private val members = HashSet<Long>(capacity * 2)
+    private val table = LongArray(Integer.highestOneBit(maxOf(2, capacity) * 4 - 1))
+    private val mask = table.size - 1
+    private var hasZero = false
 
-    operator fun contains(id: Long): Boolean = id in members
+    operator fun contains(id: Long): Boolean {
+        if (id == 0L) return hasZero
+        var slot = slotOf(id)
+        while (true) {
+            val held = table[slot]
+            if (held == 0L) return false
+            if (held == id) return true
+            slot = (slot + 1) and mask
+        }
+    }
 
     fun add(id: Long) {
-        if (!members.add(id)) return
-        if (size == capacity) members.remove(ring[next]) else size++
+        if (!insert(id)) return
+        if (size == capacity) remove(ring[next]) else size++
         ring[next] = id
         next = (next + 1) % capacity
+    }
+
+    /** Adds [id] to the table; false if it was there. */
+    private fun insert(id: Long): Boolean {
+        if (id == 0L) return !hasZero.also { hasZero = true }
+        var slot = slotOf(id)
+        while (true) {
+            val held = table[slot]
+            if (held == id) return false
+            if (held == 0L) {
+                table[slot] = id
+                return true
+            }
+            slot = (slot + 1) and mask
+        }
+    }
+
+    private fun remove(id: Long) {
+        if (id == 0L) {
+            hasZero = false
+            return
+        }
+        var slot = slotOf(id)
+        while (table[slot] != id) {
+            if (table[slot] == 0L) return
+            slot = (slot + 1) and mask
+        }
+        // shift back the entries after it whose probe run passes through the freed slot
+        var gap = slot
+        var probe = (slot + 1) and mask
+        while (true) {
+            val held = table[probe]
+            if (held == 0L) break
+            val home = slotOf(held)
+            // held may move to gap unless its home lies cyclically in (gap, probe]
+            if (((probe - home) and mask) >= ((probe - gap) and mask)) {
+                table[gap] = held
+                gap = probe
+            }
+            probe = (probe + 1) and mask
+        }
+        table[gap] = 0L
+    }
+
+    private fun slotOf(id: Long): Int {
+        val mixed = id * -0x61c8864680b583ebL
+        return (mixed xor (mixed ushr 32)).toInt() and mask
     }
 }

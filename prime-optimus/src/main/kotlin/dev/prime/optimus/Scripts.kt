@@ -13,8 +13,12 @@ import java.security.MessageDigest
  * retention are in values: a service's input has a count of the values it holds
  * (`<input>:queued`, a frame counts its values, a caller's request nothing), raised by every push
  * and lowered by every take, which the queue limit is checked against; a source numbers its
- * values (`src:<source>:seq`) and writes the number of each frame's first value into the frame,
- * so its log and plain readers are trimmed by value numbers, whole frames at a time.
+ * values (`src:<source>:seq`) and keeps, beside its log, a list of each log entry's first value
+ * number and count (`src:<source>:log:numbers`, [SourceKeys.numbers]). A plain reader's list holds
+ * the newest entries of the log (it registered with a copy of the log, gets every later frame, and
+ * takes from its head), so the log and every reader are trimmed by value numbers, whole frames at
+ * a time, reading only those small numbers: a frame is stored as it came and never copied into
+ * Lua again to be renumbered or to read its head.
  *
  * [STEP] does, in order and atomically: check that this instance still holds the service's host
  * lease (else it answers `FENCED` and changes nothing: a host frozen past its lease must not store
@@ -44,6 +48,13 @@ import java.security.MessageDigest
  * restart, and after every idle wait: a host that resumes from a freeze learns there that it lost
  * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script,
  * so [COUNT_IDLE_TAKE], pipelined behind it, lowers the queue count by what it took).
+ *
+ * [REQUEST_STEP] is the step of a service only called (its input holds callers' requests, one
+ * value per entry, and keeps no queue count) that handled one request into one result: the reply
+ * (or, in a chain, the request for the next service), pushed, fenced and acknowledged like [STEP]
+ * does it, with the same take; it carries 4 keys and 8 arguments where [STEP] carries 13 and 24,
+ * and runs a handful of commands, so a call's step costs Redis about half as much. Anything it
+ * cannot do (a reply key it refuses) it leaves untouched for [STEP].
  *
  * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
  * the retained values (it starts at the oldest retained value; a service input's count grows by them).
@@ -76,13 +87,28 @@ internal class Script(text: String) {
     fun queueBySha(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>): redis.clients.jedis.Response<Any?> =
         pipeline.evalsha(sha, keys, args)
 
+    /**
+     * Writes the script's EVALSHA to [connection] without reading its answer (the caller sends
+     * more commands behind it and reads the answers in order; on [JedisNoScriptException] it runs
+     * the script again with [run], which loads it).
+     */
+    fun send(connection: redis.clients.jedis.Connection, keys: List<ByteArray>, args: List<ByteArray>) {
+        val command = ArrayList<ByteArray>(2 + keys.size + args.size)
+        command += sha
+        command += keys.size.toString().toByteArray(UTF_8)
+        command += keys
+        command += args
+        connection.sendCommand(redis.clients.jedis.Protocol.Command.EVALSHA, *command.toTypedArray())
+    }
+
     companion object {
         /**
          * KEYS: 1 processing, 2 input, 3 dead letters, 4 dead letters trimmed (a counter), 5 next
          * service's input, 6 source log, 7 source reader set, 8 source service set, 9 the service's
-         * host lease (any existing key when ARGV 18 is empty), 10 the source's value numbers, 11
-         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, then the
-         * reply keys, the reader lists, their missed counters, the service inputs, their queue counts.
+         * host lease (any existing key when ARGV 18 is empty), 10 the source's value counter, 11
+         * the input's queue count (when ARGV 20 is 1), 12 the next input's queue count, 13 the
+         * numbers of the source log's entries ([SourceKeys.numbers]), then the reply keys, the
+         * reader lists, their missed counters, the service inputs, their queue counts.
          * ARGV: 1-17 the counts and limits (see [StepBatch.execute]; 17 is the number of published
          * frames), 18 the instance id that must hold the host lease (empty: no fence, for readers
          * and publishers), 19 the published values, 20 '1' if the input's queue count is kept (a
@@ -95,6 +121,7 @@ internal class Script(text: String) {
             """
             local proc, input, dead, deadTrimmed, nextKey, log, readers, services, hostLease, sequence, queued, nextQueued =
               KEYS[1], KEYS[2], KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7], KEYS[8], KEYS[9], KEYS[10], KEYS[11], KEYS[12]
+            local numbers = KEYS[13]
             local ack, take, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3]), tonumber(ARGV[4])
             local retention, deadLimit, nextLimit, strict = tonumber(ARGV[5]), tonumber(ARGV[6]), tonumber(ARGV[7]), ARGV[8] == '1'
             local replyPrefix, replyTtl = ARGV[9], ARGV[10]
@@ -106,7 +133,7 @@ internal class Script(text: String) {
               local holder = redis.call('GET', hostLease)
               if holder ~= fence then return {'FENCED', holder or ''} end
             end
-            local readerAt = 12 + nReplyKeys
+            local readerAt = 13 + nReplyKeys
             local missedAt = readerAt + nReaders
             local serviceAt = missedAt + nReaders
             local serviceQueuedAt = serviceAt + nServices
@@ -146,48 +173,75 @@ internal class Script(text: String) {
             end
             local missed = {}
             if nPublished > 0 then
-              -- drops the head entries of a source's list whose values are all older than value number keepFrom
-              local function trimValues(key, keepFrom)
-                local dropped = 0
-                if keepFrom <= 1 then return 0 end
-                while true do
-                  local head = redis.call('LINDEX', key, 0)
-                  if not head then return dropped end
-                  local first, n = 0, 1
-                  if #head >= 14 and string.byte(head, 1) == 70 then
-                    first, n = struct.unpack('>I8', head, 3), struct.unpack('>I4', head, 11)
-                  end
-                  if first + n > keepFrom then return dropped end
-                  redis.call('LPOP', key)
-                  dropped = dropped + n
-                end
-              end
-              -- number the values: each frame gets the number of its first value in this source
+              -- number the values: the log's side list (numbers) holds each log entry's first value number and count
               local last = redis.call('INCRBY', sequence, publishedValues)
+              local keepFrom = last - retention + 1
               local at = last - publishedValues + 1
-              local frames = {}
+              local numbered = {}
               for k = 1, nPublished do
-                local frame = ARGV[publishedAt + k]
-                frames[k] = string.sub(frame, 1, 2) .. struct.pack('>I8', at) .. string.sub(frame, 11)
-                at = at + struct.unpack('>I4', frame, 11)
+                local n = struct.unpack('>I4', ARGV[publishedAt + k], 11)
+                numbered[k] = struct.pack('>I8I4', at, n)
+                at = at + n
               end
-              pushAll(log, frames, 1, nPublished)
-              trimValues(log, last - retention + 1)
+              pushAll(log, ARGV, publishedAt + 1, nPublished)
+              pushAll(numbers, numbered, 1, nPublished)
               for s = 1, nServices do
-                pushAll(KEYS[serviceAt + s], frames, 1, nPublished)
+                pushAll(KEYS[serviceAt + s], ARGV, publishedAt + 1, nPublished)
                 redis.call('INCRBY', KEYS[serviceQueuedAt + s], publishedValues)
               end
+              -- the log's entries whose values are all older than keepFrom: how many, and their values one by one
+              local numberedEntries, logLength = redis.call('LLEN', numbers), redis.call('LLEN', log)
+              if numberedEntries > logLength then
+                -- numbers of entries the log no longer holds (it was deleted or trimmed outside these scripts)
+                redis.call('LTRIM', numbers, numberedEntries - logLength, -1)
+                numberedEntries = logLength
+              end
+              local stale, staleValues = 0, {}
+              while stale < numberedEntries do
+                local first, n = struct.unpack('>I8I4', redis.call('LINDEX', numbers, stale))
+                if first + n > keepFrom then break end
+                stale = stale + 1
+                staleValues[stale] = n
+              end
+              -- entries without a number (none unless Redis lost the numbers) are older than every numbered one:
+              -- dropped (their values counted) once the numbered entries alone hold the retention
+              local function dropUnnumbered(key, extra)
+                local dropped = 0
+                if extra <= 0 or numberedEntries == 0 then return 0 end
+                local first = struct.unpack('>I8', redis.call('LINDEX', numbers, 0))
+                if first > keepFrom then return 0 end
+                for _ = 1, extra do
+                  local head = redis.call('LPOP', key)
+                  if #head >= 14 and string.byte(head, 1) == 70 then dropped = dropped + struct.unpack('>I4', head, 11)
+                  else dropped = dropped + 1 end
+                end
+                return dropped
+              end
               for r = 1, nReaders do
-                pushAll(KEYS[readerAt + r], frames, 1, nPublished)
-                local over = trimValues(KEYS[readerAt + r], last - retention + 1)
+                -- a reader list holds the newest entries of the log (it took its oldest ones away)
+                local key = KEYS[readerAt + r]
+                pushAll(key, ARGV, publishedAt + 1, nPublished)
+                local length = redis.call('LLEN', key)
+                local over = dropUnnumbered(key, length - numberedEntries)
+                local skipped = numberedEntries - math.min(length, numberedEntries)
+                local drop = stale - skipped
+                if drop > 0 then
+                  redis.call('LTRIM', key, drop, -1)
+                  for k = skipped + 1, stale do over = over + staleValues[k] end
+                end
                 if over > 0 then redis.call('INCRBY', KEYS[missedAt + r], over) end
                 missed[r] = over
+              end
+              dropUnnumbered(log, logLength - numberedEntries)
+              if stale > 0 then
+                redis.call('LTRIM', log, stale, -1)
+                redis.call('LTRIM', numbers, stale, -1)
               end
             end
             local refused = {}
             for k = 0, nReplies - 1 do
               local at = repliesAt + 1 + 3 * k
-              local key = KEYS[12 + tonumber(ARGV[at])]
+              local key = KEYS[13 + tonumber(ARGV[at])]
               local reason = nil
               if string.sub(key, 1, #replyPrefix) ~= replyPrefix then
                 reason = "outside this topology's reply namespace " .. replyPrefix .. '*'
@@ -299,16 +353,21 @@ internal class Script(text: String) {
         /**
          * A service's queue depth in values, for metrics: its input's queue count (or, for a
          * service only called, its input's length: one request per entry) plus the values of the
-         * entries in its processing list, summed here so no frame travels to the client.
-         * KEYS: input, processing, queue count.
+         * entries in its processing list (and in those of the hosts of an unordered service), summed
+         * here so no frame travels to the client. KEYS: input, processing, queue count, then any
+         * further processing lists.
          */
         val QUEUE_DEPTH = Script(
             """
             local waiting = tonumber(redis.call('GET', KEYS[3]) or redis.call('LLEN', KEYS[1]))
             local held = 0
-            for _, entry in ipairs(redis.call('LRANGE', KEYS[2], 0, -1)) do
-              if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
-              else held = held + 1 end
+            for k = 2, #KEYS do
+              if k ~= 3 then
+                for _, entry in ipairs(redis.call('LRANGE', KEYS[k], 0, -1)) do
+                  if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
+                  else held = held + 1 end
+                end
+              end
             end
             return math.max(0, waiting) + held
             """,
@@ -337,6 +396,55 @@ internal class Script(text: String) {
               if values > 0 then redis.call('INCRBY', KEYS[4], values) end
             end
             return 1
+            """,
+        )
+
+        /**
+         * The step of a service only called, for one request with one result (see the class
+         * note). KEYS: 1 processing, 2 input, 3 the service's host lease, 4 where the result goes
+         * (the caller's reply list, or the next service's input). ARGV: 1 the instance id that
+         * must hold the host lease, 2 the entry to push, 3 '1' if it is a reply (checked to be in
+         * the reply namespace [4] and a list, then given the expiry [5] in ms), 6 the most entries
+         * to take, 7 the bytes after which to stop taking, 8 the largest entry returned whole.
+         * In order and atomically: the fence (`{'FENCED', holder}`, nothing written), the push
+         * (a reply key outside the namespace or holding another type: `{'REFUSED'}`, nothing
+         * written, for [STEP] to dead-letter the request), the acknowledgement of the request
+         * (the head of the processing list), then the take as [STEP]'s (each entry one value: a
+         * called service's input holds requests). Returns `{'OK', taken...}`, an entry above
+         * the largest size as `{size, prefix}`. With ARGV 9 '1' a blocking take is queued behind the
+         * step (see [RequestStep.executeThenWait]): a take that empties the input puts its last
+         * entry back at the input's head, for that blocking take to move instead of waiting.
+         */
+        val REQUEST_STEP = Script(
+            """
+            local holder = redis.call('GET', KEYS[3])
+            if holder ~= ARGV[1] then return {'FENCED', holder or ''} end
+            local target = KEYS[4]
+            if ARGV[3] == '1' then
+              local prefix = ARGV[4]
+              if string.sub(target, 1, #prefix) ~= prefix then return {'REFUSED'} end
+              local pushed = redis.pcall('RPUSH', target, ARGV[2])
+              if type(pushed) == 'table' then return {'REFUSED'} end -- not a list (or Redis refused: STEP says why)
+              redis.call('PEXPIRE', target, ARGV[5])
+            else
+              redis.call('RPUSH', target, ARGV[2])
+            end
+            redis.call('LTRIM', KEYS[1], 1, -1)
+            local result = {'OK'}
+            local take, takeBytes, maxBytes = tonumber(ARGV[6]), tonumber(ARGV[7]), tonumber(ARGV[8])
+            local bytes = 0
+            while #result <= take and bytes < takeBytes do
+              local entry = redis.call('LMOVE', KEYS[2], KEYS[1], 'LEFT', 'RIGHT')
+              if not entry then break end
+              bytes = bytes + #entry
+              if #entry > maxBytes then entry = {#entry, string.sub(entry, 1, 1024)} end
+              result[#result + 1] = entry
+            end
+            if ARGV[9] == '1' and #result > 1 and redis.call('LLEN', KEYS[2]) == 0 then
+              redis.call('LMOVE', KEYS[1], KEYS[2], 'RIGHT', 'LEFT')
+              result[#result] = nil
+            end
+            return result
             """,
         )
     }

@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.args.ListDirection
 import java.nio.charset.StandardCharsets.UTF_8
 
 /**
@@ -35,7 +36,7 @@ internal class StepBatch(
     private val published = ArrayList<ByteArray>()
 
     /** Ids of the values this step handled; remembered once the step is stored. */
-    val ids: MutableSet<Long> = LinkedHashSet()
+    val ids: IdList = IdList()
 
     private class Reply(val key: ByteArray, val position: Int, val value: ByteArray)
 
@@ -83,7 +84,7 @@ internal class StepBatch(
         val publishedFrames = Frame.pack(published, rules.frameBytes, always = true)
         val replyKeys = LinkedHashMap<ByteKey, Int>()
         for (reply in replies) replyKeys.getOrPut(ByteKey(reply.key)) { replyKeys.size + 1 }
-        val keys = ArrayList<ByteArray>(12 + replyKeys.size + 2 * view.readers.size + 2 * view.services.size)
+        val keys = ArrayList<ByteArray>(13 + replyKeys.size + 2 * view.readers.size + 2 * view.services.size)
         keys += processing
         keys += input
         keys += dead ?: processing
@@ -96,6 +97,7 @@ internal class StepBatch(
         keys += output?.sequence ?: processing
         keys += if (counted) queuedKey(input) else processing
         keys += next?.let(::queuedKey) ?: processing
+        keys += output?.numbers ?: processing
         replyKeys.keys.forEach { keys += it.bytes }
         keys += view.readers
         keys += view.missed
@@ -159,6 +161,22 @@ internal class StepBatch(
 
         private fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)
     }
+}
+
+/**
+ * A plain reader's step without the script, for a list that carries frames: acknowledges the
+ * first [ack] entries of [processing] and moves up to [entries] entries from [list] to it, each
+ * with its own `LMOVE` (atomic: an entry is always in one of the two lists), all in one pipelined
+ * round trip. Redis then copies a frame once, into the reply, instead of into a Lua string and
+ * then into the reply (the script's `LMOVE` costs about twice the plain command for a frame of
+ * 256 values of 100 B). Returns the entries moved, in order.
+ */
+internal fun takeEntries(jedis: Jedis, processing: ByteArray, list: ByteArray, ack: Int, entries: Int): List<ByteArray> {
+    val pipeline = jedis.pipelined()
+    if (ack > 0) pipeline.ltrim(processing, ack.toLong(), -1)
+    val moved = (1..entries).map { pipeline.lmove(list, processing, ListDirection.LEFT, ListDirection.RIGHT) }
+    pipeline.sync()
+    return moved.mapNotNull { it.get() }
 }
 
 /** Limits and namespaces every step of one core follows. */
@@ -246,6 +264,13 @@ internal class SourceKeys(
     /** The counter numbering the source's values (the step script trims the log and readers by it). */
     val sequence: ByteArray,
 ) {
+    /**
+     * A list parallel to the log: for each log entry, the number of its first value and its count
+     * (`>I8I4`), so the step script trims the log and the reader lists (each the newest entries of
+     * the log) by value numbers without reading a frame.
+     */
+    val numbers: ByteArray = log + ":numbers".toByteArray(UTF_8)
+
     /** The reader and service lists this process last saw; the step script says when it is out of date. */
     @Volatile
     var view: SourceView? = null
@@ -266,6 +291,29 @@ internal class SourceView(val readers: List<ByteArray>, val missed: List<ByteArr
     companion object {
         val NONE: SourceView = SourceView(emptyList(), emptyList(), emptyList())
     }
+}
+
+/** Ids in the order they were added, unboxed (a step handles up to [StageService.BATCH] values, each with its id). */
+internal class IdList {
+    private var ids = LongArray(16)
+    private var size = 0
+
+    operator fun plusAssign(id: Long) {
+        if (size == ids.size) ids = ids.copyOf(size * 2)
+        ids[size++] = id
+    }
+
+    operator fun plusAssign(other: IdList) {
+        for (k in 0 until other.size) this += other.ids[k]
+    }
+
+    inline fun forEach(action: (Long) -> Unit) {
+        for (k in 0 until size()) action(get(k))
+    }
+
+    fun size(): Int = size
+
+    operator fun get(index: Int): Long = ids[index]
 }
 
 /** A byte array as a map key (by content). */

@@ -7,6 +7,7 @@ import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
 import java.net.URI
+import java.nio.ByteBuffer
 import java.time.Duration
 import java.util.Optional
 import java.util.UUID
@@ -38,7 +39,9 @@ class FramedDeliveryTest {
                 val log = raw.lrange(core.keys.sourceLog("numbers"), 0, -1)
                 // 1000 values in 4 entries (at most 256 values each) instead of 1000
                 assertEquals(listOf(256, 256, 256, 232), log.map(Frame::count))
-                assertEquals(listOf(1L, 257L, 513L, 769L), log.map(Frame::sequence), "each frame numbered in its source")
+                val numbered = raw.lrange(core.keys.sourceLog("numbers") + ":numbers".toByteArray(), 0, -1).map(Frame::numbered)
+                assertEquals(listOf(1L to 256, 257L to 256, 513L to 256, 769L to 232), numbered, "each frame numbered in its source")
+                assertTrue(log.all { Frame.isFrame(it) && ByteBuffer.wrap(it, 2, 8).long == 0L }, "frames stored as published")
             }
 
             // nothing else is published after it: a batcher that waited to fill a frame would never send it
@@ -101,6 +104,47 @@ class FramedDeliveryTest {
             assertEquals(400L, reader.missed())
             assertEquals((400 until 500).toList(), reader.drain())
             Jedis(URI(TestRedis.url)).use { raw -> assertEquals(100L, TestRedis.values(raw, core.keys.sourceLog("numbers"))) }
+        }
+    }
+
+    @Test
+    fun aReaderThatTookPartOfItsListIsTrimmedByTheValuesItStillHolds() {
+        OptimusCore.builder().config(config(100)).redis(TestRedis.url).build().use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val reader = numbers.reader()
+            core.start()
+            repeat(2) { batch -> core.publishAll(numbers, (batch * 50 until batch * 50 + 50).toList()) }
+            assertEquals(0, reader.take(PATIENCE).orElseThrow()) // takes both frames into its processing list
+            // the log numbers 3 to 5 frames while the reader's list holds only what came after its take
+            (2 until 5).forEach { batch -> core.publishAll(numbers, (batch * 50 until batch * 50 + 50).toList()) }
+            assertEquals(50L, reader.missed(), "values 100-149 fell out of the retention of 100")
+            assertEquals((1 until 100).toList() + (150 until 250).toList(), reader.drain())
+            Jedis(URI(TestRedis.url)).use { raw ->
+                assertEquals(100L, TestRedis.values(raw, core.keys.sourceLog("numbers")))
+                assertEquals(2L, raw.llen(core.keys.sourceLog("numbers") + ":numbers".toByteArray()), "one number per log entry")
+            }
+        }
+    }
+
+    @Test
+    fun entriesWhoseNumbersWereLostAreTrimmedOnceTheNumberedOnesHoldTheRetention() {
+        OptimusCore.builder().config(config(100)).redis(TestRedis.url).build().use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val reader = numbers.reader()
+            core.start()
+            val log = core.keys.sourceLog("numbers")
+            val logNumbers = log + ":numbers".toByteArray()
+            Jedis(URI(TestRedis.url)).use { raw ->
+                repeat(2) { batch -> core.publishAll(numbers, (batch * 50 until batch * 50 + 50).toList()) }
+                raw.del(logNumbers) // as if Redis lost them: two entries without numbers in the log and the reader
+                core.publishAll(numbers, (100 until 150).toList())
+                assertEquals(150L, TestRedis.values(raw, log), "kept while the numbered entries hold less than the retention")
+                (3 until 5).forEach { batch -> core.publishAll(numbers, (batch * 50 until batch * 50 + 50).toList()) }
+                assertEquals(100L, TestRedis.values(raw, log))
+                assertEquals(listOf(151L to 50, 201L to 50), raw.lrange(logNumbers, 0, -1).map(Frame::numbered))
+            }
+            assertEquals(150L, reader.missed())
+            assertEquals((150 until 250).toList(), reader.drain())
         }
     }
 

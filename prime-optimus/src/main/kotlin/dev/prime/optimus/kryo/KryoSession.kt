@@ -3,7 +3,8 @@ package dev.prime.optimus.kryo
 import com.esotericsoftware.kryo.Kryo
 import com.esotericsoftware.kryo.Registration
 import com.esotericsoftware.kryo.io.Output
-import com.esotericsoftware.kryo.util.Pool
+import java.util.concurrent.ConcurrentLinkedQueue
+import java.util.concurrent.atomic.AtomicInteger
 
 /**
  * One [Kryo] with its reusable output and input buffers. Used by one thread at a time: taken
@@ -60,8 +61,28 @@ internal class KryoSession(private val kryo: Kryo) {
 /**
  * Thread-safe pool of [KryoSession]s over one [KryoRegistry]. Threads that find it empty create a
  * session; at most [capacity] idle sessions are kept, the rest are left to the garbage collector.
+ *
+ * Design note. Every encode and decode of a core takes a session and gives it back, from the
+ * publishing thread, every service and every reader at once, so the pool is lock-free (a
+ * [ConcurrentLinkedQueue]; Kryo's own thread-safe pool takes a lock per call, and that lock was
+ * the most sampled frame of a busy Optimus flow). The idle count may briefly pass [capacity] by
+ * the number of threads freeing at the same moment; it only bounds memory.
  */
-internal class KryoSessionPool(private val registry: KryoRegistry, capacity: Int) :
-    Pool<KryoSession>(true, false, capacity) {
-    override fun create(): KryoSession = KryoSession(registry.newKryo())
+internal class KryoSessionPool(private val registry: KryoRegistry, private val capacity: Int) {
+    private val idle = ConcurrentLinkedQueue<KryoSession>()
+    private val idleCount = AtomicInteger()
+
+    /** An idle session, or a new one. */
+    fun obtain(): KryoSession {
+        val session = idle.poll() ?: return KryoSession(registry.newKryo())
+        idleCount.decrementAndGet()
+        return session
+    }
+
+    /** Gives [session] back for another call (dropped if [capacity] sessions are idle already). */
+    fun free(session: KryoSession) {
+        if (idleCount.get() >= capacity) return
+        idleCount.incrementAndGet()
+        idle.offer(session)
+    }
 }
