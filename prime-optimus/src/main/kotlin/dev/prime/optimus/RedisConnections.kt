@@ -6,6 +6,7 @@ import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisConnectionException
 import redis.clients.jedis.exceptions.JedisDataException
 import redis.clients.jedis.exceptions.JedisRedirectionException
+import java.net.SocketTimeoutException
 import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.CountDownLatch
@@ -169,15 +170,21 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
 
     /**
      * `BLMOVE from to LEFT RIGHT`, waiting at most [RedisConnections.POLL_SECONDS] and never past
-     * [deadline]; the moved value, or `null` if none came. One attempt, like [once].
+     * [deadline]; the moved value, or `null` if none came. One attempt, like [once]. If its reply
+     * does not come by [deadline] plus [RedisConnections.DEADLINE_GRACE_MS], it throws
+     * [LateReply] (the connection is dropped: Redis may still have moved a value).
      */
     fun blockingMove(deadline: Long?, from: ByteArray, to: ByteArray): ByteArray? {
         val pollMillis = (RedisConnections.POLL_SECONDS * 1000).toLong()
         val waitMillis = deadline?.let { ceilMillis(it - System.nanoTime()).coerceIn(MIN_WAIT_MS, pollMillis) } ?: pollMillis
         return once(deadline, waitMillis) { jedis ->
-            // sent as a plain command so that the socket timeout set above applies (Jedis gives
-            // its blocking commands a fixed timeout of their own)
-            jedis.sendCommand(Protocol.Command.BLMOVE, from, to, LEFT, RIGHT, seconds(waitMillis)) as ByteArray?
+            try {
+                // sent as a plain command so that the socket timeout set above applies (Jedis gives
+                // its blocking commands a fixed timeout of their own)
+                jedis.sendCommand(Protocol.Command.BLMOVE, from, to, LEFT, RIGHT, seconds(waitMillis)) as ByteArray?
+            } catch (e: JedisConnectionException) {
+                throw if (deadline != null && deadline - System.nanoTime() <= 0 && timedOut(e)) LateReply(e) else e
+            }
         }
     }
 
@@ -275,6 +282,26 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
             )
         }
     }
+}
+
+/**
+ * The reply of a blocking wait that Redis was asked to end by its deadline did not come by that
+ * deadline plus [RedisConnections.DEADLINE_GRACE_MS]: Redis answered late (a loaded machine) or
+ * the connection froze during the wait. To the waiter that is "nothing came in time", not an
+ * outage; the connection is dropped like a broken one (a connection error, so [RedisSession.once]
+ * drops it), and a value Redis moved meanwhile is on the server, not lost.
+ */
+internal class LateReply(cause: JedisConnectionException) :
+    JedisConnectionException("no reply by the deadline of a blocking wait (${cause.message})", cause)
+
+/** Whether [e] is a socket read that timed out (not a refused, reset or closed connection). */
+private fun timedOut(e: Throwable): Boolean {
+    var cause: Throwable? = e
+    repeat(4) {
+        if (cause is SocketTimeoutException) return true
+        cause = cause?.cause ?: return false
+    }
+    return false
 }
 
 /** The waits between attempts to reach Redis: 20 ms, doubling up to 1 s, until [reset]. */
