@@ -29,7 +29,7 @@ import java.util.concurrent.atomic.AtomicBoolean
  * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
  * deadline (connecting and every socket wait are bounded by it) with
  * [RedisUnavailableException]. A timed take whose blocking wait was answered too late (past
- * the deadline plus [RedisConnections.DEADLINE_GRACE_MS]: a loaded machine, or a connection that
+ * the deadline plus [RedisConnections.BLOCKING_DEADLINE_GRACE_MS]: a loaded machine, or a connection that
  * froze during the wait) returns empty, as for any value that did not come in time: Redis
  * answered the take's step, and the wait's own reply was due only at the deadline; the dropped
  * connection is recovered by the next take, which delivers a value moved meanwhile. [poll] and [drain] never wait for a reconnect: they replace a

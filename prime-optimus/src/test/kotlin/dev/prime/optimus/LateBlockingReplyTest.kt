@@ -16,7 +16,7 @@ import java.util.concurrent.locks.LockSupport
 
 /**
  * A timed take whose blocking wait Redis answers later than the deadline plus
- * [RedisConnections.DEADLINE_GRACE_MS] (a loaded machine, here a proxy that holds replies back)
+ * [RedisConnections.BLOCKING_DEADLINE_GRACE_MS] (a loaded machine, here a proxy that holds replies back)
  * returns empty, as the Reader contract says for "nothing came in time", within the timeout plus
  * about a second, instead of reporting Redis unreachable; a value that late wait moved into the
  * reader's processing list is delivered by the next take, exactly once.
@@ -27,7 +27,7 @@ class LateBlockingReplyTest {
     fun aTimedTakeAnsweredAfterItsDeadlineAndGraceReturnsEmptyInTime() {
         Fixture().use { f ->
             // every reply comes this late: the take's step in time, its blocking wait's nil after deadline + grace
-            f.proxy.replyDelayNanos = Duration.ofMillis(RedisConnections.DEADLINE_GRACE_MS + DELAY_PAST_GRACE_MS).toNanos()
+            f.proxy.replyDelayNanos = Duration.ofMillis(RedisConnections.BLOCKING_DEADLINE_GRACE_MS + DELAY_PAST_GRACE_MS).toNanos()
             val started = System.nanoTime()
             val got = f.reader.take(TIMEOUT)
             val took = Duration.ofNanos(System.nanoTime() - started)
@@ -54,7 +54,7 @@ class LateBlockingReplyTest {
             val take = CompletableFuture.supplyAsync { f.reader.take(TIMEOUT) }
             f.awaitBlockedWait()
             // from now on Redis's replies are held back well past the take's deadline plus grace
-            f.proxy.replyDelayNanos = TIMEOUT.plusMillis(RedisConnections.DEADLINE_GRACE_MS).plus(BOUND).toNanos()
+            f.proxy.replyDelayNanos = TIMEOUT.plusMillis(RedisConnections.BLOCKING_DEADLINE_GRACE_MS).plus(BOUND).toNanos()
             f.redis.lmove(f.stash, f.list, ListDirection.LEFT, ListDirection.RIGHT) // Redis serves the waiting BLMOVE at once
             val got = take.get(PATIENCE.toMillis(), TimeUnit.MILLISECONDS)
             f.proxy.replyDelayNanos = 0
