@@ -28,6 +28,8 @@ import org.openjdk.jmh.annotations.Setup;
 import org.openjdk.jmh.annotations.State;
 import org.openjdk.jmh.annotations.TearDown;
 import org.openjdk.jmh.annotations.Warmup;
+import org.openjdk.jmh.infra.IterationParams;
+import org.openjdk.jmh.runner.IterationType;
 
 /**
  * Optimus against raw Jedis on the same embedded Redis: a linked chain of {@code hops} identity
@@ -139,6 +141,7 @@ public class OptimusBenchmark {
     RedisRig rig;
     private String label;
     private long calls;
+    private boolean measuring;
 
     /** Starts Redis and makes the value; the subclass then builds what it calls. */
     final void open(Scenario scenario, String method) {
@@ -153,6 +156,20 @@ public class OptimusBenchmark {
         throw new IllegalStateException(label + " does not return its input");
       }
       rig.resetStats();
+    }
+
+    /**
+     * Starts the profile afresh at the first measurement iteration, so that it counts the calls
+     * of the measurement only (the JVM's CPU time would otherwise include the JIT compilations of
+     * the warm-up).
+     */
+    @Setup(Level.Iteration)
+    public void startProfile(IterationParams iteration) {
+      if (iteration.getType() == IterationType.MEASUREMENT && !measuring) {
+        measuring = true;
+        calls = 0;
+        rig.resetStats();
+      }
     }
 
     /** One round trip of {@code value}. */

@@ -1,6 +1,7 @@
 package dev.prime.bench;
 
 import dev.prime.optimus.EmbeddedRedis;
+import java.lang.management.ManagementFactory;
 import java.net.URI;
 import java.util.ArrayList;
 import java.util.List;
@@ -11,7 +12,9 @@ import redis.clients.jedis.Jedis;
  * One embedded {@code redis-server} for one benchmark trial, and the profile of what the trial
  * made it do: after the trial, {@link #report} prints Redis's command counts and CPU time per
  * benchmark operation (from {@code INFO commandstats} and {@code INFO cpu}), which shows how many
- * round trips and how much server time a value costs.
+ * round trips and how much server time a value costs. Next to it, the CPU time of this JVM (the
+ * benchmark's own process: client, services, JMH) per value, so the two sides of a round trip can
+ * be compared on a machine whose cores are shared.
  *
  * <p>Not thread-safe: the benchmark's setup and teardown use it; the connections it hands out
  * belong to their callers.
@@ -19,6 +22,7 @@ import redis.clients.jedis.Jedis;
 final class RedisRig implements AutoCloseable {
   private final EmbeddedRedis redis = EmbeddedRedis.start();
   private double cpuAtReset;
+  private long jvmCpuAtReset;
 
   /** The server's URL, {@code redis://127.0.0.1:port}. */
   String uri() {
@@ -36,16 +40,19 @@ final class RedisRig implements AutoCloseable {
       jedis.configResetStat();
       cpuAtReset = cpuSeconds(jedis);
     }
+    jvmCpuAtReset = jvmCpuNanos();
   }
 
   /**
    * Prints, for the {@code operations} benchmark operations run since {@link #resetStats} (each
    * moving {@code valuesPerOperation} values), the calls of each Redis command per value and its
-   * server time, and Redis's CPU time per value.
+   * server time, and Redis's CPU time and this JVM's per value.
    */
   void report(String scenario, long operations, int valuesPerOperation) {
+    double jvmCpuMicros = (jvmCpuNanos() - jvmCpuAtReset) / 1e3 / (Math.max(1, operations) * (double) valuesPerOperation);
     try (Jedis jedis = connect()) {
-      report(jedis, cpuAtReset, scenario, operations, valuesPerOperation);
+      report(jedis, cpuAtReset, String.format(Locale.ROOT, "%s (JVM CPU %.2f us/value)", scenario, jvmCpuMicros),
+          operations, valuesPerOperation);
     }
   }
 
@@ -76,6 +83,13 @@ final class RedisRig implements AutoCloseable {
   @Override
   public void close() {
     redis.close();
+  }
+
+  /** The CPU time of this JVM so far (every thread), or 0 where the platform does not tell. */
+  private static long jvmCpuNanos() {
+    return ManagementFactory.getOperatingSystemMXBean() instanceof com.sun.management.OperatingSystemMXBean os
+        ? Math.max(0, os.getProcessCpuTime())
+        : 0;
   }
 
   /** The server's CPU time so far (user and system), in seconds. */

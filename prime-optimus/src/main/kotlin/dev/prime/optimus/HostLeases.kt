@@ -13,7 +13,9 @@ import java.util.concurrent.ConcurrentHashMap
  * with `SET NX PX` semantics (in [LeaseScripts.HOST_CLAIM], which also renews a lease the instance
  * holds) and renewed by the heartbeat every third of the lease time. [claim] waits at most one
  * lease time (plus [CLAIM_MARGIN]) for a lease held by another instance to lapse, so a restarted
- * worker takes over from a killed one; a live holder renews its lease and the claim fails. The
+ * worker takes over from a killed one; a live holder renews its lease and the claim fails
+ * ([Hosting.EXCLUSIVE]). A standby of an [Hosting.ORDERED] service calls [tryClaim] instead, which
+ * never waits, until the lease is free. The
  * set of held services is a concurrent set: [claim] runs on declaring threads, [renew] on the
  * heartbeat thread, [drop] on a service whose step the script fenced (see [Script.STEP]); a lease
  * found taken is removed from it once, by whichever of them sees it first.
@@ -81,6 +83,21 @@ internal class HostLeases(
                 connections.pause(wait)
             }
         }
+    }
+
+    /**
+     * Claims the leases of [services] once, without waiting (a standby of an [Hosting.ORDERED]
+     * service); returns those another instance holds, each with the milliseconds its lease has left.
+     */
+    fun tryClaim(jedis: Jedis, services: List<String>): Map<String, Long> {
+        if (services.isEmpty()) return emptyMap()
+        val holders = claimOnce(jedis, services)
+        val refused = LinkedHashMap<String, Long>()
+        services.forEachIndexed { i, service ->
+            val (holder, remaining) = holders[i]
+            if (holder == instance) held += service else refused[service] = remaining
+        }
+        return refused
     }
 
     /**

@@ -90,6 +90,18 @@ internal class Keys(topology: String) {
     /** The host lease of a service: the id of the one instance that runs it; expires unless renewed. */
     fun hostLease(service: String): ByteArray = key("svc:$service:host")
 
+    /** The hosting mode the hosts of a service declared ([Hosting]); expires unless a host renews it. */
+    fun hostingMode(service: String): ByteArray = key("svc:$service:hosting")
+
+    /** The instances that host an [Hosting.UNORDERED] service, each with a processing list and lease of its own. */
+    fun serviceHosts(service: String): ByteArray = key("svc:$service:hosts")
+
+    /** The lease of one host of an [Hosting.UNORDERED] service: the token of its current run; expires unless renewed. */
+    fun hostSeatLease(service: String, instance: String): ByteArray = key("svc:$service:host:$instance")
+
+    /** The processing list of one host of an [Hosting.UNORDERED] service. */
+    fun hostProcessing(service: String, instance: String): ByteArray = key("svc:$service:proc:$instance")
+
     /** A random token written once per life of the topology's data: a new one means Redis lost the data. */
     val epoch: ByteArray = key("epoch")
 

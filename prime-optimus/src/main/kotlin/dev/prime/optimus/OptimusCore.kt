@@ -14,6 +14,7 @@ import dev.prime.ChainCompiler
 import dev.prime.GenericServiceLoop
 import dev.prime.SourceCompiler
 import dev.prime.topology.TopologyNode
+import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.ExecutorCoroutineDispatcher
@@ -21,6 +22,7 @@ import kotlinx.coroutines.Job
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.cancel
+import kotlinx.coroutines.delay
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.runInterruptible
@@ -77,7 +79,7 @@ import java.util.concurrent.atomic.AtomicInteger
  * masters. After a failover the core finds the promoted replica and goes on; [Builder.replicaAcks]
  * makes sure nothing it was told is stored was only on the failed master.
  *
- * ## Liveness, lost Redis data and one host per service
+ * ## Liveness, lost Redis data and the hosts of a service
  * - Each core holds a liveness lease in Redis (a key with an expiry, [Builder.leaseTime], 5 s by
  *   default) that a heartbeat renews every third of the lease time; its reader and reply lists
  *   are recorded as its own. When a process dies, any live process of the topology reclaims them
@@ -89,6 +91,11 @@ import java.util.concurrent.atomic.AtomicInteger
  *   [IllegalStateException] ("already hosted by", naming the service and the holder). A process
  *   that finds its host lease taken (it was frozen longer than the lease) stops the service, logs
  *   a WARN and tells the error handler.
+ * - That is the default, [Hosting.EXCLUSIVE]. [Builder.hosting] makes a service
+ *   [Hosting.ORDERED] (one active host, other hosts stand by and take over within about a lease
+ *   time, in order) or [Hosting.UNORDERED] (competing consumers: all hosts take values at once,
+ *   each into a processing list of its own that a survivor gives back to the input when the host
+ *   dies). All hosts of a service must declare the same mode, or [start] fails saying so.
  * - If Redis loses the topology's data (a restart without persistence, a failover to a replica
  *   that was behind), every live core notices within about one heartbeat, logs a WARN, counts it
  *   ([redisResets]) and declares again what it hosts and reads: the codec fingerprint, the
@@ -175,6 +182,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
 
+    /** This core instance's id in the topology (random per core), as its leases and seats name it. */
+    internal val instanceId: String get() = instance
+
     private val services = ConcurrentHashMap<String, StageService>()
     private val genericServices = ConcurrentHashMap<String, GenericServiceLoop>() // hosted here only
     private val launched: MutableSet<String> = ConcurrentHashMap.newKeySet()
@@ -215,6 +225,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime)
+    private val leaseTime: Duration = settings.leaseTime
+    private val sharedHosting = SharedHosting(keys, instance, settings.leaseTime, settings.hostingModes)
     private val hostedJobs = ConcurrentHashMap<String, Job>()
     private val notRunning: MutableSet<String> = ConcurrentHashMap.newKeySet() // hosted, but refused or taken over
     private val declarations = Redeclaration(
@@ -223,6 +235,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         replyLists = { (1..slotNumbers.get()).map(::replyKey) },
         register = ::registerOnce,
         lostHosting = ::stopLostService,
+        renewShared = ::renewSharedHosting,
     )
     private val liveness = Liveness(keys, connections, instance, settings.leaseTime, executor::execute, declarations)
 
@@ -369,9 +382,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "topology before start()); its services: ${declared.sorted()}"
             }
         }
+        checkHostingModes()
         val hosted = (services.keys + coreThreadServices()).filter(::isHosted) + genericServices.keys
         try {
-            claimHostLeases(hosted)
+            withSession("declare the hosting modes of its services") { session ->
+                sharedHosting.declare(session, hosted.filter { it in services.keys }, name())
+            }
+            claimHostLeases(hosted.filter { sharedHosting.modeOf(it) == Hosting.EXCLUSIVE })
         } catch (e: IllegalStateException) {
             notRunning += hosted
             throw e
@@ -414,6 +431,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 }
                 for (slot in 1..slotNumbers.get()) pipeline.del(replyKey(slot))
                 hostLeases.releaseAll(pipeline)
+                sharedHosting.releaseAll(pipeline)
                 liveness.releaseAll(pipeline)
                 pipeline.sync()
             } catch (e: Exception) {
@@ -606,6 +624,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** Runs [body] as hosted service [name] once, if this process hosts it, holding its host lease. */
     private fun launchHosted(name: String, body: suspend () -> Unit) {
         if (!isHosted(name) || !launched.add(name) || isClosed) return
+        val mode = sharedHosting.modeOf(name)
+        if (mode != Hosting.EXCLUSIVE) {
+            launchShared(name, mode, body)
+            return
+        }
         if (name !in hostLeases.services) {
             try {
                 claimHostLeases(listOf(name))
@@ -631,12 +654,121 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** The fence [service]'s steps check: its host lease must hold this instance's id. */
     internal fun hostFence(service: String): HostFence = HostFence(keys.hostLease(service), instance.toByteArray(UTF_8))
 
+    /** Where a service with one host at a time keeps what it took: its own processing list, fenced by its host lease. */
+    internal fun soleSeat(service: String): HostSeat =
+        HostSeat(service, keys.serviceProcessing(service), hostFence(service), shared = false, RedisConnections.POLL_SECONDS)
+
+    /** Refuses hosting modes for services the topology lacks, or that are not chains' services. */
+    private fun checkHostingModes() {
+        val moded = sharedHosting.nonDefault
+        val unknown = moded - topology().services()
+        require(unknown.isEmpty()) {
+            "core '${name()}' is given hosting modes for $unknown, which its topology does not declare; its services: " +
+                "${topology().services().sorted()}"
+        }
+        val notChains = moded - services.keys
+        require(notChains.isEmpty()) {
+            "core '${name()}' is given Hosting.ORDERED or UNORDERED for $notChains: those are combinators, timers or generic " +
+                "services, which have one host at a time (Hosting.EXCLUSIVE); hosting modes apply to the services of chains"
+        }
+    }
+
+    /**
+     * Launches [name], an [Hosting.ORDERED] or [Hosting.UNORDERED] service: unordered, a run in a
+     * seat of its own next to the other hosts; ordered, at once if its host lease is free, else as
+     * a standby that takes over when the lease lapses or is released.
+     */
+    private fun launchShared(name: String, mode: Hosting, body: suspend () -> Unit) {
+        val service = services.getValue(name)
+        try {
+            withSession("declare the hosting of service '$name'") { session ->
+                if (!sharedHosting.isDeclared(name)) sharedHosting.declare(session, listOf(name), name())
+                if (mode == Hosting.UNORDERED) {
+                    launchSeated(session, service)
+                } else {
+                    val refused = session.retrying { hostLeases.tryClaim(it, listOf(name)) }
+                    if (refused.isEmpty()) {
+                        hostedJobs[name] = scope.launch(CoroutineName(name)) { body() }
+                    } else {
+                        notRunning += name
+                        standBy(name, body, refused.getValue(name))
+                    }
+                }
+            }
+        } catch (e: RuntimeException) {
+            launched -= name
+            if (e is IllegalStateException) notRunning += name
+            throw e
+        }
+    }
+
+    /** Starts a run of unordered [service] in a new seat (a new token: an earlier run of it here stores nothing more). */
+    private fun launchSeated(session: RedisSession, service: StageService) {
+        val run = service.seatedAt(sharedHosting.claim(session, service.name, service.counted))
+        notRunning -= service.name
+        hostedJobs[service.name] = scope.launch(CoroutineName(service.name)) { run.run() }
+    }
+
+    /**
+     * Stands by for ordered service [name]: claims its host lease when the holder's lapses (first
+     * after [remaining] ms) or within a third of the lease time after it is released, then runs
+     * [body]. Not hosted here ([isHostedHere]) until then.
+     */
+    private fun standBy(name: String, body: suspend () -> Unit, remaining: Long) {
+        LOG.info("core '{}' stands by for service '{}': another process hosts it (Hosting.ORDERED)", name(), name)
+        val third = (leaseTime.toMillis() / 3).coerceAtLeast(1)
+        hostedJobs[name] = scope.launch(CoroutineName("$name standby")) {
+            var wait = remaining
+            while (true) {
+                delay((wait + 1).coerceIn(STANDBY_MIN_WAIT_MS, third))
+                if (isClosed) return@launch
+                wait = try {
+                    withSession("claim the host lease of service '$name'") { session ->
+                        session.once { hostLeases.tryClaim(it, listOf(name)) }
+                    }[name] ?: break
+                } catch (e: CancellationException) {
+                    throw e
+                } catch (e: Exception) {
+                    if (isClosed) return@launch
+                    LOG.debug("core '{}': the standby of service '{}' could not reach Redis: {}", name(), name, e.toString())
+                    third
+                }
+            }
+            notRunning -= name
+            LOG.info("core '{}' takes over service '{}' (it stood by)", name(), name)
+            body()
+        }
+    }
+
+    /** The heartbeat's part for shared hosting: renews modes and seats; a lapsed seat's service starts a new run. */
+    private fun renewSharedHosting(session: RedisSession) {
+        for (service in session.once(sharedHosting::renew)) {
+            if (isClosed) return
+            LOG.warn(
+                "core '{}': its seat of service '{}' lapsed (this process was frozen or cut off from Redis longer than the " +
+                    "lease time, or Redis lost it): what it had taken and not stored may be back in the input for other " +
+                    "hosts; the service starts a new run",
+                name(), service,
+            )
+            hostedJobs.remove(service)?.cancel()
+            scope.launch(CoroutineName("$service reseat")) {
+                try {
+                    withSession("take a seat of service '$service'") { launchSeated(it, services.getValue(service)) }
+                } catch (e: Exception) {
+                    if (!isClosed) LOG.error("core '{}' could not start service '{}' again: {}", name(), service, e.toString())
+                }
+            }
+        }
+    }
+
     /**
      * Called by [service]'s own loop when a step found its host lease held by [holder]: stops the
      * service as the heartbeat would have (whichever sees it first stops it, once).
      */
-    internal fun hostingLost(session: RedisSession, service: String, holder: String) {
-        if (hostLeases.drop(service)) stopLostService(service, hostLeases.describe(session, holder))
+    internal fun hostingLost(session: RedisSession, seat: HostSeat, holder: String) {
+        // a shared seat's lease is written by this instance only: a newer run of the service holds it, which goes on
+        if (seat.shared) return
+        if (hostLeases.drop(seat.service)) stopLostService(seat.service, hostLeases.describe(session, holder))
     }
 
     /** Stops [service], whose host lease [holder] holds now (this process was frozen or cut off longer than the lease). */
@@ -644,9 +776,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         notRunning += service
         val job = hostedJobs.remove(service)
         job?.cancel()
+        val ordered = sharedHosting.modeOf(service) == Hosting.ORDERED
         val message = "core '${name()}' stops service '$service': its host lease is now held by $holder (this process " +
-            "was frozen or cut off from Redis longer than the lease time, and another took over). Restart this " +
-            "process to host it again once the other stops"
+            "was frozen or cut off from Redis longer than the lease time, and another took over). " +
+            if (ordered) "It stands by to take the service over again (Hosting.ORDERED)" else
+                "Restart this process to host it again once the other stops"
+        if (ordered && !isClosed) standBy(service, { services.getValue(service).run() }, 0)
         LOG.warn(message)
         reportFailure(service, holder, IllegalStateException(message))
         job?.invokeOnCompletion {
@@ -851,6 +986,26 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(hosts = services.toSet())
         }
 
+        /**
+         * How the processes that host [service] share it (see [Hosting]); default [Hosting.EXCLUSIVE]:
+         * one host, and a second process naming it in [hosts] fails `start()`.
+         * - [Hosting.ORDERED]: one active host; other hosts stand by (their `start()` succeeds) and
+         *   one takes over within about [leaseTime] of the active host's death (a third of it after
+         *   a close), processing first what the old host had taken: order kept, nothing lost.
+         * - [Hosting.UNORDERED]: competing consumers: every host takes from the input at once, each
+         *   into its own processing list; a dead host's list goes back to the input within about
+         *   [leaseTime] (at once when it closes). A value's results are stored once; no order.
+         *
+         * Only chains' services take a mode (combinators, timers and generic services are exclusive).
+         * Every process that hosts the service must give the same mode: `start()` of one that
+         * disagrees with the running hosts fails with an [IllegalStateException] that names the
+         * service, both modes and the fix. A process that does not host the service ignores its mode.
+         */
+        public fun hosting(service: String, hosting: Hosting): Builder = apply {
+            require(service.isNotBlank()) { "the service of hosting(...) must be named" }
+            settings = settings.copy(hostingModes = settings.hostingModes + (service to hosting))
+        }
+
         /** How many times an asynchronous service retries a failed value before giving up on it (default 0). */
         public fun retries(retries: Int): Builder = apply {
             require(retries >= 0) { "retries must be 0 or more, was $retries" }
@@ -959,6 +1114,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val batchBytes: Int = StepRules.DEFAULT_BATCH_BYTES,
         val replicaAcks: ReplicaAcks? = null,
         val frameBytes: Int = Frame.DEFAULT_BYTES,
+        val hostingModes: Map<String, Hosting> = emptyMap(),
     )
 
     public companion object {
@@ -966,6 +1122,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
+        private const val STANDBY_MIN_WAIT_MS = 10L
         private val MIN_REPLY_TTL = Duration.ofMinutes(10)
         private val MAX_REPLICA_ACK_TIMEOUT = Duration.ofSeconds(5)
 

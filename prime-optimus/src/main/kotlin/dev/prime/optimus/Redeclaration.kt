@@ -36,6 +36,8 @@ internal class Redeclaration(
     private val register: (Jedis, SourceKeys, ByteArray, Boolean) -> Unit,
     /** Stops a service whose host lease another instance holds now (described). */
     private val lostHosting: (service: String, holder: String) -> Unit,
+    /** Renews the hosting modes and the seats of shared services ([SharedHosting]). */
+    private val renewShared: (RedisSession) -> Unit = {},
 ) : LivenessHooks {
     /** Service inputs registered with the sources that feed them. */
     val bindings: MutableSet<Pair<SourceKeys, ByteArray>> = ConcurrentHashMap.newKeySet()
@@ -88,6 +90,7 @@ internal class Redeclaration(
     override fun renew(session: RedisSession) {
         val taken = session.once(hostLeases::renew)
         for ((service, holder) in taken) lostHosting(service, hostLeases.describe(session, holder))
+        renewShared(session)
     }
 
     private fun declareCodec(jedis: Jedis) {

@@ -187,8 +187,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * [LateReply] (the connection is dropped: Redis may still have moved a value).
      */
     fun blockingMove(deadline: Long?, from: ByteArray, to: ByteArray): ByteArray? {
-        val pollMillis = (RedisConnections.POLL_SECONDS * 1000).toLong()
-        val waitMillis = deadline?.let { ceilMillis(it - System.nanoTime()).coerceIn(MIN_WAIT_MS, pollMillis) } ?: pollMillis
+        val waitMillis = waitMillis(deadline)
         return once(deadline, waitMillis) { jedis ->
             try {
                 // sent as a plain command so that the socket timeout set above applies (Jedis gives
@@ -198,6 +197,32 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 throw if (deadline != null && deadline - System.nanoTime() <= 0 && timedOut(e)) LateReply(e) else e
             }
         }
+    }
+
+    /**
+     * A call's first attempt, in one write: `DEL reply` (no reply to this call can exist yet),
+     * `RPUSH input request`, then `BLMOVE reply reply LEFT RIGHT` waiting as [blockingMove] does;
+     * the reply (left in the list: a rotation), or `null` if none came within the wait. Redis runs
+     * the wait after the push, on this connection. One attempt, like [once]; a command Redis
+     * refused throws its error. Without [wait] only the push (`null`): with
+     * [RedisConnections.replicaAcks] the push is confirmed by the replicas before the wait.
+     */
+    fun pushAndWait(deadline: Long?, input: ByteArray, request: ByteArray, reply: ByteArray, wait: Boolean = true): ByteArray? {
+        val waitMillis = if (wait) waitMillis(deadline) else 0
+        return once(deadline, waitMillis) { jedis ->
+            val connection = jedis.connection
+            connection.sendCommand(Protocol.Command.DEL, reply)
+            connection.sendCommand(Protocol.Command.RPUSH, input, request)
+            if (wait) connection.sendCommand(Protocol.Command.BLMOVE, reply, reply, LEFT, RIGHT, seconds(waitMillis))
+            val answers = connection.getMany(if (wait) 3 else 2)
+            answers.forEach { if (it is RuntimeException) throw it }
+            if (wait) answers[2] as ByteArray? else null
+        }
+    }
+
+    private fun waitMillis(deadline: Long?): Long {
+        val pollMillis = (RedisConnections.POLL_SECONDS * 1000).toLong()
+        return deadline?.let { ceilMillis(it - System.nanoTime()).coerceIn(MIN_WAIT_MS, pollMillis) } ?: pollMillis
     }
 
     private fun socketLimit(deadline: Long?, serverWaitMillis: Long): Int {

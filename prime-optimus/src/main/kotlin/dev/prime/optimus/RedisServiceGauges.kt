@@ -5,7 +5,8 @@ import java.nio.charset.StandardCharsets.UTF_8
 
 /**
  * The queue depth and dead letters of Optimus services for [dev.prime.Metrics], read from Redis
- * when a snapshot is taken: the lengths of the service's input and processing lists, and of its
+ * when a snapshot is taken: the lengths of the service's input and processing lists (one per host
+ * of an unordered service), and of its
  * dead-letter list plus the dead letters trimmed from it (so the count only grows, like the
  * other metrics, until [OptimusCore.clearDeadLetters]).
  *
@@ -16,10 +17,15 @@ import java.nio.charset.StandardCharsets.UTF_8
 internal class RedisServiceGauges(private val core: OptimusCore) : ServiceGauges {
     private val session = RedisSession(core.connections)
 
-    /** Waiting in the input list, plus taken into the processing list and not yet stored: in values (a frame holds many). */
+    /**
+     * Waiting in the input list, plus taken into a processing list and not yet stored: in values (a
+     * frame holds many). An unordered service's hosts each have a processing list: all are counted.
+     */
     override fun queueDepth(service: String): Long = read { jedis ->
         val input = core.keys.serviceInput(service)
-        Script.QUEUE_DEPTH.run(jedis, listOf(input, core.keys.serviceProcessing(service), core.keys.queuedOf(input)), emptyList()) as Long
+        val hosts = jedis.smembers(core.keys.serviceHosts(service)).map { core.keys.hostProcessing(service, it.toString(UTF_8)) }
+        val lists = listOf(input, core.keys.serviceProcessing(service), core.keys.queuedOf(input)) + hosts
+        Script.QUEUE_DEPTH.run(jedis, lists, emptyList()) as Long
     }
 
     override fun deadLetters(service: String): Long = read { jedis ->

@@ -39,7 +39,7 @@ internal class RemoteCall<I, O>(
  * Design note. A call is retried when its connection breaks, and a retry must never lose the
  * reply: the request may have reached Redis before the break, and the service answers it once
  * (it skips the repeated request as a duplicate). So the reply list is emptied only by the first
- * attempt to send a request, in the same round trip (`DEL reply; RPUSH request`), when no reply
+ * attempt to send a request, in the same write (`DEL reply; RPUSH request`), when no reply
  * to this call can exist yet; a retry only pushes the request again. The reply is read without
  * removing it (`BLMOVE reply reply`, a rotation), so it is not lost either when the connection
  * breaks while it travels; it stays until the next call's first attempt clears the list. A reply
@@ -47,7 +47,11 @@ internal class RemoteCall<I, O>(
  * on it); a call that gives up also takes its request back if no service took it yet. An
  * interrupt ends the wait at once ([InterruptibleWait] aborts the blocked connection), so a
  * cancelled caller (a coroutine's `withTimeout`) gives up within a round trip, not a poll slice.
- * Calls cost two round trips, like a bare push and pop.
+ * The first attempt sends the wait with the push (`DEL; RPUSH; BLMOVE` in one write, read as
+ * one pipeline: Redis runs the wait after the push, on the same connection), so a call costs
+ * the caller one write and Redis one read, where a bare push then pop costs two of each; only a
+ * wait that outlasts the poll slice, a late reply of an earlier call, or a retry waits again.
+ * With `replicaAcks` the push is confirmed by the replicas first, then the wait is sent.
  *
  * With a call timeout every Redis operation of the call, connecting included, ends by the
  * deadline ([RedisSession.retryingUntil]): the call fails with [RedisUnavailableException] if
@@ -62,19 +66,25 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         val timeout = core.callTimeout
         val deadline = timeout?.let { System.nanoTime() + it.toNanos() }
         val what = "the call to service '$chainName'"
-        var firstAttempt = true
-        session.retryingUntil(deadline, what) { jedis ->
-            if (firstAttempt) {
-                firstAttempt = false
-                val pipeline = jedis.pipelined()
-                pipeline.del(replyKey)
-                pipeline.rpush(input, request)
-                pipeline.sync()
-            } else {
-                jedis.rpush(input, request) // the reply may be in the list already: keep it
-            }
+        var pending = try {
+            val wait = core.connections.replicaAcks == null // else the push is confirmed before the wait
+            InterruptibleWait(session).run { session.pushAndWait(deadline, input, request, replyKey, wait) }
+        } catch (_: ClosedByInterruptException) {
+            Thread.currentThread().interrupt() // the check in the loop below withdraws the request
+            null
+        } catch (e: Exception) {
+            if (!RedisConnections.isTransient(e)) throw e
+            // the request may or may not be in Redis: push it again (a duplicate is skipped), keep any reply
+            session.retryingUntil(deadline, what) { it.rpush(input, request) }
+            null
         }
         while (true) {
+            pending?.let { reply ->
+                pending = null
+                val envelope = Envelope.parse(reply)
+                if (envelope.id == id) return answer(envelope, id)
+                session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call
+            }
             if (Thread.currentThread().isInterrupted) {
                 withdraw(input, request)
                 throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
@@ -86,24 +96,20 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
                         "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
                 )
             }
-            val reply = try {
+            pending = try {
                 InterruptibleWait(session).run { session.blockingMoveUntil(deadline, what, replyKey, replyKey) }
             } catch (_: ClosedByInterruptException) {
                 Thread.currentThread().interrupt() // the flag is set; say so should a wait have cleared it
-                continue // the check above withdraws the request and ends the call
-            } ?: continue
-            val envelope = Envelope.parse(reply)
-            if (envelope.id != id) {
-                session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call
-                continue
-            }
-            return when (envelope.kind) {
-                Envelope.Kind.REPLY_OK -> envelope.payload()?.let(core.codec::decode)
-                Envelope.Kind.REPLY_ERROR -> throw core.takeFailure(id)
-                    ?: ChainFailedException(envelope.failedChain!!, RemoteFailureException(envelope.failedChain, envelope.failure!!))
-                else -> throw CodecException("unexpected ${envelope.kind} in a reply list")
+                null // the check above withdraws the request and ends the call
             }
         }
+    }
+
+    private fun answer(envelope: Envelope, id: Long): Any? = when (envelope.kind) {
+        Envelope.Kind.REPLY_OK -> envelope.payload()?.let(core.codec::decode)
+        Envelope.Kind.REPLY_ERROR -> throw core.takeFailure(id)
+            ?: ChainFailedException(envelope.failedChain!!, RemoteFailureException(envelope.failedChain, envelope.failure!!))
+        else -> throw CodecException("unexpected ${envelope.kind} in a reply list")
     }
 
     /**

@@ -49,6 +49,13 @@ import java.security.MessageDigest
  * its lease before it takes anything more; the blocking take, `BLMOVE`, cannot run in a script,
  * so [COUNT_IDLE_TAKE], pipelined behind it, lowers the queue count by what it took).
  *
+ * [REQUEST_STEP] is the step of a service only called (its input holds callers' requests, one
+ * value per entry, and keeps no queue count) that handled one request into one result: the reply
+ * (or, in a chain, the request for the next service), pushed, fenced and acknowledged like [STEP]
+ * does it, with the same take; it carries 4 keys and 8 arguments where [STEP] carries 13 and 24,
+ * and runs a handful of commands, so a call's step costs Redis about half as much. Anything it
+ * cannot do (a reply key it refuses) it leaves untouched for [STEP].
+ *
  * [REGISTER] adds a reader or service list to a source's set; a list that is new gets a copy of
  * the retained values (it starts at the oldest retained value; a service input's count grows by them).
  *
@@ -79,6 +86,20 @@ internal class Script(text: String) {
      */
     fun queueBySha(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>): redis.clients.jedis.Response<Any?> =
         pipeline.evalsha(sha, keys, args)
+
+    /**
+     * Writes the script's EVALSHA to [connection] without reading its answer (the caller sends
+     * more commands behind it and reads the answers in order; on [JedisNoScriptException] it runs
+     * the script again with [run], which loads it).
+     */
+    fun send(connection: redis.clients.jedis.Connection, keys: List<ByteArray>, args: List<ByteArray>) {
+        val command = ArrayList<ByteArray>(2 + keys.size + args.size)
+        command += sha
+        command += keys.size.toString().toByteArray(UTF_8)
+        command += keys
+        command += args
+        connection.sendCommand(redis.clients.jedis.Protocol.Command.EVALSHA, *command.toTypedArray())
+    }
 
     companion object {
         /**
@@ -332,16 +353,21 @@ internal class Script(text: String) {
         /**
          * A service's queue depth in values, for metrics: its input's queue count (or, for a
          * service only called, its input's length: one request per entry) plus the values of the
-         * entries in its processing list, summed here so no frame travels to the client.
-         * KEYS: input, processing, queue count.
+         * entries in its processing list (and in those of the hosts of an unordered service), summed
+         * here so no frame travels to the client. KEYS: input, processing, queue count, then any
+         * further processing lists.
          */
         val QUEUE_DEPTH = Script(
             """
             local waiting = tonumber(redis.call('GET', KEYS[3]) or redis.call('LLEN', KEYS[1]))
             local held = 0
-            for _, entry in ipairs(redis.call('LRANGE', KEYS[2], 0, -1)) do
-              if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
-              else held = held + 1 end
+            for k = 2, #KEYS do
+              if k ~= 3 then
+                for _, entry in ipairs(redis.call('LRANGE', KEYS[k], 0, -1)) do
+                  if #entry >= 14 and string.byte(entry, 1) == 70 then held = held + struct.unpack('>I4', entry, 11)
+                  else held = held + 1 end
+                end
+              end
             end
             return math.max(0, waiting) + held
             """,
@@ -370,6 +396,55 @@ internal class Script(text: String) {
               if values > 0 then redis.call('INCRBY', KEYS[4], values) end
             end
             return 1
+            """,
+        )
+
+        /**
+         * The step of a service only called, for one request with one result (see the class
+         * note). KEYS: 1 processing, 2 input, 3 the service's host lease, 4 where the result goes
+         * (the caller's reply list, or the next service's input). ARGV: 1 the instance id that
+         * must hold the host lease, 2 the entry to push, 3 '1' if it is a reply (checked to be in
+         * the reply namespace [4] and a list, then given the expiry [5] in ms), 6 the most entries
+         * to take, 7 the bytes after which to stop taking, 8 the largest entry returned whole.
+         * In order and atomically: the fence (`{'FENCED', holder}`, nothing written), the push
+         * (a reply key outside the namespace or holding another type: `{'REFUSED'}`, nothing
+         * written, for [STEP] to dead-letter the request), the acknowledgement of the request
+         * (the head of the processing list), then the take as [STEP]'s (each entry one value: a
+         * called service's input holds requests). Returns `{'OK', taken...}`, an entry above
+         * the largest size as `{size, prefix}`. With ARGV 9 '1' a blocking take is queued behind the
+         * step (see [RequestStep.executeThenWait]): a take that empties the input puts its last
+         * entry back at the input's head, for that blocking take to move instead of waiting.
+         */
+        val REQUEST_STEP = Script(
+            """
+            local holder = redis.call('GET', KEYS[3])
+            if holder ~= ARGV[1] then return {'FENCED', holder or ''} end
+            local target = KEYS[4]
+            if ARGV[3] == '1' then
+              local prefix = ARGV[4]
+              if string.sub(target, 1, #prefix) ~= prefix then return {'REFUSED'} end
+              local pushed = redis.pcall('RPUSH', target, ARGV[2])
+              if type(pushed) == 'table' then return {'REFUSED'} end -- not a list (or Redis refused: STEP says why)
+              redis.call('PEXPIRE', target, ARGV[5])
+            else
+              redis.call('RPUSH', target, ARGV[2])
+            end
+            redis.call('LTRIM', KEYS[1], 1, -1)
+            local result = {'OK'}
+            local take, takeBytes, maxBytes = tonumber(ARGV[6]), tonumber(ARGV[7]), tonumber(ARGV[8])
+            local bytes = 0
+            while #result <= take and bytes < takeBytes do
+              local entry = redis.call('LMOVE', KEYS[2], KEYS[1], 'LEFT', 'RIGHT')
+              if not entry then break end
+              bytes = bytes + #entry
+              if #entry > maxBytes then entry = {#entry, string.sub(entry, 1, 1024)} end
+              result[#result + 1] = entry
+            end
+            if ARGV[9] == '1' and #result > 1 and redis.call('LLEN', KEYS[2]) == 0 then
+              redis.call('LMOVE', KEYS[1], KEYS[2], 'RIGHT', 'LEFT')
+              result[#result] = nil
+            end
+            return result
             """,
         )
     }

@@ -40,6 +40,11 @@ internal fun interface StageLogic {
  * queue this service feeds is full, the service holds its results and waits for room: an
  * internal hop never drops a value (the wait shows at the publisher as [QueueFullException]).
  *
+ * Where it keeps what it took is its [HostSeat]: the service's own processing list, fenced by its
+ * host lease (one host at a time), or, for a host of an [Hosting.UNORDERED] service, a list and a
+ * lease of this host's own, with steps sized to about 5 ms of its block's work so that hosts share
+ * the input ([HostSeat.nextTake]). A new run of an unordered service gets a new seat ([seatedAt]).
+ *
  * Memory: one batch of at most [BATCH] values and [StepRules.batchBytes] bytes (one entry may be
  * bigger, up to the entry size limit), and the last 4096 ids.
  */
@@ -52,22 +57,40 @@ internal class StageService(
     /** Where the last service of a chain linked to a source publishes. */
     private val output: SourceKeys?,
     /** Whether values reach this service's input (it is fed by a source), so its queue count is kept; else only calls do. */
-    private val counted: Boolean,
+    val counted: Boolean,
+    /** Where this run keeps what it took: `null` for the service's own processing list (one host at a time). */
+    seat: HostSeat? = null,
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
-    private val processing = core.keys.serviceProcessing(name)
+    private val seat: HostSeat = seat ?: core.soleSeat(name)
+    private val processing = this.seat.processing
     private val queued = core.keys.queuedOf(input)
-    private val fence = core.hostFence(name)
+    private val fence = this.seat.fence
     private val empty = StepBatch(
         processing, input, output, core.keys.deadLetters(name), core.keys.deadLettersTrimmed(name), next, core.stepRules,
         fence, counted,
     )
     private val rules = core.stepRules
+    /** The cheaper step of a lone request, for a service only called (see [RequestStep]). */
+    private val requestStep = if (counted) null else RequestStep(processing, input, fence, rules)
+
+    /**
+     * Whether the last request step on this connection stored its request: only then is the next
+     * blocking take written behind a request step. A step the script could not store (its script
+     * not loaded after a Redis restart, a lease lapsed) would otherwise be answered only once that
+     * take ended, up to a poll slice later.
+     */
+    private var waitBehindStep = false
+    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
+    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8)
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
     /** The reply owed to a caller whose request's block threw a [VirtualMachineError] (see [loop]). */
     private var fatalReply: Pair<ByteArray, ByteArray>? = null
+
+    /** This service as one run of a host of a shared ([Hosting.UNORDERED]) service, in [seat]. */
+    fun seatedAt(seat: HostSeat): StageService = StageService(name, core, logic, next, output, counted, seat)
 
     suspend fun run() {
         RedisSession(core.connections).use { session -> loop(session) }
@@ -91,8 +114,10 @@ internal class StageService(
                     if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
                     val batchIds = HashSet<Long>()
+                    val handling = System.nanoTime()
                     val parts = taken.map { handle(it, batchIds) }
-                    store(session, parts, take = if (complete) BATCH else 0)?.takeIf { complete }
+                    val take = if (complete) seat.nextTake(parts.size, System.nanoTime() - handling) else 0
+                    store(session, parts, take)?.takeIf { complete }
                 }
                 if (outage) LOG.info("service '{}' reconnected to Redis", name)
                 outage = false
@@ -100,7 +125,7 @@ internal class StageService(
             } catch (e: CancellationException) {
                 throw e
             } catch (e: HostingLost) {
-                core.hostingLost(session, name, e.holder)
+                core.hostingLost(session, seat, e.holder)
                 return
             } catch (e: VirtualMachineError) {
                 replyFatal(session)
@@ -116,6 +141,7 @@ internal class StageService(
                     }
                 }
                 outage = true
+                waitBehindStep = false
                 pending = null
                 delay(backoff.next())
             }
@@ -129,9 +155,9 @@ internal class StageService(
      */
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
         // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
-        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
         val pipeline = jedis.pipelined()
-        val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, RedisConnections.POLL_SECONDS)
+        val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
         val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())
         pipeline.sync()
         val entry = moved.get()
@@ -185,7 +211,9 @@ internal class StageService(
      */
     private suspend fun store(session: RedisSession, parts: List<Part>, take: Int): List<TakenEntry>? {
         val whole = if (parts.size == 1) parts[0].batch else StepBatch.combine(parts.map { it.batch })
+        val output = parts.singleOrNull()?.output
         val stored = try {
+            if (output != null && requestStep != null) return storeRequest(session, whole, output, take)
             runStep(session, whole, ack = parts.size, take = take)
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
@@ -194,6 +222,35 @@ internal class StageService(
         }
         whole.ids.forEach(recent::add)
         return stored.taken
+    }
+
+    /**
+     * Stores a lone request's [output] with the request step (a service only called) and, when
+     * this step takes ([take] > 0), waits for the next entry in the same write; returns the entries
+     * taken next, or `null` to read the processing list again: after a blocking take in vain (the fenced
+     * peek then comes first, as after an idle take), or after the general step stored what the
+     * request step could not (a reply key it refused: the general step dead-letters the request;
+     * a lease held by nobody: the general step waits for it).
+     */
+    private suspend fun storeRequest(session: RedisSession, whole: StepBatch, output: RequestOutput, take: Int): List<TakenEntry>? {
+        val step = requestStep!!
+        // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
+        val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
+        waitBehindStep = false // until this step is stored
+        val result = if (waitBehind) {
+            session.once(null, idleWaitMillis) { step.executeThenWait(it, output, take, idleWaitArgument) }
+        } else {
+            session.once { step.execute(it, output, take) }
+        }
+        waitBehindStep = result is StepResult.Stored
+        if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
+        if (result !is StepResult.Stored) {
+            runStep(session, whole, ack = 1, take = 0)
+            whole.ids.forEach(recent::add)
+            return null
+        }
+        whole.ids.forEach(recent::add)
+        return if (waitBehind && result.taken.isEmpty()) null else result.taken
     }
 
     /**
@@ -292,8 +349,14 @@ internal class StageService(
     /** A step found this service's host lease held by another instance ([holder]): the service stops, storing nothing. */
     private class HostingLost(val holder: String) : Exception("the host lease is held by instance $holder")
 
-    /** One entry of a batch and what its handling stores. */
-    private class Part(val entry: TakenEntry, val batch: StepBatch)
+    /**
+     * One entry of a batch and what its handling stores; [output] when that is just one request's
+     * one result (the reply, or the request for the next service), which a step of this entry
+     * alone can store with the request step.
+     */
+    private class Part(val entry: TakenEntry, val batch: StepBatch) {
+        var output: RequestOutput? = null
+    }
 
     /**
      * Dead-letters [entry] for [reason] (its first bytes only if [prefix]) and logs it at WARN: the
@@ -326,21 +389,27 @@ internal class StageService(
             return part
         }
         // a frame is acknowledged as a whole: every value of it is handled in this part
-        for (raw in envelopes) handleEnvelope(TakenEntry(raw, raw.size.toLong()), step, batchIds)
+        for (raw in envelopes) {
+            val output = handleEnvelope(TakenEntry(raw, raw.size.toLong()), step, batchIds)
+            if (envelopes.size == 1) part.output = output
+        }
         return part
     }
 
-    /** Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError]. */
-    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: MutableSet<Long>) {
+    /**
+     * Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError].
+     * Returns a request's one result, when that is all [step] got from it.
+     */
+    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: MutableSet<Long>): RequestOutput? {
         val raw = entry.bytes
         val envelope = try {
             Envelope.parse(raw)
         } catch (e: CodecException) {
             deadLetter(step, "undecodable envelope: ${e.message}", entry)
-            return
+            return null
         }
         // a duplicate of a value handled recently, or earlier in this batch
-        if (envelope.id in recent || !batchIds.add(envelope.id)) return
+        if (envelope.id in recent || !batchIds.add(envelope.id)) return null
         step.ids += envelope.id
         val replyTo = envelope.replyTo
         if (replyTo != null && !startsWith(replyTo, rules.replyPrefix)) {
@@ -350,32 +419,34 @@ internal class StageService(
                     "${rules.replyPrefix.toString(UTF_8)}*",
                 entry,
             )
-            return
+            return null
         }
         val value = try {
             envelope.payload()?.let(core.codec::decode)
         } catch (e: CodecException) {
             deadLetter(step, "cannot decode the value: ${e.message}", entry)
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
-            return
+            return null
         }
         when (envelope.kind) {
-            Envelope.Kind.REQUEST -> handleRequest(envelope, value, step)
+            Envelope.Kind.REQUEST -> return handleRequest(envelope, value, step)
             Envelope.Kind.VALUE -> handleValue(envelope, value, entry, step)
             else -> deadLetter(step, "a ${envelope.kind} does not belong in a service's input", entry)
         }
+        return null
     }
 
-    private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch) {
+    /** Handles a request into [step]; returns its one result (also put in [step]). */
+    private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch): RequestOutput {
         val replyTo = envelope.replyTo!!
         try {
             var result: Any? = null
             logic.process(value) { result = it }
             val payload = core.encode(result)
-            if (next != null) {
-                step.next(Envelope.request(envelope.id, replyTo, payload))
+            return if (next != null) {
+                Envelope.request(envelope.id, replyTo, payload).let { step.next(it); RequestOutput(next, it, isReply = false) }
             } else {
-                step.reply(replyTo, Envelope.replyOk(envelope.id, payload))
+                Envelope.replyOk(envelope.id, payload).let { step.reply(replyTo, it); RequestOutput(replyTo, it, isReply = true) }
             }
         } catch (e: VirtualMachineError) {
             // the caller gets it promptly (see replyFatal), this service then ends
@@ -385,7 +456,9 @@ internal class StageService(
         } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)
             core.rememberFailure(envelope.id, failure)
-            step.reply(replyTo, Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString()))
+            val reply = Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString())
+            step.reply(replyTo, reply)
+            return RequestOutput(replyTo, reply, isReply = true)
         }
     }
 

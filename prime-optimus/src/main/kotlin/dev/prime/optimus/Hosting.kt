@@ -1,0 +1,42 @@
+package dev.prime.optimus
+
+/**
+ * How the processes that host one service share it: set per service with
+ * [OptimusCore.Builder.hosting]. Every process that hosts a service must declare the same mode for
+ * it; a process that declares another is refused at `start()` (see [OptimusCore.Builder.hosting]).
+ * Modes apply to the services of chains; combinators, timers and generic services are
+ * [EXCLUSIVE] only.
+ */
+public enum class Hosting {
+    /**
+     * The default: one process hosts the service. A second process that names it in `hosts(...)`
+     * waits up to one lease time at `start()` (a restarted worker takes over from a killed one),
+     * then fails with an `IllegalStateException` ("already hosted by"): two hosts of such a
+     * service are taken for a misconfiguration. Values leave the service in the order they came.
+     */
+    EXCLUSIVE,
+
+    /**
+     * One active host at a time, in order; other processes that host it are standbys: their
+     * `start()` succeeds, and one of them takes over within about one lease time
+     * ([OptimusCore.Builder.leaseTime]) after the active host dies, and within a third of it after
+     * the active host closes. The new host first processes what the old one had taken and not
+     * stored, then the input: values leave the service in the order they came, across failovers,
+     * and none is lost or duplicated (results are stored in the step that acknowledges the input,
+     * and only while the host lease is held).
+     */
+    ORDERED,
+
+    /**
+     * Competing consumers: every process that hosts the service takes values from its input at
+     * the same time, each into a processing list of its own, so a slow block scales with its hosts.
+     * No order is kept between values (each host keeps its own). A host that dies loses nothing:
+     * when its lease lapses, a surviving host moves what it had taken and not stored back to the
+     * head of the input (a host that closes does so at once). A value's results are stored once
+     * (only a host whose lease holds can store, and a reclaimed value was not stored); its block may
+     * run again on another host if the first one died or froze in it. Duplicates that a producer
+     * made (a publish retried after a lost reply) are skipped by value id downstream, within the
+     * last 4,096 values a reader or single-hosted service saw, but may both be processed here.
+     */
+    UNORDERED,
+}
