@@ -28,7 +28,11 @@ import java.util.concurrent.atomic.AtomicBoolean
  *
  * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
  * deadline (connecting and every socket wait are bounded by it) with
- * [RedisUnavailableException]; [poll] and [drain] never wait for a reconnect: they replace a
+ * [RedisUnavailableException]. A timed take whose blocking wait was answered too late (past
+ * the deadline plus [RedisConnections.BLOCKING_DEADLINE_GRACE_MS]: a loaded machine, or a connection that
+ * froze during the wait) returns empty, as for any value that did not come in time: Redis
+ * answered the take's step, and the wait's own reply was due only at the deadline; the dropped
+ * connection is recovered by the next take, which delivers a value moved meanwhile. [poll] and [drain] never wait for a reconnect: they replace a
  * broken connection once, at once, and within [NO_WAIT_BOUND_MS] in all throw
  * [RedisUnavailableException].
  *
@@ -168,6 +172,11 @@ internal class OptimusReader<T>(
                     recovering = true
                     Thread.interrupted()
                     throw InterruptedException("interrupted while waiting for a value of an Optimus source")
+                } catch (_: LateReply) {
+                    // Redis answered (if at all) after the deadline: nothing came in time; a value
+                    // it moved meanwhile is in the processing list, for the next take
+                    recovering = true
+                    return null
                 }
                 moved?.let {
                     framed = Frame.count(it) >= FRAMED_VALUES

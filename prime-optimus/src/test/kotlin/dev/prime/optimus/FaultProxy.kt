@@ -22,7 +22,10 @@ import java.util.concurrent.locks.LockSupport
  *
  * Two daemon threads per connection pump the bytes; [close] closes every socket, which ends them.
  */
-internal class FaultProxy(target: String, private val replyDelayNanos: Long = 0) : AutoCloseable {
+internal class FaultProxy(target: String, replyDelayNanos: Long = 0) : AutoCloseable {
+    /** How long each chunk of a reply is held back from now on (see the class note). */
+    @Volatile var replyDelayNanos: Long = replyDelayNanos
+
     private val targetUri = URI(target)
     private val server = ServerSocket(0, 50, InetAddress.getLoopbackAddress())
     private val sockets: MutableSet<Socket> = ConcurrentHashMap.newKeySet()
@@ -93,7 +96,8 @@ internal class FaultProxy(target: String, private val replyDelayNanos: Long = 0)
                 val n = from.getInputStream().read(buffer)
                 if (n < 0) break
                 awaitThaw()
-                if (!upward && replyDelayNanos > 0) LockSupport.parkNanos(replyDelayNanos)
+                val delay = replyDelayNanos
+                if (!upward && delay > 0) LockSupport.parkNanos(delay)
                 if (!upward && link.doomed) {
                     cuts.incrementAndGet() // Redis answered the marked write: it ran; the client never learns
                     break
