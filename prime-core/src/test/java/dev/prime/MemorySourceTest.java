@@ -92,6 +92,37 @@ class MemorySourceTest {
     }
   }
 
+  /**
+   * Slots are found by a mask when the retention is a power of two and by a remainder otherwise:
+   * both keep every value, in order, lap after lap, for a plain reader and a service's batches.
+   */
+  @Test
+  void everyRetentionWrapsInOrderWithMaskOrRemainder() throws InterruptedException {
+    for (int retention : new int[] {1, 2, 3, 4, 5, 7, 8, 16, 1000, 1024}) {
+      try (BareCore core = new BareCore()) {
+        MemorySource<Integer> source = new MemorySource<>(core, "s", retention);
+        Reader<Integer> reader = source.reader();
+        @SuppressWarnings("unchecked")
+        BatchReader<Integer> input = (BatchReader<Integer>) source.serviceInput("service");
+        List<Integer> read = new ArrayList<>();
+        List<Integer> batched = new ArrayList<>();
+        int published = 0;
+        for (int lap = 0; lap < 5; lap++) { // five laps of the ring, in bursts of the retention
+          for (int i = 0; i < retention; i++) {
+            source.publish(published++);
+          }
+          read.addAll(reader.drain());
+          while (batched.size() < published) {
+            input.takeAvailable(batched::add);
+          }
+        }
+        assertEquals(range(0, published), read, "retention " + retention);
+        assertEquals(range(0, published), batched, "retention " + retention);
+        assertEquals(0, reader.missed(), "retention " + retention);
+      }
+    }
+  }
+
   @Test
   void retentionOfOne() throws InterruptedException {
     try (BareCore core = new BareCore()) {

@@ -6,6 +6,7 @@ import com.lmax.disruptor.YieldingWaitStrategy;
 import com.lmax.disruptor.dsl.Disruptor;
 import com.lmax.disruptor.dsl.ProducerType;
 import com.lmax.disruptor.util.DaemonThreadFactory;
+import dev.prime.Block;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.Reader;
@@ -39,10 +40,13 @@ import reactor.core.scheduler.Schedulers;
  * Producer and consumer overlap, so this is throughput with data flowing constantly.
  *
  * <p>One pipeline is two threads (producer and consumer), so on the 2-core machine of
- * BENCHMARKS.md it loads both cores. Pipelines: a Prime source with a Liberty chain linked to it
- * (its output read with a {@link Reader}), a Kotlin Channel, Reactor with {@code publishOn}, and
- * the LMAX Disruptor, the floor of a thread hand-off on the JVM. Run it with
- * {@code -p scenario=monomorphic}: the table's runner does.
+ * BENCHMARKS.md it loads both cores. Pipelines: a Prime source with a Liberty chain linked to it,
+ * a Kotlin Channel, Reactor with {@code publishOn}, and the LMAX Disruptor, the floor of a thread
+ * hand-off on the JVM. Each does one thread hand-off: the consumer thread reports each output to
+ * {@link Arrivals} (for Prime, the chain's last block does, on the source's service thread) and
+ * the benchmark thread waits on that count. {@link #primeSourceAndReader} is the earlier Prime row,
+ * which read the outputs back with a {@link Reader}: two hand-offs, kept for comparison. Run it
+ * with {@code -p scenario=monomorphic}: the table's runner does.
  */
 @BenchmarkMode(Mode.AverageTime)
 @OutputTimeUnit(TimeUnit.NANOSECONDS)
@@ -73,9 +77,70 @@ public class AsyncHandOffBenchmark {
     }
   }
 
-  /** A Prime source, the Liberty chain linked to it, and a reader of the chain's outputs. */
+  /**
+   * The last block of the Prime row's chain: reports each output to {@link Arrivals}, on the
+   * thread that runs the chain (the source's service thread), as the peers' consumers do, and
+   * passes the packet on (the linked chain's output source gets it, as any linked chain's does).
+   */
+  public static final class CountArrival implements Block<Packet, Packet> {
+    private final Arrivals arrivals;
+
+    /**
+     * @param arrivals where each output is reported
+     */
+    public CountArrival(Arrivals arrivals) {
+      this.arrivals = arrivals;
+    }
+
+    @Override
+    public Packet process(Packet packet) {
+      arrivals.arrive(packet.value);
+      return packet;
+    }
+  }
+
+  /**
+   * A Prime source with a Liberty chain linked to it: the 4 adders and then {@link CountArrival},
+   * all on the source's service thread: one hand-off, like the peers.
+   */
   @State(Scope.Thread)
   public static class PrimeSource {
+    /** Where the benchmark publishes. */
+    public EventBlock<Packet> events;
+
+    /** Counts the outputs: the chain's last block reports each. */
+    public final Arrivals arrivals = new Arrivals();
+
+    /** Outputs expected so far. */
+    public long expected;
+
+    private LibertyCore core;
+
+    /**
+     * @param shape the parameters
+     */
+    @Setup(Level.Trial)
+    public void build(Shape shape) {
+      core = new LibertyCore(CoreConfig.builder().sourceRetention(4 * BATCH).build());
+      events = new EventBlock<>();
+      core.source(events)
+          .then(ChainShapes.adderChain(core, shape.length).then(new CountArrival(arrivals)));
+      core.start();
+    }
+
+    /** Closes the core and its service thread. */
+    @TearDown(Level.Trial)
+    public void close() {
+      core.close();
+    }
+  }
+
+  /**
+   * The earlier Prime row: a Prime source, the Liberty chain linked to it, and a reader of the
+   * chain's outputs on the benchmark thread: two hand-offs (to the service thread and back).
+   */
+  @State(Scope.Thread)
+  public static class PrimeSourceAndReader {
     /** Where the benchmark publishes. */
     public EventBlock<Packet> events;
 
@@ -216,7 +281,27 @@ public class AsyncHandOffBenchmark {
   }
 
   /**
-   * Prime source: publish the batch, then read its outputs.
+   * Prime source: publish the batch, wait for its outputs, which the linked chain's last block
+   * counts on the service thread. One thread hand-off, as the peers.
+   *
+   * @param batch the packets
+   * @param source the pipeline
+   * @return the sum of the outputs' values
+   */
+  @Benchmark
+  public long primeSource(Batch batch, PrimeSource source) {
+    for (Packet packet : batch.packets) {
+      source.events.publish(packet);
+    }
+    source.expected += BATCH;
+    return source.arrivals.await(source.expected);
+  }
+
+  /**
+   * The earlier Prime row, for continuity: publish the batch, then read its outputs back with a
+   * {@link Reader} on the benchmark thread, one {@code take()} per value. Two thread hand-offs
+   * (benchmark thread to service thread, service thread to benchmark thread through the chain's
+   * output source), so its time is a round trip, not comparable with the peers' one hand-off.
    *
    * @param batch the packets
    * @param source the pipeline
@@ -224,7 +309,8 @@ public class AsyncHandOffBenchmark {
    * @throws InterruptedException if interrupted while waiting for an output
    */
   @Benchmark
-  public long primeSource(Batch batch, PrimeSource source) throws InterruptedException {
+  public long primeSourceAndReader(Batch batch, PrimeSourceAndReader source)
+      throws InterruptedException {
     for (Packet packet : batch.packets) {
       source.events.publish(packet);
     }

@@ -25,7 +25,9 @@ import org.openjdk.jmh.runner.options.TimeValue;
  * across forks shows), the synchronous sources row, Optimus flows and calls against raw Jedis,
  * and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
  * result with its environment) and {@code targets.md} (one line per target: target, figures,
- * verdict).
+ * verdict), followed by figures reported for information and not judged: the earlier Prime row
+ * {@code AsyncHandOffBenchmark.primeSourceAndReader} (two thread hand-offs, the outputs read back
+ * with a {@code Reader}; see {@link #information}).
  *
  * <pre>
  * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.report.ThroughputTargets run DIR
@@ -80,7 +82,9 @@ public final class ThroughputTargets {
       String annotated = ResultsFile.annotate(SuiteRunner.json(results), environment.finished());
       Files.writeString(json, annotated, StandardCharsets.UTF_8);
     }
-    String markdown = render(judge(Score.readAll(json)), ResultsFile.environment(json));
+    List<Score> scores = Score.readAll(json);
+    String markdown =
+        render(judge(scores), ResultsFile.environment(json)) + "\n" + information(scores);
     Files.writeString(directory.resolve(MARKDOWN), markdown, StandardCharsets.UTF_8);
     System.out.print(markdown);
   }
@@ -92,8 +96,8 @@ public final class ThroughputTargets {
         timed("AsyncHandOffBenchmark\\.primeSource$", 5, 3, 1000, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
             .addProfiler(GCProfiler.class),
-        timed("AsyncHandOffBenchmark\\.(disruptor|kotlinChannel|reactorPublishOn)$", 2, 3, 1000, 5,
-            1000)
+        timed("AsyncHandOffBenchmark\\.(disruptor|kotlinChannel|reactorPublishOn"
+            + "|primeSourceAndReader)$", 2, 3, 1000, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4"),
         timed("SyncSourceBenchmark\\.primeSource$", 1, 3, 500, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
@@ -157,6 +161,28 @@ public final class ThroughputTargets {
     verdicts.add(speedUp("2", 1.8, one, scores));
     verdicts.add(speedUp("3", 2.6, one, scores));
     return verdicts;
+  }
+
+  /**
+   * Figures reported for information, not judged: the earlier Prime hand-off row, {@code
+   * primeSourceAndReader}, at each payload (two thread hand-offs per value where the judged rows
+   * have one, so its time is not comparable with theirs).
+   *
+   * @param scores the run's results
+   * @return a Markdown paragraph: a heading line and one line per payload
+   */
+  public static String information(List<Score> scores) {
+    StringBuilder out = new StringBuilder(
+        "For information, not judged: Prime sources with the outputs read back by a Reader"
+            + " (`AsyncHandOffBenchmark.primeSourceAndReader`, two thread hand-offs per value):\n\n");
+    for (String payload : PAYLOADS) {
+      Map<String, String> at = Map.of("payload", payload, "scenario", "monomorphic");
+      out.append("- ").append(bytesName(payload)).append(": ")
+          .append(find(scores, "AsyncHandOffBenchmark.primeSourceAndReader", at)
+              .map(ThroughputTargets::figure).orElse("no result in this run"))
+          .append('\n');
+    }
+    return out.toString();
   }
 
   private static TargetVerdict speedUp(

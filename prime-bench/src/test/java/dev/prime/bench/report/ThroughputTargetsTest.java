@@ -107,6 +107,20 @@ class ThroughputTargetsTest {
   }
 
   @Test
+  void theTwoHandOffRowIsReportedForInformationAndNeverJudged() throws IOException,
+      URISyntaxException {
+    List<Score> scores =
+        Score.readAll(Path.of(getClass().getResource("/targets-fixture.json").toURI()));
+    String information = ThroughputTargets.information(scores);
+    assertTrue(information.contains("- 100 B: 400.0 ± 30.0 ns"), information);
+    assertTrue(information.contains("- 1 KB: no result in this run"), information);
+    // the judged Prime row is primeSource alone: the fixture's primeSource is 150 ns, not 400
+    assertTrue(verdict("Prime sources ≤ 2× the LMAX Disruptor, 100 B").measured()
+        .startsWith("150.0"), verdict("Prime sources ≤ 2× the LMAX Disruptor, 100 B").measured());
+    assertTrue(verdicts.stream().noneMatch(v -> v.measured().contains("400.0")), verdicts::toString);
+  }
+
+  @Test
   void theReportCountsWhatIsMetAndRefusesAForeignFile(@TempDir Path dir) throws IOException {
     String markdown = ThroughputTargets.render(verdicts, null);
     long met = verdicts.stream().filter(v -> v.outcome() == Outcome.MET).count();
