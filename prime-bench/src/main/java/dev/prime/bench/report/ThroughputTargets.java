@@ -195,7 +195,7 @@ public final class ThroughputTargets {
     }
     double ratio = many.get().value() / one.get().value();
     return new TargetVerdict(CONSUMERS, target,
-        String.format(Locale.ROOT, "%s against %s values/s: %.2f×",
+        String.format(Locale.ROOT, "%s against %s: %.2f×",
             figure(many.get()), figure(one.get()), ratio),
         ratio >= wanted ? Outcome.MET : Outcome.NOT_MET);
   }
