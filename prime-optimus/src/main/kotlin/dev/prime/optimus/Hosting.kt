@@ -34,7 +34,8 @@ public enum class Hosting {
      * when its lease lapses, a surviving host moves what it had taken and not stored back to the
      * head of the input (a host that closes does so at once). A value's results are stored once
      * (only a host whose lease holds can store, and a reclaimed value was not stored); its block may
-     * run again on another host if the first one died or froze in it. Duplicates that a producer
+     * run again on another host if the first one died, froze or closed while in it (a closing host
+     * gives back what it holds before its block returns). Duplicates that a producer
      * made (a publish retried after a lost reply) are skipped by value id downstream, within the
      * last 4,096 values a reader or single-hosted service saw, but may both be processed here.
      */

@@ -654,9 +654,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** The fence [service]'s steps check: its host lease must hold this instance's id. */
     internal fun hostFence(service: String): HostFence = HostFence(keys.hostLease(service), instance.toByteArray(UTF_8))
 
-    /** Where a service with one host at a time keeps what it took: its own processing list, fenced by its host lease. */
+    /**
+     * Where a service with one host at a time keeps what it took: its own processing list, fenced by its host lease.
+     * Its blocking take waits in Redis at most a third of the lease time (as an unordered seat's does): a take sent
+     * before this host froze then ends before its lease can lapse, so it cannot move a value into the list after a
+     * successor took the service over (the successor's step would acknowledge that value unprocessed).
+     */
     internal fun soleSeat(service: String): HostSeat =
-        HostSeat(service, keys.serviceProcessing(service), hostFence(service), shared = false, RedisConnections.POLL_SECONDS)
+        HostSeat(
+            service, keys.serviceProcessing(service), hostFence(service), shared = false,
+            minOf(RedisConnections.POLL_SECONDS, leaseTime.toMillis() / 3 / 1000.0),
+        )
 
     /** Refuses hosting modes for services the topology lacks, or that are not chains' services. */
     private fun checkHostingModes() {
@@ -750,9 +758,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     "hosts; the service starts a new run",
                 name(), service,
             )
-            hostedJobs.remove(service)?.cancel()
+            val old = hostedJobs.remove(service)
+            old?.cancel()
             scope.launch(CoroutineName("$service reseat")) {
                 try {
+                    // the old run may still be in a blocking take into this host's list (a Jedis call, which
+                    // cancel() does not end): the new run starts once it ended, so its first peek sees what that
+                    // take moved instead of acknowledging it unprocessed
+                    withTimeoutOrNull(leaseTime.toMillis()) { old?.join() }
                     withSession("take a seat of service '$service'") { launchSeated(it, services.getValue(service)) }
                 } catch (e: Exception) {
                     if (!isClosed) LOG.error("core '{}' could not start service '{}' again: {}", name(), service, e.toString())

@@ -55,6 +55,21 @@ class OrderedHostingTest {
     }
 
     @Test
+    fun aOneHostServicesBlockingTakeWaitsInRedisAtMostAThirdOfTheLease() {
+        // a take sent before the host froze must end before its lease can lapse: else it moves a value into the
+        // service's one processing list after a successor took over, whose step acknowledges it unprocessed
+        CompetingTopology.core(TestRedis.url, "ordered-take-wait", Hosting.ORDERED).use { core ->
+            CompetingTopology.declare(core, 1)
+            core.start()
+            val wait = core.soleSeat(CompetingTopology.SERVICE).idleWaitSeconds
+            assertTrue(
+                wait > 0 && wait <= CompetingTopology.LEASE.toMillis() / 3 / 1000.0,
+                "a blocking take waits $wait s with a ${CompetingTopology.LEASE.toMillis()} ms lease",
+            )
+        }
+    }
+
+    @Test
     fun aStandbyTakesOverFromAKilledHostInOrderWithNoLossOrDuplicate() {
         val name = "ordered-kill"
         val n = 400
