@@ -12,7 +12,6 @@ import java.time.Duration;
 import java.util.Arrays;
 import java.util.Collections;
 import java.util.List;
-import java.util.Optional;
 import java.util.concurrent.TimeUnit;
 import org.openjdk.jmh.annotations.Benchmark;
 import org.openjdk.jmh.annotations.BenchmarkMode;
@@ -59,8 +58,6 @@ public class ClusterReplicaAcksBenchmark {
 
   /** Bytes per value. */
   public static final int PAYLOAD = 100;
-
-  private static final Duration TAKE_TIMEOUT = Duration.ofSeconds(30);
 
   /** One synchronous call through the service. */
   @Benchmark
@@ -207,17 +204,8 @@ public class ClusterReplicaAcksBenchmark {
 
     /** Publishes one batch, then takes one batch's worth of values (the one published before). */
     long passBatch() throws InterruptedException {
-      core.publishAll(input, batch);
       batches++;
-      long bytes = 0;
-      for (int i = 0; i < BATCH; i++) {
-        Optional<byte[]> value = output.take(TAKE_TIMEOUT);
-        if (value.isEmpty()) {
-          throw new IllegalStateException("a value did not come through the service within " + TAKE_TIMEOUT);
-        }
-        bytes += value.get().length;
-      }
-      return bytes;
+      return BatchThroughSource.pass(core, input, batch, output, "the service");
     }
 
     /** Checks that no value was lost to retention, prints the Redis profile, closes everything. */

@@ -8,11 +8,9 @@ import dev.prime.Reader;
 import dev.prime.Source;
 import dev.prime.optimus.KryoCodec;
 import dev.prime.optimus.OptimusCore;
-import java.time.Duration;
 import java.util.Arrays;
 import java.util.Collections;
 import java.util.List;
-import java.util.Optional;
 import java.util.concurrent.TimeUnit;
 import org.openjdk.jmh.annotations.Benchmark;
 import org.openjdk.jmh.annotations.BenchmarkMode;
@@ -59,8 +57,6 @@ import org.openjdk.jmh.runner.IterationType;
 public class OptimusBenchmark {
   /** Values per {@code publishAll} (and per raw pipelined push) in the throughput benchmarks. */
   public static final int BATCH = 1000;
-
-  private static final Duration TAKE_TIMEOUT = Duration.ofSeconds(30);
 
   /** One synchronous call through the Optimus chain. */
   @Benchmark
@@ -273,17 +269,8 @@ public class OptimusBenchmark {
 
     /** Publishes one batch, then takes one batch's worth of values (the one published before). */
     long passBatch() throws InterruptedException {
-      core.publishAll(input, batch);
       batches++;
-      long bytes = 0;
-      for (int i = 0; i < BATCH; i++) {
-        Optional<byte[]> value = output.take(TAKE_TIMEOUT);
-        if (value.isEmpty()) {
-          throw new IllegalStateException("a value did not come through the Optimus chain within " + TAKE_TIMEOUT);
-        }
-        bytes += value.get().length;
-      }
-      return bytes;
+      return BatchThroughSource.pass(core, input, batch, output, "the Optimus chain");
     }
 
     /** Checks that no value was lost to retention, prints the Redis profile, closes everything. */
