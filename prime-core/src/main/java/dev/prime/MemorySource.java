@@ -182,7 +182,8 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
 
   /**
    * A source whose readers wait by other budgets than {@link #SPIN_NANOS} and {@link
-   * #YIELD_NANOS}: for tests that must reach the sleeper list at once (both 0).
+   * #YIELD_NANOS}: for tests that must reach the sleeper list almost at once (both 0: a reader
+   * still looks {@code SPINS_PER_CLOCK_READ} times before it reads the clock, then parks).
    *
    * @param core the owning core
    * @param name the source's name
