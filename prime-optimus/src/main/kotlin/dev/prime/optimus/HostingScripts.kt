@@ -98,6 +98,21 @@ internal object HostingScripts {
     )
 
     /**
+     * Runs in Redis right after an unordered host's blocking take, written behind it on the same
+     * connection, so it runs even if the host dies as soon as Redis answered the take: if the host
+     * is no longer in the host set (a survivor reclaimed its seat while the take waited), moves its
+     * processing list back to the head of the input (raising the queue count by its values), since
+     * no reclaim looks at that list any more. KEYS: host set, the host's processing list, input,
+     * queue count. ARGV: the instance id, '1' if the queue count is kept. Returns the entries moved.
+     */
+    val CHECK_SEATED = Script(
+        MOVE_BACK + """
+        if redis.call('SISMEMBER', KEYS[1], ARGV[1]) == 1 then return 0 end
+        return moveBack(KEYS[2], KEYS[3], KEYS[4], ARGV[2] == '1')
+        """,
+    )
+
+    /**
      * Gives a seat up (a host that closes): deletes its lease if it still holds the run's token,
      * moves its processing list back to the head of the input and leaves the host set. KEYS: lease,
      * processing list, host set, input, queue count. ARGV: token, instance id, '1' if the queue

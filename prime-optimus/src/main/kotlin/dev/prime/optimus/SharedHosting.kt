@@ -18,6 +18,11 @@ internal class HostSeat(
     val shared: Boolean,
     /** How long a blocking take may wait in Redis, in seconds. */
     val idleWaitSeconds: Double,
+    /**
+     * For a shared seat, the service's host set and this host's id in it: a blocking take is
+     * followed in Redis by [HostingScripts.CHECK_SEATED] on them; `null` for a service's own seat.
+     */
+    val membership: Pair<ByteArray, ByteArray>? = null,
 ) {
     private var nanosPerEntry = 0.0
 
@@ -121,6 +126,7 @@ internal class SharedHosting(
             HostFence(keys.hostSeatLease(service, instance), token.toByteArray(UTF_8)),
             shared = true,
             idleWaitSeconds = idleWaitSeconds,
+            membership = keys.serviceHosts(service) to instanceId,
         )
         session.retrying { jedis ->
             HostingScripts.CLAIM.run(jedis, listOf(seat.fence.lease, keys.serviceHosts(service)), listOf(seat.fence.instance, leaseMillis, instanceId))

@@ -151,23 +151,37 @@ internal class StageService(
     /**
      * Waits up to a second for an entry and moves it to the processing list; in the same round
      * trip, takes what it moved off the input's queue count (a block that then holds it for long
-     * leaves room in the queue, as a step's take does).
+     * leaves room in the queue, as a step's take does) and, for a host of an unordered service,
+     * checks in Redis that the host still has its seat ([HostingScripts.CHECK_SEATED]): `null` if
+     * nothing came or what came went back to the input.
      */
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
+        val membership = seat.membership
         // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
-        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
+        if (!counted && membership == null) {
+            return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
+        }
         val pipeline = jedis.pipelined()
         val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
-        val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())
+        val countKeys = listOf(processing, queued)
+        val countTaken = if (counted) Script.COUNT_IDLE_TAKE.queueBySha(pipeline, countKeys, emptyList()) else null
+        val seatedKeys = membership?.let { (hosts, _) -> listOf(hosts, processing, input, queued) }
+        val seatedArgs = membership?.let { (_, id) -> listOf(id, if (counted) ONE else ZERO) }
+        val seated = seatedKeys?.let { HostingScripts.CHECK_SEATED.queueBySha(pipeline, it, seatedArgs!!) }
         pipeline.sync()
         val entry = moved.get()
         try {
-            counted.get()
+            countTaken?.get()
         } catch (_: redis.clients.jedis.exceptions.JedisNoScriptException) {
             // Redis restarted and forgot it: the processing list still holds just what was moved
-            Script.COUNT_IDLE_TAKE.run(jedis, listOf(processing, queued), emptyList())
+            Script.COUNT_IDLE_TAKE.run(jedis, countKeys, emptyList())
         }
-        return entry
+        val movedBack = try {
+            seated?.get()
+        } catch (_: redis.clients.jedis.exceptions.JedisNoScriptException) {
+            HostingScripts.CHECK_SEATED.run(jedis, seatedKeys!!, seatedArgs!!) // not loaded yet: checked right after
+        }
+        return if (movedBack is Long && movedBack > 0) null else entry
     }
 
     private fun describeFailure(e: Throwable): String = when {
@@ -496,6 +510,8 @@ internal class StageService(
         /** The most values one step takes. */
         const val BATCH = 256
         private val LOG = LoggerFactory.getLogger(StageService::class.java)
+        private val ONE = "1".toByteArray(UTF_8)
+        private val ZERO = "0".toByteArray(UTF_8)
 
         private fun isOutOfMemory(e: JedisDataException): Boolean =
             e.message?.let { it.startsWith("OOM") || " OOM " in it } == true
