@@ -154,8 +154,8 @@ internal class StageService(
      * leaves room in the queue, as a step's take does).
      */
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
-        // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
-        if (!counted) return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
+        // a service only called gets requests, which are not counted: a plain take, watched for the step without a script
+        if (!counted) return requestStep!!.takeWatched(jedis, idleWaitArgument)
         val pipeline = jedis.pipelined()
         val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
         val counted = Script.COUNT_IDLE_TAKE.queueBySha(pipeline, listOf(processing, queued), emptyList())
@@ -213,7 +213,7 @@ internal class StageService(
         val whole = if (parts.size == 1) parts[0].batch else StepBatch.combine(parts.map { it.batch })
         val output = parts.singleOrNull()?.output
         val stored = try {
-            if (output != null && requestStep != null) return storeRequest(session, whole, output, take)
+            if (output != null && requestStep != null) return storeRequest(session, whole, parts[0].entry.bytes, output, take)
             runStep(session, whole, ack = parts.size, take = take)
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
@@ -232,9 +232,16 @@ internal class StageService(
      * request step could not (a reply key it refused: the general step dead-letters the request;
      * a lease held by nobody: the general step waits for it).
      */
-    private suspend fun storeRequest(session: RedisSession, whole: StepBatch, output: RequestOutput, take: Int): List<TakenEntry>? {
+    private suspend fun storeRequest(
+        session: RedisSession,
+        whole: StepBatch,
+        entry: ByteArray,
+        output: RequestOutput,
+        take: Int,
+    ): List<TakenEntry>? {
         val step = requestStep!!
         // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
+        if (take > 0 && core.connections.replicaAcks == null) storeWatched(session, step, whole, entry, output)?.let { return it.taken }
         val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
         waitBehindStep = false // until this step is stored
         val result = if (waitBehind) {
@@ -251,6 +258,39 @@ internal class StageService(
         }
         whole.ids.forEach(recent::add)
         return if (waitBehind && result.taken.isEmpty()) null else result.taken
+    }
+
+    /** What [storeWatched] took next: [taken], or `null` to read the processing list again. */
+    private class Next(val taken: List<TakenEntry>?)
+
+    /**
+     * Stores a lone request's [output] without the script, if the take of [entry] was watched on
+     * this connection ([RequestStep.storeWatched]), with the next blocking take behind it; `null` if
+     * it could not be tried (store it with the script). A transaction Redis refused (the lease was
+     * renewed, lost or lapsed since the take, or the target is not a list) is stored at once by the
+     * general step on a connection of its own, which answers the fence and dead-letters as usual;
+     * the take already written behind it is read after that (what it moved is in the processing
+     * list, read there next).
+     */
+    private suspend fun storeWatched(session: RedisSession, step: RequestStep, whole: StepBatch, entry: ByteArray, output: RequestOutput): Next? {
+        var watched: redis.clients.jedis.Jedis? = null
+        val stored = session.once(null, idleWaitMillis) { jedis ->
+            if (!step.isWatched(jedis, entry)) return@once null
+            watched = jedis
+            step.storeWatched(jedis, output, idleWaitArgument)
+        } ?: return null
+        waitBehindStep = true // the connection is as after a stored request step: a take behind the next step is safe
+        if (!stored) {
+            try {
+                RedisSession(core.connections).use { side -> runStep(side, whole, ack = 1, take = 0) }
+            } catch (e: Throwable) {
+                session.abort() // the take written behind is not read: the connection cannot be used again
+                throw e
+            }
+        }
+        whole.ids.forEach(recent::add)
+        val moved = session.once(null, idleWaitMillis) { jedis -> if (jedis === watched) step.readTakeBehind(jedis) else null }
+        return Next(if (!stored || moved == null) null else listOf(TakenEntry(moved, moved.size.toLong())))
     }
 
     /**
