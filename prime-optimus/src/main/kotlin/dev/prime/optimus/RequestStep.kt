@@ -1,5 +1,6 @@
 package dev.prime.optimus
 
+import redis.clients.jedis.CommandArguments
 import redis.clients.jedis.Connection
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
@@ -127,11 +128,11 @@ internal class RequestStep(
         RedisConnections.writing(jedis) {
             // a connection Jedis would open again has lost the WATCH: never send the transaction on it
             if (!connection.isConnected || connection.isBroken) throw JedisConnectionException("the connection that watched the take is closed")
-            connection.sendCommand(Protocol.Command.MULTI)
-            connection.sendCommand(Protocol.Command.LMOVE, processing, output.target, LEFT, RIGHT)
-            connection.sendCommand(Protocol.Command.LSET, output.target, LAST, output.entry)
-            if (output.isReply) connection.sendCommand(Protocol.Command.PEXPIRE, output.target, replyTtl)
-            connection.sendCommand(Protocol.Command.EXEC)
+            connection.sendCommand(MULTI)
+            connection.sendCommand(commandOf(Protocol.Command.LMOVE, processing, output.target, LEFT, RIGHT))
+            connection.sendCommand(commandOf(Protocol.Command.LSET, output.target, LAST, output.entry))
+            if (output.isReply) connection.sendCommand(commandOf(Protocol.Command.PEXPIRE, output.target, replyTtl))
+            connection.sendCommand(EXEC)
             sendTake(connection, waitSeconds, unwatch = false) // EXEC ended every WATCH
             connection.getMany(0) // flushes the write, reads nothing
         }
@@ -153,13 +154,28 @@ internal class RequestStep(
     }
 
     private fun sendTake(connection: Connection, waitSeconds: ByteArray, unwatch: Boolean) {
-        connection.sendCommand(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        val take = if (waitSeconds === takeWait) takeCommand else commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        connection.sendCommand(take)
         // answered when the take ends: an earlier WATCH left on the connection could only make a later EXEC refuse
-        if (unwatch) connection.sendCommand(Protocol.Command.UNWATCH)
-        connection.sendCommand(Protocol.Command.WATCH, fence.lease, processing)
-        connection.sendCommand(Protocol.Command.GET, fence.lease)
-        connection.sendCommand(Protocol.Command.LLEN, processing)
-        connection.sendCommand(Protocol.Command.LLEN, input)
+        if (unwatch) connection.sendCommand(UNWATCH)
+        for (command in watchGroup) connection.sendCommand(command)
+    }
+
+    /** The commands every take writes (built once: nothing of them is allocated per request). */
+    private var takeWait: ByteArray? = null
+    private var takeCommand: CommandArguments = commandOf(Protocol.Command.BLMOVE)
+    private val watchGroup = listOf(
+        commandOf(Protocol.Command.WATCH, fence.lease, processing),
+        commandOf(Protocol.Command.GET, fence.lease),
+        commandOf(Protocol.Command.LLEN, processing),
+        commandOf(Protocol.Command.LLEN, input),
+    )
+
+    /** Builds the take command for [waitSeconds] once, for a service that always waits as long. */
+    fun waitingUpTo(waitSeconds: ByteArray): RequestStep {
+        takeWait = waitSeconds
+        takeCommand = commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        return this
     }
 
     /**
@@ -215,6 +231,9 @@ internal class RequestStep(
         val ZERO = "0".toByteArray(UTF_8)
         val LEFT = "LEFT".toByteArray(UTF_8)
         val LAST = "-1".toByteArray(UTF_8)
+        val MULTI = commandOf(Protocol.Command.MULTI)
+        val EXEC = commandOf(Protocol.Command.EXEC)
+        val UNWATCH = commandOf(Protocol.Command.UNWATCH)
         val RIGHT = "RIGHT".toByteArray(UTF_8)
 
         fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)

@@ -74,6 +74,9 @@ internal class StageService(
     /** The cheaper step of a lone request, for a service only called (see [RequestStep]). */
     private val requestStep = if (counted) null else RequestStep(processing, input, fence, rules)
 
+    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
+    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8).also { requestStep?.waitingUpTo(it) }
+
     /**
      * Whether the last request step on this connection stored its request: only then is the next
      * blocking take written behind a request step. A step the script could not store (its script
@@ -81,8 +84,6 @@ internal class StageService(
      * take ended, up to a poll slice later.
      */
     private var waitBehindStep = false
-    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
-    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8)
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
