@@ -57,7 +57,7 @@ internal class RedisConnections(
     fun release(jedis: Jedis) {
         open.remove(jedis)
         try {
-            writing(jedis) { jedis.close() }
+            jedis.close()
         } catch (_: RuntimeException) {
             // a broken connection may fail to close cleanly; it is gone either way
         }
@@ -120,14 +120,6 @@ internal class RedisConnections(
          * the topology's slot or the cluster is between masters (redirected, `CLUSTERDOWN`,
          * `TRYAGAIN`, `READONLY`, `MASTERDOWN`), or too few replicas confirmed it ([ReplicaAcks]).
          */
-        /**
-         * Runs [block], which writes commands to [jedis] and flushes them, so that [release] cannot
-         * close the connection in between: Jedis opens a closed connection again on the next command,
-         * and a write whose first commands went to the old connection and the rest to a new one would
-         * lose what the first set up there (a `WATCH`, a `MULTI`). Never held while waiting for Redis.
-         */
-        fun <T> writing(jedis: Jedis, block: () -> T): T = synchronized(jedis.connection) { block() }
-
         fun isTransient(e: Exception): Boolean =
             e is JedisConnectionException || e is JedisRedirectionException || e is ReplicaAcksMissing ||
                 (e is JedisDataException && TRANSIENT_ERRORS.any { e.message?.startsWith(it) == true })

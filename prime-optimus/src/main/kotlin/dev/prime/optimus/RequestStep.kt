@@ -44,8 +44,8 @@ internal class RequestOutput(val target: ByteArray, val entry: ByteArray, val is
  * step instead, which answers the fence and dead-letters as usual. The transaction costs Redis
  * about a third of the script's time (no Lua). It must run on the very connection that sent the
  * `WATCH` (a new connection has none and would run unfenced): [storeWatched] checks the
- * connection it is given and Jedis's own state, and [RedisConnections.release] cannot close a
- * connection while it writes. A target of the wrong type gets the reply expiry (`PEXPIRE` cannot
+ * connection it is given, and a connection closed meanwhile is never opened again ([OneSocket]),
+ * so what was written to it before it closed is discarded with it by Redis. A target of the wrong type gets the reply expiry (`PEXPIRE` cannot
  * be made to depend on the `LMOVE`); its value is left as it was.
  */
 internal class RequestStep(
@@ -125,17 +125,14 @@ internal class RequestStep(
         check(jedis === watchedOn) { "the step of a request without the script needs the WATCH of its take on the same connection" }
         forget()
         val connection = jedis.connection
-        RedisConnections.writing(jedis) {
-            // a connection Jedis would open again has lost the WATCH: never send the transaction on it
-            if (!connection.isConnected || connection.isBroken) throw JedisConnectionException("the connection that watched the take is closed")
-            connection.sendCommand(MULTI)
-            connection.sendCommand(commandOf(Protocol.Command.LMOVE, processing, output.target, LEFT, RIGHT))
-            connection.sendCommand(commandOf(Protocol.Command.LSET, output.target, LAST, output.entry))
-            if (output.isReply) connection.sendCommand(commandOf(Protocol.Command.PEXPIRE, output.target, replyTtl))
-            connection.sendCommand(EXEC)
-            sendTake(connection, waitSeconds, unwatch = false) // EXEC ended every WATCH
-            connection.getMany(0) // flushes the write, reads nothing
-        }
+        // a closed connection has lost the WATCH: it fails here, or at the first command written after it closed ([OneSocket])
+        if (!connection.isConnected || connection.isBroken) throw JedisConnectionException("the connection that watched the take is closed")
+        connection.sendCommand(MULTI)
+        connection.sendCommand(commandOf(Protocol.Command.LMOVE, processing, output.target, LEFT, RIGHT))
+        connection.sendCommand(commandOf(Protocol.Command.LSET, output.target, LAST, output.entry))
+        if (output.isReply) connection.sendCommand(commandOf(Protocol.Command.PEXPIRE, output.target, replyTtl))
+        connection.sendCommand(EXEC)
+        sendTake(connection, waitSeconds, unwatch = false) // EXEC ended every WATCH
         val answers = connection.getMany(if (output.isReply) 5 else 4)
         val exec = answers.last() as? List<*> ?: return false // refused: a WATCHed key changed, or a command was refused at queueing
         return exec.none { it is Exception } && exec[0] != null

@@ -280,7 +280,6 @@ internal class StageService(
             watched = jedis
             step.storeWatched(jedis, output, idleWaitArgument)
         } ?: return null
-        waitBehindStep = true // the connection is as after a stored request step: a take behind the next step is safe
         if (!stored) {
             try {
                 RedisSession(core.connections).use { side -> runStep(side, whole, ack = 1, take = 0) }

@@ -103,6 +103,17 @@ class WatchedRequestStepTest {
     }
 
     @Test
+    fun aClosedConnectionFailsInsteadOfOpeningAgainWithoutWhatItHeld() {
+        val jedis = core.connections.open()
+        val clients = raw.clientList().lines().count { it.isNotBlank() }
+        core.connections.release(jedis)
+        // Jedis itself would open a new socket here, without the WATCH, the MULTI or the login of the old one
+        assertThrows<JedisConnectionException> { jedis.rpush(input, request) }
+        assertEquals(0L, raw.llen(input), "nothing was written")
+        assertEquals(clients - 1, raw.clientList().lines().count { it.isNotBlank() }, "no connection was opened in its place")
+    }
+
+    @Test
     fun aTakeWithAnythingElseToStoreFirstIsNotWatched() {
         core.connections.open().use { jedis ->
             raw.rpush(input, request, request)
