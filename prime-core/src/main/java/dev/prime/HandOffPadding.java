@@ -11,7 +11,9 @@ package dev.prime;
  * thread that reads and read by publishers only when they might lap it. Unpadded, these fields sat
  * next to fields the other thread reads ({@code ring}, {@code closed}, a reader's {@code
  * readerClosed}) and, depending on where the allocator put a reader, next to its source's counters:
- * every value then moved a cache line between the cores once more (false sharing). The padding is
+ * every value then moved a cache line between the cores once more (false sharing). {@code claimed}
+ * and {@code count} are on lines of their own too: a service's input watches only {@code count},
+ * so the publisher's compare-and-set of {@code claimed} finds its line where it left it. The padding is
  * plain {@code long} fields nobody reads; {@code @Contended} would do the same but needs {@code
  * -XX:-RestrictContended} outside the JDK.
  */
@@ -23,11 +25,19 @@ final class HandOffPadding {
     long p00, p01, p02, p03, p04, p05, p06, p07, p08, p09, p10, p11, p12, p13, p14, p15;
   }
 
-  /** A source's publication counters: see {@link MemorySource} for what they mean. */
-  abstract static class Sequences extends PadBefore {
+  /** A source's publishers' token: see {@link MemorySource} for what it means. */
+  abstract static class Claimed extends PadBefore {
     /** The publishers' token: {@code count}, or {@code count + 1} while a publisher holds it. */
     volatile long claimed;
+  }
 
+  /** Two cache lines between the token and the count. */
+  abstract static class PadBetween extends Claimed {
+    long m00, m01, m02, m03, m04, m05, m06, m07, m08, m09, m10, m11, m12, m13, m14, m15;
+  }
+
+  /** A source's publication count, after its token and padding. */
+  abstract static class Sequences extends PadBetween {
     /** Values fully published; written by the token's holder. */
     volatile long count;
   }

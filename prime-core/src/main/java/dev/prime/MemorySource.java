@@ -72,17 +72,33 @@ import org.slf4j.LoggerFactory;
  * every hand-over, twice per burst of values: the hand-off's slow mode (~360 ns a value instead of
  * ~110). Yielding gives the core to the publisher within 2 µs; on a core of its own a yield
  * returns at once and costs a system call, so a reader still sees a value within about a
- * microsecond. Then it registers in {@code sleepers}
- * (raising {@code parked}), looks once more and parks. A publisher reads {@code parked} after
- * writing {@code count} (both volatile, so either the publisher sees the sleeper or the sleeper
- * sees the value) and, only if it is not zero, unparks every sleeper and empties the list: a
- * reader is woken once, not once per value, and a woken reader never contends with the publisher
- * for a lock. Before the rewrite, readers waited on a condition of the publishers' lock, so a
- * woken reader had to take that lock back while the publisher wanted it for the next value.
+ * microsecond.
  *
- * <p>Layout: {@code claimed} and {@code count}, written per value by publishers, and each
- * reader's {@code cursor}, written per value by its reader, are padded onto cache lines of their
- * own ({@link HandOffPadding}), so neither thread's writes evict the fields the other only reads.
+ * <p>Parking without a fence per publish: a reader that spun and yielded in vain announces itself
+ * ({@code waiting}, one atomic add per parking wait), registers in {@code sleepers} (raising
+ * {@code parked}), looks once more and parks. A publisher writes {@code count} with a release
+ * store and reads {@code waiting} with an acquire load, and only if it is not zero does it take
+ * a full fence and read {@code parked}, then unpark every sleeper and empty the list: a reader is
+ * woken once, not once per value, and a woken reader never contends with the publisher for a
+ * lock. The fenced pair ({@code count} then {@code parked} against {@code parked} then {@code
+ * count}) means either the publisher sees the sleeper or the sleeper sees the value. A volatile
+ * store of {@code count} would fence every publish, and that fence waits for the cache line of
+ * {@code count} to come back from the reader's core whenever the reader looked at it since: it
+ * made a steady flow 2 to 3 times slower (33–83 ns a value against 20–30 measured without it).
+ * The unfenced check can miss only an announcement that was not yet visible when the publisher
+ * looked, that is a publish overlapping the announcement, whose value then sits in the
+ * publisher's store buffer, which drains in nanoseconds; so the reader's first park after its
+ * announcement lasts at most {@link #UNFENCED_WINDOW_NANOS} (50 µs), after which it looks again
+ * and parks for as long as it must. The worst case of that race is one value seen 50 µs late; the
+ * cost is one extra wake-up per parking wait (a thread that parks for good wakes once more).
+ * (On ARM the release store and the acquire load are not reordered at all.) Before the rewrite,
+ * readers waited on a condition of the publishers' lock, so a woken reader had to take that lock
+ * back while the publisher wanted it for the next value.
+ *
+ * <p>Layout: {@code claimed} (the token, which a service's input never reads), {@code count}
+ * (which every reader watches) and each reader's {@code cursor} are padded onto cache lines of
+ * their own ({@link HandOffPadding}): the publisher's compare-and-set of the token stays on a line
+ * no reader pulls away, and neither thread's writes evict the fields the other only reads.
  *
  * <p>Copies: with a {@link ValueCodec} (the core's {@code copyValues} option) the ring holds each
  * value encoded at publish time, and every read decodes a copy of its own, as if each reader were
@@ -109,6 +125,17 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
    */
   static final long YIELD_NANOS = TimeUnit.MICROSECONDS.toNanos(200);
 
+  /**
+   * How long after a reader announced itself to publishers ({@code waiting}) a publish may still
+   * have missed the announcement: the reader's first park after it announced lasts no longer, then
+   * it looks again. A publisher that missed the announcement has its value in its CPU's store
+   * buffer, which drains in nanoseconds; 50 µs is a margin of thousands.
+   */
+  static final long UNFENCED_WINDOW_NANOS = TimeUnit.MICROSECONDS.toNanos(50);
+
+  /** {@code announced} of a reader that has not announced itself: see {@code MemoryReader.await}. */
+  private static final long NOT_ANNOUNCED = Long.MIN_VALUE;
+
   /** Longest single park of a publisher waiting for room in a service's input. */
   private static final long MAX_ROOM_PARK_NANOS = TimeUnit.MILLISECONDS.toNanos(1);
 
@@ -120,12 +147,16 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
 
   private static final VarHandle CLAIMED;
   private static final VarHandle CURSOR;
+  private static final VarHandle COUNT;
+  private static final VarHandle WAITING;
   private static final VarHandle MISSED;
 
   static {
     try {
       MethodHandles.Lookup lookup = MethodHandles.lookup();
-      CLAIMED = lookup.findVarHandle(HandOffPadding.Sequences.class, "claimed", long.class);
+      CLAIMED = lookup.findVarHandle(HandOffPadding.Claimed.class, "claimed", long.class);
+      COUNT = lookup.findVarHandle(HandOffPadding.Sequences.class, "count", long.class);
+      WAITING = lookup.findVarHandle(MemorySource.class, "waiting", int.class);
       CURSOR = lookup.findVarHandle(HandOffPadding.Cursor.class, "cursor", long.class);
       MISSED = lookup.findVarHandle(MemorySource.MemoryReader.class, "missed", long.class);
     } catch (ReflectiveOperationException e) {
@@ -147,6 +178,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
   // claimed (the token: count, or count + 1 while a publisher holds it) and count (values fully
   // published, written by the token's holder) are inherited, alone on their cache lines
   private volatile int parked; // sleepers.size(), written under sleepers' monitor
+  private volatile int waiting; // readers past their spin, so perhaps parking: changed with WAITING
   private volatile boolean closed; // written by the token's holder
   private volatile MemoryReader[] gates = noGates(); // replaced by the token's holder: inputs
   private long gate = Long.MAX_VALUE; // guarded by the token: lowest gating cursor last seen
@@ -261,9 +293,9 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
         }
       }
       ring[index(sequence)] = stored;
-      count = sequence + 1; // the value is visible, and the token free
-      if (parked != 0) {
-        wakeReaders();
+      COUNT.setRelease(this, sequence + 1); // the value is visible, and the token free
+      if ((int) WAITING.getAcquire(this) != 0) {
+        wakeSleepers();
       }
       return;
     }
@@ -372,6 +404,18 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
             + " longer with CoreConfig.Builder.publishTimeout(d).");
   }
 
+  /**
+   * A publish's path when some reader announced that it may park: a full fence orders the store of
+   * {@code count} before the load of {@code parked} (paired with the sleeper's registration in
+   * {@link #sleep}: either this publisher sees the sleeper or the sleeper sees the value).
+   */
+  private void wakeSleepers() {
+    VarHandle.fullFence();
+    if (parked != 0) {
+      wakeReaders();
+    }
+  }
+
   /** Unparks every registered sleeper and empties the list: each is woken once. */
   private void wakeReaders() {
     synchronized (sleepers) {
@@ -385,15 +429,18 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
 
   /**
    * Parks the calling thread once, registered as a sleeper, unless {@code reader} is ready by
-   * then; the caller looks again whatever woke it (a publish, a close, the deadline, an interrupt
-   * or nothing).
+   * then; the caller looks again whatever woke it (a publish, a close, the deadline, an interrupt,
+   * the end of the unfenced window or nothing). Within {@link #UNFENCED_WINDOW_NANOS} of the
+   * reader's announcement the park is timed to end with the window: a publish that overlapped the
+   * announcement may not have looked for sleepers.
    *
    * @param reader the reader waiting
+   * @param announced {@link System#nanoTime()} when the reader announced itself to publishers
    * @param deadline {@link System#nanoTime()} to wake at, if {@code timed}
    * @param timed whether to wake at the deadline
    * @throws InterruptedException if the thread is interrupted (its flag is cleared)
    */
-  private void sleep(MemoryReader reader, long deadline, boolean timed)
+  private void sleep(MemoryReader reader, long announced, long deadline, boolean timed)
       throws InterruptedException {
     Thread me = Thread.currentThread();
     synchronized (sleepers) {
@@ -405,8 +452,12 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
         throw new InterruptedException();
       }
       if (!reader.ready()) {
-        if (timed) {
-          LockSupport.parkNanos(this, deadline - System.nanoTime());
+        long now = System.nanoTime();
+        long window = announced + UNFENCED_WINDOW_NANOS - now;
+        if (window > 0 && (!timed || window < deadline - now)) {
+          LockSupport.parkNanos(this, window);
+        } else if (timed) {
+          LockSupport.parkNanos(this, deadline - now);
         } else {
           LockSupport.park(this);
         }
@@ -489,6 +540,14 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     return input instanceof MemorySource<?>.MemoryReader reader
         ? Math.max(0, count - reader.cursor)
         : 0;
+  }
+
+  /**
+   * {@return how many takes announced that they may park and have not ended: publishers take the
+   * fenced path while it is not zero, so every take must withdraw its announcement; for tests}
+   */
+  int announcedReaders() {
+    return waiting;
   }
 
   /** {@return how many values this source's readers missed in all, for metrics} */
@@ -618,14 +677,56 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     }
 
     /**
-     * Waits without parking while there is nothing to read: spins for {@code spinNanos} ({@link
-     * #SPIN_NANOS}), then yields the core between looks until {@code waitNanos} ({@link
-     * #YIELD_NANOS}) have passed (or the deadline, if
-     * {@code timed}). The budget is time, not rounds, so it does not depend on how a JVM compiled
-     * the loop or on the CPU's pause instruction.
+     * Waits once for something to read: spins, then yields the core between looks, then announces
+     * the reader to publishers and parks; the caller looks again after each call. {@code
+     * announced} carries the announcement from call to call of one take, so a take announces once
+     * however often it parks, and the take withdraws it ({@link #withdraw}) when it ends.
      *
-     * @return whether the reader is ready; false: the caller parks
+     * <p>Spinning for {@code spinNanos} ({@link #SPIN_NANOS}) is for steady flows, where the next
+     * value comes within a microsecond; yielding, until {@code waitNanos} ({@link #YIELD_NANOS})
+     * in all, for a publisher that shares the reader's core. Neither is announced: publishers look
+     * for sleepers only when some reader announced that it may park, so a flow whose reader never
+     * parks costs its publishers no fence. The first park after the announcement ends with {@link
+     * #UNFENCED_WINDOW_NANOS} (see {@link MemorySource#sleep}). Budgets are time, not rounds, so
+     * they do not depend on how a JVM compiled the loop or on the CPU's pause instruction.
+     *
+     * @param announced when this take announced itself, or {@link #NOT_ANNOUNCED}
+     * @param deadline {@link System#nanoTime()} to give up at, if {@code timed}
+     * @param timed whether there is a deadline
+     * @return when this take announced itself, or {@link #NOT_ANNOUNCED}
+     * @throws InterruptedException if the thread is interrupted while parked
      */
+    private long await(long announced, long deadline, boolean timed) throws InterruptedException {
+      boolean announcing = announced == NOT_ANNOUNCED;
+      if (announcing) {
+        if (spin(deadline, timed) || yieldCore(System.nanoTime(), deadline, timed)) {
+          return NOT_ANNOUNCED;
+        }
+        WAITING.getAndAdd(MemorySource.this, 1);
+        long now = System.nanoTime();
+        announced = now == NOT_ANNOUNCED ? now + 1 : now;
+      }
+      try {
+        if (!timed || deadline - System.nanoTime() > 0) {
+          sleep(this, announced, deadline, timed);
+        }
+      } catch (InterruptedException | RuntimeException | Error e) {
+        if (announcing) { // the caller never learns of this announcement: withdraw it here
+          withdraw(announced);
+        }
+        throw e;
+      }
+      return announced;
+    }
+
+    /** Ends the announcement {@link #await} made, if it made one. */
+    private void withdraw(long announced) {
+      if (announced != NOT_ANNOUNCED) {
+        WAITING.getAndAdd(MemorySource.this, -1);
+      }
+    }
+
+    /** Spins for {@code spinNanos} (or to the deadline); whether the reader is ready. */
     private boolean spin(long deadline, boolean timed) {
       for (int i = 0; i < SPINS_PER_CLOCK_READ; i++) { // most waits of a steady flow end here
         if (ready()) {
@@ -644,7 +745,16 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
         }
         now = System.nanoTime();
       }
-      while (now - start < waitNanos && !(timed && now - deadline >= 0)) {
+      return ready();
+    }
+
+    /**
+     * Yields the core between looks from {@code announced} until {@code waitNanos - spinNanos}
+     * have passed (or the deadline); whether the reader is ready.
+     */
+    private boolean yieldCore(long announced, long deadline, boolean timed) {
+      long now = announced;
+      while (now - announced < waitNanos - spinNanos && !(timed && now - deadline >= 0)) {
         Thread.yield();
         if (ready()) {
           return true;
@@ -656,14 +766,17 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
 
     @Override
     public T take() throws InterruptedException {
-      while (true) {
-        T value = next();
-        if (value != null) {
-          return value;
+      long announced = NOT_ANNOUNCED;
+      try {
+        while (true) {
+          T value = next();
+          if (value != null) {
+            return value;
+          }
+          announced = await(announced, 0, false);
         }
-        if (!spin(0, false)) {
-          sleep(this, 0, false);
-        }
+      } finally {
+        withdraw(announced);
       }
     }
 
@@ -672,17 +785,20 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
       Objects.requireNonNull(timeout, "timeout must not be null");
       long nanos = timeout.isNegative() ? 0 : saturatedNanos(timeout);
       long deadline = System.nanoTime() + nanos;
-      while (true) {
-        T value = next();
-        if (value != null) {
-          return Optional.of(value);
+      long announced = NOT_ANNOUNCED;
+      try {
+        while (true) {
+          T value = next();
+          if (value != null) {
+            return Optional.of(value);
+          }
+          if (deadline - System.nanoTime() <= 0) {
+            return Optional.empty();
+          }
+          announced = await(announced, deadline, true);
         }
-        if (deadline - System.nanoTime() <= 0) {
-          return Optional.empty();
-        }
-        if (!spin(deadline, true) && deadline - System.nanoTime() > 0) {
-          sleep(this, deadline, true);
-        }
+      } finally {
+        withdraw(announced);
       }
     }
 
@@ -699,38 +815,45 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
         sink.accept(take());
         return;
       }
-      while (true) {
-        long available = count;
-        ensureReaderOpen();
-        if (closed) {
-          throw new CoreClosedException(core.name());
-        }
-        long position = cursor;
-        if (position >= available) {
-          if (!spin(0, false)) {
-            sleep(this, 0, false);
-          }
-          continue;
-        }
-        Object[] slots = ring;
-        int index = index(position);
+      long announced = NOT_ANNOUNCED;
+      try {
         while (true) {
-          Object value = slots[index];
-          VarHandle.acquireFence(); // read the slot before checking that this input still gates
-          if (readerClosed || value == null) {
-            break; // closed meanwhile: the checks above throw
+          long available = count;
+          ensureReaderOpen();
+          if (closed) {
+            throw new CoreClosedException(core.name());
           }
-          CURSOR.setRelease(this, ++position); // the slot is read: a publisher may reuse it
-          if (!sink.accept(decode(value))) {
-            return;
+          long position = cursor;
+          if (position >= available) {
+            announced = await(announced, 0, false);
+            continue;
           }
-          if (position == available) {
-            return;
+          if (announced != NOT_ANNOUNCED) { // values came: a publisher need not look for us
+            withdraw(announced);
+            announced = NOT_ANNOUNCED;
           }
-          if (++index == slots.length) {
-            index = 0;
+          Object[] slots = ring;
+          int index = index(position);
+          while (true) {
+            Object value = slots[index];
+            VarHandle.acquireFence(); // read the slot before checking that this input still gates
+            if (readerClosed || value == null) {
+              break; // closed meanwhile: the checks above throw
+            }
+            CURSOR.setRelease(this, ++position); // the slot is read: a publisher may reuse it
+            if (!sink.accept(decode(value))) {
+              return;
+            }
+            if (position == available) {
+              return;
+            }
+            if (++index == slots.length) {
+              index = 0;
+            }
           }
         }
+      } finally {
+        withdraw(announced);
       }
     }
 

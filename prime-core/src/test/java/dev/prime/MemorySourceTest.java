@@ -383,4 +383,90 @@ class MemorySourceTest {
       taker.join(10_000);
     }
   }
+
+  /** Waits (bounded) until {@code source} has {@code expected} announced readers. */
+  private static void awaitAnnounced(MemorySource<?> source, int expected) {
+    long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(10);
+    while (source.announcedReaders() != expected) {
+      assertTrue(
+          System.nanoTime() - deadline < 0,
+          "announced readers stayed " + source.announcedReaders() + ", expected " + expected);
+      java.util.concurrent.locks.LockSupport.parkNanos(100_000);
+    }
+  }
+
+  @Test
+  void aTakeThatParkedAnnouncesItselfAndWithdrawsWhenAValueComes() throws Exception {
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 4);
+      Reader<Integer> reader = source.reader();
+      CompletableFuture<Integer> taken = new CompletableFuture<>();
+      Thread taker = new Thread(() -> {
+        try {
+          taken.complete(reader.take());
+        } catch (Throwable e) {
+          taken.completeExceptionally(e);
+        }
+      });
+      taker.start();
+      awaitAnnounced(source, 1); // past its spin and yield: publishers now look for sleepers
+      source.publish(7);
+      assertEquals(7, taken.get(10, TimeUnit.SECONDS));
+      taker.join(10_000);
+      assertEquals(0, source.announcedReaders(), "the take ended: publishers need not fence");
+    }
+  }
+
+  @Test
+  void anExpiredOrInterruptedTakeWithdrawsItsAnnouncement() throws Exception {
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 4);
+      Reader<Integer> reader = source.reader();
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(20)));
+      assertEquals(0, source.announcedReaders());
+
+      CompletableFuture<Throwable> failure = new CompletableFuture<>();
+      Thread taker = new Thread(() -> {
+        try {
+          reader.take();
+          failure.complete(null);
+        } catch (Throwable e) {
+          failure.complete(e);
+        }
+      });
+      taker.start();
+      awaitAnnounced(source, 1);
+      taker.interrupt();
+      assertTrue(failure.get(10, TimeUnit.SECONDS) instanceof InterruptedException);
+      taker.join(10_000);
+      assertEquals(0, source.announcedReaders());
+    }
+  }
+
+  @Test
+  @SuppressWarnings("unchecked") // a service input is a MemoryReader, which is a BatchReader
+  void aServiceInputThatParkedWithdrawsItsAnnouncementBeforeItRunsTheValues() throws Exception {
+    try (BareCore core = new BareCore()) {
+      MemorySource<Integer> source = new MemorySource<>(core, "s", 4);
+      BatchReader<Integer> input = (BatchReader<Integer>) source.serviceInput("svc");
+      CompletableFuture<Integer> announcedWhileRunning = new CompletableFuture<>();
+      Thread service = new Thread(() -> {
+        try {
+          input.takeAvailable(value -> {
+            announcedWhileRunning.complete(source.announcedReaders());
+            return true;
+          });
+        } catch (Throwable e) {
+          announcedWhileRunning.completeExceptionally(e);
+        }
+      });
+      service.start();
+      awaitAnnounced(source, 1);
+      source.publish(1);
+      assertEquals(0, announcedWhileRunning.get(10, TimeUnit.SECONDS),
+          "a service running its values is not parking: its publishers must not fence");
+      service.join(10_000);
+      assertEquals(0, source.announcedReaders());
+    }
+  }
 }

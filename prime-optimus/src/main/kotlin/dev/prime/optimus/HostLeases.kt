@@ -18,7 +18,11 @@ import java.util.concurrent.ConcurrentHashMap
  * never waits, until the lease is free. The
  * set of held services is a concurrent set: [claim] runs on declaring threads, [renew] on the
  * heartbeat thread, [drop] on a service whose step the script fenced (see [Script.STEP]); a lease
- * found taken is removed from it once, by whichever of them sees it first.
+ * found taken is removed from it once, by whichever of them sees it first. [releaseAll] releases
+ * the leases of every service this instance ever tried to claim, not only the held ones: a
+ * standby's claim that Redis granted while the core closed may not be in the held set yet, and
+ * releasing a lease another instance holds changes nothing ([LeaseScripts.HOST_RELEASE] checks
+ * the holder), so the next standby takes over within a third of the lease instead of a whole one.
  */
 internal class HostLeases(
     private val keys: Keys,
@@ -27,6 +31,9 @@ internal class HostLeases(
     private val leaseTime: Duration,
 ) {
     private val held: MutableSet<String> = ConcurrentHashMap.newKeySet()
+
+    /** Every service a claim of this instance named: what [releaseAll] releases. */
+    private val claimed: MutableSet<String> = ConcurrentHashMap.newKeySet()
     private val instanceId = instance.toByteArray(UTF_8)
     private val leaseMillis = leaseTime.toMillis().toString().toByteArray(UTF_8)
 
@@ -45,6 +52,7 @@ internal class HostLeases(
         val started = System.nanoTime()
         val deadline = started + leaseTime.toNanos() + CLAIM_MARGIN.toNanos()
         val all = services.toList()
+        claimed += all
         RedisSession(connections).use { session ->
             while (true) {
                 // all of them each time: this renews the leases already claimed while others are awaited
@@ -91,6 +99,7 @@ internal class HostLeases(
      */
     fun tryClaim(jedis: Jedis, services: List<String>): Map<String, Long> {
         if (services.isEmpty()) return emptyMap()
+        claimed += services // before Redis can grant any: a close from now on releases them
         val holders = claimOnce(jedis, services)
         val refused = LinkedHashMap<String, Long>()
         services.forEachIndexed { i, service ->
@@ -123,9 +132,12 @@ internal class HostLeases(
      */
     fun drop(service: String): Boolean = held.remove(service)
 
-    /** Queues the release of every held lease (only where this instance still holds it). */
+    /**
+     * Queues the release of the lease of every service this instance claimed or tried to claim,
+     * held or not (Redis deletes only those this instance still holds).
+     */
     fun releaseAll(pipeline: Pipeline) {
-        val services = held.toList()
+        val services = (claimed + held).toList()
         held.clear()
         if (services.isNotEmpty()) LeaseScripts.HOST_RELEASE.queue(pipeline, services.map(keys::hostLease), listOf(instanceId))
     }
