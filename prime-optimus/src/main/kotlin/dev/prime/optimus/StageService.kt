@@ -45,6 +45,11 @@ internal fun interface StageLogic {
  * lease of this host's own, with steps sized to about 5 ms of its block's work so that hosts share
  * the input ([HostSeat.nextTake]). A new run of an unordered service gets a new seat ([seatedAt]).
  *
+ * A service only called (not [counted]) stores a lone request's step without the script when
+ * its take was watched ([RequestStep.storeWatched]); a step Redis refuses there is stored at once
+ * by the general step on a second connection ([refusedSteps]), since the first one is then
+ * blocked in the take written behind the step.
+ *
  * Memory: one batch of at most [BATCH] values and [StepRules.batchBytes] bytes (one entry may be
  * bigger, up to the entry size limit), and the last 4096 ids.
  */
@@ -93,8 +98,15 @@ internal class StageService(
     /** This service as one run of a host of a shared ([Hosting.UNORDERED]) service, in [seat]. */
     fun seatedAt(seat: HostSeat): StageService = StageService(name, core, logic, next, output, counted, seat)
 
+    /** Where a refused transaction's request is stored at once (see [storeWatched]); connects when first used. */
+    private val refusedSteps = RedisSession(core.connections)
+
     suspend fun run() {
-        RedisSession(core.connections).use { session -> loop(session) }
+        try {
+            RedisSession(core.connections).use { session -> loop(session) }
+        } finally {
+            refusedSteps.close()
+        }
     }
 
     private suspend fun loop(session: RedisSession) {
@@ -269,7 +281,7 @@ internal class StageService(
      * this connection ([RequestStep.storeWatched]), with the next blocking take behind it; `null` if
      * it could not be tried (store it with the script). A transaction Redis refused (the lease was
      * renewed, lost or lapsed since the take, or the target is not a list) is stored at once by the
-     * general step on a connection of its own, which answers the fence and dead-letters as usual;
+     * general step on a connection of its own ([refusedSteps]), which answers the fence and dead-letters as usual;
      * the take already written behind it is read after that (what it moved is in the processing
      * list, read there next).
      */
@@ -282,7 +294,7 @@ internal class StageService(
         } ?: return null
         if (!stored) {
             try {
-                RedisSession(core.connections).use { side -> runStep(side, whole, ack = 1, take = 0) }
+                runStep(refusedSteps, whole, ack = 1, take = 0)
             } catch (e: Throwable) {
                 session.abort() // the take written behind is not read: the connection cannot be used again
                 throw e
