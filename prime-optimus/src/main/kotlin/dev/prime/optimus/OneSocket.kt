@@ -17,7 +17,9 @@ internal class OneSocket(private val factory: JedisSocketFactory) : JedisSocketF
     private val opened = AtomicBoolean()
 
     override fun createSocket(): Socket {
-        if (!opened.compareAndSet(false, true)) throw JedisConnectionException("the connection was closed; a new one is opened in its place")
+        if (!opened.compareAndSet(false, true)) {
+            throw JedisConnectionException("the connection was closed; a new one is opened in its place")
+        }
         return factory.createSocket()
     }
 }

@@ -45,8 +45,9 @@ internal class RequestOutput(val target: ByteArray, val entry: ByteArray, val is
  * about a third of the script's time (no Lua). It must run on the very connection that sent the
  * `WATCH` (a new connection has none and would run unfenced): [storeWatched] checks the
  * connection it is given, and a connection closed meanwhile is never opened again ([OneSocket]),
- * so what was written to it before it closed is discarded with it by Redis. A target of the wrong type gets the reply expiry (`PEXPIRE` cannot
- * be made to depend on the `LMOVE`); its value is left as it was.
+ * so what was written to it before it closed is discarded with it by Redis. A target of the wrong
+ * type gets the reply expiry (`PEXPIRE` cannot be made to depend on the `LMOVE`); its value is
+ * left as it was.
  */
 internal class RequestStep(
     private val processing: ByteArray,
@@ -151,7 +152,11 @@ internal class RequestStep(
     }
 
     private fun sendTake(connection: Connection, waitSeconds: ByteArray, unwatch: Boolean) {
-        val take = if (waitSeconds === takeWait) takeCommand else commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        val take = if (waitSeconds === takeWait) {
+            takeCommand
+        } else {
+            commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        }
         connection.sendCommand(take)
         // answered when the take ends: an earlier WATCH left on the connection could only make a later EXEC refuse
         if (unwatch) connection.sendCommand(UNWATCH)

@@ -281,11 +281,17 @@ internal class StageService(
      * this connection ([RequestStep.storeWatched]), with the next blocking take behind it; `null` if
      * it could not be tried (store it with the script). A transaction Redis refused (the lease was
      * renewed, lost or lapsed since the take, or the target is not a list) is stored at once by the
-     * general step on a connection of its own ([refusedSteps]), which answers the fence and dead-letters as usual;
-     * the take already written behind it is read after that (what it moved is in the processing
-     * list, read there next).
+     * general step on a connection of its own ([refusedSteps]), which answers the fence and
+     * dead-letters as usual; the take already written behind it is read after that (what it moved
+     * is in the processing list, read there next).
      */
-    private suspend fun storeWatched(session: RedisSession, step: RequestStep, whole: StepBatch, entry: ByteArray, output: RequestOutput): Next? {
+    private suspend fun storeWatched(
+        session: RedisSession,
+        step: RequestStep,
+        whole: StepBatch,
+        entry: ByteArray,
+        output: RequestOutput,
+    ): Next? {
         var watched: redis.clients.jedis.Jedis? = null
         val stored = session.once(null, idleWaitMillis) { jedis ->
             if (!step.isWatched(jedis, entry)) return@once null

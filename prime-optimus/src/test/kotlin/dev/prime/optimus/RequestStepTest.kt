@@ -21,8 +21,8 @@ import java.util.concurrent.TimeUnit
 /**
  * The step of a service only called, for a lone request ([RequestStep]: a transaction its take
  * watched, or [Script.REQUEST_STEP]), keeps the general step's promises: it is what a call's
- * service runs (a handful of plain commands, counted here on a Redis of its own), it is fenced by the host lease (a host whose lease another
- * instance took stores nothing and stops; a lease held by nobody is waited for, then the reply is
+ * service runs (a handful of plain commands, counted here on a Redis of its own), it is fenced by
+ * the host lease (a host whose lease another instance took stores nothing and stops; a lease held by nobody is waited for, then the reply is
  * stored once), a reply key of the wrong type leaves it untouched for the general step to
  * dead-letter, and a chain of several services forwards the request with it.
  */
