@@ -211,9 +211,10 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         val waitMillis = if (wait) waitMillis(deadline) else 0
         return once(deadline, waitMillis) { jedis ->
             val connection = jedis.connection
-            connection.sendCommand(Protocol.Command.DEL, reply)
-            connection.sendCommand(Protocol.Command.RPUSH, input, request)
-            if (wait) connection.sendCommand(Protocol.Command.BLMOVE, reply, reply, LEFT, RIGHT, seconds(waitMillis))
+            // arguments Jedis does not copy: the request is written as it is
+            connection.sendCommand(commandOf(Protocol.Command.DEL, reply))
+            connection.sendCommand(commandOf(Protocol.Command.RPUSH, input, request))
+            if (wait) connection.sendCommand(commandOf(Protocol.Command.BLMOVE, reply, reply, LEFT, RIGHT, seconds(waitMillis)))
             val answers = connection.getMany(if (wait) 3 else 2)
             answers.forEach { if (it is RuntimeException) throw it }
             if (wait) answers[2] as ByteArray? else null
@@ -308,7 +309,10 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         private val LEFT = "LEFT".toByteArray()
         private val RIGHT = "RIGHT".toByteArray()
 
-        private fun seconds(millis: Long) = (millis / 1000.0).toString().toByteArray()
+        private val POLL_SECONDS_ARGUMENT = RedisConnections.POLL_SECONDS.toString().toByteArray()
+
+        private fun seconds(millis: Long) =
+            if (millis == (RedisConnections.POLL_SECONDS * 1000).toLong()) POLL_SECONDS_ARGUMENT else (millis / 1000.0).toString().toByteArray()
 
         /** The exception for [what] that gave up at its deadline because Redis was unreachable since [started]. */
         fun unavailable(what: String, started: Long, last: Exception): RedisUnavailableException {

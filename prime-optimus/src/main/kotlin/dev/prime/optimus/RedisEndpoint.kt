@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.DefaultJedisClientConfig
+import redis.clients.jedis.DefaultJedisSocketFactory
 import redis.clients.jedis.HostAndPort
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.JedisClientConfig
@@ -108,9 +109,12 @@ internal class RedisEndpoint private constructor(
             return config.build()
         }
 
-        /** A connection to [address], connected (errors are Jedis's, which never hold the password). */
+        /**
+         * A connection to [address], connected (errors are Jedis's, which never hold the password).
+         * Its socket is opened once ([OneSocket]): a closed connection fails, never reconnects.
+         */
         fun open(address: HostAndPort, config: JedisClientConfig): Jedis {
-            val jedis = Jedis(address, config)
+            val jedis = Jedis(OneSocket(DefaultJedisSocketFactory(address, config)), config)
             try {
                 jedis.connect()
             } catch (e: RuntimeException) {

@@ -1,7 +1,10 @@
 package dev.prime.optimus
 
+import redis.clients.jedis.CommandArguments
+import redis.clients.jedis.Connection
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
+import redis.clients.jedis.exceptions.JedisConnectionException
 import redis.clients.jedis.exceptions.JedisNoScriptException
 import java.nio.charset.StandardCharsets.UTF_8
 
@@ -26,6 +29,25 @@ internal class RequestOutput(val target: ByteArray, val entry: ByteArray, val is
  * costs Redis one read per request, not two. The step then leaves one entry of a backlog in the
  * input for that take, so the take never waits while the service holds entries to handle. What the
  * take moved is in the processing list behind what the step took, as a crash would leave it.
+ *
+ * Design note: the step without a script ([storeWatched]). Every blocking take this class writes
+ * is followed, in the same write, by `WATCH lease processing`, `GET lease`, `LLEN processing` and
+ * `LLEN input`; Redis runs them when the take ends, so their answers come with the taken entry. If
+ * the lease held this instance's id, the processing list held just the taken entry and the input
+ * was empty (a service that keeps up, the call path), the step of that entry can be a transaction
+ * of plain commands: `MULTI`, `LMOVE processing target` (the acknowledgement: it fails, moving
+ * nothing, when the target is not a list), `LSET target -1 entry` (the moved request becomes the
+ * result), `PEXPIRE` for a reply, `EXEC`. Redis refuses the `EXEC` if the lease or the processing
+ * list was touched or expired after the `WATCH`: lost to another instance, lapsed, or renewed by
+ * this instance's heartbeat. So a host that lost its lease stores nothing, as with the script; a
+ * step refused for any reason (the lease, a target of the wrong type) is stored by the general
+ * step instead, which answers the fence and dead-letters as usual. The transaction costs Redis
+ * about a third of the script's time (no Lua). It must run on the very connection that sent the
+ * `WATCH` (a new connection has none and would run unfenced): [storeWatched] checks the
+ * connection it is given, and a connection closed meanwhile is never opened again ([OneSocket]),
+ * so what was written to it before it closed is discarded with it by Redis. A target of the wrong
+ * type gets the reply expiry (`PEXPIRE` cannot be made to depend on the `LMOVE`); its value is
+ * left as it was.
  */
 internal class RequestStep(
     private val processing: ByteArray,
@@ -54,20 +76,128 @@ internal class RequestStep(
      * refused counts as one that moved nothing.
      */
     fun executeThenWait(jedis: Jedis, output: RequestOutput, take: Int, waitSeconds: ByteArray): StepResult? {
+        forget()
         val connection = jedis.connection
         Script.REQUEST_STEP.send(connection, keys(output), args(output, take, waitBehind = true))
-        connection.sendCommand(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
-        val answers = connection.getMany(2)
-        val step = answers[0]
+        sendTake(connection, waitSeconds, unwatch = true)
+        val step = connection.getMany(1)[0]
         val result = when (step) {
             // Redis lost its scripts (a restart): nothing was stored; the request is still the processing list's head
-            is JedisNoScriptException -> execute(jedis, output, take = 0)
-            is RuntimeException -> throw step
+            is JedisNoScriptException -> {
+                readTake(jedis, unwatch = true) // the take was written behind the step: its answers come first
+                return execute(jedis, output, take = 0)
+            }
+            is RuntimeException -> {
+                readTake(jedis, unwatch = true)
+                throw step
+            }
             else -> parse(step)
         }
         // a blocking take Redis refused moved nothing (never thrown here: the step may be stored); the next take meets it again
-        val moved = (answers[1] as? ByteArray)?.let { TakenEntry(it, it.size.toLong()) }
+        val moved = readTake(jedis, unwatch = true, guarded = result is StepResult.Stored && result.taken.isEmpty())
+            ?.let { TakenEntry(it, it.size.toLong()) }
         return if (result is StepResult.Stored && moved != null) StepResult.Stored(result.taken + moved, result.missed, result.view) else result
+    }
+
+    /**
+     * The blocking take of an idle service (`BLMOVE input processing`, waiting up to [waitSeconds]),
+     * watched so that the step of what it moves may go without the script ([storeWatched]); the
+     * moved entry, or `null`. A take Redis refused throws its error.
+     */
+    fun takeWatched(jedis: Jedis, waitSeconds: ByteArray): ByteArray? {
+        forget()
+        sendTake(jedis.connection, waitSeconds, unwatch = true)
+        return readTake(jedis, unwatch = true, guarded = true, throwRefusal = true)
+    }
+
+    /** Whether the step of [entry], just taken on [jedis], may be stored by [storeWatched]. */
+    fun isWatched(jedis: Jedis, entry: ByteArray): Boolean = jedis === watchedOn && entry === watchedEntry
+
+    /**
+     * Stores [output] of the entry the last take on [jedis] moved, by a transaction the `WATCH` of
+     * that take guards (see the design note), then writes the next blocking take behind it; returns
+     * whether the transaction stored it (`false`: Redis refused it, nothing was stored, and the
+     * request is still the processing list's head: store it with the general step). Either way,
+     * read the take's answers next with [readTakeBehind] on the same connection.
+     *
+     * @throws IllegalStateException if the entry's take was not watched on this connection
+     */
+    fun storeWatched(jedis: Jedis, output: RequestOutput, waitSeconds: ByteArray): Boolean {
+        check(jedis === watchedOn) { "the step of a request without the script needs the WATCH of its take on the same connection" }
+        forget()
+        val connection = jedis.connection
+        // a closed connection has lost the WATCH: it fails here, or at the first command written after it closed ([OneSocket])
+        if (!connection.isConnected || connection.isBroken) throw JedisConnectionException("the connection that watched the take is closed")
+        connection.sendCommand(MULTI)
+        connection.sendCommand(commandOf(Protocol.Command.LMOVE, processing, output.target, LEFT, RIGHT))
+        connection.sendCommand(commandOf(Protocol.Command.LSET, output.target, LAST, output.entry))
+        if (output.isReply) connection.sendCommand(commandOf(Protocol.Command.PEXPIRE, output.target, replyTtl))
+        connection.sendCommand(EXEC)
+        sendTake(connection, waitSeconds, unwatch = false) // EXEC ended every WATCH
+        val answers = connection.getMany(if (output.isReply) 5 else 4)
+        val exec = answers.last() as? List<*> ?: return false // refused: a WATCHed key changed, or a command was refused at queueing
+        return exec.none { it is Exception } && exec[0] != null
+    }
+
+    /** The take [storeWatched] wrote behind its transaction: the moved entry, or `null` (moved nothing, or Redis refused it). */
+    fun readTakeBehind(jedis: Jedis): ByteArray? = readTake(jedis, unwatch = false, guarded = true)
+
+    /** The connection whose `WATCH` guards the step of [watchedEntry], the entry its last take moved. */
+    private var watchedOn: Jedis? = null
+    private var watchedEntry: ByteArray? = null
+
+    private fun forget() {
+        watchedOn = null
+        watchedEntry = null
+    }
+
+    private fun sendTake(connection: Connection, waitSeconds: ByteArray, unwatch: Boolean) {
+        val take = if (waitSeconds === takeWait) {
+            takeCommand
+        } else {
+            commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        }
+        connection.sendCommand(take)
+        // answered when the take ends: an earlier WATCH left on the connection could only make a later EXEC refuse
+        if (unwatch) connection.sendCommand(UNWATCH)
+        for (command in watchGroup) connection.sendCommand(command)
+    }
+
+    /** The commands every take writes (built once: nothing of them is allocated per request). */
+    private var takeWait: ByteArray? = null
+    private var takeCommand: CommandArguments = commandOf(Protocol.Command.BLMOVE)
+    private val watchGroup = listOf(
+        commandOf(Protocol.Command.WATCH, fence.lease, processing),
+        commandOf(Protocol.Command.GET, fence.lease),
+        commandOf(Protocol.Command.LLEN, processing),
+        commandOf(Protocol.Command.LLEN, input),
+    )
+
+    /** Builds the take command for [waitSeconds] once, for a service that always waits as long. */
+    fun waitingUpTo(waitSeconds: ByteArray): RequestStep {
+        takeWait = waitSeconds
+        takeCommand = commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
+        return this
+    }
+
+    /**
+     * Reads what [sendTake] wrote: the moved entry (`null` if none, or if Redis refused the take,
+     * unless [throwRefusal]). Watches the entry's step when the take is [guarded] (the processing
+     * list held nothing else to store first), the lease held this instance's id, the entry is alone
+     * in the processing list and the input is empty.
+     */
+    private fun readTake(jedis: Jedis, unwatch: Boolean, guarded: Boolean = false, throwRefusal: Boolean = false): ByteArray? {
+        val answers = jedis.connection.getMany(if (unwatch) 6 else 5)
+        val taken = answers[0]
+        if (throwRefusal && taken is RuntimeException) throw taken
+        val moved = taken as? ByteArray ?: return null
+        val at = if (unwatch) 2 else 1
+        val holder = answers[at + 1]
+        if (guarded && holder is ByteArray && holder.contentEquals(fence.instance) && answers[at + 2] == 1L && answers[at + 3] == 0L) {
+            watchedOn = jedis
+            watchedEntry = moved
+        }
+        return moved
     }
 
     private fun keys(output: RequestOutput) = listOf(processing, input, fence.lease, output.target)
@@ -102,6 +232,10 @@ internal class RequestStep(
         val ONE = "1".toByteArray(UTF_8)
         val ZERO = "0".toByteArray(UTF_8)
         val LEFT = "LEFT".toByteArray(UTF_8)
+        val LAST = "-1".toByteArray(UTF_8)
+        val MULTI = commandOf(Protocol.Command.MULTI)
+        val EXEC = commandOf(Protocol.Command.EXEC)
+        val UNWATCH = commandOf(Protocol.Command.UNWATCH)
         val RIGHT = "RIGHT".toByteArray(UTF_8)
 
         fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)

@@ -50,7 +50,9 @@ import java.security.MessageDigest
  * so [COUNT_IDLE_TAKE], pipelined behind it, lowers the queue count by what it took).
  *
  * [REQUEST_STEP] is the step of a service only called (its input holds callers' requests, one
- * value per entry, and keeps no queue count) that handled one request into one result: the reply
+ * value per entry, and keeps no queue count) that handled one request into one result, when the
+ * take of that request was not watched for a step without a script ([RequestStep.storeWatched]:
+ * a backlog, or the first take after a refused transaction): the reply
  * (or, in a chain, the request for the next service), pushed, fenced and acknowledged like [STEP]
  * does it, with the same take; it carries 4 keys and 8 arguments where [STEP] carries 13 and 24,
  * and runs a handful of commands, so a call's step costs Redis about half as much. Anything it

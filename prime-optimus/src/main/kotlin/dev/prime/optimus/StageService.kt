@@ -45,6 +45,11 @@ internal fun interface StageLogic {
  * lease of this host's own, with steps sized to about 5 ms of its block's work so that hosts share
  * the input ([HostSeat.nextTake]). A new run of an unordered service gets a new seat ([seatedAt]).
  *
+ * A service only called (not [counted]) stores a lone request's step without the script when
+ * its take was watched ([RequestStep.storeWatched]); a step Redis refuses there is stored at once
+ * by the general step on a second connection ([refusedSteps]), since the first one is then
+ * blocked in the take written behind the step.
+ *
  * Memory: one batch of at most [BATCH] values and [StepRules.batchBytes] bytes (one entry may be
  * bigger, up to the entry size limit), and the last 4096 ids.
  */
@@ -74,6 +79,9 @@ internal class StageService(
     /** The cheaper step of a lone request, for a service only called (see [RequestStep]). */
     private val requestStep = if (counted) null else RequestStep(processing, input, fence, rules)
 
+    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
+    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8).also { requestStep?.waitingUpTo(it) }
+
     /**
      * Whether the last request step on this connection stored its request: only then is the next
      * blocking take written behind a request step. A step the script could not store (its script
@@ -81,8 +89,6 @@ internal class StageService(
      * take ended, up to a poll slice later.
      */
     private var waitBehindStep = false
-    private val idleWaitMillis = (this.seat.idleWaitSeconds * 1000).toLong()
-    private val idleWaitArgument = this.seat.idleWaitSeconds.toString().toByteArray(UTF_8)
     private val recent = RecentIds()
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
@@ -92,8 +98,15 @@ internal class StageService(
     /** This service as one run of a host of a shared ([Hosting.UNORDERED]) service, in [seat]. */
     fun seatedAt(seat: HostSeat): StageService = StageService(name, core, logic, next, output, counted, seat)
 
+    /** Where a refused transaction's request is stored at once (see [storeWatched]); connects when first used. */
+    private val refusedSteps = RedisSession(core.connections)
+
     suspend fun run() {
-        RedisSession(core.connections).use { session -> loop(session) }
+        try {
+            RedisSession(core.connections).use { session -> loop(session) }
+        } finally {
+            refusedSteps.close()
+        }
     }
 
     private suspend fun loop(session: RedisSession) {
@@ -157,10 +170,9 @@ internal class StageService(
      */
     private fun idleTake(jedis: redis.clients.jedis.Jedis): ByteArray? {
         val membership = seat.membership
-        // a service only called gets requests, which are not counted: a plain take, as cheap as a raw pop
-        if (!counted && membership == null) {
-            return jedis.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
-        }
+        // a service only called gets requests, which are not counted: a plain take, watched for the step without a script
+        // (a host of an unordered service takes with the seat check behind, and its steps go with the script)
+        if (!counted && membership == null) return requestStep!!.takeWatched(jedis, idleWaitArgument)
         val pipeline = jedis.pipelined()
         val moved = pipeline.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, seat.idleWaitSeconds)
         val countKeys = listOf(processing, queued)
@@ -227,7 +239,7 @@ internal class StageService(
         val whole = if (parts.size == 1) parts[0].batch else StepBatch.combine(parts.map { it.batch })
         val output = parts.singleOrNull()?.output
         val stored = try {
-            if (output != null && requestStep != null) return storeRequest(session, whole, output, take)
+            if (output != null && requestStep != null) return storeRequest(session, whole, parts[0].entry.bytes, output, take)
             runStep(session, whole, ack = parts.size, take = take)
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
@@ -246,9 +258,16 @@ internal class StageService(
      * request step could not (a reply key it refused: the general step dead-letters the request;
      * a lease held by nobody: the general step waits for it).
      */
-    private suspend fun storeRequest(session: RedisSession, whole: StepBatch, output: RequestOutput, take: Int): List<TakenEntry>? {
+    private suspend fun storeRequest(
+        session: RedisSession,
+        whole: StepBatch,
+        entry: ByteArray,
+        output: RequestOutput,
+        take: Int,
+    ): List<TakenEntry>? {
         val step = requestStep!!
         // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
+        if (take > 0 && core.connections.replicaAcks == null) storeWatched(session, step, whole, entry, output)?.let { return it.taken }
         val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
         waitBehindStep = false // until this step is stored
         val result = if (waitBehind) {
@@ -265,6 +284,44 @@ internal class StageService(
         }
         whole.ids.forEach(recent::add)
         return if (waitBehind && result.taken.isEmpty()) null else result.taken
+    }
+
+    /** What [storeWatched] took next: [taken], or `null` to read the processing list again. */
+    private class Next(val taken: List<TakenEntry>?)
+
+    /**
+     * Stores a lone request's [output] without the script, if the take of [entry] was watched on
+     * this connection ([RequestStep.storeWatched]), with the next blocking take behind it; `null` if
+     * it could not be tried (store it with the script). A transaction Redis refused (the lease was
+     * renewed, lost or lapsed since the take, or the target is not a list) is stored at once by the
+     * general step on a connection of its own ([refusedSteps]), which answers the fence and
+     * dead-letters as usual; the take already written behind it is read after that (what it moved
+     * is in the processing list, read there next).
+     */
+    private suspend fun storeWatched(
+        session: RedisSession,
+        step: RequestStep,
+        whole: StepBatch,
+        entry: ByteArray,
+        output: RequestOutput,
+    ): Next? {
+        var watched: redis.clients.jedis.Jedis? = null
+        val stored = session.once(null, idleWaitMillis) { jedis ->
+            if (!step.isWatched(jedis, entry)) return@once null
+            watched = jedis
+            step.storeWatched(jedis, output, idleWaitArgument)
+        } ?: return null
+        if (!stored) {
+            try {
+                runStep(refusedSteps, whole, ack = 1, take = 0)
+            } catch (e: Throwable) {
+                session.abort() // the take written behind is not read: the connection cannot be used again
+                throw e
+            }
+        }
+        whole.ids.forEach(recent::add)
+        val moved = session.once(null, idleWaitMillis) { jedis -> if (jedis === watched) step.readTakeBehind(jedis) else null }
+        return Next(if (!stored || moved == null) null else listOf(TakenEntry(moved, moved.size.toLong())))
     }
 
     /**

@@ -295,7 +295,7 @@ internal class SourceView(val readers: List<ByteArray>, val missed: List<ByteArr
 
 /** Ids in the order they were added, unboxed (a step handles up to [StageService.BATCH] values, each with its id). */
 internal class IdList {
-    private var ids = LongArray(16)
+    private var ids = LongArray(2) // most parts hold one id (a lone request or value); a batch grows it
     private var size = 0
 
     operator fun plusAssign(id: Long) {
