@@ -21,8 +21,9 @@ import org.openjdk.jmh.runner.options.TimeValue;
 
 /**
  * The command that runs the throughput targets' benchmarks and judges each target: the in-memory
- * hand-off against the Disruptor, Kotlin Channels and Reactor (5 forks of Prime, so the spread
- * across forks shows), the synchronous sources row, Optimus flows and calls against raw Jedis,
+ * hand-off against the Disruptor, Kotlin Channels and Reactor (5 forks of Prime and of the
+ * Disruptor, so the spread across forks shows, and 5 of a bare core-to-core round trip, {@link
+ * dev.prime.bench.CoreRoundTripBenchmark}, to show the machine's own), the synchronous sources row, Optimus flows and calls against raw Jedis,
  * and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
  * result with its environment) and {@code targets.md} (one line per target: target, figures,
  * verdict), followed by figures reported for information and not judged: the earlier Prime row
@@ -34,7 +35,7 @@ import org.openjdk.jmh.runner.options.TimeValue;
  * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.report.ThroughputTargets report DIR
  * </pre>
  *
- * <p>{@code report} judges an existing {@code DIR/targets.json} again. About 10 minutes on 2 cores.
+ * <p>{@code report} judges an existing {@code DIR/targets.json} again. About 13 minutes on 2 cores.
  */
 public final class ThroughputTargets {
   /** The raw results' file name. */
@@ -96,9 +97,13 @@ public final class ThroughputTargets {
         timed("AsyncHandOffBenchmark\\.primeSource$", 5, 3, 1000, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
             .addProfiler(GCProfiler.class),
-        timed("AsyncHandOffBenchmark\\.(disruptor|kotlinChannel|reactorPublishOn"
-            + "|primeSourceAndReader)$", 2, 3, 1000, 5, 1000)
+        // the Disruptor with as many forks as Prime: its own spread across forks is the machine's
+        timed("AsyncHandOffBenchmark\\.disruptor$", 5, 3, 1000, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4"),
+        timed("AsyncHandOffBenchmark\\.(kotlinChannel|reactorPublishOn|primeSourceAndReader)$",
+            2, 3, 1000, 5, 1000)
+            .param("payload", payloads).param("scenario", "monomorphic").param("length", "4"),
+        timed("CoreRoundTripBenchmark\\.roundTrip$", 5, 3, 1000, 5, 1000),
         timed("SyncSourceBenchmark\\.primeSource$", 1, 3, 500, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
             .addProfiler(GCProfiler.class),
@@ -166,10 +171,12 @@ public final class ThroughputTargets {
   /**
    * Figures reported for information, not judged: the earlier Prime hand-off row, {@code
    * primeSourceAndReader}, at each payload (two thread hand-offs per value where the judged rows
-   * have one, so its time is not comparable with theirs).
+   * have one, so its time is not comparable with theirs); then the spread across forks of the
+   * Disruptor and of {@link dev.prime.bench.CoreRoundTripBenchmark}, which no library's code
+   * moves: how far this machine alone moves a hand-off from fork to fork.
    *
    * @param scores the run's results
-   * @return a Markdown paragraph: a heading line and one line per payload
+   * @return Markdown: two paragraphs, each a heading line and one line per figure
    */
   public static String information(List<Score> scores) {
     StringBuilder out = new StringBuilder(
@@ -182,6 +189,22 @@ public final class ThroughputTargets {
               .map(ThroughputTargets::figure).orElse("no result in this run"))
           .append('\n');
     }
+    out.append("\nFor information, not judged: the machine's own spread across forks in the same"
+        + " run, to read the hand-off's beside (the LMAX Disruptor, and a round trip between two"
+        + " spinning threads with no library at all, `CoreRoundTripBenchmark.roundTrip`):\n\n");
+    for (String payload : PAYLOADS) {
+      Map<String, String> at = Map.of("payload", payload, "scenario", "monomorphic");
+      out.append("- the Disruptor, ").append(bytesName(payload)).append(": ")
+          .append(find(scores, "AsyncHandOffBenchmark.disruptor", at)
+              .filter(s -> s.forkMeans().size() >= 2)
+              .map(ThroughputTargets::forks).orElse("fewer than 2 forks in this run"))
+          .append('\n');
+    }
+    out.append("- a core-to-core round trip: ")
+        .append(find(scores, "CoreRoundTripBenchmark.roundTrip", Map.of())
+            .filter(s -> s.forkMeans().size() >= 2)
+            .map(ThroughputTargets::forks).orElse("fewer than 2 forks in this run"))
+        .append('\n');
     return out.toString();
   }
 
@@ -223,16 +246,25 @@ public final class ThroughputTargets {
     if (prime.forkMeans().size() < 2) {
       return missing(HAND_OFF, target + " (needs at least 2 forks)");
     }
-    double fastest = prime.forkMeans().stream().mapToDouble(Double::doubleValue).min().orElseThrow();
-    double slowest = prime.forkMeans().stream().mapToDouble(Double::doubleValue).max().orElseThrow();
-    StringBuilder forks = new StringBuilder();
-    for (double mean : prime.forkMeans()) {
-      forks.append(forks.length() == 0 ? "" : ", ").append(String.format(Locale.ROOT, "%.0f", mean));
+    return new TargetVerdict(HAND_OFF, target, forks(prime),
+        spread(prime) <= 1.5 ? Outcome.MET : Outcome.NOT_MET);
+  }
+
+  /** The slowest fork's mean over the fastest's. */
+  private static double spread(Score score) {
+    List<Double> means = score.forkMeans();
+    return means.stream().mapToDouble(Double::doubleValue).max().orElseThrow()
+        / means.stream().mapToDouble(Double::doubleValue).min().orElseThrow();
+  }
+
+  /** Each fork's mean and the spread: "5 forks, ns: 25, 25, 49, 25, 25; 1.98×". */
+  private static String forks(Score score) {
+    StringBuilder means = new StringBuilder();
+    for (double mean : score.forkMeans()) {
+      means.append(means.length() == 0 ? "" : ", ").append(String.format(Locale.ROOT, "%.0f", mean));
     }
-    return new TargetVerdict(HAND_OFF, target,
-        String.format(Locale.ROOT, "%d forks, ns: %s; %.2f×", prime.forkMeans().size(), forks,
-            slowest / fastest),
-        slowest <= 1.5 * fastest ? Outcome.MET : Outcome.NOT_MET);
+    return String.format(Locale.ROOT, "%d forks, ns: %s; %.2f×", score.forkMeans().size(), means,
+        spread(score));
   }
 
   private static TargetVerdict allocation(Score prime, String bytes) {

@@ -115,6 +115,12 @@ class ThroughputTargetsTest {
     String information = ThroughputTargets.information(scores);
     assertTrue(information.contains("- 100 B: 400.0 ± 30.0 ns"), information);
     assertTrue(information.contains("- 1 KB: no result in this run"), information);
+    // the machine's own spread: the Disruptor's forks (50 and 70 ns), a bare round trip's (100, 400)
+    assertTrue(information.contains("- the Disruptor, 100 B: 2 forks, ns: 50, 70; 1.40×"), information);
+    assertTrue(information.contains("- the Disruptor, 1 KB: fewer than 2 forks in this run"),
+        information);
+    assertTrue(information.contains("- a core-to-core round trip: 2 forks, ns: 100, 400; 4.00×"),
+        information);
     // the judged Prime row is primeSource alone: the fixture's primeSource is 150 ns, not 400
     assertTrue(verdict("Prime sources ≤ 2× the LMAX Disruptor, 100 B").measured()
         .startsWith("150.0"), verdict("Prime sources ≤ 2× the LMAX Disruptor, 100 B").measured());
