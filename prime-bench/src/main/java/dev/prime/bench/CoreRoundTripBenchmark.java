@@ -79,7 +79,8 @@ public class CoreRoundTripBenchmark {
     @Setup(Level.Trial)
     public void start() {
       running = true;
-      echo = new Thread(this::echoUntilStopped, "core-round-trip-echo");
+      long lastSent = next; // read here, not by the echo thread: the first number may be sent before it runs
+      echo = new Thread(() -> echoUntilStopped(lastSent), "core-round-trip-echo");
       echo.setDaemon(true);
       echo.start();
     }
@@ -104,8 +105,8 @@ public class CoreRoundTripBenchmark {
       return echo.isAlive();
     }
 
-    private void echoUntilStopped() {
-      long seen = (long) SENT.getAcquire(this);
+    private void echoUntilStopped(long lastSent) {
+      long seen = lastSent;
       int rounds = 0;
       while (true) {
         long value = (long) SENT.getAcquire(this);

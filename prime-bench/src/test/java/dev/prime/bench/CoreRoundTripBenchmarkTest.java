@@ -26,4 +26,24 @@ class CoreRoundTripBenchmarkTest {
     }
     assertFalse(echo.echoing(), "the echo thread still runs after the trial's end");
   }
+
+  @Test
+  void aNumberSentBeforeTheEchoThreadFirstRunsIsStillEchoed() throws Exception {
+    CoreRoundTripBenchmark benchmark = new CoreRoundTripBenchmark();
+    // JMH sends the first number right after the trial's setup, often before the echo thread has
+    // run at all; 500 fresh trials give that race many chances to drop the first number.
+    assertTimeoutPreemptively(Duration.ofSeconds(60), () -> {
+      for (int trial = 0; trial < 500; trial++) {
+        CoreRoundTripBenchmark.Echo echo = new CoreRoundTripBenchmark.Echo();
+        echo.start();
+        try {
+          assertEquals(1, benchmark.roundTrip(echo), "trial " + trial);
+          assertEquals(2, benchmark.roundTrip(echo), "trial " + trial);
+        } finally {
+          echo.stop();
+        }
+        assertFalse(echo.echoing(), "trial " + trial + ": the echo thread still runs");
+      }
+    });
+  }
 }
