@@ -345,7 +345,11 @@ internal class StageService(
         }
     }
 
-    /** Dead-letters [part]'s entry alone; if Redis refuses even that, drops it with an ERROR (never a loop). */
+    /**
+     * Dead-letters [part]'s entry alone; if Redis refuses even that, drops it with an ERROR (never a
+     * loop). The drop is a step that stores nothing and acknowledges the entry, fenced like every
+     * step: a host that lost its lease or seat meanwhile removes nothing from a list it no longer owns.
+     */
     private suspend fun deadLetterAlone(session: RedisSession, part: Part, reason: String) {
         val letter = empty.part()
         letter.dead(DeadLetter.encode(reason, part.entry))
@@ -353,7 +357,7 @@ internal class StageService(
             runStep(session, letter, ack = 1, take = 0)
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
-            session.once { it.lpop(processing) }
+            runStep(session, empty.part(), ack = 1, take = 0)
             LOG.error(
                 "service '{}' dropped an entry: Redis refused both its results ({}) and its dead letter ({}); entry: {}",
                 name, reason, e.message, DeadLetter.describe(part.entry),

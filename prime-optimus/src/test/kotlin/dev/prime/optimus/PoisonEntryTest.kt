@@ -68,6 +68,37 @@ class PoisonEntryTest {
         }
     }
 
+    @Test
+    fun anEntryWhoseResultsAndDeadLetterRedisBothRefusesIsDroppedAndTheServiceGoesOn() {
+        OptimusCore.builder().redis(TestRedis.url).build().use { core ->
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events)
+                .then(core.chain("first") { x: Int -> x + 1 }.then(core.chain("second") { x: Int -> x * 2 })).reader()
+            core.start()
+            val nextInput = core.keys.serviceInput("second")
+            val deadLetters = core.keys.deadLetters("first")
+            val processing = core.keys.serviceProcessing("first")
+            Jedis(URI(TestRedis.url)).use { raw ->
+                raw.set(nextInput, "not a list".toByteArray())
+                raw.set(deadLetters, "not a list either".toByteArray())
+                events.publish(1)
+                events.publish(2)
+                // the service is past both values once its input and processing list are empty
+                val deadline = System.nanoTime() + PATIENCE.toNanos()
+                while ((raw.llen(core.keys.serviceInput("first")) > 0 || raw.llen(processing) > 0) &&
+                    System.nanoTime() < deadline
+                ) Thread.sleep(20)
+                assertEquals(0, raw.llen(core.keys.serviceInput("first")), "values left in the input")
+                assertEquals(0, raw.llen(processing), "entries left in the processing list")
+                assertEquals("not a list either", String(raw.get(deadLetters), UTF_8), "the dead-letter key was overwritten")
+                raw.del(nextInput, deadLetters)
+            }
+            events.publish(10)
+            assertEquals(22, out.take(PATIENCE).orElseThrow(), "the service goes on once its keys are lists again")
+            assertEquals(0, core.deadLetters("first").size, "the dropped entries were not dead-lettered")
+        }
+    }
+
     private companion object {
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
