@@ -266,9 +266,12 @@ internal class StageService(
         take: Int,
     ): List<TakenEntry>? {
         val step = requestStep!!
-        // with replicaAcks every step is confirmed before the service goes on: no wait queued behind it
-        if (take > 0 && core.connections.replicaAcks == null) storeWatched(session, step, whole, entry, output)?.let { return it.taken }
-        val waitBehind = take > 0 && waitBehindStep && core.connections.replicaAcks == null
+        // no blocking take queued behind the step: with replicaAcks (every step is confirmed before the
+        // service goes on), and for a host of an unordered service (its blocking take is the idle
+        // take, which has the seat check behind it)
+        val takeBehind = take > 0 && core.connections.replicaAcks == null && seat.membership == null
+        if (takeBehind) storeWatched(session, step, whole, entry, output)?.let { return it.taken }
+        val waitBehind = takeBehind && waitBehindStep
         waitBehindStep = false // until this step is stored
         val result = if (waitBehind) {
             session.once(null, idleWaitMillis) { step.executeThenWait(it, output, take, idleWaitArgument) }

@@ -14,7 +14,8 @@ import java.time.Duration
  * from the host set while the take waited in Redis, as it does when the host's heartbeat is late)
  * leaves nothing in the host's processing list, which no reclaim looks at any more: the value goes
  * back to the input in Redis, right after the take, so even a host that dies at once strands
- * nothing.
+ * nothing. The same holds for a service only called, whose host would otherwise wait for its next
+ * request by a take written behind its last step.
  */
 class UnorderedIdleTakeFenceTest {
 
@@ -61,6 +62,65 @@ class UnorderedIdleTakeFenceTest {
         }
     }
 
+    @Test
+    fun aCalledServicesNextTakeAnsweredAfterTheHostLostItsSeatPutsTheRequestBackInTheInput() {
+        val name = "call-take-fence"
+        val keys = Keys(name)
+        val input = keys.serviceInput(CALLED)
+        val hosts = keys.serviceHosts(CALLED)
+        Jedis(URI(TestRedis.url)).use { jedis ->
+            calledHost(name).use { host ->
+                host.chain(CALLED) { x: Int -> x + 1 }.toBlock()
+                host.start()
+                OptimusCore.builder()
+                    .config(CoreConfig.builder().name(name).build())
+                    .redis(TestRedis.url)
+                    .hosts(emptyList())
+                    .callTimeout(Duration.ofSeconds(2))
+                    .build().use { caller ->
+                        val echo = caller.chain(CALLED) { x: Int -> x + 1 }.toBlock()
+                        caller.start()
+                        // two calls: after the second the host waits for the next request by a take
+                        // written behind its step, not by an idle take
+                        assertEquals(2, echo.process(1))
+                        assertEquals(3, echo.process(2))
+                        val instance = jedis.smembers(hosts).single().toString(UTF_8)
+                        val processing = keys.hostProcessing(CALLED, instance)
+                        awaitBlockedTake(jedis, "prime-$name")
+                        val reclaim = jedis.multi()
+                        reclaim.srem(hosts, instance.toByteArray(UTF_8))
+                        reclaim.del(keys.hostSeatLease(CALLED, instance))
+                        reclaim.exec()
+                        val call = Thread { runCatching { echo.process(3) } }
+                        call.start()
+                        val deadline = System.nanoTime() + Duration.ofSeconds(5).toNanos()
+                        var lengths = listOf(0L, 0L)
+                        for (poll in 0 until 5_000) {
+                            val read = jedis.multi()
+                            read.llen(input)
+                            read.llen(processing)
+                            lengths = read.exec().map { it as Long }
+                            if (lengths == listOf(1L, 0L) || System.nanoTime() > deadline) break
+                            Thread.sleep(1)
+                        }
+                        call.join(Duration.ofSeconds(10).toMillis())
+                        assertEquals(
+                            listOf(1L, 0L), lengths,
+                            "[input, processing of a host no longer in the set] within 5 s: the request belongs back at the head of the input",
+                        )
+                    }
+            }
+        }
+    }
+
+    private fun calledHost(name: String): OptimusCore = OptimusCore.builder()
+        .config(CoreConfig.builder().name(name).build())
+        .redis(TestRedis.url)
+        .leaseTime(Duration.ofSeconds(30)) // heartbeat every 10 s: it does not re-seat the host during the test
+        .hosts(CALLED)
+        .hosting(CALLED, Hosting.UNORDERED)
+        .build()
+
     private fun host(name: String): OptimusCore = OptimusCore.builder()
         .config(CoreConfig.builder().name(name).build())
         .redis(TestRedis.url)
@@ -80,5 +140,9 @@ class UnorderedIdleTakeFenceTest {
             assertTrue(System.nanoTime() < deadline, "no connection of $clientName blocked in BLMOVE within 10 s")
             Thread.sleep(5)
         }
+    }
+
+    private companion object {
+        const val CALLED = "called"
     }
 }
