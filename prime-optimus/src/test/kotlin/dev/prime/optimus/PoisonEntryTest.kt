@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import dev.prime.EventBlock
+import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertTrue
@@ -46,9 +47,7 @@ class PoisonEntryTest {
     @Test
     fun aStepRedisRefusesDeadLettersItsEntriesAndTheServiceGoesOn() {
         OptimusCore.builder().redis(TestRedis.url).build().use { core ->
-            val events = EventBlock<Int>()
-            val out = core.source("numbers", events)
-                .then(core.chain("first") { x: Int -> x + 1 }.then(core.chain("second") { x: Int -> x * 2 })).reader()
+            val (events, out) = twoServices(core)
             core.start()
             val nextInput = core.keys.serviceInput("second")
             Jedis(URI(TestRedis.url)).use { raw ->
@@ -71,9 +70,7 @@ class PoisonEntryTest {
     @Test
     fun anEntryWhoseResultsAndDeadLetterRedisBothRefusesIsDroppedAndTheServiceGoesOn() {
         OptimusCore.builder().redis(TestRedis.url).build().use { core ->
-            val events = EventBlock<Int>()
-            val out = core.source("numbers", events)
-                .then(core.chain("first") { x: Int -> x + 1 }.then(core.chain("second") { x: Int -> x * 2 })).reader()
+            val (events, out) = twoServices(core)
             core.start()
             val nextInput = core.keys.serviceInput("second")
             val deadLetters = core.keys.deadLetters("first")
@@ -97,6 +94,14 @@ class PoisonEntryTest {
             assertEquals(22, out.take(PATIENCE).orElseThrow(), "the service goes on once its keys are lists again")
             assertEquals(0, core.deadLetters("first").size, "the dropped entries were not dead-lettered")
         }
+    }
+
+    /** Source "numbers" → service "first" (x + 1) → service "second" (x × 2); the event block and a reader of the output. */
+    private fun twoServices(core: OptimusCore): Pair<EventBlock<Int>, Reader<Int>> {
+        val events = EventBlock<Int>()
+        val out = core.source("numbers", events)
+            .then(core.chain("first") { x: Int -> x + 1 }.then(core.chain("second") { x: Int -> x * 2 })).reader()
+        return events to out
     }
 
     private companion object {

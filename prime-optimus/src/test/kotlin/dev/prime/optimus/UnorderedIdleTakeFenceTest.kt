@@ -22,10 +22,6 @@ class UnorderedIdleTakeFenceTest {
     @Test
     fun aTakeAnsweredAfterTheHostLostItsSeatPutsTheValueBackInTheInput() {
         val name = "idle-take-fence"
-        val keys = Keys(name)
-        val service = CompetingTopology.SERVICE
-        val input = keys.serviceInput(service)
-        val hosts = keys.serviceHosts(service)
         Jedis(URI(TestRedis.url)).use { jedis ->
             host(name).use { host ->
                 CompetingTopology.declare(host, 0)
@@ -33,26 +29,7 @@ class UnorderedIdleTakeFenceTest {
                     val (numbers, _) = CompetingTopology.declare(publisher, 0)
                     publisher.start()
                     host.start()
-                    val instance = jedis.smembers(hosts).single().toString(UTF_8)
-                    val processing = keys.hostProcessing(service, instance)
-                    awaitBlockedTake(jedis, "prime-$name")
-                    // what a survivor's reclaim does, while the host's take still waits in Redis
-                    val reclaim = jedis.multi()
-                    reclaim.srem(hosts, instance.toByteArray(UTF_8))
-                    reclaim.del(keys.hostSeatLease(service, instance))
-                    reclaim.exec()
-                    numbers.publish(42)
-                    // both lengths read at once; the host's take and the check behind it may run between two polls
-                    val deadline = System.nanoTime() + Duration.ofSeconds(5).toNanos()
-                    var lengths = listOf(0L, 0L)
-                    for (poll in 0 until 5_000) {
-                        val read = jedis.multi()
-                        read.llen(input)
-                        read.llen(processing)
-                        lengths = read.exec().map { it as Long }
-                        if (lengths == listOf(1L, 0L) || System.nanoTime() > deadline) break
-                        Thread.sleep(1)
-                    }
+                    val lengths = reclaimDuringTake(jedis, name, CompetingTopology.SERVICE) { numbers.publish(42) }
                     assertEquals(
                         listOf(1L, 0L), lengths,
                         "[input, processing of a host no longer in the set] within 5 s: the value belongs back at the head of the input",
@@ -65,9 +42,6 @@ class UnorderedIdleTakeFenceTest {
     @Test
     fun aCalledServicesNextTakeAnsweredAfterTheHostLostItsSeatPutsTheRequestBackInTheInput() {
         val name = "call-take-fence"
-        val keys = Keys(name)
-        val input = keys.serviceInput(CALLED)
-        val hosts = keys.serviceHosts(CALLED)
         Jedis(URI(TestRedis.url)).use { jedis ->
             calledHost(name).use { host ->
                 host.chain(CALLED) { x: Int -> x + 1 }.toBlock()
@@ -80,29 +54,12 @@ class UnorderedIdleTakeFenceTest {
                     .build().use { caller ->
                         val echo = caller.chain(CALLED) { x: Int -> x + 1 }.toBlock()
                         caller.start()
-                        // two calls: after the second the host waits for the next request by a take
-                        // written behind its step, not by an idle take
+                        // two calls: after the second an exclusive host would wait for the next
+                        // request by a take written behind its step, not by an idle take
                         assertEquals(2, echo.process(1))
                         assertEquals(3, echo.process(2))
-                        val instance = jedis.smembers(hosts).single().toString(UTF_8)
-                        val processing = keys.hostProcessing(CALLED, instance)
-                        awaitBlockedTake(jedis, "prime-$name")
-                        val reclaim = jedis.multi()
-                        reclaim.srem(hosts, instance.toByteArray(UTF_8))
-                        reclaim.del(keys.hostSeatLease(CALLED, instance))
-                        reclaim.exec()
-                        val call = Thread { runCatching { echo.process(3) } }
-                        call.start()
-                        val deadline = System.nanoTime() + Duration.ofSeconds(5).toNanos()
-                        var lengths = listOf(0L, 0L)
-                        for (poll in 0 until 5_000) {
-                            val read = jedis.multi()
-                            read.llen(input)
-                            read.llen(processing)
-                            lengths = read.exec().map { it as Long }
-                            if (lengths == listOf(1L, 0L) || System.nanoTime() > deadline) break
-                            Thread.sleep(1)
-                        }
+                        val call = Thread { runCatching { echo.process(3) } } // answered late or timed out: either way
+                        val lengths = reclaimDuringTake(jedis, name, CALLED) { call.start() }
                         call.join(Duration.ofSeconds(10).toMillis())
                         assertEquals(
                             listOf(1L, 0L), lengths,
@@ -111,6 +68,38 @@ class UnorderedIdleTakeFenceTest {
                     }
             }
         }
+    }
+
+    /**
+     * Waits until the only host of [service] blocks in its take, does what a survivor's reclaim does
+     * (removes the host from the host set and deletes its seat lease) while the take still waits in
+     * Redis, runs [send], then reads the lengths of the input and of the host's processing list
+     * together until they are [1, 0] (at most 5,000 reads, 5 s); returns the last lengths read.
+     */
+    private fun reclaimDuringTake(jedis: Jedis, name: String, service: String, send: () -> Unit): List<Long> {
+        val keys = Keys(name)
+        val input = keys.serviceInput(service)
+        val hosts = keys.serviceHosts(service)
+        val instance = jedis.smembers(hosts).single().toString(UTF_8)
+        val processing = keys.hostProcessing(service, instance)
+        awaitBlockedTake(jedis, "prime-$name")
+        val reclaim = jedis.multi()
+        reclaim.srem(hosts, instance.toByteArray(UTF_8))
+        reclaim.del(keys.hostSeatLease(service, instance))
+        reclaim.exec()
+        send()
+        // both lengths read at once; the host's take and the check behind it may run between two reads
+        val deadline = System.nanoTime() + Duration.ofSeconds(5).toNanos()
+        var lengths = listOf(0L, 0L)
+        for (poll in 0 until 5_000) {
+            val read = jedis.multi()
+            read.llen(input)
+            read.llen(processing)
+            lengths = read.exec().map { it as Long }
+            if (lengths == listOf(1L, 0L) || System.nanoTime() > deadline) break
+            Thread.sleep(1)
+        }
+        return lengths
     }
 
     private fun calledHost(name: String): OptimusCore = OptimusCore.builder()
