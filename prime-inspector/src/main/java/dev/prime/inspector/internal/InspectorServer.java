@@ -17,7 +17,9 @@ import java.nio.charset.StandardCharsets;
 import java.util.List;
 import java.util.Map;
 import java.util.Objects;
+import java.util.Queue;
 import java.util.Set;
+import java.util.concurrent.ConcurrentLinkedQueue;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
 import java.util.concurrent.ScheduledExecutorService;
@@ -40,7 +42,9 @@ import java.util.concurrent.atomic.AtomicInteger;
  * limited to {@link #MAX_STREAMS} (more get 503), so the pool is bounded too. (3) the JDK
  * server's dispatcher. {@link #close()} closes the board (waking every stream, which ends),
  * stops the sampler, stops the server (closing every connection, so a stream blocked in a write
- * fails and ends) and waits, bounded, for both pools to end.
+ * fails and ends) and waits, bounded, for both pools to end and then for each of their threads
+ * to end (a pool counts as ended when its last task returned, a moment before that task's thread
+ * ends): every thread the server made is kept in {@link #made} until then.
  */
 public final class InspectorServer implements AutoCloseable {
   /** How often the figures are sampled and sent, in milliseconds. */
@@ -63,6 +67,8 @@ public final class InspectorServer implements AutoCloseable {
   private final HttpServer server;
   private final ExecutorService handlers;
   private final ScheduledExecutorService sampler;
+  /** Every thread the two pools made, for {@link #close()} to wait for. */
+  private final Queue<Thread> made = new ConcurrentLinkedQueue<>();
   private final URI uri;
   private volatile boolean closed;
 
@@ -129,6 +135,13 @@ public final class InspectorServer implements AutoCloseable {
       sampler.awaitTermination(CLOSE_WAIT_MILLIS, TimeUnit.MILLISECONDS);
       handlers.awaitTermination(
           Math.max(0, deadline - System.nanoTime()), TimeUnit.NANOSECONDS);
+      for (Thread thread : made) {
+        long leftMillis = TimeUnit.NANOSECONDS.toMillis(deadline - System.nanoTime());
+        if (leftMillis <= 0) {
+          break;
+        }
+        thread.join(leftMillis);
+      }
     } catch (InterruptedException e) {
       Thread.currentThread().interrupt();
     }
@@ -351,11 +364,13 @@ public final class InspectorServer implements AutoCloseable {
     }
   }
 
-  private static ThreadFactory threads(String prefix) {
+  private ThreadFactory threads(String prefix) {
     AtomicInteger count = new AtomicInteger();
     return runnable -> {
       Thread thread = new Thread(runnable, prefix + count.incrementAndGet());
       thread.setDaemon(true);
+      made.removeIf(old -> old.getState() == Thread.State.TERMINATED); // a cached pool's idle threads end
+      made.add(thread);
       return thread;
     };
   }
