@@ -106,7 +106,8 @@ public final class PrimeInspector implements AutoCloseable {
 
   /**
    * Stops serving: ends every event stream, the sampler and the server's threads, waiting for
-   * them a few seconds at most. The core is not closed. Closing twice does nothing.
+   * them a few seconds at most; when it returns, every thread the inspector made has ended, unless
+   * one outlasted that wait. The core is not closed. Closing twice does nothing.
    */
   @Override
   public void close() {

@@ -43,7 +43,7 @@ class UnorderedIdleTakeFenceTest {
     fun aCalledServicesNextTakeAnsweredAfterTheHostLostItsSeatPutsTheRequestBackInTheInput() {
         val name = "call-take-fence"
         Jedis(URI(TestRedis.url)).use { jedis ->
-            calledHost(name).use { host ->
+            host(name, CALLED).use { host ->
                 host.chain(CALLED) { x: Int -> x + 1 }.toBlock()
                 host.start()
                 OptimusCore.builder()
@@ -102,20 +102,13 @@ class UnorderedIdleTakeFenceTest {
         return lengths
     }
 
-    private fun calledHost(name: String): OptimusCore = OptimusCore.builder()
+    /** A core of topology [name] hosting [service] unordered. */
+    private fun host(name: String, service: String = CompetingTopology.SERVICE): OptimusCore = OptimusCore.builder()
         .config(CoreConfig.builder().name(name).build())
         .redis(TestRedis.url)
         .leaseTime(Duration.ofSeconds(30)) // heartbeat every 10 s: it does not re-seat the host during the test
-        .hosts(CALLED)
-        .hosting(CALLED, Hosting.UNORDERED)
-        .build()
-
-    private fun host(name: String): OptimusCore = OptimusCore.builder()
-        .config(CoreConfig.builder().name(name).build())
-        .redis(TestRedis.url)
-        .leaseTime(Duration.ofSeconds(30)) // heartbeat every 10 s: it does not re-seat the host during the test
-        .hosts(CompetingTopology.SERVICE)
-        .hosting(CompetingTopology.SERVICE, Hosting.UNORDERED)
+        .hosts(service)
+        .hosting(service, Hosting.UNORDERED)
         .build()
 
     /** Waits (bounded) until a connection named [clientName] is blocked in `BLMOVE`. */
