@@ -12,7 +12,10 @@ import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
+import dev.prime.Source;
+import java.util.Arrays;
 import java.util.List;
+import java.util.Set;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
@@ -160,5 +163,64 @@ public interface ErrorConformance extends ConformanceBase {
     events.publish(1);
     events.publish(2);
     return takeOrFail(out);
+  }
+
+  /**
+   * A filter or flat-map whose block throws sends the failure to the error handler under its
+   * name in the topology ({@code filter(imu)}, {@code flatMap(imu)}), with the value it took as
+   * the input and the block's own exception, and goes on with the next value (architecture,
+   * <i>Errors</i>, "Services").
+   */
+  @Test
+  default void aFailingFilterOrFlatMapIsReportedUnderItsNameWithTheValueAndGoesOn()
+      throws InterruptedException {
+    Boom filterFails = new Boom("the filter fails on 2");
+    Boom flatMapFails = new Boom("the flat-map fails on 2");
+    List<List<Object>> reports = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(2);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  reports.add(Arrays.asList(service, input, error));
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> imu = new EventBlock<>();
+      Source<Integer> source = core.source("imu", imu);
+      Reader<Integer> passed =
+          source
+              .filter(
+                  x -> {
+                    if (x == 2) {
+                      throw filterFails;
+                    }
+                    return true;
+                  })
+              .reader();
+      Reader<Integer> made =
+          source
+              .flatMap(
+                  (Integer x) -> {
+                    if (x == 2) {
+                      throw flatMapFails;
+                    }
+                    return List.of(x, x);
+                  })
+              .reader();
+      core.start();
+      imu.publish(1);
+      imu.publish(2);
+      imu.publish(3);
+      assertEquals(List.of(1, 3), takeOrFail(passed, 2), "the filter went on after 2");
+      assertEquals(List.of(1, 1, 3, 3), takeOrFail(made, 4), "the flat-map went on after 2");
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS), "reports: " + reports);
+      assertEquals(
+          Set.of(
+              Arrays.asList("filter(imu)", 2, filterFails),
+              Arrays.asList("flatMap(imu)", 2, flatMapFails)),
+          Set.copyOf(reports));
+    }
   }
 }
