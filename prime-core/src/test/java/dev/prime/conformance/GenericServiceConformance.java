@@ -512,4 +512,44 @@ public interface GenericServiceConformance extends ConformanceBase {
     assertEquals(0, notHosted.initializations.get());
     assertEquals(0, notHosted.shutdowns.get());
   }
+
+  /**
+   * {@code shutdown()} runs only if {@code initialize()} succeeded: a service whose initialize
+   * fails until the core closes is never shut down, never works, and the close still returns
+   * promptly and leaves no thread (architecture, <i>Generic services</i>, "Start and stop").
+   */
+  @Test
+  default void aServiceWhoseInitializeNeverSucceededIsNotShutDown() throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    ErrorConformance.Boom absent = new ErrorConformance.Boom("no device");
+    CountDownLatch tried = new CountDownLatch(2);
+    Recording driver =
+        new Recording(1) {
+          @Override
+          public void initialize() throws Exception {
+            super.initialize();
+            tried.countDown();
+            throw absent;
+          }
+        };
+    PrimeCore core = newCore(recordingFailures(failures));
+    long began;
+    try (core) {
+      core.service("absent-driver", driver);
+      core.start();
+      assertTrue(await(tried), "initialize was tried again after its failure");
+      began = System.nanoTime();
+    }
+    long closeMillis = TimeUnit.NANOSECONDS.toMillis(System.nanoTime() - began);
+    assertTrue(
+        closeMillis < core.config().shutdownTimeout().toMillis(),
+        "close interrupted the back-off instead of waiting for the timeout: " + closeMillis + " ms");
+    assertEquals(0, driver.works.get(), "no work without a successful initialize");
+    assertEquals(0, driver.shutdowns.get(), "no shutdown without a successful initialize");
+    for (Failure failure : failures) {
+      assertEquals(
+          new Failure("absent-driver", GenericService.Step.INITIALIZE, absent), failure, "only initialize failed");
+    }
+    assertNoThreadsLeft(core);
+  }
 }
