@@ -465,4 +465,29 @@ public interface CombinatorConformance extends ConformanceBase {
     assertThrows(CoreClosedException.class, () -> closed.timer("t", Duration.ofSeconds(1)));
     assertThrows(CoreClosedException.class, () -> closed.merge(a));
   }
+
+  /**
+   * A timer declared on a started core counts its periods from its declaration, by the core's
+   * clock: on a {@code VirtualClock}, tick {@code n} is due and stamped {@code n} periods after
+   * the declaration, and nothing is published for the time before it (architecture,
+   * <i>Combinators, timers and the clock</i>, "Timers").
+   */
+  @Test
+  default void aTimerDeclaredOnAStartedCoreTicksFromItsDeclaration() throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    try (PrimeCore core = newCore(CoreConfig.builder().clock(clock).build())) {
+      core.start();
+      clock.advance(Duration.ofSeconds(3));
+      Instant declared = clock.now();
+      Reader<Tick> ticks = core.timer("late", Duration.ofMillis(100)).reader();
+      assertEquals(Optional.empty(), ticks.take(quiet()), "no tick for the time before the declaration");
+      clock.advance(Duration.ofMillis(250));
+      assertEquals(
+          List.of(new Tick(1, declared.plusMillis(100)), new Tick(2, declared.plusMillis(200))),
+          takeOrFail(ticks, 2));
+      assertEquals(Optional.empty(), ticks.take(quiet()), "tick 3 is due 300 ms after the declaration");
+      clock.advance(Duration.ofMillis(50));
+      assertEquals(new Tick(3, declared.plusMillis(300)), takeOrFail(ticks));
+    }
+  }
 }
