@@ -522,4 +522,52 @@ public interface MetricsConformance extends ConformanceBase {
     assertEquals(in, metrics.processing().count(), "timed: " + what);
     assertTrue(metrics.processing().maxNanos() <= metrics.processing().totalNanos(), what);
   }
+
+  /**
+   * An event source counts every publish in and only the publishes the media accepted out: a
+   * publish refused with {@code QueueFullException} counts in, not out (architecture,
+   * <i>Metrics</i>, "What is metered": event source, in = publishes, out = publishes the media
+   * accepted).
+   */
+  @Test
+  default void anEventSourceCountsARefusedPublishInButNotOut() throws Exception {
+    int capacity = 2;
+    CountDownLatch firstInside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    CoreConfig config =
+        CoreConfig.builder()
+            .metrics(true)
+            .publishTimeout(Duration.ofMillis(200))
+            .errorHandler((service, input, error) -> failures.add(error))
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.link(
+          core.source("numbers", events),
+          core.chain(
+              "stuck",
+              (Integer x) -> {
+                firstInside.countDown();
+                try {
+                  release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+                return x;
+              }));
+      core.start();
+      events.publish(0);
+      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      for (int i = 1; i <= capacity; i++) {
+        events.publish(i); // fills the stuck service's input
+      }
+      assertThrows(dev.prime.QueueFullException.class, () -> events.publish(999));
+      ServiceMetrics numbers = core.metrics().service("numbers");
+      release.countDown();
+      assertEquals(capacity + 2, numbers.valuesIn(), "every publish: " + numbers);
+      assertEquals(capacity + 1, numbers.valuesOut(), "the accepted publishes only: " + numbers);
+      assertEquals(List.of(), failures);
+    }
+  }
 }
