@@ -1,8 +1,10 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
@@ -11,6 +13,9 @@ import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import java.util.List;
 import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
 
 /** {@link PrimeCore#whenRunning}: work beside the diagram started and stopped with the core. */
@@ -78,5 +83,68 @@ public interface LifecycleHookConformance extends ConformanceBase {
       assertSame(boom, failures.get(0)[2]);
     }
     assertEquals(List.of("fine started", "broken closed"), calls);
+  }
+
+  /**
+   * {@code onClose} runs when the core closes but before its sources close: a reader blocked in
+   * {@code take()} on another thread is still waiting while it runs, and wakes with {@code
+   * CoreClosedException} afterwards; an exception from {@code onClose} goes to the error handler
+   * under the hook's name with {@code "close"} as the input, and the close carries on
+   * (architecture, <i>Lifecycle of a core</i>; {@code PrimeCore.whenRunning}).
+   */
+  @Test
+  default void aHookClosesBeforeItsSourcesAndAFailureOfItsCloseGoesToTheErrorHandler()
+      throws InterruptedException {
+    List<Object[]> failures = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler((service, input, error) -> failures.add(new Object[] {service, input, error}))
+            .build();
+    IllegalStateException boom = new IllegalStateException("cannot stop");
+    CountDownLatch taking = new CountDownLatch(1);
+    CountDownLatch woken = new CountDownLatch(1);
+    AtomicReference<Throwable> wokenWith = new AtomicReference<>();
+    List<String> calls = new CopyOnWriteArrayList<>();
+    PrimeCore core = newCore(config);
+    Thread taker;
+    try (core) {
+      Reader<Integer> reader = core.source("fed", new EventBlock<Integer>()).reader();
+      core.whenRunning(
+          "stopper",
+          () -> {},
+          () -> {
+            calls.add(woken.getCount() == 1 ? "closed with the reader waiting" : "closed after the reader woke");
+            throw boom;
+          });
+      core.whenRunning("next", () -> {}, () -> calls.add("next closed"));
+      core.start();
+      taker =
+          new Thread(
+              () -> {
+                taking.countDown();
+                try {
+                  reader.take();
+                } catch (Throwable t) {
+                  wokenWith.set(t);
+                } finally {
+                  woken.countDown();
+                }
+              },
+              "kit-taker");
+      taker.setDaemon(true);
+      taker.start();
+      assertTrue(taking.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      long deadline = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(500);
+      while (taker.getState() == Thread.State.RUNNABLE && System.nanoTime() < deadline) {
+        Thread.yield(); // until the taker waits in take() (a network media may read a socket)
+      }
+    }
+    assertTrue(woken.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the reader woke at close");
+    assertInstanceOf(CoreClosedException.class, wokenWith.get());
+    assertEquals(List.of("closed with the reader waiting", "next closed"), calls);
+    assertEquals(1, failures.size());
+    assertEquals("stopper", failures.get(0)[0]);
+    assertEquals("close", failures.get(0)[1]);
+    assertSame(boom, failures.get(0)[2]);
   }
 }
