@@ -235,8 +235,9 @@ public final class CoreConfig {
      * QueueFullException} and publishes nothing. Plain {@link Reader}s never hold a publish up:
      * they skip what they missed.
      *
-     * <p>Values published before {@link PrimeCore#start()} wait in the services' inputs; publishing
-     * more than they hold before the services run waits this long and then fails. A service that
+     * <p>On the in-memory media, values published before {@link PrimeCore#start()} wait in the
+     * services' inputs; publishing more than they hold before the services run waits this long and
+     * then fails (Optimus refuses a publish before the start at once). A service that
      * publishes into its own input (directly or through a cycle of services) waits for itself:
      * when its input is full that publish fails after this time, and the failure goes to the
      * error handler.

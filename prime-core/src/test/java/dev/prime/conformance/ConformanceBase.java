@@ -72,6 +72,16 @@ public interface ConformanceBase {
   }
 
   /**
+   * Whether a publish before {@code start()} waits in the services' inputs until they run (true
+   * for the in-memory media). A media that refuses it (Optimus: a publish, a call and a read
+   * before {@code start()} fail at once with {@link IllegalStateException}, publishing nothing)
+   * returns false, and the kit checks that refusal instead.
+   */
+  default boolean publishesBeforeStartWait() {
+    return true;
+  }
+
+  /**
    * The codec the kit gives to {@link CoreConfig.Builder#copyValues}: by default
    * {@link SerializingCodec}, which copies any {@link java.io.Serializable} value. A media with a
    * codec of its own may return it; Optimus copies through its own codec whatever this is.

@@ -12,11 +12,13 @@ import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.QueueFullException;
 import dev.prime.Reader;
 import dev.prime.Source;
 import dev.prime.Token;
 import java.time.Duration;
 import java.util.List;
+import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
@@ -222,6 +224,58 @@ public interface LifecycleConformance extends ConformanceBase {
       core.link(source, core.chain(x -> x));
       core.link(source, core.chain(x -> x));
       assertEquals(before + 2, core.serviceNames().size(), "one service per linked chain");
+    }
+  }
+
+  /**
+   * Values published before {@code start()} wait in the services' inputs and are processed, in
+   * order, once the core starts; an input filled before the start makes the next publish wait
+   * {@code publishTimeout} and fail with {@code QueueFullException}, publishing nothing. A media
+   * that refuses publishes before the start ({@link #publishesBeforeStartWait()} false) fails
+   * each at once with {@code IllegalStateException}, and none reaches a service (architecture,
+   * <i>Sources, readers and retention</i>, "Two cases to know", and <i>Lifecycle of a core</i>,
+   * step 3).
+   */
+  @Test
+  default void valuesPublishedBeforeStartWaitForTheServicesOrAreRefusedAtOnce()
+      throws InterruptedException {
+    int capacity = 3;
+    CoreConfig config = CoreConfig.builder().publishTimeout(Duration.ofMillis(200)).build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("early", events);
+      Reader<Integer> doubled = core.link(source, core.chain("double", (Integer x) -> x * 2)).reader();
+      Reader<Integer> odd = source.filter(x -> x % 2 == 1).reader();
+      List<Integer> heard = new CopyOnWriteArrayList<>();
+      CountDownLatch allHeard = new CountDownLatch(capacity + 2);
+      source.listen(
+          x -> {
+            heard.add(x);
+            allHeard.countDown();
+          });
+      if (publishesBeforeStartWait()) {
+        for (int i = 1; i <= capacity; i++) {
+          events.publish(i);
+        }
+        assertThrows(QueueFullException.class, () -> events.publish(99), "the inputs are full");
+        core.start();
+      } else {
+        IllegalStateException refused =
+            assertThrows(IllegalStateException.class, () -> events.publish(99));
+        assertTrue(refused.getMessage().contains("start()"), refused.getMessage());
+        core.start();
+        for (int i = 1; i <= capacity; i++) {
+          events.publish(i);
+        }
+      }
+      assertEquals(List.of(2, 4, 6), takeOrFail(doubled, capacity));
+      assertEquals(List.of(1, 3), takeOrFail(odd, 2));
+      events.publish(4);
+      events.publish(5);
+      assertEquals(List.of(8, 10), takeOrFail(doubled, 2), "the refused 99 reached no chain");
+      assertEquals(5, takeOrFail(odd), "the refused 99 reached no filter");
+      assertTrue(allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "heard " + heard);
+      assertEquals(List.of(1, 2, 3, 4, 5), heard, "the refused 99 reached no listener");
     }
   }
 }

@@ -24,4 +24,7 @@ class OptimusConformanceTest : MediaConformance {
 
     /** A value on which a service's block threw is dead-lettered. */
     override fun failedServiceValuesAreDeadLettered(): Boolean = true
+
+    /** A publish before start() fails at once, like a call and a read. */
+    override fun publishesBeforeStartWait(): Boolean = false
 }
