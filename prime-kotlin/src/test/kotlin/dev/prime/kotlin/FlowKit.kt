@@ -2,6 +2,7 @@ package dev.prime.kotlin
 
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.ValueCodec
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.async
 import kotlinx.coroutines.awaitCancellation
@@ -14,9 +15,11 @@ import kotlinx.coroutines.flow.toList
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertInstanceOf
 import org.junit.jupiter.api.Assertions.assertSame
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import java.nio.ByteBuffer
 import java.time.Duration
 import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.CountDownLatch
@@ -117,6 +120,46 @@ internal abstract class FlowKit(private val media: Media) {
             assertSame(failing, failure.second)
             assertSame(boom, failure.third)
         }
+    }
+
+    /**
+     * A value of the flow that cannot be published (a codec refuses it) goes to the core's error
+     * handler under the source's name with that value as the input, and collection carries on
+     * with the next value (`PrimeCore.source(name, flow)`; README, Kotlin).
+     */
+    @Test
+    fun `a value that cannot be published goes to the error handler with that value and the flow carries on`() = runBlocking {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val config = CoreConfig.builder()
+            .copyValues(IntsOnly) // Liberty and Radiant copy through it; Optimus through its own codec
+            .errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }
+            .build()
+        media.newCore(config).use { core ->
+            val refused = Unshippable()
+            val source = core.source("sensor", flowOf<Any>(1, refused, 3))
+            core.start()
+            source.reader().use { reader ->
+                assertEquals(listOf<Any>(1, 3), List(2) { reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+            }
+            val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("no failure reached the error handler")
+            assertEquals("sensor", failure.first)
+            assertSame(refused, failure.second)
+            assertInstanceOf(IllegalArgumentException::class.java, failure.third)
+            assertEquals(null, failures.poll(), "one failure only")
+        }
+    }
+
+    /** A type no codec knows. */
+    private class Unshippable
+
+    /** A copying codec that carries `Int`s only, refusing anything else as a codec refuses an unknown type. */
+    private object IntsOnly : ValueCodec {
+        override fun encode(value: Any): ByteArray {
+            require(value is Int) { "${value.javaClass.name} cannot be copied: only Int" }
+            return ByteBuffer.allocate(Int.SIZE_BYTES).putInt(value).array()
+        }
+
+        override fun decode(bytes: ByteArray): Any = ByteBuffer.wrap(bytes).int
     }
 
     private companion object {
