@@ -490,4 +490,50 @@ public interface CombinatorConformance extends ConformanceBase {
       assertEquals(new Tick(3, declared.plusMillis(300)), takeOrFail(ticks));
     }
   }
+
+  /**
+   * A source that runs ahead waits in the zip, at most {@code sourceRetention()} values per
+   * source; a value that finds its source's buffer full drops that source's oldest unpaired value,
+   * so the pairing is n-th with n-th among the values kept (architecture, <i>Combinators, timers
+   * and the clock</i>, {@code zip}).
+   */
+  @Test
+  default void aZipKeepsAtMostTheRetentionPerSourceAndDropsTheOldestUnpaired()
+      throws InterruptedException {
+    int retention = 4;
+    CoreConfig config = CoreConfig.builder().sourceRetention(retention).metrics(true).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> aEvents = new EventBlock<>();
+      EventBlock<String> bEvents = new EventBlock<>();
+      Source<Tuple2<Integer, String>> zipped =
+          core.zip(core.source("a", aEvents), core.source("b", bEvents));
+      Reader<Tuple2<Integer, String>> out = zipped.reader();
+      core.start();
+      for (int i = 1; i <= retention + 3; i++) {
+        aEvents.publish(i);
+        awaitProcessed(core, zipped.name(), i); // one by one: the zip's input never lags
+      }
+      List<String> words = List.of("w", "x", "y", "z");
+      for (String word : words) {
+        bEvents.publish(word);
+      }
+      List<Tuple2<Integer, String>> expected = new ArrayList<>();
+      for (int i = 0; i < retention; i++) {
+        expected.add(new Tuple2<>(4 + i, words.get(i))); // 1, 2 and 3 were dropped
+      }
+      assertEquals(expected, takeOrFail(out, retention));
+      assertEquals(Optional.empty(), out.take(quiet()), "nothing of a is left unpaired");
+    }
+  }
+
+  /** Waits, bounded by the kit's patience, until the metered node processed {@code count} values. */
+  private void awaitProcessed(PrimeCore core, String name, long count) throws InterruptedException {
+    long deadline = System.nanoTime() + patience().toNanos();
+    long processed;
+    while ((processed = core.metrics().service(name).processing().count()) < count) {
+      assertTrue(
+          System.nanoTime() < deadline, name + " processed " + processed + " of " + count + " values");
+      Thread.sleep(1); // polls a counter; the order of the test does not depend on the sleep
+    }
+  }
 }
