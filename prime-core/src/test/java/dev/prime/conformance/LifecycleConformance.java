@@ -278,4 +278,34 @@ public interface LifecycleConformance extends ConformanceBase {
       assertEquals(List.of(1, 2, 3, 4, 5), heard, "the refused 99 reached no listener");
     }
   }
+
+  /**
+   * A chain or source of a closed core is refused at the declaration that takes it, with {@code
+   * CoreClosedException} naming that core, and the refused declaration consumes nothing
+   * (architecture, <i>What every media keeps</i>, "Misuse").
+   */
+  @Test
+  default void aChainOrSourceOfAClosedCoreIsRefusedAndTheRefusalConsumesNothing()
+      throws InterruptedException {
+    PrimeCore closed = newCore();
+    Chain<Integer, Integer> stale = closed.chain("stale", x -> x);
+    Source<Integer> old = closed.source("old", new EventBlock<Integer>());
+    closed.close();
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> fresh = core.chain("fresh", (Integer x) -> x + 1);
+      CoreClosedException refused =
+          assertThrows(CoreClosedException.class, () -> core.link(fresh, stale));
+      assertTrue(refused.getMessage().contains(closed.name()), refused.getMessage());
+      Chain<Integer, Integer> next = core.chain("next", (Integer x) -> x * 10);
+      refused = assertThrows(CoreClosedException.class, () -> core.link(old, next));
+      assertTrue(refused.getMessage().contains(closed.name()), refused.getMessage());
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out = core.link(core.source("live", events), next).reader();
+      Block<Integer, Integer> block = fresh.toBlock();
+      core.start();
+      assertEquals(2, block.process(1), "the refused link left its own chain usable");
+      events.publish(3);
+      assertEquals(30, takeOrFail(out), "the refused source link left its chain usable");
+    }
+  }
 }
