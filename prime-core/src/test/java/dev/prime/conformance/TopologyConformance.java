@@ -162,4 +162,38 @@ public interface TopologyConformance extends ConformanceBase {
       assertEquals(-5, takeOrFail(reader), "the foreign source feeds the local service");
     }
   }
+
+  /**
+   * A derived name longer than 120 characters becomes {@code kind-N} ({@code link-1}, {@code
+   * filter-1}), the same on every media, and what is so named runs as any other (architecture,
+   * <i>The diagram as data: the topology model</i>, "Names come from one place").
+   */
+  @Test
+  default void aDerivedNameLongerThan120CharactersBecomesKindN() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> linked =
+          core.link(
+              core.chain("a".repeat(70), (Integer x) -> x + 1),
+              core.chain("b".repeat(60), (Integer x) -> x * 2));
+      assertEquals("link-1", linked.name(), "a>b would be 131 characters");
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> passed = core.source("s".repeat(113), events).filter(x -> x > 0);
+      assertEquals("filter-1", passed.name(), "filter(s) would be 121 characters");
+      Source<Integer> out = passed.then(linked);
+      assertEquals("filter-1>link-1", out.name());
+      assertEquals(
+          List.of(
+              new Link("link-1", "a".repeat(70), "b".repeat(60)),
+              new Filter("filter-1", "s".repeat(113))),
+          core.topology().nodes().stream()
+              .filter(node -> node instanceof Link || node instanceof Filter)
+              .filter(node -> !node.name().contains(">"))
+              .toList());
+      Reader<Integer> reader = out.reader();
+      core.start();
+      events.publish(-1);
+      events.publish(3);
+      assertEquals(8, takeOrFail(reader), "the filter and the linked chain ran under their names");
+    }
+  }
 }
