@@ -6,6 +6,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.Reader;
 import java.util.List;
 import java.util.UUID;
 import java.util.concurrent.CountDownLatch;
@@ -93,5 +94,43 @@ public interface LoggingConformance extends ConformanceBase {
     assertTrue(line.contains(" INFO "), line);
     assertTrue(line.contains(service), "names the hosted services: " + line);
     assertTrue(line.matches(".*started on [a-z]+.*"), "names the media: " + line);
+  }
+
+  /**
+   * Values a reader missed are logged at WARN like failures: the first of a burst in full, the
+   * rest counted, at most one line per 10 s, so two bursts of misses within a test make one line
+   * naming the source, and {@code Reader.missed()} gives the total (architecture, <i>Values</i>,
+   * the logging list).
+   */
+  @Test
+  default void missedValuesLogOneLineForABurstAndReaderMissedCountsThemAll()
+      throws InterruptedException {
+    String source = "gauge-" + UUID.randomUUID().toString().substring(0, 8);
+    int retention = 4;
+    List<String> lines;
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (PrimeCore core = newCore(CoreConfig.builder().sourceRetention(retention).build())) {
+        EventBlock<Integer> events = new EventBlock<>();
+        Reader<Integer> lagging = core.source(source, events).reader();
+        core.start();
+        for (int burst = 0; burst < 2; burst++) {
+          for (int i = 1; i <= retention + 6; i++) {
+            events.publish(burst * 100 + i);
+          }
+          List<Integer> kept = lagging.drain();
+          assertEquals(retention, kept.size(), "the reader kept the retention: " + kept);
+          assertEquals(burst * 100 + retention + 6, kept.get(kept.size() - 1));
+        }
+        assertEquals(12, lagging.missed(), "both bursts' misses are counted");
+      }
+      lines = err.lines();
+    }
+    List<String> misses =
+        lines.stream()
+            .filter(l -> l.contains("source '" + source + "'") && l.contains("missed"))
+            .toList();
+    assertEquals(
+        1, misses.size(), "one line for the misses within 10 s:\n" + String.join("\n", lines));
+    assertTrue(misses.get(0).contains(" WARN "), misses.get(0));
   }
 }
