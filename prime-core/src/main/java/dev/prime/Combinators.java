@@ -49,6 +49,11 @@ final class Combinators {
     }
   }
 
+  /** Writes the count of zip drops not yet logged: the core closed, no zip drops any more. */
+  void closed() {
+    drops.flush();
+  }
+
   <R> Source<R> combineLatest(Function<Object[], Object> tuple, Source<?>... sources) {
     return declared(
         () -> {

@@ -483,6 +483,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
       release(sequence);
     }
     wakeReaders();
+    missLog.flush(); // the misses counted since the last line: nobody reads them after the close
   }
 
   @Override

@@ -999,6 +999,7 @@ public abstract class PrimeCore implements AutoCloseable {
     inProcess.close();
     services.stopAll(config.shutdownTimeout());
     onClose();
+    combinators.closed();
     config.flushErrorSummaries();
   }
 

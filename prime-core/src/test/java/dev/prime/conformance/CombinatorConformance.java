@@ -495,35 +495,47 @@ public interface CombinatorConformance extends ConformanceBase {
    * A source that runs ahead waits in the zip, at most {@code sourceRetention()} values per
    * source; a value that finds its source's buffer full drops that source's oldest unpaired value,
    * so the pairing is n-th with n-th among the values kept (architecture, <i>Combinators, timers
-   * and the clock</i>, {@code zip}).
+   * and the clock</i>, {@code zip}). The drops are logged at WARN like failures: the first in
+   * full, the rest counted, and what is still counted when the core closes is written then.
    */
   @Test
   default void aZipKeepsAtMostTheRetentionPerSourceAndDropsTheOldestUnpaired()
       throws InterruptedException {
     int retention = 4;
     CoreConfig config = CoreConfig.builder().sourceRetention(retention).metrics(true).build();
-    try (PrimeCore core = newCore(config)) {
-      EventBlock<Integer> aEvents = new EventBlock<>();
-      EventBlock<String> bEvents = new EventBlock<>();
-      Source<Tuple2<Integer, String>> zipped =
-          core.zip(core.source("a", aEvents), core.source("b", bEvents));
-      Reader<Tuple2<Integer, String>> out = zipped.reader();
-      core.start();
-      for (int i = 1; i <= retention + 3; i++) {
-        aEvents.publish(i);
-        awaitProcessed(core, zipped.name(), i); // one by one: the zip's input never lags
+    String zipName;
+    List<String> lines;
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (PrimeCore core = newCore(config)) {
+        EventBlock<Integer> aEvents = new EventBlock<>();
+        EventBlock<String> bEvents = new EventBlock<>();
+        Source<Tuple2<Integer, String>> zipped =
+            core.zip(core.source("a", aEvents), core.source("b", bEvents));
+        Reader<Tuple2<Integer, String>> out = zipped.reader();
+        core.start();
+        for (int i = 1; i <= retention + 3; i++) {
+          aEvents.publish(i);
+          awaitProcessed(core, zipped.name(), i); // one by one: the zip's input never lags
+        }
+        List<String> words = List.of("w", "x", "y", "z");
+        for (String word : words) {
+          bEvents.publish(word);
+        }
+        List<Tuple2<Integer, String>> expected = new ArrayList<>();
+        for (int i = 0; i < retention; i++) {
+          expected.add(new Tuple2<>(4 + i, words.get(i))); // 1, 2 and 3 were dropped
+        }
+        assertEquals(expected, takeOrFail(out, retention));
+        assertEquals(Optional.empty(), out.take(quiet()), "nothing of a is left unpaired");
+        zipName = zipped.name();
       }
-      List<String> words = List.of("w", "x", "y", "z");
-      for (String word : words) {
-        bEvents.publish(word);
-      }
-      List<Tuple2<Integer, String>> expected = new ArrayList<>();
-      for (int i = 0; i < retention; i++) {
-        expected.add(new Tuple2<>(4 + i, words.get(i))); // 1, 2 and 3 were dropped
-      }
-      assertEquals(expected, takeOrFail(out, retention));
-      assertEquals(Optional.empty(), out.take(quiet()), "nothing of a is left unpaired");
+      lines = err.lines();
     }
+    List<String> drops =
+        lines.stream().filter(l -> l.contains("zip '" + zipName + "' dropped")).toList();
+    assertEquals(2, drops.size(), "the first drop, then the rest at close:\n" + lines);
+    assertTrue(drops.get(0).contains("dropped the oldest unpaired value of input 1"), drops.get(0));
+    assertTrue(drops.get(1).contains("2 more in the last"), "the other two drops: " + drops.get(1));
   }
 
   /** Waits, bounded by the kit's patience, until the metered node processed {@code count} values. */

@@ -446,6 +446,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
         }
         shutdownResources()
+        readerMisses.flush() // the misses counted since the last line: no publish of this core comes after
     }
 
     /** Stops the threads (all but the calling one, which ends when its service returns) and the embedded Redis. */

@@ -19,7 +19,7 @@ internal class ReaderMisses(
     private val clock: () -> Long = System::nanoTime,
     private val warn: (String) -> Unit = LOG::warn,
 ) {
-    private class Tally(var pending: Long, var lastLine: Long)
+    private class Tally(val source: SourceKeys, var pending: Long, var lastLine: Long)
 
     private val tallies = ConcurrentHashMap<ByteKey, Tally>()
     private val totals = ConcurrentHashMap<String, LongAdder>() // per source, for metrics
@@ -40,7 +40,7 @@ internal class ReaderMisses(
     private fun record(source: SourceKeys, reader: ByteArray, count: Long) {
         if (tallies.size > MAX_READERS) tallies.clear()
         val now = clock()
-        val tally = tallies.computeIfAbsent(ByteKey(reader)) { Tally(0, now - intervalNanos) }
+        val tally = tallies.computeIfAbsent(ByteKey(reader)) { Tally(source, 0, now - intervalNanos) }
         val line = synchronized(tally) {
             tally.pending += count
             if (now - tally.lastLine < intervalNanos) return
@@ -49,8 +49,24 @@ internal class ReaderMisses(
             tally.pending = 0
             lost
         }
+        warnMissed(source, reader, line)
+    }
+
+    /** Writes a line for every reader whose misses were counted but not yet written (at close). */
+    fun flush() {
+        for ((reader, tally) in tallies) {
+            val line = synchronized(tally) {
+                val lost = tally.pending
+                tally.pending = 0
+                lost
+            }
+            if (line > 0) warnMissed(tally.source, reader.bytes, line)
+        }
+    }
+
+    private fun warnMissed(source: SourceKeys, reader: ByteArray, count: Long) {
         warn(
-            "core '$coreName': reader ${reader.toString(UTF_8)} of source '${source.name}' missed $line value(s) " +
+            "core '$coreName': reader ${reader.toString(UTF_8)} of source '${source.name}' missed $count value(s) " +
                 "(the source retains ${source.retention}; Reader.missed() gives the total): read faster or raise " +
                 "CoreConfig.sourceRetention",
         )

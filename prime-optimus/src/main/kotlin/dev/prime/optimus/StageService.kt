@@ -106,6 +106,7 @@ internal class StageService(
             RedisSession(core.connections).use { session -> loop(session) }
         } finally {
             refusedSteps.close()
+            deadLetterLog.flush() // the dead letters counted since the last line
         }
     }
 
