@@ -410,4 +410,37 @@ public interface SourceConformance extends ConformanceBase {
     closing.close();
     ConformanceBase.assertNoThreadsLeft(core);
   }
+
+  /**
+   * {@link Reader#take(Duration)}: "zero or negative means do not wait", empty "if none was
+   * published in time"; {@link Reader#poll()} and {@link Reader#drain()} never block. The same on
+   * a reader of a service's output as on one of an event source: each call without a value
+   * returns empty within a second, and then the values come in order.
+   */
+  @Test
+  default void takeWithTimeoutPollAndDrainOnAServiceOutput() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> reader =
+          core.source(events).then(core.chain("echo", (Integer x) -> x)).reader();
+      core.start();
+      long began = System.nanoTime();
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(20)));
+      assertEquals(Optional.empty(), reader.take(Duration.ZERO));
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(-5)));
+      assertEquals(Optional.empty(), reader.poll());
+      assertEquals(List.of(), reader.drain());
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(took.compareTo(Duration.ofSeconds(1)) < 0, "five empty reads took " + took);
+      assertThrows(NullPointerException.class, () -> reader.take(null));
+      events.publish(1);
+      events.publish(2);
+      events.publish(3);
+      assertEquals(Optional.of(1), reader.take(patience()));
+      assertEquals(List.of(2, 3), takeOrFail(reader, 2));
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(-1)));
+      assertEquals(List.of(), reader.drain());
+      assertEquals(Optional.empty(), reader.poll());
+    }
+  }
 }
