@@ -443,4 +443,36 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(Optional.empty(), reader.poll());
     }
   }
+
+  /**
+   * {@link Reader}: "When the core is closed, blocked and later calls throw {@link
+   * CoreClosedException}", {@link Reader#missed()} included; before that, {@code missed()} counts
+   * what the reader lost, on a reader of an event source and of a service's output alike.
+   */
+  @Test
+  default void missedCountsWhatWasLostAndThrowsCoreClosedOnAClosedCore()
+      throws InterruptedException {
+    PrimeCore core = newCore(CoreConfig.builder().sourceRetention(2).build());
+    Reader<Integer> direct;
+    Reader<Integer> served;
+    try (core) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("lossy", events);
+      Source<Integer> output = source.then(core.chain("lossy-copy", (Integer x) -> x));
+      direct = source.reader();
+      served = output.reader();
+      Reader<Integer> pacer = output.reader();
+      core.start();
+      for (int i = 1; i <= 5; i++) {
+        events.publish(i);
+        assertEquals(i, takeOrFail(pacer));
+      }
+      assertEquals(List.of(4, 5), direct.drain());
+      assertEquals(List.of(4, 5), served.drain());
+      assertEquals(3, direct.missed());
+      assertEquals(3, served.missed());
+    }
+    assertThrows(CoreClosedException.class, direct::missed);
+    assertThrows(CoreClosedException.class, served::missed);
+  }
 }
