@@ -33,7 +33,9 @@ package dev.prime;
  *             <td>it ends the service's thread: the JVM itself is in trouble</td></tr>
  *       </table>
  *       A {@link ChainFailedException} or {@link CoreClosedException} thrown by a block (it called
- *       another chain) passes unchanged.
+ *       another chain) passes unchanged to a synchronous caller in the block's process; a caller in
+ *       another process gets, as for any failure there, a {@link ChainFailedException}
+ *       describing it.
  *   <li><b>Values.</b> Treat inputs and outputs as immutable: a media may hand the same object to
  *       several readers, or a copy (Optimus always copies, through its codec). Do not change a
  *       value after publishing or returning it, nor an input you received.

@@ -876,6 +876,9 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     @Override
     public long missed() {
       ensureReaderOpen();
+      if (closed) {
+        throw new CoreClosedException(core.name());
+      }
       return missed;
     }
 

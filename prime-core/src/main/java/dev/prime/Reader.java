@@ -76,6 +76,7 @@ public interface Reader<T> extends AutoCloseable {
    * How many values this reader lost because it fell behind the source's retention.
    *
    * @return the count since the reader was made
+   * @throws CoreClosedException if the core is closed (read the count before closing it)
    * @throws IllegalStateException if this reader is closed
    */
   long missed();

@@ -8,12 +8,18 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.ChainAlreadyUsedException;
+import dev.prime.ChainFailedException;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
+import java.util.concurrent.Future;
+import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 
 /** Chains and links: composition, single use, order and the one-service rule. */
@@ -191,6 +197,66 @@ public interface ChainConformance extends ConformanceBase {
       Chain<Integer, Integer> fresh = core.chain(x -> x + 1);
       core.start();
       assertEquals(2, fresh.toBlock().process(1), "a refused template consumed nothing else");
+    }
+  }
+
+  /**
+   * {@link Chain#toBlock()}: "The returned block may be called from several threads at once",
+   * and a block's exception reaches its caller as a {@link ChainFailedException} naming the chain.
+   * Four threads calling the block of a linked chain at once each get the result of their own
+   * input, and an input the first chain refuses fails that call only, with the block's own
+   * exception as the cause.
+   */
+  @Test
+  default void theBlockOfAChainGivesConcurrentCallersEachTheirOwnResult() throws Exception {
+    int callers = 4;
+    int calls = 50;
+    try (PrimeCore core = newCore()) {
+      Block<Integer, Integer> block =
+          core.chain(
+                  "shift",
+                  (Integer x) -> {
+                    if (x % 7 == 3) {
+                      throw new IllegalArgumentException("refused " + x);
+                    }
+                    return x + 1;
+                  })
+              .then(core.chain("double", (Integer x) -> x * 2))
+              .toBlock();
+      core.start();
+      ExecutorService pool = Executors.newFixedThreadPool(callers);
+      CountDownLatch go = new CountDownLatch(1);
+      try {
+        List<Future<Integer>> done = new ArrayList<>();
+        for (int c = 0; c < callers; c++) {
+          int first = c * 1000;
+          done.add(
+              pool.submit(
+                  () -> {
+                    assertTrue(go.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+                    int failed = 0;
+                    for (int input = first; input < first + calls; input++) {
+                      int in = input;
+                      if (in % 7 == 3) {
+                        ChainFailedException e =
+                            assertThrows(ChainFailedException.class, () -> block.process(in));
+                        assertEquals("shift", e.chainName());
+                        assertEquals("refused " + in, e.getCause().getMessage());
+                        failed++;
+                      } else {
+                        assertEquals((in + 1) * 2, block.process(in), "for input " + in);
+                      }
+                    }
+                    return failed;
+                  }));
+        }
+        go.countDown();
+        for (Future<Integer> caller : done) {
+          assertTrue(caller.get(patience().toMillis() * 2, TimeUnit.MILLISECONDS) > 0);
+        }
+      } finally {
+        pool.shutdownNow();
+      }
     }
   }
 }

@@ -1,6 +1,7 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
@@ -8,6 +9,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.ChainFailedException;
+import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
@@ -19,6 +21,7 @@ import java.util.Set;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
 
 /** Errors: a failing block names its chain to sync callers, and async services survive it. */
@@ -221,6 +224,51 @@ public interface ErrorConformance extends ConformanceBase {
               Arrays.asList("filter(imu)", 2, filterFails),
               Arrays.asList("flatMap(imu)", 2, flatMapFails)),
           Set.copyOf(reports));
+    }
+  }
+
+  /**
+   * {@link Block}: "A {@link ChainFailedException} or {@link CoreClosedException} thrown by a
+   * block (it called another chain) passes unchanged". A synchronous caller of a chain whose block
+   * calls another chain that fails gets the failure of that other chain, naming it, with its
+   * block's own exception as the cause, not one naming the calling chain; a {@link
+   * CoreClosedException} a block throws reaches the caller as such, not wrapped.
+   */
+  @Test
+  default void aChainFailureOrClosedCoreThrownByABlockReachesTheCallerUnchanged() {
+    Boom boom = new Boom("the called chain refuses");
+    CoreClosedException closed = new CoreClosedException("another-core");
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> called =
+          core.chain(
+              "called",
+              (Integer x) -> {
+                if (x < 0) {
+                  throw boom;
+                }
+                return x;
+              });
+      AtomicReference<Block<Integer, Integer>> calledBlock = new AtomicReference<>();
+      Chain<Integer, Integer> caller =
+          core.chain("caller", (Integer x) -> calledBlock.get().process(x) + 1);
+      Chain<Integer, Integer> closedCaller =
+          core.chain(
+              "closed-caller",
+              (Integer x) -> {
+                throw closed;
+              });
+      core.start();
+      calledBlock.set(called.toBlock());
+      Block<Integer, Integer> block = caller.toBlock();
+      assertEquals(6, block.process(5));
+      ChainFailedException failed =
+          assertThrows(ChainFailedException.class, () -> block.process(-1));
+      assertEquals("called", failed.chainName(), "the failing chain is named: " + failed);
+      assertSame(boom, failed.getCause(), "the cause is the called block's own: " + failed);
+      Block<Integer, Integer> closedBlock = closedCaller.toBlock();
+      RuntimeException refused = assertThrows(RuntimeException.class, () -> closedBlock.process(1));
+      assertInstanceOf(CoreClosedException.class, refused, "passed on unwrapped");
+      assertTrue(refused.getMessage().contains("another-core"), refused.getMessage());
     }
   }
 }

@@ -1,12 +1,14 @@
 package dev.prime.conformance;
 
 import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
+import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
 import dev.prime.Chain;
+import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.Isolated;
@@ -14,8 +16,10 @@ import dev.prime.PrimeCore;
 import dev.prime.PrimeException;
 import dev.prime.Reader;
 import dev.prime.Repeat;
+import dev.prime.Source;
 import dev.prime.Token;
 import java.time.Duration;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
@@ -60,6 +64,27 @@ public interface InterruptConformance extends ConformanceBase {
           ended.await(patience.toMillis(), TimeUnit.MILLISECONDS),
           "the call did not end within " + patience);
       return thrown.get();
+    }
+
+    /**
+     * Waits, at most 300 ms in all, until each of {@code callers} waits in a monitor or a park
+     * (or ended), so that what the test does next likely meets blocked calls. A media that waits
+     * in a socket read stays runnable, and then the bound passes; the test's assertions hold
+     * either way.
+     */
+    static void awaitBlocked(List<Caller> callers) throws InterruptedException {
+      long deadline = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(300);
+      for (Caller caller : callers) {
+        while (caller.ended.getCount() > 0 && System.nanoTime() < deadline) {
+          Thread.State state = caller.thread.getState();
+          if (state == Thread.State.WAITING
+              || state == Thread.State.TIMED_WAITING
+              || state == Thread.State.BLOCKED) {
+            break;
+          }
+          caller.ended.await(5, TimeUnit.MILLISECONDS);
+        }
+      }
     }
   }
 
@@ -206,6 +231,71 @@ public interface InterruptConformance extends ConformanceBase {
       timed.thread.interrupt();
       assertInstanceOf(InterruptedException.class, timed.awaitFailure(patience()));
     }
+  }
+
+  /**
+   * {@link Reader#take()}: "a value not yet handed out stays for the next call". A take and a
+   * timed take interrupted while they wait, on a reader of an event source and on one of a
+   * service's output, take nothing with them: the values published afterwards all reach the next
+   * takes, in order (a media whose wait goes on in the background after the interrupt would lose
+   * the first of them).
+   */
+  @Test
+  default void anInterruptedTakeLeavesEveryLaterValueForTheNextTake() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("interrupted", events);
+      Reader<Integer> direct = source.reader();
+      Reader<Integer> served = source.then(core.chain("copy", (Integer x) -> x)).reader();
+      core.start();
+      List<Caller> callers = new ArrayList<>();
+      for (Reader<Integer> reader : List.of(direct, served)) {
+        callers.add(new Caller("take", reader::take));
+        callers.add(new Caller("take-timeout", () -> reader.take(Duration.ofHours(1))));
+      }
+      Caller.awaitBlocked(callers);
+      for (Caller caller : callers) {
+        caller.thread.interrupt();
+      }
+      for (Caller caller : callers) {
+        assertInstanceOf(InterruptedException.class, caller.awaitFailure(patience()));
+      }
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 2, 3), takeOrFail(direct, 3), "the event source's reader");
+      assertEquals(List.of(1, 2, 3), takeOrFail(served, 3), "the service output's reader");
+    }
+  }
+
+  /**
+   * {@link Reader}: "When the core is closed, blocked and later calls throw {@link
+   * CoreClosedException}". A take and a timed take waiting on a reader of an event source and on
+   * one of a service's output end with it when the core closes, within the kit's patience.
+   */
+  @Test
+  default void takesWaitingWhenTheCoreClosesEndWithCoreClosedException()
+      throws InterruptedException {
+    PrimeCore core = newCore();
+    List<Caller> callers = new ArrayList<>();
+    try (core) {
+      Source<Integer> source = core.source("quiet", new EventBlock<Integer>());
+      Source<Integer> output = source.then(core.chain("quiet-copy", (Integer x) -> x));
+      core.start();
+      for (Source<Integer> waitedOn : List.of(source, output)) {
+        Reader<Integer> untimed = waitedOn.reader();
+        Reader<Integer> timed = waitedOn.reader();
+        callers.add(new Caller(waitedOn.name() + "-take", untimed::take));
+        callers.add(
+            new Caller(waitedOn.name() + "-take-timeout", () -> timed.take(Duration.ofHours(1))));
+      }
+      Caller.awaitBlocked(callers);
+    }
+    for (Caller caller : callers) {
+      assertInstanceOf(
+          CoreClosedException.class, caller.awaitFailure(patience()), caller.thread.getName());
+    }
+    assertNoThreadsLeft(core);
   }
 
   @Test

@@ -308,4 +308,55 @@ public interface LifecycleConformance extends ConformanceBase {
       assertEquals(30, takeOrFail(out), "the refused source link left its chain usable");
     }
   }
+
+  /**
+   * {@link CoreConfig#shutdownTimeout()}: "how long {@link PrimeCore#close()} waits for each group
+   * of services to stop". A service whose block ignores interrupts does not hold {@code close()}
+   * up: it returns within a few shutdown timeouts, and the core is closed. The block is let go
+   * afterwards, and its thread then ends.
+   */
+  @Test
+  default void closeReturnsWithinTheShutdownTimeoutWhenABlockIgnoresInterrupts()
+      throws InterruptedException {
+    Duration shutdown = Duration.ofMillis(200);
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
+    try {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .then(
+              core.chain(
+                  "deaf",
+                  (Integer x) -> {
+                    inside.countDown();
+                    long deadline = System.nanoTime() + patience().toNanos();
+                    while (release.getCount() > 0 && System.nanoTime() < deadline) {
+                      try {
+                        release.await(10, TimeUnit.MILLISECONDS);
+                      } catch (InterruptedException ignored) {
+                        // deaf on purpose: the test's subject
+                      }
+                    }
+                    return x;
+                  }));
+      core.start();
+      events.publish(1);
+      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      long began = System.nanoTime();
+      core.close();
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(core.isClosed());
+      assertTrue(
+          took.compareTo(shutdown.multipliedBy(5).plusSeconds(1)) < 0,
+          "close() waited " + took + " with a shutdown timeout of " + shutdown);
+    } finally {
+      release.countDown();
+    }
+    long deadline = System.nanoTime() + patience().toNanos();
+    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
+      inside.await(10, TimeUnit.MILLISECONDS); // already zero: a bounded pause
+    }
+    assertNoThreadsLeft(core);
+  }
 }

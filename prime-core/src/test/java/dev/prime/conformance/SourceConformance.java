@@ -5,19 +5,26 @@ import static org.junit.jupiter.api.Assertions.assertNotEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
 import java.time.Duration;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.Optional;
 import java.util.concurrent.CompletableFuture;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.ExecutionException;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
 import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.Future;
 import java.util.concurrent.TimeUnit;
+import java.util.stream.Collectors;
+import java.util.stream.IntStream;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.function.Executable;
 
@@ -228,5 +235,244 @@ public interface SourceConformance extends ConformanceBase {
       assertTrue(allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS));
       assertEquals(List.of(1, 2, 3), heard);
     }
+  }
+
+  /**
+   * {@link Reader}: "concurrent calls are safe but each value goes to exactly one of the
+   * callers", and a reader reads in publication order. Four threads taking from one reader, of an
+   * event source and of a service's output, share the values: none is taken twice, none is lost,
+   * and each thread gets its values in publication order.
+   */
+  @Test
+  default void concurrentTakersOfOneReaderGetEachValueOnceAndInOrder() throws Exception {
+    int takers = 4;
+    int each = 50;
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("shared", events);
+      List<Reader<Integer>> readers =
+          List.of(source.reader(), source.then(core.chain("pass", (Integer x) -> x)).reader());
+      core.start();
+      ExecutorService pool = Executors.newFixedThreadPool(takers * readers.size());
+      try {
+        List<List<Future<List<Integer>>>> taken = new ArrayList<>();
+        for (Reader<Integer> reader : readers) {
+          List<Future<List<Integer>>> ofReader = new ArrayList<>();
+          for (int t = 0; t < takers; t++) {
+            ofReader.add(pool.submit(() -> takeOrFail(reader, each)));
+          }
+          taken.add(ofReader);
+        }
+        for (int i = 0; i < takers * each; i++) {
+          events.publish(i);
+        }
+        for (int r = 0; r < readers.size(); r++) {
+          List<Integer> all = new ArrayList<>();
+          for (Future<List<Integer>> ofTaker : taken.get(r)) {
+            List<Integer> mine = ofTaker.get(patience().toMillis() * 2, TimeUnit.MILLISECONDS);
+            assertEquals(mine.stream().sorted().collect(Collectors.toList()), mine, "reader " + r);
+            all.addAll(mine);
+          }
+          all.sort(null);
+          assertEquals(
+              IntStream.range(0, takers * each).boxed().collect(Collectors.toList()),
+              all,
+              "reader " + r + ": every value once");
+          assertEquals(Optional.empty(), readers.get(r).poll(), "reader " + r + ": nothing more");
+        }
+      } finally {
+        pool.shutdownNow();
+      }
+    }
+  }
+
+  /**
+   * {@link Source}: a reader starts "at the oldest value the source retains", and {@link Reader}:
+   * one that falls more than the retention behind loses the oldest values and counts them in
+   * {@link Reader#missed()}. A source is a source whoever publishes to it: a service's output
+   * keeps the same promises as an event source.
+   */
+  @Test
+  default void aServiceOutputRetainsAndCountsMissedValuesLikeAnEventSource()
+      throws InterruptedException {
+    try (PrimeCore core = newCore(CoreConfig.builder().sourceRetention(3).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> output = core.source(events).then(core.chain("tenfold", (Integer x) -> x * 10));
+      Reader<Integer> slow = output.reader();
+      Reader<Integer> pacer = output.reader();
+      core.start();
+      for (int i = 1; i <= 6; i++) {
+        events.publish(i);
+        assertEquals(i * 10, takeOrFail(pacer));
+      }
+      Reader<Integer> late = output.reader();
+      assertEquals(List.of(40, 50, 60), late.drain(), "a new reader starts at the oldest retained");
+      assertEquals(0, late.missed());
+      assertEquals(List.of(40, 50, 60), slow.drain(), "a slow reader keeps the newest");
+      assertEquals(3, slow.missed(), "and counts what it lost");
+    }
+  }
+
+  /**
+   * {@link PrimeCore} threading: "services declared after {@link PrimeCore#start()} start at
+   * once". A chain, a filter, a flat-map and a listener declared on a started core process every
+   * value published after their declaration; a flat-map that returns an empty iterable drops the
+   * value ({@link Source#flatMap}).
+   */
+  @Test
+  default void servicesDeclaredAfterStartRunAtOnce() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("started-first", events);
+      core.start();
+      Reader<Integer> linked = source.then(core.chain("plus-one", (Integer x) -> x + 1)).reader();
+      Reader<Integer> even = source.filter(x -> x % 2 == 0).reader();
+      Reader<Integer> evenTwice =
+          source.flatMap(x -> x % 2 == 0 ? List.of(x, x) : List.<Integer>of()).reader();
+      CopyOnWriteArrayList<Integer> heard = new CopyOnWriteArrayList<>();
+      CountDownLatch allHeard = new CountDownLatch(4);
+      source.listen(
+          x -> {
+            heard.add(x);
+            allHeard.countDown();
+          });
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 3, 4, 5), takeOrFail(linked, 4));
+      assertEquals(List.of(2, 4), takeOrFail(even, 2));
+      assertEquals(List.of(2, 2, 4, 4), takeOrFail(evenTwice, 4));
+      assertTrue(allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "heard " + heard);
+      assertEquals(List.of(1, 2, 3, 4), heard);
+    }
+  }
+
+  /**
+   * {@link Reader}: "After {@code close()}, every call but {@code close()} throws {@link
+   * IllegalStateException}", a take blocked at {@code close()} ends with it, {@code close()} "never
+   * throws, also on a closed core", and after the core closes a reader that is still open throws
+   * {@link CoreClosedException}, as {@link Source#reader()} does. The same promises for a reader
+   * of a service's output as for one of an event source.
+   */
+  @Test
+  default void aReaderOfAServiceOutputKeepsTheReadersLifecycle() throws Exception {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Source<Integer> output = core.source(events).then(core.chain("kept", (Integer x) -> x));
+    Reader<Integer> open = output.reader();
+    Reader<Integer> closing = output.reader();
+    core.start();
+    events.publish(1);
+    assertEquals(1, takeOrFail(closing));
+    CountDownLatch waiting = new CountDownLatch(1);
+    CompletableFuture<Integer> blocked =
+        CompletableFuture.supplyAsync(
+            () -> {
+              waiting.countDown();
+              try {
+                return closing.take();
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+                throw new IllegalStateException("interrupted", e);
+              }
+            });
+    assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+    closing.close();
+    closing.close();
+    ExecutionException woken =
+        assertThrows(
+            ExecutionException.class,
+            () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+    assertTrue(
+        woken.getCause() instanceof IllegalStateException
+            && !(woken.getCause() instanceof CoreClosedException),
+        "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
+    List<Executable> calls =
+        List.of(
+            closing::take,
+            () -> closing.take(Duration.ofMillis(10)),
+            closing::poll,
+            closing::drain,
+            closing::missed);
+    for (Executable call : calls) {
+      assertThrows(IllegalStateException.class, call);
+    }
+    events.publish(2);
+    assertEquals(List.of(1, 2), takeOrFail(open, 2), "the other reader reads on");
+    core.close();
+    assertThrows(CoreClosedException.class, output::reader);
+    List<Executable> onClosedCore =
+        List.of(open::take, () -> open.take(Duration.ofMillis(10)), open::poll, open::drain);
+    for (Executable call : onClosedCore) {
+      assertThrows(CoreClosedException.class, call);
+    }
+    open.close();
+    closing.close();
+    ConformanceBase.assertNoThreadsLeft(core);
+  }
+
+  /**
+   * {@link Reader#take(Duration)}: "zero or negative means do not wait", empty "if none was
+   * published in time"; {@link Reader#poll()} and {@link Reader#drain()} never block. The same on
+   * a reader of a service's output as on one of an event source: each call without a value
+   * returns empty within a second, and then the values come in order.
+   */
+  @Test
+  default void takeWithTimeoutPollAndDrainOnAServiceOutput() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> reader =
+          core.source(events).then(core.chain("echo", (Integer x) -> x)).reader();
+      core.start();
+      long began = System.nanoTime();
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(20)));
+      assertEquals(Optional.empty(), reader.take(Duration.ZERO));
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(-5)));
+      assertEquals(Optional.empty(), reader.poll());
+      assertEquals(List.of(), reader.drain());
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(took.compareTo(Duration.ofSeconds(1)) < 0, "five empty reads took " + took);
+      assertThrows(NullPointerException.class, () -> reader.take(null));
+      events.publish(1);
+      events.publish(2);
+      events.publish(3);
+      assertEquals(Optional.of(1), reader.take(patience()));
+      assertEquals(List.of(2, 3), takeOrFail(reader, 2));
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(-1)));
+      assertEquals(List.of(), reader.drain());
+      assertEquals(Optional.empty(), reader.poll());
+    }
+  }
+
+  /**
+   * {@link Reader}: "When the core is closed, blocked and later calls throw {@link
+   * CoreClosedException}", {@link Reader#missed()} included; before that, {@code missed()} counts
+   * what the reader lost, on a reader of an event source and of a service's output alike.
+   */
+  @Test
+  default void missedCountsWhatWasLostAndThrowsCoreClosedOnAClosedCore()
+      throws InterruptedException {
+    PrimeCore core = newCore(CoreConfig.builder().sourceRetention(2).build());
+    Reader<Integer> direct;
+    Reader<Integer> served;
+    try (core) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("lossy", events);
+      Source<Integer> output = source.then(core.chain("lossy-copy", (Integer x) -> x));
+      direct = source.reader();
+      served = output.reader();
+      Reader<Integer> pacer = output.reader();
+      core.start();
+      for (int i = 1; i <= 5; i++) {
+        events.publish(i);
+        assertEquals(i, takeOrFail(pacer));
+      }
+      assertEquals(List.of(4, 5), direct.drain());
+      assertEquals(List.of(4, 5), served.drain());
+      assertEquals(3, direct.missed());
+      assertEquals(3, served.missed());
+    }
+    assertThrows(CoreClosedException.class, direct::missed);
+    assertThrows(CoreClosedException.class, served::missed);
   }
 }

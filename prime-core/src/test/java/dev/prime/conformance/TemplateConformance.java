@@ -1,6 +1,7 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTimeoutPreemptively;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
@@ -301,6 +302,51 @@ public interface TemplateConformance extends ConformanceBase {
                   core.guard(x -> x > 0, core.chain(x -> "odd" + x), x -> "neg")));
       core.start();
       assertEquals(List.of("half1", "odd3", "neg"), chain.toBlock().process(List.of(2, 3, -1)));
+    }
+  }
+
+  /**
+   * {@link PrimeCore#syncCollector}: "Its reader is created now, so it sees the values retained
+   * now and everything later"; {@link PrimeCore#asyncCollector}: "at the first call: the values
+   * retained when the collector was made, and later ones". Collectors made on a started core,
+   * after values were published to an event source and to a service's output, return those
+   * values first, then the later ones.
+   */
+  @Test
+  default void collectorsMadeLateSeeTheValuesRetainedWhenTheyWereMade()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("early", events);
+      Source<Integer> output = source.then(core.chain("negate", (Integer x) -> -x));
+      Reader<Integer> pacer = output.reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(List.of(-1, -2), takeOrFail(pacer, 2));
+      for (Source<Integer> collected : List.of(source, output)) {
+        int sign = collected == source ? 1 : -1;
+        Block<Token, Integer> next = core.syncCollector(collected).toBlock();
+        Block<Token, List<Integer>> since = core.asyncCollector(collected).toBlock();
+        if (collected == source) {
+          events.publish(3);
+          assertEquals(-3, takeOrFail(pacer));
+        }
+        List<Integer> expected = List.of(sign, 2 * sign, 3 * sign);
+        List<Integer> taken =
+            assertTimeoutPreemptively(
+                patience(),
+                () -> {
+                  List<Integer> values = new ArrayList<>();
+                  for (int i = 0; i < 3; i++) {
+                    values.add(next.process(Token.INSTANCE));
+                  }
+                  return values;
+                },
+                collected.name() + ": the sync collector waits for a value it should have");
+        assertEquals(expected, taken, collected.name() + ": the sync collector");
+        assertEquals(expected, since.process(Token.INSTANCE), collected.name() + ": the async one");
+      }
     }
   }
 }

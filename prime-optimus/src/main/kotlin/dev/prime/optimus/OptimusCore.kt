@@ -553,8 +553,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Keeps what a request's block threw for a caller in this process: a [ChainFailedException],
-     * or the block's own [VirtualMachineError], which reaches the caller unwrapped as on the
-     * media that run blocks on the caller's thread.
+     * or the block's own [CoreClosedException] or [VirtualMachineError], which reach the caller
+     * unwrapped as on the media that run blocks on the caller's thread.
      */
     internal fun rememberFailure(id: Long, failure: Throwable) {
         failures[id] = failure

@@ -534,7 +534,9 @@ internal class StageService(
             throw e
         } catch (e: Throwable) {
             val failure = e as? ChainFailedException ?: ChainFailedException(name, e)
-            core.rememberFailure(envelope.id, failure)
+            // a CoreClosedException the block threw (it called a chain of a closed core) reaches a
+            // caller in this process unchanged, as a ChainFailedException does (see Block)
+            core.rememberFailure(envelope.id, if (e is CoreClosedException) e else failure)
             val reply = Envelope.replyError(envelope.id, failure.chainName(), failure.cause.toString())
             step.reply(replyTo, reply)
             return RequestOutput(replyTo, reply, isReply = true)
