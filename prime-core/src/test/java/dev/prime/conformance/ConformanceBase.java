@@ -4,13 +4,17 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 import static org.junit.jupiter.api.Assertions.fail;
 
+import dev.prime.Chain;
 import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Optional;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
 
 /**
  * Base of the media conformance kit: a media implements {@link #newCore(CoreConfig)} and inherits
@@ -58,6 +62,39 @@ public interface ConformanceBase {
   default PrimeCore newCoreWithServiceInputCapacity(CoreConfig config, int capacity) {
     return newCore(config.toBuilder().sourceRetention(capacity).build());
   }
+  /**
+   * A chain named {@code name} that holds each value until {@code release} opens (at most the
+   * patience), counting {@code inside} down as a value enters: on a core made by {@link
+   * #newCoreWithServiceInputCapacity}, {@link #fillStuckInput} then fills its service's input.
+   */
+  default Chain<Integer, Integer> stuckChain(
+      PrimeCore core, String name, CountDownLatch inside, CountDownLatch release) {
+    return core.chain(
+        name,
+        (Integer x) -> {
+          inside.countDown();
+          try {
+            release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+          } catch (InterruptedException e) {
+            Thread.currentThread().interrupt();
+          }
+          return x;
+        });
+  }
+
+  /**
+   * Publishes 0, waits until the {@link #stuckChain} holds it, then publishes 1 to {@code
+   * capacity}, which fill that chain's service input: the next publish finds it full.
+   */
+  default void fillStuckInput(EventBlock<Integer> events, CountDownLatch inside, int capacity)
+      throws InterruptedException {
+    events.publish(0);
+    assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "0 reached the chain");
+    for (int i = 1; i <= capacity; i++) {
+      events.publish(i);
+    }
+  }
+
 
   /**
    * Whether a synchronous call runs the chain's blocks on the caller's thread (true for the

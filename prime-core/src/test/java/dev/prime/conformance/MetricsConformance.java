@@ -540,25 +540,9 @@ public interface MetricsConformance extends ConformanceBase {
             .build();
     try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
       EventBlock<Integer> events = new EventBlock<>();
-      core.link(
-          core.source("numbers", events),
-          core.chain(
-              "stuck",
-              (Integer x) -> {
-                firstInside.countDown();
-                try {
-                  release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                }
-                return x;
-              }));
+      core.link(core.source("numbers", events), stuckChain(core, "stuck", firstInside, release));
       core.start();
-      events.publish(0);
-      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-      for (int i = 1; i <= capacity; i++) {
-        events.publish(i); // fills the stuck service's input
-      }
+      fillStuckInput(events, firstInside, capacity);
       assertThrows(dev.prime.QueueFullException.class, () -> events.publish(999));
       ServiceMetrics numbers = core.metrics().service("numbers");
       release.countDown();

@@ -401,25 +401,10 @@ public interface RecordingConformance extends ConformanceBase {
       EventBlock<Integer> events = new EventBlock<>();
       Reader<Integer> out =
           core.source("numbers", events)
-              .then(
-                  core.chain(
-                      "stuck",
-                      (Integer x) -> {
-                        firstInside.countDown();
-                        try {
-                          release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
-                        } catch (InterruptedException e) {
-                          Thread.currentThread().interrupt();
-                        }
-                        return x;
-                      }))
+              .then(stuckChain(core, "stuck", firstInside, release))
               .reader();
       core.start();
-      events.publish(0);
-      assertTrue(firstInside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-      for (int i = 1; i <= capacity; i++) {
-        events.publish(i); // fills the stuck service's input
-      }
+      fillStuckInput(events, firstInside, capacity);
       assertThrows(dev.prime.QueueFullException.class, () -> events.publish(999));
       release.countDown();
       int last = -1;

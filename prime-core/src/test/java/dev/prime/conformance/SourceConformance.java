@@ -132,58 +132,9 @@ public interface SourceConformance extends ConformanceBase {
 
   @Test
   default void aClosedReaderFailsEveryLaterCallAndWakesItsWaiters() throws Exception {
-    Reader<Integer> kept;
-    Reader<Integer> closing;
-    try (PrimeCore core = newCore()) {
-      EventBlock<Integer> events = new EventBlock<>();
-      Source<Integer> source = core.source(events);
-      kept = source.reader();
-      closing = source.reader();
-      core.start();
-      events.publish(1);
-      assertEquals(1, takeOrFail(closing));
-      CountDownLatch waiting = new CountDownLatch(1);
-      CompletableFuture<Integer> blocked =
-          CompletableFuture.supplyAsync(
-              () -> {
-                waiting.countDown();
-                try {
-                  return closing.take();
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                  throw new IllegalStateException("interrupted", e);
-                }
-              });
-      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-      long started = System.nanoTime();
-      closing.close();
-      closing.close(); // idempotent
-      ExecutionException woken =
-          assertThrows(
-              ExecutionException.class,
-              () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
-      assertTrue(
-          woken.getCause() instanceof IllegalStateException
-              && woken.getCause().getMessage().contains("reader closed"),
-          "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
-      Duration wakeTook = Duration.ofNanos(System.nanoTime() - started);
-      assertTrue(wakeTook.compareTo(Duration.ofSeconds(3)) < 0, "woken after " + wakeTook);
-      List<Executable> calls =
-          List.of(
-              closing::take,
-              () -> closing.take(Duration.ofMillis(10)),
-              closing::poll,
-              closing::drain,
-              closing::missed);
-      for (Executable call : calls) {
-        IllegalStateException e = assertThrows(IllegalStateException.class, call);
-        assertTrue(e.getMessage().contains("reader closed"), e.getMessage());
-      }
-      events.publish(2);
-      assertEquals(List.of(1, 2), List.of(takeOrFail(kept), takeOrFail(kept)), "others read on");
-    }
-    kept.close(); // on a closed core too: no exception
-    closing.close();
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    assertReadersLifecycle(core, events, core.source(events));
   }
 
   @Test
@@ -358,57 +309,77 @@ public interface SourceConformance extends ConformanceBase {
   default void aReaderOfAServiceOutputKeepsTheReadersLifecycle() throws Exception {
     PrimeCore core = newCore();
     EventBlock<Integer> events = new EventBlock<>();
-    Source<Integer> output = core.source(events).then(core.chain("kept", (Integer x) -> x));
-    Reader<Integer> open = output.reader();
-    Reader<Integer> closing = output.reader();
-    core.start();
-    events.publish(1);
-    assertEquals(1, takeOrFail(closing));
-    CountDownLatch waiting = new CountDownLatch(1);
-    CompletableFuture<Integer> blocked =
-        CompletableFuture.supplyAsync(
-            () -> {
-              waiting.countDown();
-              try {
-                return closing.take();
-              } catch (InterruptedException e) {
-                Thread.currentThread().interrupt();
-                throw new IllegalStateException("interrupted", e);
-              }
-            });
-    assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
-    closing.close();
-    closing.close();
-    ExecutionException woken =
-        assertThrows(
-            ExecutionException.class,
-            () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
-    assertTrue(
-        woken.getCause() instanceof IllegalStateException
-            && !(woken.getCause() instanceof CoreClosedException),
-        "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
-    List<Executable> calls =
-        List.of(
-            closing::take,
-            () -> closing.take(Duration.ofMillis(10)),
-            closing::poll,
-            closing::drain,
-            closing::missed);
-    for (Executable call : calls) {
-      assertThrows(IllegalStateException.class, call);
+    assertReadersLifecycle(
+        core, events, core.source(events).then(core.chain("kept", (Integer x) -> x)));
+  }
+
+  /**
+   * Checks the {@link Reader} lifecycle on two readers of {@code source}, which {@code events}
+   * feeds: a closed reader wakes its blocked take and fails every later call, the other reads on,
+   * and after {@code core} closes (this closes it) the open one throws {@link
+   * CoreClosedException}; {@code close()} never throws.
+   */
+  private void assertReadersLifecycle(PrimeCore core, EventBlock<Integer> events, Source<Integer> source)
+      throws Exception {
+    try {
+      Reader<Integer> open = source.reader();
+      Reader<Integer> closing = source.reader();
+      core.start();
+      events.publish(1);
+      assertEquals(1, takeOrFail(closing));
+      CountDownLatch waiting = new CountDownLatch(1);
+      CompletableFuture<Integer> blocked =
+          CompletableFuture.supplyAsync(
+              () -> {
+                waiting.countDown();
+                try {
+                  return closing.take();
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                  throw new IllegalStateException("interrupted", e);
+                }
+              });
+      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      long started = System.nanoTime();
+      closing.close();
+      closing.close(); // idempotent
+      ExecutionException woken =
+          assertThrows(
+              ExecutionException.class,
+              () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertTrue(
+          woken.getCause() instanceof IllegalStateException
+              && !(woken.getCause() instanceof CoreClosedException)
+              && woken.getCause().getMessage().contains("reader closed"),
+          "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
+      Duration wakeTook = Duration.ofNanos(System.nanoTime() - started);
+      assertTrue(wakeTook.compareTo(Duration.ofSeconds(3)) < 0, "woken after " + wakeTook);
+      List<Executable> calls =
+          List.of(
+              closing::take,
+              () -> closing.take(Duration.ofMillis(10)),
+              closing::poll,
+              closing::drain,
+              closing::missed);
+      for (Executable call : calls) {
+        IllegalStateException e = assertThrows(IllegalStateException.class, call);
+        assertTrue(e.getMessage().contains("reader closed"), e.getMessage());
+      }
+      events.publish(2);
+      assertEquals(List.of(1, 2), takeOrFail(open, 2), "the other reader reads on");
+      core.close();
+      assertThrows(CoreClosedException.class, source::reader);
+      List<Executable> onClosedCore =
+          List.of(open::take, () -> open.take(Duration.ofMillis(10)), open::poll, open::drain);
+      for (Executable call : onClosedCore) {
+        assertThrows(CoreClosedException.class, call);
+      }
+      open.close(); // on a closed core too: no exception
+      closing.close();
+      ConformanceBase.assertNoThreadsLeft(core);
+    } finally {
+      core.close();
     }
-    events.publish(2);
-    assertEquals(List.of(1, 2), takeOrFail(open, 2), "the other reader reads on");
-    core.close();
-    assertThrows(CoreClosedException.class, output::reader);
-    List<Executable> onClosedCore =
-        List.of(open::take, () -> open.take(Duration.ofMillis(10)), open::poll, open::drain);
-    for (Executable call : onClosedCore) {
-      assertThrows(CoreClosedException.class, call);
-    }
-    open.close();
-    closing.close();
-    ConformanceBase.assertNoThreadsLeft(core);
   }
 
   /**
