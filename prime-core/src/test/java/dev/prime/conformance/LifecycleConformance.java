@@ -312,8 +312,9 @@ public interface LifecycleConformance extends ConformanceBase {
   /**
    * {@link CoreConfig#shutdownTimeout()}: "how long {@link PrimeCore#close()} waits for each group
    * of services to stop". A service whose block ignores interrupts does not hold {@code close()}
-   * up: it returns within a few shutdown timeouts, and the core is closed. The block is let go
-   * afterwards, and its thread then ends.
+   * up: it returns within a few shutdown timeouts (under 5 s here, a quarter of the patience the
+   * block would hold it), and the core is closed. The block is let go afterwards, and its thread
+   * then ends.
    */
   @Test
   default void closeReturnsWithinTheShutdownTimeoutWhenABlockIgnoresInterrupts()
@@ -348,7 +349,7 @@ public interface LifecycleConformance extends ConformanceBase {
       Duration took = Duration.ofNanos(System.nanoTime() - began);
       assertTrue(core.isClosed());
       assertTrue(
-          took.compareTo(shutdown.multipliedBy(5).plusSeconds(1)) < 0,
+          took.compareTo(shutdown.multipliedBy(5).plusSeconds(4)) < 0,
           "close() waited " + took + " with a shutdown timeout of " + shutdown);
     } finally {
       release.countDown();

@@ -386,7 +386,8 @@ public interface SourceConformance extends ConformanceBase {
    * {@link Reader#take(Duration)}: "zero or negative means do not wait", empty "if none was
    * published in time"; {@link Reader#poll()} and {@link Reader#drain()} never block. The same on
    * a reader of a service's output as on one of an event source: each call without a value
-   * returns empty within a second, and then the values come in order.
+   * returns empty at once (five of them within 3 s, far below any wait), and then the values
+   * come in order.
    */
   @Test
   default void takeWithTimeoutPollAndDrainOnAServiceOutput() throws InterruptedException {
@@ -402,7 +403,7 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(Optional.empty(), reader.poll());
       assertEquals(List.of(), reader.drain());
       Duration took = Duration.ofNanos(System.nanoTime() - began);
-      assertTrue(took.compareTo(Duration.ofSeconds(1)) < 0, "five empty reads took " + took);
+      assertTrue(took.compareTo(Duration.ofSeconds(3)) < 0, "five empty reads took " + took);
       assertThrows(NullPointerException.class, () -> reader.take(null));
       events.publish(1);
       events.publish(2);
