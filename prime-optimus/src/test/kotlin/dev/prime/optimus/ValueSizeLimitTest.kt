@@ -34,6 +34,20 @@ class ValueSizeLimitTest {
     }
 
     @Test
+    fun theRefusalNamesTheTypeItsSizeAndTheLimit() {
+        OptimusCore.builder().redis(TestRedis.url).maxValueBytes(LIMIT).build().use { core ->
+            val events = EventBlock<String>()
+            core.source("texts", events)
+            core.start()
+            val text = "x".repeat(2 * LIMIT)
+            val size = core.codec.encode(text).size
+            val refused = assertThrows(ValueTooLargeException::class.java) { events.publish(text) }
+            val message = refused.message!!
+            assertTrue("java.lang.String" in message && "$size bytes" in message && "limit of $LIMIT bytes" in message, message)
+        }
+    }
+
+    @Test
     fun oversizeEntriesFoundInRedisAreDeadLetteredWithOnlyAPrefixKept() {
         OptimusCore.builder().redis(TestRedis.url).maxValueBytes(LIMIT).build().use { core ->
             val events = EventBlock<Int>()
