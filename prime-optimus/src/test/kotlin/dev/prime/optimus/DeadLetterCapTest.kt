@@ -36,6 +36,42 @@ class DeadLetterCapTest {
     }
 
     @Test
+    fun clearingDeadLettersKeepsTheTrimmedCountAndALetterHandsOutCopies() {
+        OptimusCore.builder().redis(TestRedis.url).deadLetterLimit(2).build().use { core ->
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events).then(core.chain("strict") { x: Int -> x + 1 }).reader()
+            core.start()
+            Jedis(URI(TestRedis.url)).use { raw -> repeat(3) { raw.rpush(core.keys.serviceInput("strict"), "garbage $it".toByteArray()) } }
+            events.publish(1) // behind the 3 bad entries: once it is out, they were handled
+            assertEquals(2, out.take(Duration.ofSeconds(20)).orElseThrow())
+            assertEquals(1L, core.trimmedDeadLetters("strict"))
+            val letter = core.deadLetters("strict").first()
+            letter.bytes().fill(0)
+            assertEquals("garbage 1", String(letter.bytes()), "bytes() is a copy: changing one changes not the letter")
+
+            assertEquals(2, core.clearDeadLetters("strict"))
+            assertEquals(emptyList<DeadLetter>(), core.deadLetters("strict"))
+            assertEquals(1L, core.trimmedDeadLetters("strict"), "clearing the dead letters does not reset the trimmed count")
+        }
+    }
+
+    @Test
+    fun aReplyListExpiresAfterTwiceACallTimeoutLongerThanFiveMinutes() {
+        OptimusCore.builder().redis(TestRedis.url).callTimeout(Duration.ofMinutes(20)).build().use { core ->
+            core.chain("echo") { x: Int -> x }.toBlock()
+            core.start()
+            val reply = core.keys.reply("a-patient-caller")
+            Jedis(URI(TestRedis.url)).use { raw ->
+                raw.rpush(core.keys.serviceInput("echo"), Envelope.request(78L, reply, core.encode(5)))
+                assertTrue(raw.blmove(reply, reply, ListDirection.LEFT, ListDirection.RIGHT, 20.0) != null, "no reply")
+                val ttl = raw.pttl(reply)
+                val expected = Duration.ofMinutes(40).toMillis()
+                assertTrue(ttl in (expected - 60_000)..expected, "the reply list expires in $ttl ms, not twice the 20 min call timeout")
+            }
+        }
+    }
+
+    @Test
     fun aReplyListGetsAnExpiryWhenAReplyIsPushed() {
         OptimusCore.builder().redis(TestRedis.url).build().use { core ->
             core.chain("echo") { x: Int -> x }.toBlock()
