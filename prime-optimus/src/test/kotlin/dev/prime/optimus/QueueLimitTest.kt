@@ -75,6 +75,26 @@ class QueueLimitTest {
     }
 
     @Test
+    fun thePublishTimeoutIsTheConfigsUnlessTheBuilderSetsOne() {
+        fun refusedAfter(config: CoreConfig, builder: (OptimusCore.Builder) -> OptimusCore.Builder): Duration =
+            builder(OptimusCore.builder().config(config).redis(TestRedis.url).hosts(emptyList()).queueLimit("full", 1)).build().use { core ->
+                val events = EventBlock<Int>()
+                core.source("numbers", events).then(core.chain("full") { x: Int -> x })
+                core.start()
+                events.publish(0)
+                val started = System.nanoTime()
+                assertThrows(QueueFullException::class.java) { events.publish(1) }
+                Duration.ofNanos(System.nanoTime() - started)
+            }
+        val fromConfig = refusedAfter(CoreConfig.builder().publishTimeout(Duration.ofMillis(400)).build()) { it }
+        assertTrue(fromConfig >= Duration.ofMillis(350) && fromConfig < Duration.ofSeconds(5), "the config's 400 ms: refused after $fromConfig")
+        val fromBuilder = refusedAfter(CoreConfig.builder().publishTimeout(Duration.ofSeconds(30)).build()) {
+            it.publishTimeout(Duration.ofMillis(400))
+        }
+        assertTrue(fromBuilder >= Duration.ofMillis(350) && fromBuilder < Duration.ofSeconds(5), "the builder's 400 ms: refused after $fromBuilder")
+    }
+
+    @Test
     fun aBatchLargerThanTheLimitIsRefusedAtOnce() {
         OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).queueLimit(5).build().use { core ->
             val numbers = core.source("numbers", EventBlock<Int>())
