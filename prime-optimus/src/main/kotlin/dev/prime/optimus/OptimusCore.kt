@@ -383,6 +383,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
         checkHostingModes()
+        warnOfUnknownQueueLimits()
         val hosted = (services.keys + coreThreadServices()).filter(::isHosted) + genericServices.keys
         try {
             withSession("declare the hosting modes of its services") { session ->
@@ -680,6 +681,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "core '${name()}' is given Hosting.ORDERED or UNORDERED for $notChains: those are combinators, timers or generic " +
                 "services, which have one host at a time (Hosting.EXCLUSIVE); hosting modes apply to the services of chains"
         }
+    }
+
+    /**
+     * Warns of queue limits given for services that are not (yet) services of this core's chains: a
+     * misspelt name would otherwise be ignored without a word. Not refused, as unknown hosts are:
+     * a service declared after [start] may be the one the limit is for.
+     */
+    private fun warnOfUnknownQueueLimits() {
+        val unknown = queueLimits.keys - services.keys
+        if (unknown.isEmpty()) return
+        LOG.warn(
+            "core '{}' is given queue limits for {}, which are not services of its chains (yet): a limit applies only to " +
+                "a service of that name declared later; its services: {}",
+            name(), unknown.sorted(), services.keys.sorted(),
+        )
     }
 
     /**
@@ -1062,7 +1078,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             settings = settings.copy(queueLimit = limit)
         }
 
-        /** The queue limit of [service] (as the user named it), instead of the default [queueLimit]. */
+        /**
+         * The queue limit of [service] (as the user named it), instead of the default [queueLimit].
+         * [start] logs a WARN naming every such service that is not a service of the core's chains
+         * by then (a misspelt name; or one declared later, which the limit then applies to).
+         */
         public fun queueLimit(service: String, limit: Int): Builder = apply {
             require(limit > 0) { "queue limit of service '$service' must be positive, was $limit" }
             settings = settings.copy(queueLimits = settings.queueLimits + (service to limit))

@@ -1,8 +1,10 @@
 package dev.prime.optimus
 
 import dev.prime.CoreConfig
+import dev.prime.conformance.CapturedStderr
 import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertDoesNotThrow
+import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
@@ -51,6 +53,20 @@ class OptimusBuilderInputTest {
             Executable { builder.replicaAcks(0) },
         )
         bounds.forEach(::assertDoesNotThrow)
+    }
+
+    @Test
+    fun startWarnsOfAQueueLimitForAServiceItsChainsDoNotHave() {
+        val lines = CapturedStderr().use { err ->
+            OptimusCore.builder().config(config()).redis(TestRedis.url)
+                .queueLimit("dubble", 5).queueLimit("double", 7).build().use { core ->
+                    core.source("numbers", EventBlock<Int>()).then(core.chain("double") { x: Int -> 2 * x })
+                    core.start()
+                }
+            err.lines().filter { "queue limits" in it }
+        }
+        assertEquals(1, lines.size, "one line: $lines")
+        assertTrue(" WARN " in lines[0] && "[dubble]" in lines[0], "names the unknown one only: ${lines[0]}")
     }
 
     @Test
