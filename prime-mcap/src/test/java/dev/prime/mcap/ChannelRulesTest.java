@@ -8,6 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import java.io.IOException;
 import java.nio.file.Path;
 import java.util.List;
+import java.util.Map;
 import java.util.stream.Collectors;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
@@ -63,6 +64,29 @@ class ChannelRulesTest {
       assertEquals(
           List.of(7L, 5L, 0xFFFF_FFFFL, 0xFFFF_FFFFL),
           reader.messages().map(McapMessage::sequence).collect(Collectors.toList()));
+    }
+  }
+
+  @Test
+  void aClosedWriterRefusesChannelsMetadataAndValuesNamingTheFile() throws IOException {
+    Path file = dir.resolve("closed.mcap");
+    McapWriter writer = McapWriter.open(file);
+    McapChannel<Integer> count = writer.channel("count", Integer.class);
+    assertTrue(count.write(1, 1, 0, 1));
+    writer.close();
+    writer.close(); // twice does nothing
+    IllegalStateException value = assertThrows(IllegalStateException.class, () -> count.write(2, 2, 1, 2));
+    assertTrue(value.getMessage().contains(file.toString()), value.getMessage());
+    assertTrue(value.getMessage().contains("'count'"), value.getMessage());
+    IllegalStateException channel =
+        assertThrows(IllegalStateException.class, () -> writer.channel("late", Integer.class));
+    assertTrue(channel.getMessage().contains(file + " is closed"), channel.getMessage());
+    IllegalStateException metadata =
+        assertThrows(IllegalStateException.class, () -> writer.metadata("late", Map.of("a", "b")));
+    assertTrue(metadata.getMessage().contains(file + " is closed"), metadata.getMessage());
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("count"), "the file keeps what was written before the close");
+      assertEquals(List.of(), reader.metadata("late"));
     }
   }
 }
