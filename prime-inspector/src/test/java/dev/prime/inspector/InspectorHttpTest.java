@@ -309,6 +309,32 @@ class InspectorHttpTest {
   }
 
   @Test
+  void anInspectorThatOutlivesItsCoreShowsItClosed() throws Exception {
+    CoreConfig config =
+        CoreConfig.builder().name("brief").metrics(true).recording(RecordingOptions.defaults()).build();
+    PrimeCore core = DemoController.declaredOn(new LibertyCore(config));
+    try (PrimeInspector inspector = PrimeInspector.start(core)) {
+      try (core) {
+        core.start();
+      }
+      Answer topology = get(inspector.uri(), "/api/topology");
+      assertEquals(200, topology.status(), topology.body());
+      assertEquals("brief", JSON.readTree(topology.body()).get("core").asText());
+      try (RawStream stream = new RawStream(inspector.uri(), "/api/events")) {
+        assertEquals("HTTP/1.1 200 OK", stream.line());
+        JsonNode figures = null;
+        // the first posting may be from before the close; the sampler posts twice a second
+        for (int i = 0; i < 10 && (figures == null || !figures.path("closed").asBoolean()); i++) {
+          stream.until("event: figures", 50);
+          figures = JSON.readTree(stream.until("data: ", 5).substring(6));
+        }
+        assertTrue(figures.path("closed").asBoolean(), "the figures say the core closed: " + figures);
+        assertFalse(figures.has("error"), "a closed core is not an error: " + figures);
+      }
+    }
+  }
+
+  @Test
   void streamsBeyondTheLimitAreRefusedAndTheLimitFreesUpOnClose() throws Exception {
     try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()));
         PrimeInspector inspector = PrimeInspector.start(core)) {

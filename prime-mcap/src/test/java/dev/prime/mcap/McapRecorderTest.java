@@ -9,14 +9,21 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.RecordingOptions;
+import dev.prime.Source;
 import dev.prime.liberty.LibertyCore;
 import java.nio.file.Path;
 import java.time.Duration;
+import java.util.ArrayList;
+import java.util.Collections;
 import java.util.List;
 import java.util.Map;
 import java.util.Set;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
+import java.util.logging.Handler;
+import java.util.logging.Level;
+import java.util.logging.LogRecord;
+import java.util.logging.Logger;
 import java.util.stream.Collectors;
 import java.util.stream.LongStream;
 import org.junit.jupiter.api.Test;
@@ -179,6 +186,77 @@ class McapRecorderTest {
         assertEquals(100, reader.messageCount("words"));
         assertEquals("w99", reader.messages("words", String.class).reduce((a, b) -> b).orElseThrow().value());
       }
+    }
+  }
+
+  /** A value of a class that is not a record: it has no channel type. */
+  static final class Opaque {
+    final int n;
+
+    Opaque(int n) {
+      this.n = n;
+    }
+  }
+
+  @Test
+  void valuesWithNoChannelTypeAreCountedAndLoggedWithTheFixOthersWritten() throws Exception {
+    Path file = dir.resolve("typed.mcap");
+    int published = 5;
+    List<String> warnings = Collections.synchronizedList(new ArrayList<>());
+    Logger log = Logger.getLogger(McapRecorder.class.getName());
+    Handler handler =
+        new Handler() {
+          @Override
+          public void publish(LogRecord record) {
+            if (record.getLevel() == Level.WARNING) {
+              warnings.add(record.getMessage());
+            }
+          }
+
+          @Override
+          public void flush() {}
+
+          @Override
+          public void close() {}
+        };
+    log.addHandler(handler);
+    try (PrimeCore core = core(16)) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Source<Integer> source = core.source("ticks", ticks);
+      Reader<Opaque> opaque = source.then(core.chain("opaque", (Integer t) -> new Opaque(t))).reader();
+      Reader<List<Integer>> lists = source.then(core.chain("lists", (Integer t) -> List.of(t, t))).reader();
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(
+              core.recording(), file, McapWriterOptions.defaults(),
+              Map.of("lists", new ValueType<List<Integer>>() {}), Map.of());
+      try (recorder) {
+        for (int i = 0; i < published; i++) {
+          ticks.publish(i);
+          assertTrue(opaque.take(Duration.ofSeconds(10)).isPresent());
+          assertTrue(lists.take(Duration.ofSeconds(10)).isPresent());
+        }
+        long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(10);
+        while (recorder.writtenCount() + recorder.unwritableCount() < 3L * published
+            && System.nanoTime() < deadline) {
+          Thread.sleep(1); // polling the recorder's counts, bounded by the deadline
+        }
+        assertEquals(published, recorder.unwritableCount(), "every Opaque value");
+        assertEquals(2L * published, recorder.writtenCount(), "ticks and lists");
+      }
+      assertEquals(1, warnings.size(), warnings.toString());
+      String warning = warnings.get(0);
+      assertTrue(warning.contains("could not write " + published), warning);
+      assertTrue(warning.contains("opaque: values of " + Opaque.class.getName()), warning);
+      assertTrue(warning.contains("give its type in RecordingMcap.stream(..., types)"), warning);
+    } finally {
+      log.removeHandler(handler);
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(Set.of("ticks", "lists"), reader.channels().stream().map(ChannelInfo::topic).collect(Collectors.toSet()));
+      assertEquals(
+          List.of(List.of(0, 0), List.of(1, 1), List.of(2, 2), List.of(3, 3), List.of(4, 4)),
+          reader.messages("lists", new ValueType<List<Integer>>() {}).map(TypedMessage::value).toList());
     }
   }
 

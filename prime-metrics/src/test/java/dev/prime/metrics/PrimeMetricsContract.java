@@ -180,6 +180,49 @@ abstract class PrimeMetricsContract {
     }
   }
 
+  @Test
+  void aNegativeRefreshIsRefusedWithItsValue() {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> PrimeMetrics.of(core, Duration.ofMillis(-5)));
+      assertTrue(e.getMessage().contains("PT-0.005S"), e.getMessage());
+    }
+  }
+
+  @Test
+  void oneBinderServesTwoRegistriesUntilItClosesThenTimesNothing() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry first = new SimpleMeterRegistry();
+      SimpleMeterRegistry second = new SimpleMeterRegistry();
+      PrimeMetrics binder = PrimeMetrics.of(core, Duration.ZERO);
+      binder.bindTo(first);
+      binder.bindTo(second);
+      Block<Integer, Integer> late = core.chain("late", (Integer x) -> x + 1).toBlock();
+      core.start();
+      assertEquals(7, same.process(7));
+      assertEquals(2, late.process(1));
+      Timer firstTimer = first.get(PrimeMetrics.PROCESSING).tag("service", "same").timer();
+      Timer secondTimer = second.get(PrimeMetrics.PROCESSING).tag("service", "same").timer();
+      assertEquals(1, count(first, PrimeMetrics.VALUES_IN, "same"));
+      assertEquals(1, count(second, PrimeMetrics.VALUES_IN, "same"));
+      assertEquals(1, firstTimer.count());
+      assertEquals(1, secondTimer.count());
+      assertEquals(
+          List.of(),
+          first.find(PrimeMetrics.VALUES_IN).tag("service", "late").meters(),
+          "a node declared after binding gets no meters");
+
+      binder.close();
+      binder.close(); // twice does nothing
+      assertEquals(List.of(), first.getMeters(), "closing removes the meters of every registry");
+      assertEquals(List.of(), second.getMeters(), "closing removes the meters of every registry");
+      assertEquals(8, same.process(8));
+      assertEquals(1, firstTimer.count(), "a closed binder times no more values");
+      assertEquals(1, secondTimer.count(), "a closed binder times no more values");
+    }
+  }
+
   static double count(SimpleMeterRegistry registry, String meter, String service) {
     return registry.get(meter).tag("service", service).functionCounter().count();
   }
