@@ -374,15 +374,20 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         beginLiveness()
         checkCodecAgreement()
         declarations.codecDeclared = true
-        hosts?.let { wanted ->
-            val declared = topology().services()
-            val unknown = wanted - declared
-            require(unknown.isEmpty()) {
-                "core '${name()}' is told to host $unknown, which its topology does not declare (declare the whole " +
-                    "topology before start()); its services: ${declared.sorted()}"
+        try {
+            hosts?.let { wanted ->
+                val declared = topology().services()
+                val unknown = wanted - declared
+                require(unknown.isEmpty()) {
+                    "core '${name()}' is told to host $unknown, which its topology does not declare (declare the whole " +
+                        "topology before start()); its services: ${declared.sorted()}"
+                }
             }
+            checkHostingModes()
+        } catch (e: IllegalArgumentException) {
+            notRunning += topology().services() // refused: nothing runs here, as serviceNames() then says
+            throw e
         }
-        checkHostingModes()
         warnOfUnknownQueueLimits()
         val hosted = (services.keys + coreThreadServices()).filter(::isHosted) + genericServices.keys
         try {

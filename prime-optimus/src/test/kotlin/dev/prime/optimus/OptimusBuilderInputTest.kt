@@ -75,6 +75,7 @@ class OptimusBuilderInputTest {
             core.chain("double") { x: Int -> 2 * x }
             val e = assertThrows(IllegalArgumentException::class.java) { core.start() }
             assertTrue("[tripple]" in e.message!! && "does not declare" in e.message!! && "[double]" in e.message!!, e.message)
+            assertEquals(setOf<String>(), core.serviceNames(), "the refused start runs nothing here, and says so")
         }
     }
 
