@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.internal.RateLimitedLog;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.LinkedHashMap;
@@ -69,6 +70,8 @@ public final class Metrics {
   private final ServiceGauges gauges; // the media's, or null
   private final Predicate<String> hostedHere;
   private final Map<String, ServiceMeter> meters = new LinkedHashMap<>(); // guarded by itself
+  private final RateLimitedLog listenerFailures =
+      new RateLimitedLog(ProcessingListener.class.getName()); // keyed by node; flushed at close
 
   Metrics(
       String core,
@@ -152,6 +155,16 @@ public final class Metrics {
     /** Undoes it; closing twice does nothing more. */
     @Override
     void close();
+  }
+
+  /** {@return where the meters log their listeners' failures} */
+  RateLimitedLog listenerFailures() {
+    return listenerFailures;
+  }
+
+  /** The core closed: writes the count of listener failures still owed to the log. */
+  void closed() {
+    listenerFailures.flush();
   }
 
   /** {@return the meter registered under {@code name}, or {@code null}} */

@@ -67,6 +67,13 @@ final class ModelCompiler<F> {
     return metering.metrics();
   }
 
+  /** The core closed: the metrics, if on, write what their logs still owe. */
+  void closed() {
+    if (metering != null) {
+      metering.metrics().closed();
+    }
+  }
+
   /** A generic service just recorded as {@code name}, with its tap if metrics are on. */
   GenericService genericService(String name, GenericService service) {
     return metering == null

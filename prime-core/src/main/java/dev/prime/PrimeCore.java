@@ -1000,6 +1000,10 @@ public abstract class PrimeCore implements AutoCloseable {
     services.stopAll(config.shutdownTimeout());
     onClose();
     combinators.closed();
+    ModelCompiler<?> declared = compiler;
+    if (declared != null) {
+      declared.closed();
+    }
     config.flushErrorSummaries();
   }
 

@@ -23,11 +23,10 @@ import org.slf4j.LoggerFactory;
 final class ServiceMeter {
   private static final ProcessingListener[] NO_LISTENERS = {};
   private static final Logger LOG = LoggerFactory.getLogger(ProcessingListener.class);
-  private static final RateLimitedLog LISTENER_FAILURES =
-      new RateLimitedLog(ProcessingListener.class.getName());
 
   private final String name;
   private final String kind;
+  private final RateLimitedLog listenerFailures; // the core's: flushed when it closes
   private final LongAdder in = new LongAdder();
   private final LongAdder out = new LongAdder();
   private final LongAdder failures = new LongAdder();
@@ -38,9 +37,16 @@ final class ServiceMeter {
   private volatile LongSupplier queue; // the node's input queue where the core has one
   private volatile LongSupplier missed; // what the node's input missed, where it can miss
 
-  ServiceMeter(String name, String kind) {
+  /**
+   * @param name the node's name in the topology model
+   * @param kind the node's kind (its class's simple name)
+   * @param listenerFailures where failures of its listeners are logged: one per core, so the
+   *     count a burst still owes is written when the core closes
+   */
+  ServiceMeter(String name, String kind, RateLimitedLog listenerFailures) {
     this.name = name;
     this.kind = kind;
+    this.listenerFailures = listenerFailures;
   }
 
   String name() {
@@ -88,7 +94,7 @@ final class ServiceMeter {
       try {
         listener.processed(n, failed);
       } catch (RuntimeException e) {
-        LISTENER_FAILURES.record(
+        listenerFailures.record(
             "a metrics listener of '" + name + "' threw",
             1,
             e.toString(),

@@ -31,6 +31,8 @@ import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Predicate;
+import java.util.regex.Matcher;
+import java.util.regex.Pattern;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -551,4 +553,49 @@ public interface MetricsConformance extends ConformanceBase {
       assertEquals(List.of(), failures);
     }
   }
+
+  @Test
+  default void aThrowingListenerIsLoggedOncePerBurstAndEveryValueGoesOn() throws Exception {
+    int n = 12;
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    List<String> lines;
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (PrimeCore core = meteredCore(failures)) {
+        EventBlock<Integer> events = new EventBlock<>();
+        Reader<Integer> doubled =
+            core.source("numbers", events).then(core.chain("noted", (Integer x) -> x * 2)).reader();
+        core.metrics()
+            .onProcessed(
+                "noted",
+                (nanos, failed) -> {
+                  throw new IllegalStateException("listener broken");
+                });
+        core.start();
+        for (int i = 1; i <= n; i++) {
+          events.publish(i);
+        }
+        List<Integer> out = takeOrFail(doubled, n);
+        assertEquals(2 * n, out.get(n - 1), "every value went on past the listener: " + out);
+        assertCounts(core.metrics().service("noted"), "BlockChain", n, n, 0);
+      } // the count still owed for the burst is written when the core closes
+      lines = err.lines();
+    }
+    assertEquals(List.of(), failures, "a listener's failure is not the service's");
+    List<String> mentions =
+        lines.stream().filter(l -> l.contains("a metrics listener of 'noted' threw")).toList();
+    long full = mentions.stream().filter(l -> l.contains("the value goes on")).count();
+    long counted = 0;
+    for (String line : mentions) {
+      Matcher more = LISTENER_SUMMARY.matcher(line);
+      if (more.find()) {
+        counted += Long.parseLong(more.group(1));
+      }
+    }
+    assertEquals(1, full, "the first failure of the burst in full, once:\n" + String.join("\n", mentions));
+    assertEquals(
+        n, full + counted, "the lines count every failure:\n" + String.join("\n", mentions));
+  }
+
+  /** The count of a summary line: "... threw: 11 more in the last 1 s; ...". */
+  Pattern LISTENER_SUMMARY = Pattern.compile("(\\d+) more in the last");
 }
