@@ -31,6 +31,31 @@ class ChannelRulesTest {
   }
 
   @Test
+  void aFileHoldsAtMost65535ChannelsAndTheNextTopicIsRefused() throws IOException {
+    Path file = dir.resolve("many.mcap");
+    int most = 65_535;
+    try (McapWriter writer = McapWriter.open(file)) {
+      McapChannel<Integer> first = writer.channel("t0", Integer.class);
+      for (int i = 1; i < most; i++) {
+        writer.channel("t" + i, Integer.class);
+      }
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> writer.channel("one-more", Integer.class));
+      assertTrue(e.getMessage().contains("at most 65535 channels"), e.getMessage());
+      assertSame(first, writer.channel("t0", Integer.class), "a topic defined before is still given");
+      assertTrue(first.write(1, 1, 0, 42), "the channels defined still record");
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(
+          List.of(42),
+          reader.messages("t0", Integer.class).map(TypedMessage::value).collect(Collectors.toList()));
+      assertTrue(
+          reader.channels().stream().noneMatch(c -> c.topic().equals("one-more")),
+          "the refused topic has no channel");
+    }
+  }
+
+  @Test
   void negativeTimesAreRefusedNamingTheTopicAndNothingIsWritten() throws IOException {
     Path file = dir.resolve("times.mcap");
     try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
