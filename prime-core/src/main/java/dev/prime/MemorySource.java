@@ -9,6 +9,7 @@ import java.util.List;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.LongAdder;
 import java.util.concurrent.locks.LockSupport;
 import java.util.concurrent.locks.ReentrantLock;
 import org.slf4j.Logger;
@@ -186,8 +187,9 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
   private final List<Thread> sleepers = new ArrayList<>(); // guarded by itself: parked readers
 
   private static final Logger LOG = LoggerFactory.getLogger(MemorySource.class);
-  private final RateLimitedLog missLog = new RateLimitedLog(MemorySource.class.getName()); // one key: this source
-  private final java.util.concurrent.atomic.LongAdder missedByReaders = new java.util.concurrent.atomic.LongAdder();
+  private final RateLimitedLog missLog = // one key: this source
+      new RateLimitedLog(MemorySource.class.getName());
+  private final LongAdder missedByReaders = new LongAdder();
 
   /**
    * @param core the owning core
