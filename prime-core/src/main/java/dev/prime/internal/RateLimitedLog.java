@@ -13,7 +13,8 @@ import org.slf4j.LoggerFactory;
  * at most one WARN line per interval ("...: 37 more in the last 10 s; the last: ..."); once a key
  * has been quiet for the quiet period, its next event starts a new burst and is logged in full
  * again. A summary still owed when a burst ends is written at that key's next event, or by {@link
- * #flush()}. Used by the default error handler and by media for missed values and dead letters.
+ * #flush()}. Used by the default error handler, by media for missed values and dead letters, by
+ * combinators for dropped values and by metrics for failing listeners.
  *
  * <p>Design note: thread-safe, one small state object per key (its monitor guards it), no timer
  * thread: summaries are written by the thread that records an event. Log calls are made outside
