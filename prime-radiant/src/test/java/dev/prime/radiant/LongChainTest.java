@@ -8,6 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.ChainFailedException;
+import dev.prime.EventBlock;
 import dev.prime.Tuple2;
 import dev.prime.radiant.internal.FusedCompiler;
 import java.lang.reflect.Field;
@@ -223,6 +224,52 @@ class LongChainTest {
     assertTrue(
         deepest >= 100 && deepest <= 200, // about 150: one per 200 call sites of nesting
         "fused frames at the innermost of " + NESTING + " nested guards: " + deepest);
+  }
+
+  /**
+   * "Nests of 10,000 templates compile and run on a default thread stack", for the templates
+   * the guard and if/else tests leave out: 10,000 nested for-each loops, unions and forks.
+   */
+  @Test
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  void tenThousandNestedForEachesUnionsAndForksCompileAndRun() throws Exception {
+    AtomicInteger published = new AtomicInteger();
+    EventBlock<Long> events = new EventBlock<>();
+    events.subscribe(x -> published.incrementAndGet());
+    Block[] blocks =
+        onDefaultStack(
+            () -> {
+              Chain loops = core.chain(new Add(1));
+              Chain unions = core.chain(new Add(1));
+              Chain<Long, Long> forks = core.chain(new Add(0));
+              for (int i = 0; i < NESTING; i++) {
+                loops = core.forEach(loops);
+                unions = core.union(unions, core.chain(new Add(i)));
+                forks = core.fork(forks.then(new Add(1)), events);
+              }
+              return new Block[] {loops.toBlock(), unions.toBlock(), forks.toBlock()};
+            });
+
+    Object nested = List.of(5L);
+    for (int i = 1; i < NESTING; i++) {
+      nested = List.of(nested);
+    }
+    Object input = nested;
+    Object loops = onDefaultStack(() -> blocks[0].process(input));
+    for (int i = 0; i < NESTING; i++) {
+      loops = ((List<Object>) loops).get(0);
+    }
+    assertEquals(6L, loops, "the innermost body ran on the innermost element");
+
+    Object unions = onDefaultStack(() -> blocks[1].process(5L));
+    for (int i = NESTING - 1; i >= 0; i--) {
+      assertEquals(5L + i, ((Tuple2) unions).second(), "the second part of level " + i);
+      unions = ((Tuple2) unions).first();
+    }
+    assertEquals(6L, unions, "the innermost chain");
+
+    assertEquals((long) NESTING, onDefaultStack(() -> blocks[2].process(0L)));
+    assertEquals(NESTING, published.get(), "every fork published its output");
   }
 
   @Test
