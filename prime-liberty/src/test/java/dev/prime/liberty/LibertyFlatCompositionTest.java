@@ -159,6 +159,39 @@ class LibertyFlatCompositionTest {
     }
   }
 
+  /**
+   * Templates other than links are the core's generic blocks, one step each: an if/else between
+   * two blocks makes a run of three steps, and its branch runs under the generic if/else block.
+   */
+  @Test
+  void aTemplateIsTheCoresGenericBlockAndOneStep() {
+    List<List<String>> between = new ArrayList<>();
+    try (LibertyCore core = new LibertyCore()) {
+      core.start();
+      Block<Integer, Integer> block =
+          core.chain((Integer x) -> x + 1)
+              .then(
+                  core.ifThenElse(
+                      (Integer x) -> x > 0,
+                      core.chain(
+                          (Integer x) -> {
+                            between.add(framesBelowCaller());
+                            return x * 10;
+                          }),
+                      core.chain((Integer x) -> -x)))
+              .then((Integer x) -> x + 2)
+              .toBlock();
+      assertEquals(Runs.Run3.class, block.getClass(), "three steps: block, if/else, block");
+      assertEquals(22, callFromHere(block, 1));
+      assertEquals(List.of(
+              Runs.Run1.class.getName() + ".process",
+              "dev.prime.IfThenElseBlock.process",
+              Runs.Run3.class.getName() + ".process"),
+          between.get(0),
+          "the branch's own run, under the generic if/else block, under the chain's run");
+    }
+  }
+
   /** Calls {@code block}: the frame {@link #framesBelowCaller()} counts down to. */
   private static int callFromHere(Block<Integer, Integer> block, int input) {
     return block.process(input);
