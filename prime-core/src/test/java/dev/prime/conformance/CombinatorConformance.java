@@ -28,6 +28,7 @@ import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicLong;
+import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -152,6 +153,36 @@ public interface CombinatorConformance extends ConformanceBase {
       assertEquals(expectedOdds, odds);
       assertEquals(expectedEvens, evens);
       assertEquals(Optional.empty(), out.take(quiet()));
+    }
+  }
+
+  /**
+   * On the in-memory media each input of a combinator is a queue like a service's: values
+   * published before {@code start()} wait in it (none is missed, whatever the source's window),
+   * and once it holds {@code sourceRetention()} values a publish waits {@code publishTimeout} and
+   * fails with {@link QueueFullException} naming the combinator. (Optimus refuses a publish before
+   * the start, and its combinators read through readers of their own.)
+   */
+  @Test
+  default void aCombinatorsInputIsAQueueThatHoldsThePublisherWhenFull() throws Exception {
+    Assumptions.assumeTrue(
+        publishesBeforeStartWait(), "in-memory media: a publish before the start waits");
+    CoreConfig config =
+        CoreConfig.builder().sourceRetention(4).publishTimeout(Duration.ofMillis(200)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> odd = new EventBlock<>();
+      EventBlock<Integer> even = new EventBlock<>();
+      Source<Number> merged = core.merge(core.source("odd", odd), core.source("even", even));
+      Reader<Number> out = merged.reader();
+      for (int i = 1; i <= 4; i++) {
+        odd.publish(2 * i - 1);
+      }
+      QueueFullException full = assertThrows(QueueFullException.class, () -> odd.publish(9));
+      assertEquals("merge(odd|even)", full.serviceName(), full.getMessage());
+      assertEquals(4, full.capacity(), full.getMessage());
+      core.start();
+      assertEquals(List.of(1, 3, 5, 7), takeOrFail(out, 4), "every value the input held");
+      assertEquals(Optional.empty(), out.take(quiet()), "the refused value was not published");
     }
   }
 

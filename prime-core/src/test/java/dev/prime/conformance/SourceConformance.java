@@ -13,9 +13,13 @@ import dev.prime.Reader;
 import dev.prime.Source;
 import java.time.Duration;
 import java.util.ArrayList;
+import java.util.HashSet;
 import java.util.List;
+import java.util.Map;
 import java.util.Optional;
+import java.util.Set;
 import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.ExecutionException;
 import java.util.concurrent.ExecutorService;
@@ -25,11 +29,79 @@ import java.util.concurrent.Future;
 import java.util.concurrent.TimeUnit;
 import java.util.stream.Collectors;
 import java.util.stream.IntStream;
+import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.function.Executable;
 
 /** Sources and readers: broadcast, retention, late readers and the take/poll/drain contract. */
 public interface SourceConformance extends ConformanceBase {
+
+  /**
+   * On the in-memory media every chain linked to a source, every filter, flat-map and listener
+   * runs on a service thread of its own, named after its core and never the publisher's, and
+   * chains linked before they are linked to a source run as one service, on one thread: the
+   * core's live threads are exactly its services'.
+   */
+  @Test
+  default void inMemoryServicesEachRunOnAThreadOfTheirOwnAndLinkedChainsShareOne()
+      throws Exception {
+    Assumptions.assumeTrue(
+        blocksRunOnTheCallersThread(), "in-memory media: a service is a thread of this process");
+    Map<String, String> threads = new ConcurrentHashMap<>();
+    CountDownLatch listened = new CountDownLatch(1);
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", events);
+      Source<Integer> scaled =
+          numbers.then(
+              core.chain("scale", (Integer x) -> ranOn(threads, "scale", x * 10))
+                  .then(core.chain("shift", (Integer x) -> ranOn(threads, "shift", x + 1))));
+      Source<Integer> positive = numbers.filter(x -> ranOn(threads, "filter", x) > 0);
+      Source<Integer> twice = numbers.flatMap(x -> ranOn(threads, "flatMap", List.of(x, x)));
+      numbers.listen(
+          x -> {
+            ranOn(threads, "listen", x);
+            listened.countDown();
+          });
+      Reader<Integer> scaledReader = scaled.reader();
+      Reader<Integer> positiveReader = positive.reader();
+      Reader<Integer> twiceReader = twice.reader();
+      core.start();
+
+      events.publish(4);
+      assertEquals(41, takeOrFail(scaledReader));
+      assertEquals(4, takeOrFail(positiveReader));
+      assertEquals(4, takeOrFail(twiceReader));
+      assertTrue(
+          listened.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the listener ran");
+
+      assertEquals(
+          threads.get("scale"), threads.get("shift"), "linked chains run as one service: " + threads);
+      Set<String> serviceThreads =
+          new HashSet<>(
+              List.of(
+                  threads.get("scale"),
+                  threads.get("filter"),
+                  threads.get("flatMap"),
+                  threads.get("listen")));
+      assertEquals(4, serviceThreads.size(), "a thread per service: " + threads);
+      for (String thread : serviceThreads) {
+        assertTrue(
+            thread.startsWith("prime-" + core.name() + "-"), "a thread of the core: " + thread);
+        assertNotEquals(Thread.currentThread().getName(), thread, "not the publisher's thread");
+      }
+      assertEquals(
+          serviceThreads,
+          new HashSet<>(ConformanceBase.threadsOf(core)),
+          "the core's live threads are its four services");
+    }
+  }
+
+  /** Records the thread that ran {@code role} and passes {@code value} on. */
+  private static <T> T ranOn(Map<String, String> threads, String role, T value) {
+    threads.put(role, Thread.currentThread().getName());
+    return value;
+  }
 
   @Test
   default void everyReaderSeesEveryValueInOrder() throws InterruptedException {

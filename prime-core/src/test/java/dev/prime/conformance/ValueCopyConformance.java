@@ -1,6 +1,8 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNotSame;
+import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 
 import dev.prime.Block;
@@ -11,7 +13,9 @@ import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
 import java.util.ArrayList;
+import java.util.Collections;
 import java.util.List;
+import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -92,6 +96,77 @@ public interface ValueCopyConformance extends ConformanceBase {
       assertEquals(List.of(1, 99), result);
       result.add(100);
       assertEquals(List.of(1, 99), block.process(new ArrayList<>(List.of(1))));
+    }
+  }
+
+  /**
+   * The in-memory media pass values by reference unless told to copy: a synchronous call's
+   * block gets the caller's very input and the caller its very result, and a published value
+   * reaches every reader and every service as the very object published. With {@code
+   * copyValues}, chains linked together are one service, so the value one returns is the very
+   * object the next gets; only what crosses into and out of the linked chain is copied.
+   */
+  @Test
+  default void theInMemoryMediaPassValuesByReferenceAndLinkedChainsNeverCopy() throws Exception {
+    Assumptions.assumeTrue(
+        blocksRunOnTheCallersThread(), "in-memory media: values stay in this process");
+    try (PrimeCore core = newCore()) {
+      EventBlock<List<Integer>> events = new EventBlock<>();
+      Source<List<Integer>> source = core.source(events);
+      Reader<List<Integer>> reader = source.reader();
+      List<Object> served = Collections.synchronizedList(new ArrayList<>());
+      Reader<Boolean> service =
+          core.link(
+                  source,
+                  core.chain(
+                      (List<Integer> list) -> {
+                        served.add(list);
+                        return true;
+                      }))
+              .reader();
+      List<Integer> result = new ArrayList<>();
+      List<Object> received = new ArrayList<>();
+      Block<List<Integer>, List<Integer>> block =
+          core.chain(
+                  "same",
+                  (List<Integer> list) -> {
+                    received.add(list);
+                    return result;
+                  })
+              .toBlock();
+      core.start();
+      List<Integer> input = new ArrayList<>(List.of(1));
+      assertSame(result, block.process(input), "the caller gets the block's very result");
+      assertSame(input, received.get(0), "the block gets the caller's very input");
+      List<Integer> published = new ArrayList<>(List.of(2));
+      events.publish(published);
+      assertSame(published, takeOrFail(reader), "a reader gets the very value published");
+      assertEquals(true, takeOrFail(service));
+      assertSame(published, served.get(0), "a service gets the very value published");
+    }
+    try (PrimeCore core = copyingCore()) {
+      List<Object> handedOver = new ArrayList<>();
+      Block<List<Integer>, List<Integer>> linked =
+          core.chain(
+                  "first",
+                  (List<Integer> list) -> {
+                    List<Integer> out = new ArrayList<>(list);
+                    handedOver.add(out);
+                    return out;
+                  })
+              .then(
+                  core.chain(
+                      "second",
+                      (List<Integer> list) -> {
+                        handedOver.add(list);
+                        return list;
+                      }))
+              .toBlock();
+      core.start();
+      List<Integer> output = linked.process(new ArrayList<>(List.of(3)));
+      assertEquals(List.of(3), output);
+      assertSame(handedOver.get(0), handedOver.get(1), "between linked chains nothing is copied");
+      assertNotSame(handedOver.get(1), output, "what leaves the linked chain is a copy");
     }
   }
 

@@ -3,6 +3,7 @@ package dev.prime.liberty;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
 import dev.prime.Chain;
@@ -119,6 +120,94 @@ class LibertyFlatCompositionTest {
         }
       }
     }
+  }
+
+  /**
+   * "A linked call costs a few method invocations": every block of a linked chain, of any length,
+   * is called at most three frames (run, sequence, loop) below the caller of the chain's block,
+   * never a frame per link.
+   */
+  @Test
+  void everyBlockRunsAtMostThreeFramesBelowTheCaller() {
+    int sequence = Runs.MAX_LENGTH * RunSequences.MAX_RUNS;
+    try (LibertyCore core = new LibertyCore()) {
+      core.start();
+      for (int length : new int[] {1, 2, Runs.MAX_LENGTH + 1, sequence + 1, 10_000}) {
+        List<List<String>> between = new ArrayList<>();
+        Chain<Integer, Integer> chain = null;
+        for (int i = 0; i < length; i++) {
+          Chain<Integer, Integer> step =
+              core.chain(
+                  (Integer x) -> {
+                    between.add(framesBelowCaller());
+                    return x + 1;
+                  });
+          chain = chain == null ? step : chain.then(step);
+        }
+        Block<Integer, Integer> block = chain.toBlock();
+        assertEquals(length, callFromHere(block, 0));
+        assertEquals(length, between.size());
+        int deepest = 0;
+        for (List<String> frames : between) {
+          assertTrue(frames.size() <= 3, "length " + length + ": frames " + frames);
+          deepest = Math.max(deepest, frames.size());
+        }
+        if (length == 1) {
+          assertEquals(1, deepest, "a chain of one block is one frame below: " + between);
+        }
+      }
+    }
+  }
+
+  /**
+   * Templates other than links are the core's generic blocks, one step each: an if/else between
+   * two blocks makes a run of three steps, and its branch runs under the generic if/else block.
+   */
+  @Test
+  void aTemplateIsTheCoresGenericBlockAndOneStep() {
+    List<List<String>> between = new ArrayList<>();
+    try (LibertyCore core = new LibertyCore()) {
+      core.start();
+      Block<Integer, Integer> block =
+          core.chain((Integer x) -> x + 1)
+              .then(
+                  core.ifThenElse(
+                      (Integer x) -> x > 0,
+                      core.chain(
+                          (Integer x) -> {
+                            between.add(framesBelowCaller());
+                            return x * 10;
+                          }),
+                      core.chain((Integer x) -> -x)))
+              .then((Integer x) -> x + 2)
+              .toBlock();
+      assertEquals(Runs.Run3.class, block.getClass(), "three steps: block, if/else, block");
+      assertEquals(22, callFromHere(block, 1));
+      assertEquals(List.of(
+              Runs.Run1.class.getName() + ".process",
+              "dev.prime.IfThenElseBlock.process",
+              Runs.Run3.class.getName() + ".process"),
+          between.get(0),
+          "the branch's own run, under the generic if/else block, under the chain's run");
+    }
+  }
+
+  /** Calls {@code block}: the frame {@link #framesBelowCaller()} counts down to. */
+  private static int callFromHere(Block<Integer, Integer> block, int input) {
+    return block.process(input);
+  }
+
+  /** The frames between the calling block's lambda and {@link #callFromHere}. */
+  private static List<String> framesBelowCaller() {
+    List<StackWalker.StackFrame> frames = StackWalker.getInstance().walk(f -> f.skip(2).toList());
+    List<String> between = new ArrayList<>();
+    for (StackWalker.StackFrame frame : frames) {
+      if (frame.getMethodName().equals("callFromHere")) {
+        return between;
+      }
+      between.add(frame.getClassName() + "." + frame.getMethodName());
+    }
+    throw new AssertionError("not called through callFromHere: " + frames);
   }
 
   private static Class<?> shapeOf(int length) {

@@ -1,11 +1,13 @@
 package dev.prime.radiant;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
 import java.lang.reflect.Field;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
 import java.util.concurrent.Future;
@@ -64,6 +66,69 @@ class CallSiteTypesTest {
       types.add(field.getType());
     }
     assertEquals(List.of(IsEven.class, Doubler.class, Block.class, Doubler.class), types);
+  }
+
+  /** Adds its own constant; public, so the fused class holds it by its own type. */
+  public static final class Add implements Block<Integer, Integer> {
+    private final int n;
+
+    Add(int n) {
+      this.n = n;
+    }
+
+    @Override
+    public Integer process(Integer x) {
+      return x + n;
+    }
+  }
+
+  /**
+   * Compiling is thread-safe: chains compiled at once on several threads (each with a core of its
+   * own, since one core compiles its chains under its declaration lock) each get their own blocks
+   * in their own class's constants, never another thread's.
+   */
+  @Test
+  void chainsCompiledOnManyThreadsAtOnceEachKeepTheirOwnBlocks() throws Exception {
+    int threads = 4;
+    int chains = 100;
+    ExecutorService pool = Executors.newFixedThreadPool(threads);
+    CountDownLatch go = new CountDownLatch(1);
+    try {
+      List<Future<List<String>>> results = new ArrayList<>();
+      for (int t = 0; t < threads; t++) {
+        int thread = t;
+        results.add(
+            pool.submit(
+                () -> {
+                  assertTrue(go.await(30, TimeUnit.SECONDS));
+                  List<String> wrong = new ArrayList<>();
+                  try (RadiantCore own = new RadiantCore()) {
+                    for (int i = 0; i < chains; i++) {
+                      int n = thread * 100_000 + i * 10;
+                      Block<Integer, Integer> block =
+                          own.chain(new Add(n))
+                              .then(
+                                  own.ifThenElse(
+                                      (Integer x) -> x >= n,
+                                      own.chain(new Add(1)),
+                                      own.chain(new Add(-1))))
+                              .toBlock();
+                      int got = block.process(0);
+                      if (got != n + 1) {
+                        wrong.add("thread " + thread + ", chain " + i + ": " + got);
+                      }
+                    }
+                  }
+                  return wrong;
+                }));
+      }
+      go.countDown();
+      for (Future<List<String>> result : results) {
+        assertEquals(List.of(), result.get(120, TimeUnit.SECONDS));
+      }
+    } finally {
+      pool.shutdownNow();
+    }
   }
 
   @Test

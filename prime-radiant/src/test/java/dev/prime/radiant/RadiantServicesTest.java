@@ -6,6 +6,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.EventBlock;
 import dev.prime.Reader;
 import dev.prime.Source;
+import dev.prime.radiant.internal.FusedCompiler;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Set;
@@ -21,6 +22,7 @@ class RadiantServicesTest {
     try (RadiantCore core = new RadiantCore()) {
       EventBlock<Integer> sensor = new EventBlock<>();
       Source<Integer> readings = core.source("readings", sensor);
+      long classesBeforeLink = FusedCompiler.classesGenerated();
       Source<String> out =
           readings.then(
               core.chain("scale", (Integer x) -> x * 10)
@@ -51,6 +53,10 @@ class RadiantServicesTest {
                   })
               .get(10, TimeUnit.SECONDS);
       assertEquals(List.of("v20", "v30"), got, "null outputs are not published");
+      assertEquals(
+          1,
+          FusedCompiler.classesGenerated() - classesBeforeLink,
+          "the linked chain is compiled once, into one class, for all the values it serves");
     }
     assertTrue(
         Thread.getAllStackTraces().keySet().stream()

@@ -1,6 +1,7 @@
 package dev.prime.radiant;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
@@ -57,6 +58,39 @@ class UnloadingTest {
     long growth = classLoading.getLoadedClassCount() - loadedBefore;
     assertTrue(growth < CHAINS / 10, "loaded classes grew by " + growth + " for " + CHAINS
         + " dropped chains");
+  }
+
+  @Test
+  void aDroppedBlockIsUnloadedWhileItsCoreStaysOpen() throws InterruptedException {
+    try (RadiantCore core = new RadiantCore()) {
+      core.start();
+      ReferenceQueue<Object> unloaded = new ReferenceQueue<>();
+      List<WeakReference<Object>> dropped = new ArrayList<>();
+      for (int i = 0; i < 50; i++) {
+        compileRunAndDrop(core, i, unloaded, dropped);
+      }
+      int collected = 0;
+      for (int attempt = 0; attempt < 20 && collected < dropped.size(); attempt++) {
+        System.gc();
+        while (unloaded.remove(200) != null) {
+          collected++;
+        }
+      }
+      assertEquals(dropped.size(), collected,
+          "fused classes and loaders unloaded while the core that compiled them is open");
+      assertFalse(core.isClosed());
+      assertEquals(3, core.chain((Integer x) -> x + 1).toBlock().process(2), "the core still works");
+    }
+  }
+
+  /** Compiles one chain of {@code core}, runs it once, and keeps weak references only. */
+  private static void compileRunAndDrop(
+      RadiantCore core, int i, ReferenceQueue<Object> unloaded, List<WeakReference<Object>> refs) {
+    Block<Integer, Integer> block =
+        core.chain("dropped-" + i, (Integer x) -> x + 1).then((Integer x) -> x * 2).toBlock();
+    assertEquals(2 * (i + 1), block.process(i));
+    refs.add(new WeakReference<>(block.getClass(), unloaded));
+    refs.add(new WeakReference<>(block.getClass().getClassLoader(), unloaded));
   }
 
   @Test
