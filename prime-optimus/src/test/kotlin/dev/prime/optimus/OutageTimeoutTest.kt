@@ -2,7 +2,6 @@ package dev.prime.optimus
 
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
-import dev.prime.PrimeException
 import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
@@ -15,7 +14,9 @@ import java.util.concurrent.TimeUnit
 
 /**
  * Every call with a timeout honours it within timeout + 1 s while Redis is unreachable, killed
- * or behind a frozen network; `poll()` and `drain()` do not wait for a reconnect.
+ * or behind a frozen network, and gives up with `RedisUnavailableException` (the README's
+ * promise for a call, `take(timeout)`, `poll()` and `drain()`); `poll()` and `drain()` do not
+ * wait for a reconnect.
  */
 class OutageTimeoutTest {
 
@@ -61,7 +62,7 @@ class OutageTimeoutTest {
         }
     }
 
-    /** Runs [action], which must fail with a PrimeException within [timeout] + 1 s; returns how long it took. */
+    /** Runs [action], which must fail with a RedisUnavailableException within [timeout] + 1 s; returns how long it took. */
     private fun timed(what: String, timeout: Duration, action: Executable): Duration {
         val started = System.nanoTime()
         val future = CompletableFuture.runAsync { action.execute() }
@@ -75,7 +76,7 @@ class OutageTimeoutTest {
             throw AssertionError("$what did not end within $bound during the outage")
         }
         val took = Duration.ofNanos(System.nanoTime() - started)
-        assertTrue(e is PrimeException, "$what fails with a PrimeException during the outage, not $e")
+        assertTrue(e is RedisUnavailableException, "$what fails with a RedisUnavailableException during the outage, not $e")
         assertTrue(took <= bound, "$what took $took, more than $bound")
         return took
     }
