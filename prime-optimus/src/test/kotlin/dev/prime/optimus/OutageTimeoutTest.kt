@@ -4,9 +4,12 @@ import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.function.Executable
+import org.junit.jupiter.api.io.TempDir
+import java.nio.file.Path
 import java.time.Duration
 import java.util.concurrent.CompletableFuture
 import java.util.concurrent.ExecutionException
@@ -31,6 +34,28 @@ class OutageTimeoutTest {
     fun callsAndReadsEndInTimeWhileTheNetworkIsFrozen() {
         FaultProxy(TestRedis.url).use { proxy ->
             outage(proxy.url, cut = { proxy.freeze() }, mend = { proxy.thaw() })
+        }
+    }
+
+    /** README: "`take()` waits for Redis to come back" (with its data: an append-only file). */
+    @Test
+    fun anUntimedTakeWaitsThroughAnOutageAndGetsTheValuePublishedAfterIt(@TempDir dir: Path) {
+        EmbeddedRedis.builder().appendOnlyDir(dir).start().use { redis ->
+            val config = CoreConfig.builder().name("outage-take-${System.nanoTime()}").build()
+            OptimusCore.builder().config(config).redis(redis.uri).build().use { core ->
+                val events = EventBlock<Int>()
+                val reader: Reader<Int> = core.source(events).reader()
+                core.start()
+                events.publish(1)
+                assertEquals(1, reader.take(PATIENCE).orElseThrow())
+                redis.kill()
+                val taken = CompletableFuture.supplyAsync { reader.take() }
+                // while Redis is down the take neither returns nor gives up (longer than poll()'s bound and a few retries)
+                assertThrows(java.util.concurrent.TimeoutException::class.java) { taken.get(OUTAGE_MS, TimeUnit.MILLISECONDS) }
+                redis.restart()
+                events.publish(2)
+                assertEquals(2, taken.get(PATIENCE.toSeconds(), TimeUnit.SECONDS), "the take returns the value published after the outage")
+            }
         }
     }
 
@@ -85,5 +110,6 @@ class OutageTimeoutTest {
         val CALL_TIMEOUT: Duration = Duration.ofSeconds(2)
         val PATIENCE: Duration = Duration.ofSeconds(20)
         const val GRACE_MS = 2000L
+        const val OUTAGE_MS = 1500L
     }
 }
