@@ -1,5 +1,6 @@
 package dev.prime.faults;
 
+import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
@@ -23,7 +24,8 @@ import org.junit.jupiter.api.Test;
  * Issue 9 item 7: with redis-server killed and not restarted, every operation that has a bound
  * honours it within the bound + 1 s: {@code EventBlock.publish} (the publish timeout, 10 s by
  * default), a call with a 3 s call timeout, {@code take(2 s)}, and {@code poll()} (never waits for
- * the network). All four run at once; then {@code close()} ends within its shutdown timeout.
+ * the network), each giving up with {@code RedisUnavailableException}. All four run at once; then
+ * {@code close()} ends within its shutdown timeout.
  */
 class OutageBoundsTest {
   private static final Duration PUBLISH_TIMEOUT = Duration.ofSeconds(10);
@@ -100,6 +102,9 @@ class OutageBoundsTest {
       long closeTook = System.nanoTime() - closeStarted;
       Figures.report("Redis down: " + results + "; close() " + Figures.seconds(closeTook));
       for (Result result : results) assertTrue(result.inBound(), "ends within its bound + 1 s: " + result);
+      for (Result result : results) {
+        assertEquals("threw RedisUnavailableException", result.outcome(), "gives up with RedisUnavailableException: " + result);
+      }
       Duration shutdown = core.config().shutdownTimeout().plus(SLACK);
       assertTrue(closeTook <= shutdown.toNanos(), "close() while Redis is down took " + Figures.seconds(closeTook));
     } finally {

@@ -1,6 +1,7 @@
 package dev.prime.faults;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.EventBlock;
 import dev.prime.optimus.OptimusCore;
@@ -48,6 +49,7 @@ class WorkerKillTest {
             assertEquals(0, ledger.duplicated(), "duplicated: " + ledger.counts());
             assertEquals(0, ledger.reordered(), "reordered: " + ledger.counts());
             assertEquals(0, ledger.refusedCount(), "refused: " + ledger.counts());
+            assertTrue(outcome.recoveredNanos() >= 0, "the successor delivered no value: " + ledger.counts() + "\n" + worker.output());
           }
         } finally {
           worker.close();

@@ -33,8 +33,8 @@ import java.util.concurrent.atomic.AtomicBoolean
  * froze during the wait) returns empty, as for any value that did not come in time: Redis
  * answered the take's step, and the wait's own reply was due only at the deadline; the dropped
  * connection is recovered by the next take, which delivers a value moved meanwhile. [poll] and [drain] never wait for a reconnect: they replace a
- * broken connection once, at once, and within [NO_WAIT_BOUND_MS] in all throw
- * [RedisUnavailableException].
+ * broken connection once, at once, and throw [RedisUnavailableException] once Redis did not
+ * answer within [NO_WAIT_BOUND_MS] (plus [RedisConnections.DEADLINE_GRACE_MS] on a frozen socket).
  *
  * [close] leaves the source's reader set and deletes the reader's lists; it does not wait for a
  * blocked read (it closes that read's connection instead), and waits at most [CLOSE_BOUND_MS]

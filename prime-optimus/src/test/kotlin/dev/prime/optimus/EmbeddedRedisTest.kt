@@ -11,6 +11,7 @@ import redis.clients.jedis.Jedis
 import java.net.URI
 import java.nio.file.Files
 import java.nio.file.Path
+import java.time.Duration
 
 class EmbeddedRedisTest {
 
@@ -56,5 +57,26 @@ class EmbeddedRedisTest {
         assertThrows(IllegalArgumentException::class.java) { EmbeddedRedis.builder().port(0) }
         assertThrows(IllegalArgumentException::class.java) { EmbeddedRedis.builder().port(70000) }
         assertThrows(IllegalArgumentException::class.java) { EmbeddedRedis.builder().executable(Path.of("/no/such/redis")) }
+        assertThrows(IllegalArgumentException::class.java) { EmbeddedRedis.builder().startTimeout(Duration.ZERO) }
+        assertThrows(IllegalArgumentException::class.java) { EmbeddedRedis.builder().startTimeout(Duration.ofSeconds(-1)) }
+    }
+
+    @Test
+    fun theServerListensOnTheLoopbackAddressOnly() {
+        EmbeddedRedis.start().use { redis ->
+            val bind = Jedis(URI(redis.uri)).use { it.configGet("bind") }
+            assertEquals(mapOf("bind" to "127.0.0.1"), bind, "the embedded server binds 127.0.0.1 only")
+        }
+    }
+
+    @Test
+    fun closeDeletesTheServersOwnFilesAndIsIdempotent() {
+        val redis = EmbeddedRedis.start()
+        val dir = Jedis(URI(redis.uri)).use { Path.of(it.configGet("dir").getValue("dir")) }
+        assertTrue(Files.isDirectory(dir), "the server works in $dir")
+        redis.close()
+        redis.close()
+        assertFalse(redis.isRunning)
+        assertFalse(Files.exists(dir), "close() deletes the files of a server that was not asked to persist: $dir")
     }
 }

@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import dev.prime.Repeat
+import dev.prime.Tick
 import dev.prime.Token
 import dev.prime.Tuple2
 import dev.prime.Tuple3
@@ -101,6 +102,13 @@ internal class KryoCodecRoundTripTest {
     fun `Token decodes as the one instance`() {
         assertSame(Token.INSTANCE, roundTrip(standard, Token.INSTANCE))
         assertSame(Token.INSTANCE, (roundTrip(standard, listOf(Token.INSTANCE)) as List<*>)[0])
+    }
+
+    @Test
+    fun `Tick is built in - a codec that learns nothing reads one it never sent`() {
+        fun strict() = KryoCodec.builder().learnRecordsAndEnums(false).build()
+        val tick = Tick(3, Instant.parse("2026-11-27T06:00:00.5Z"))
+        assertEquals(tick, strict().decode(strict().encode(tick)))
     }
 
     @Test

@@ -2,12 +2,14 @@ package dev.prime.optimus
 
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
-import dev.prime.PrimeException
 import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.function.Executable
+import org.junit.jupiter.api.io.TempDir
+import java.nio.file.Path
 import java.time.Duration
 import java.util.concurrent.CompletableFuture
 import java.util.concurrent.ExecutionException
@@ -15,7 +17,9 @@ import java.util.concurrent.TimeUnit
 
 /**
  * Every call with a timeout honours it within timeout + 1 s while Redis is unreachable, killed
- * or behind a frozen network; `poll()` and `drain()` do not wait for a reconnect.
+ * or behind a frozen network, and gives up with `RedisUnavailableException` (the README's
+ * promise for a call, `take(timeout)`, `poll()` and `drain()`); `poll()` and `drain()` do not
+ * wait for a reconnect.
  */
 class OutageTimeoutTest {
 
@@ -30,6 +34,28 @@ class OutageTimeoutTest {
     fun callsAndReadsEndInTimeWhileTheNetworkIsFrozen() {
         FaultProxy(TestRedis.url).use { proxy ->
             outage(proxy.url, cut = { proxy.freeze() }, mend = { proxy.thaw() })
+        }
+    }
+
+    /** README: "`take()` waits for Redis to come back" (with its data: an append-only file). */
+    @Test
+    fun anUntimedTakeWaitsThroughAnOutageAndGetsTheValuePublishedAfterIt(@TempDir dir: Path) {
+        EmbeddedRedis.builder().appendOnlyDir(dir).start().use { redis ->
+            val config = CoreConfig.builder().name("outage-take-${System.nanoTime()}").build()
+            OptimusCore.builder().config(config).redis(redis.uri).build().use { core ->
+                val events = EventBlock<Int>()
+                val reader: Reader<Int> = core.source(events).reader()
+                core.start()
+                events.publish(1)
+                assertEquals(1, reader.take(PATIENCE).orElseThrow())
+                redis.kill()
+                val taken = CompletableFuture.supplyAsync { reader.take() }
+                // while Redis is down the take neither returns nor gives up (longer than poll()'s bound and a few retries)
+                assertThrows(java.util.concurrent.TimeoutException::class.java) { taken.get(OUTAGE_MS, TimeUnit.MILLISECONDS) }
+                redis.restart()
+                events.publish(2)
+                assertEquals(2, taken.get(PATIENCE.toSeconds(), TimeUnit.SECONDS), "the take returns the value published after the outage")
+            }
         }
     }
 
@@ -61,7 +87,7 @@ class OutageTimeoutTest {
         }
     }
 
-    /** Runs [action], which must fail with a PrimeException within [timeout] + 1 s; returns how long it took. */
+    /** Runs [action], which must fail with a RedisUnavailableException within [timeout] + 1 s; returns how long it took. */
     private fun timed(what: String, timeout: Duration, action: Executable): Duration {
         val started = System.nanoTime()
         val future = CompletableFuture.runAsync { action.execute() }
@@ -75,7 +101,7 @@ class OutageTimeoutTest {
             throw AssertionError("$what did not end within $bound during the outage")
         }
         val took = Duration.ofNanos(System.nanoTime() - started)
-        assertTrue(e is PrimeException, "$what fails with a PrimeException during the outage, not $e")
+        assertTrue(e is RedisUnavailableException, "$what fails with a RedisUnavailableException during the outage, not $e")
         assertTrue(took <= bound, "$what took $took, more than $bound")
         return took
     }
@@ -84,5 +110,6 @@ class OutageTimeoutTest {
         val CALL_TIMEOUT: Duration = Duration.ofSeconds(2)
         val PATIENCE: Duration = Duration.ofSeconds(20)
         const val GRACE_MS = 2000L
+        const val OUTAGE_MS = 1500L
     }
 }

@@ -3,7 +3,9 @@ package dev.prime.optimus
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import dev.prime.Reader
+import dev.prime.conformance.CapturedStderr
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.io.TempDir
 import redis.clients.jedis.Jedis
@@ -26,7 +28,8 @@ class RedisResetTest {
         val name = "redis-reset"
         val keys = Keys(name)
         val config = CoreConfig.builder().name(name).build()
-        EmbeddedRedis.start().use { redis ->
+        val err = CapturedStderr()
+        err.use { EmbeddedRedis.start().use { redis ->
             fun core(vararg hosts: String) =
                 OptimusCore.builder().config(config).redis(redis.uri).leaseTime(LEASE).hosts(*hosts).build()
             val events = EventBlock<Int>()
@@ -67,9 +70,13 @@ class RedisResetTest {
                         assertEquals(KryoCodec.standard().fingerprint(), jedis.get(keys.codec.toString(UTF_8)), "the codec fingerprint too")
                         assertEquals(2L, jedis.scard(keys.instances), "both instances are registered again")
                     }
+                    // redisResets(): "each time the core logged a WARN and declared again what it hosts and reads"
+                    val warnings = err.lines().filter { "Redis lost the data of topology '$name'" in it }
+                    assertEquals(2, warnings.size, "one WARN per process: $warnings")
+                    assertTrue(warnings.all { " WARN " in it && "re-declares" in it }, "$warnings")
                 }
             }
-        }
+        } }
     }
 
     /**
