@@ -35,8 +35,8 @@ final class MeteringPoints {
   }
 
   private ServiceMeter meter(TopologyNode node) {
-    ServiceMeter meter = new ServiceMeter(
-            node.name(), node.getClass().getSimpleName(), metrics.listenerFailures());
+    ServiceMeter meter =
+        new ServiceMeter(node.name(), node.getClass().getSimpleName(), metrics.listenerFailures());
     metrics.add(meter);
     return meter;
   }

@@ -5,6 +5,8 @@ import java.io.OutputStream;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
+import java.util.regex.Matcher;
+import java.util.regex.Pattern;
 
 /**
  * Copies what is written to {@link System#err} (where the tests' slf4j-simple binding logs) into a
@@ -12,6 +14,9 @@ import java.util.List;
  * threads may log at the same time.
  */
 public final class CapturedStderr implements AutoCloseable {
+  /** A rate-limited log's summary line: "...: 37 more in the last 10 s; the last: ...". */
+  private static final Pattern SUMMARY = Pattern.compile("(\\d+) more in the last");
+
   private final PrintStream original = System.err;
   private final ByteArrayOutputStream copy = new ByteArrayOutputStream();
 
@@ -43,6 +48,17 @@ public final class CapturedStderr implements AutoCloseable {
     synchronized (copy) {
       return copy.toString(StandardCharsets.UTF_8).lines().toList();
     }
+  }
+
+  /**
+   * {@return how many events a rate-limited log's summary line counts ("37 more in the last 10 s":
+   * 37), 0 for any other line}
+   *
+   * @param line a captured line
+   */
+  public static long summarised(String line) {
+    Matcher count = SUMMARY.matcher(line);
+    return count.find() ? Long.parseLong(count.group(1)) : 0;
   }
 
   /** Restores the original stream. */

@@ -31,8 +31,6 @@ import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Predicate;
-import java.util.regex.Matcher;
-import java.util.regex.Pattern;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -590,18 +588,9 @@ public interface MetricsConformance extends ConformanceBase {
     List<String> mentions =
         lines.stream().filter(l -> l.contains("a metrics listener of 'noted' threw")).toList();
     long full = mentions.stream().filter(l -> l.contains("the value goes on")).count();
-    long counted = 0;
-    for (String line : mentions) {
-      Matcher more = LISTENER_SUMMARY.matcher(line);
-      if (more.find()) {
-        counted += Long.parseLong(more.group(1));
-      }
-    }
+    long counted = mentions.stream().mapToLong(CapturedStderr::summarised).sum();
     assertEquals(1, full, "the first failure of the burst in full, once:\n" + String.join("\n", mentions));
     assertEquals(
         n, full + counted, "the lines count every failure:\n" + String.join("\n", mentions));
   }
-
-  /** The count of a summary line: "... threw: 11 more in the last 1 s; ...". */
-  Pattern LISTENER_SUMMARY = Pattern.compile("(\\d+) more in the last");
 }
