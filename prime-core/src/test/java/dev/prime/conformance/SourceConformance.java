@@ -266,6 +266,29 @@ public interface SourceConformance extends ConformanceBase {
    * event source and of a service's output, share the values: none is taken twice, none is lost,
    * and each thread gets its values in publication order.
    */
+  /**
+   * {@link Source#flatMap}: "all values that {@code block} makes of each value of this one, in
+   * order". The values made of one value leave in the iterable's order, all before any made of
+   * the next value; an empty iterable drops its value; and nothing else comes.
+   */
+  @Test
+  default void flatMapPublishesTheValuesMadeOfEachValueInTheirOrder()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> spread =
+          core.source(events)
+              .flatMap(x -> x == 0 ? List.<Integer>of() : List.of(x * 10, x * 20, x * 30))
+              .reader();
+      core.start();
+      for (int x : List.of(1, 0, 2, 3)) {
+        events.publish(x);
+      }
+      assertEquals(List.of(10, 20, 30, 20, 40, 60, 30, 60, 90), takeOrFail(spread, 9));
+      assertEquals(Optional.empty(), spread.poll(), "one value too many");
+    }
+  }
+
   @Test
   default void concurrentTakersOfOneReaderGetEachValueOnceAndInOrder() throws Exception {
     int takers = 4;
