@@ -99,6 +99,49 @@ public interface RecordingConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link RecordedValue}: a chain's value is stamped "when the chain's block returned the value",
+   * a source's "when the source's publish of it began". So the stamps follow each value through
+   * the diagram: publishing one value at a time, each after the chain's output of the previous
+   * one was read, the monotonic stamps of the source and of the chain linked to it interleave,
+   * source value 0 no later than its chain output 0, that no later than source value 1, and so
+   * on; and a recording read after the core closed still holds them all.
+   */
+  @Test
+  default void timeStampsFollowEachValueFromItsSourceThroughItsChain() throws Exception {
+    int values = 5;
+    Recording recording;
+    try (PrimeCore core = recordingCore(100)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> reader =
+          core.source("ticks", events).then(core.chain("scaled", (Integer x) -> x * 2)).reader();
+      core.start();
+      for (int i = 0; i < values; i++) {
+        events.publish(i);
+        assertEquals(2 * i, takeOrFail(reader));
+      }
+      recording = core.recording();
+    }
+    List<RecordedValue<Integer>> ticks = recording.getAllStamped("ticks");
+    List<RecordedValue<Integer>> scaled = recording.getAllStamped("scaled");
+    assertEquals(values, ticks.size(), "source values recorded: " + ticks);
+    assertEquals(values, scaled.size(), "chain outputs recorded: " + scaled);
+    List<RecordedValue<Integer>> path = new ArrayList<>();
+    for (int i = 0; i < values; i++) {
+      assertEquals(i, ticks.get(i).value());
+      assertEquals(2 * i, scaled.get(i).value());
+      path.add(ticks.get(i));
+      path.add(scaled.get(i));
+    }
+    for (int k = 1; k < path.size(); k++) {
+      RecordedValue<Integer> earlier = path.get(k - 1);
+      RecordedValue<Integer> later = path.get(k);
+      assertTrue(
+          later.monotonicNanos() - earlier.monotonicNanos() >= 0,
+          later + " is stamped before " + earlier);
+    }
+  }
+
   @Test
   default void pseudonamesNameTheRecordingAndTheDrawing() throws Exception {
     try (PrimeCore core = recordingCore(10)) {

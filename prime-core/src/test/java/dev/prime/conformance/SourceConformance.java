@@ -266,6 +266,29 @@ public interface SourceConformance extends ConformanceBase {
    * event source and of a service's output, share the values: none is taken twice, none is lost,
    * and each thread gets its values in publication order.
    */
+  /**
+   * {@link Source#flatMap}: "all values that {@code block} makes of each value of this one, in
+   * order". The values made of one value leave in the iterable's order, all before any made of
+   * the next value; an empty iterable drops its value; and nothing else comes.
+   */
+  @Test
+  default void flatMapPublishesTheValuesMadeOfEachValueInTheirOrder()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> spread =
+          core.source(events)
+              .flatMap(x -> x == 0 ? List.<Integer>of() : List.of(x * 10, x * 20, x * 30))
+              .reader();
+      core.start();
+      for (int x : List.of(1, 0, 2, 3)) {
+        events.publish(x);
+      }
+      assertEquals(List.of(10, 20, 30, 20, 40, 60, 30, 60, 90), takeOrFail(spread, 9));
+      assertEquals(Optional.empty(), spread.poll(), "one value too many");
+    }
+  }
+
   @Test
   default void concurrentTakersOfOneReaderGetEachValueOnceAndInOrder() throws Exception {
     int takers = 4;
@@ -518,5 +541,74 @@ public interface SourceConformance extends ConformanceBase {
     }
     assertThrows(CoreClosedException.class, direct::missed);
     assertThrows(CoreClosedException.class, served::missed);
+  }
+
+  /**
+   * {@link Reader}: a reader returns each value once, in order, whichever calls it is read with.
+   * A reader that mixes {@link Reader#take()}, {@link Reader#poll()} and {@link Reader#drain()}
+   * goes on exactly where its previous call stopped: ten steps in which each of the three follows
+   * each of the three (take after take, poll after take, drain after poll, ...), each step reading
+   * a batch of three values, return every value once and in order, and afterwards the reader has
+   * nothing. A take's batch is published by another thread while the reader waits; a poll's or
+   * drain's batch is published first, and a second reader of the same source shows it arrived
+   * before the step reads. The same on a reader of an event source and of a service's output.
+   */
+  @Test
+  default void aReaderGoesOnWhereItsLastCallStoppedWhateverMixOfTakePollAndDrain()
+      throws Exception {
+    List<String> steps =
+        List.of("take", "take", "poll", "take", "drain", "poll", "poll", "drain", "drain", "take");
+    int batch = 3;
+    ExecutorService publisher = Executors.newSingleThreadExecutor();
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> direct = core.source("mixed", events);
+      Source<Integer> served = direct.then(core.chain("relay", (Integer x) -> x));
+      List<Source<Integer>> sources = List.of(direct, served);
+      List<Reader<Integer>> readers = List.of(direct.reader(), served.reader());
+      List<Reader<Integer>> pacers = List.of(direct.reader(), served.reader());
+      core.start();
+      for (int step = 0; step < steps.size(); step++) {
+        String mode = steps.get(step);
+        List<Integer> values =
+            IntStream.range(step * batch, (step + 1) * batch).boxed().toList();
+        Future<?> published = null;
+        if (mode.equals("take")) {
+          published = publisher.submit(() -> values.forEach(events::publish));
+        } else {
+          values.forEach(events::publish);
+        }
+        for (int i = 0; i < sources.size(); i++) {
+          Reader<Integer> reader = readers.get(i);
+          String where = sources.get(i).name() + ", step " + step + " (" + mode + ")";
+          if (!mode.equals("take")) {
+            assertEquals(values, takeOrFail(pacers.get(i), batch), where + ": the pacer");
+          }
+          List<Integer> read = new ArrayList<>();
+          switch (mode) {
+            case "take" -> read.addAll(takeOrFail(reader, batch));
+            case "poll" -> {
+              for (int v = 0; v < batch; v++) {
+                reader.poll().ifPresent(read::add);
+              }
+            }
+            default -> read.addAll(reader.drain());
+          }
+          assertEquals(values, read, where);
+          if (mode.equals("take")) {
+            assertEquals(values, takeOrFail(pacers.get(i), batch), where + ": the pacer");
+          }
+        }
+        if (published != null) {
+          published.get(patience().toMillis(), TimeUnit.MILLISECONDS);
+        }
+      }
+      for (int i = 0; i < sources.size(); i++) {
+        assertEquals(Optional.empty(), readers.get(i).poll(), sources.get(i).name() + ": one more");
+        assertEquals(List.of(), readers.get(i).drain(), sources.get(i).name() + ": one more");
+      }
+    } finally {
+      publisher.shutdownNow();
+    }
   }
 }

@@ -18,13 +18,16 @@ import dev.prime.Tuple3;
 import dev.prime.Tuple4;
 import dev.prime.Tuple5;
 import java.util.ArrayList;
+import java.util.Collections;
 import java.util.List;
+import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
 import java.util.concurrent.Future;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
+import java.util.stream.IntStream;
 import org.junit.jupiter.api.Test;
 
 /** Every template of the paper: if/then/else, forEach, union, fork, guard, isolate, collectors, repeater. */
@@ -347,6 +350,168 @@ public interface TemplateConformance extends ConformanceBase {
         assertEquals(expected, taken, collected.name() + ": the sync collector");
         assertEquals(expected, since.process(Token.INSTANCE), collected.name() + ": the async one");
       }
+    }
+  }
+
+  /**
+   * A repeater whose inner chain forks its output to a source and then reads that source with a
+   * sync collector gets each round's own output back in the same round ({@link
+   * PrimeCore#fork}: the chain "also publishes each output"; {@link PrimeCore#syncCollector}:
+   * "the next value of {@code source} on each call"), and its own source, published by another
+   * thread while it loops, is collected whole: over the rounds the {@code collected} lists hold
+   * every value once, in order ({@link PrimeCore#asyncCollector}: "every value ... published
+   * since its previous call"). The repeater stops once it has run at least 20 rounds and
+   * collected the last of the 200 values.
+   */
+  @Test
+  default void aRepeaterReadsBackItsForkedOutputEachRoundAndCollectsABusySourceWhole()
+      throws Exception {
+    int produced = 200;
+    int leastRounds = 20;
+    ExecutorService producer = Executors.newSingleThreadExecutor();
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> outputs = new EventBlock<>();
+      Source<Integer> forked = core.source("forked", outputs);
+      EventBlock<Integer> busy = new EventBlock<>();
+      Source<Integer> produce = core.source("produced", busy);
+      Chain<Integer, Tuple2<Integer, Integer>> round =
+          core.link(
+              core.fork(core.chain("step", (Integer x) -> x + 1), outputs),
+              core.union(
+                  core.chain("kept", (Integer x) -> x),
+                  core.link(
+                      core.chain("ask", (Integer x) -> Token.INSTANCE),
+                      core.syncCollector(forked))));
+      List<Tuple2<Integer, Integer>> rounds = new CopyOnWriteArrayList<>();
+      List<Integer> collected = new CopyOnWriteArrayList<>();
+      Chain<Integer, Integer> loop =
+          core.repeater(
+              round,
+              produce,
+              (Integer in, Tuple2<Integer, Integer> out, List<Integer> got) -> {
+                rounds.add(out);
+                collected.addAll(got);
+                return rounds.size() < leastRounds || !collected.contains(produced - 1)
+                    ? Repeat.again(out.first())
+                    : Repeat.stop(out.first());
+              });
+      core.start();
+      Block<Integer, Integer> block = loop.toBlock();
+      Future<?> publishing =
+          producer.submit(
+              () -> {
+                for (int i = 0; i < produced; i++) {
+                  busy.publish(i);
+                }
+              });
+      int conclusion =
+          assertTimeoutPreemptively(
+              patience(), () -> block.process(0), "the repeater never collected all values");
+      publishing.get(patience().toMillis(), TimeUnit.MILLISECONDS);
+      assertEquals(IntStream.range(0, produced).boxed().toList(), collected);
+      assertEquals(rounds.size(), conclusion, "one round per step");
+      for (int r = 0; r < rounds.size(); r++) {
+        assertEquals(
+            new Tuple2<>(r + 1, r + 1),
+            rounds.get(r),
+            "round " + r + ": its output, and the forked output read back");
+      }
+    } finally {
+      producer.shutdownNow();
+    }
+  }
+
+  /**
+   * A repeater's {@code collected} list holds exactly what its source published during that
+   * round: an inner chain that publishes its input ten times to the repeater's source sees those
+   * ten, and only those, after each round; and another async collector of the same source, made
+   * before the repeater ran, returns all of them, in order.
+   */
+  @Test
+  default void eachRoundOfARepeaterCollectsExactlyWhatItsInnerChainPublished() {
+    int copies = 10;
+    int rounds = 10;
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> echoes = new EventBlock<>();
+      Source<Integer> echoed = core.source("echoes", echoes);
+      Block<Token, List<Integer>> everything = core.asyncCollector(echoed).toBlock();
+      List<String> wrong = new CopyOnWriteArrayList<>();
+      Chain<Integer, Integer> loop =
+          core.repeater(
+              core.chain(
+                  "emulator",
+                  (Integer x) -> {
+                    for (int i = 0; i < copies; i++) {
+                      echoes.publish(x);
+                    }
+                    return x;
+                  }),
+              echoed,
+              (Integer in, Integer out, List<Integer> got) -> {
+                if (!got.equals(Collections.nCopies(copies, in))) {
+                  wrong.add("round " + in + " collected " + got);
+                }
+                return out + 1 < rounds ? Repeat.again(out + 1) : Repeat.stop(out + 1);
+              });
+      core.start();
+      assertEquals(rounds, loop.toBlock().process(0));
+      assertEquals(List.of(), wrong);
+      List<Integer> all = new ArrayList<>();
+      for (int r = 0; r < rounds; r++) {
+        all.addAll(Collections.nCopies(copies, r));
+      }
+      assertEquals(all, everything.process(Token.INSTANCE), "the other collector");
+    }
+  }
+
+  /**
+   * Users of an isolated chain linked to one source run as services side by side, yet the shared
+   * chain never runs concurrently ({@link PrimeCore#isolate}: "never running it concurrently"),
+   * and each user's service processes every value: a union of sync collectors of the three
+   * users' outputs returns each published value three times, in publication order.
+   */
+  @Test
+  default void isolatedUsersLinkedToOneSourceEachProcessEveryValueOneAtATime() {
+    int values = 20;
+    AtomicInteger inside = new AtomicInteger();
+    AtomicInteger maxInside = new AtomicInteger();
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> requests = core.source("requests", events);
+      Isolated<Integer, Integer> shared =
+          core.isolate(
+              core.chain(
+                  "shared",
+                  (Integer x) -> {
+                    maxInside.accumulateAndGet(inside.incrementAndGet(), Math::max);
+                    Thread.yield();
+                    inside.decrementAndGet();
+                    return x;
+                  }));
+      Source<Integer> a = requests.then(shared.newUser());
+      Source<Integer> b = requests.then(shared.newUser());
+      Source<Integer> c = requests.then(shared.newUser());
+      Block<Token, Tuple3<Integer, Integer, Integer>> all =
+          core.union(core.syncCollector(a), core.syncCollector(b), core.syncCollector(c)).toBlock();
+      core.start();
+      for (int i = 0; i < values; i++) {
+        events.publish(i);
+      }
+      List<Tuple3<Integer, Integer, Integer>> triples =
+          assertTimeoutPreemptively(
+              patience(),
+              () -> {
+                List<Tuple3<Integer, Integer, Integer>> got = new ArrayList<>();
+                for (int i = 0; i < values; i++) {
+                  got.add(all.process(Token.INSTANCE));
+                }
+                return got;
+              },
+              "a user's service did not process every value");
+      for (int i = 0; i < values; i++) {
+        assertEquals(new Tuple3<>(i, i, i), triples.get(i), "value " + i);
+      }
+      assertEquals(1, maxInside.get(), "the isolated chain ran concurrently");
     }
   }
 }

@@ -53,6 +53,46 @@ public interface ValueCopyConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A published value is copied whole, an object inside it included, and each read gets a copy of
+   * its own, whichever call reads it: a publisher that changes the values it published, and a
+   * list inside each, changes nothing that a reader made after the publishes reads from the
+   * retained values with {@link Reader#poll()}, {@link Reader#take()} and {@link Reader#drain()};
+   * and what that reader then changes, inside too, is not seen by another late reader.
+   */
+  @Test
+  default void aLateReaderGetsTheRetainedValuesAsPublishedWithEveryKindOfRead()
+      throws InterruptedException {
+    try (PrimeCore core = copyingCore()) {
+      EventBlock<List<List<Integer>>> events = new EventBlock<>();
+      Source<List<List<Integer>>> source = core.source(events);
+      core.start();
+      List<List<List<Integer>>> published = new ArrayList<>();
+      List<List<List<Integer>>> expected = new ArrayList<>();
+      for (int i = 0; i < 4; i++) {
+        List<List<Integer>> value = new ArrayList<>();
+        value.add(new ArrayList<>(List.of(i)));
+        events.publish(value);
+        published.add(value);
+        expected.add(List.of(List.of(i)));
+      }
+      for (List<List<Integer>> value : published) {
+        value.get(0).add(99);
+        value.add(new ArrayList<>(List.of(-1)));
+      }
+      Reader<List<List<Integer>>> late = source.reader();
+      List<List<List<Integer>>> read = new ArrayList<>();
+      late.poll().ifPresent(read::add);
+      read.add(takeOrFail(late));
+      read.addAll(late.drain());
+      assertEquals(expected, read, "poll, take, drain: the publisher's later changes were seen");
+      for (List<List<Integer>> value : read) {
+        value.get(0).add(77);
+      }
+      assertEquals(expected, source.reader().drain(), "another reader saw the first one's changes");
+    }
+  }
+
   @Test
   default void aServiceGetsAndGivesCopies() throws InterruptedException {
     try (PrimeCore core = copyingCore()) {
