@@ -5,6 +5,7 @@ import redis.clients.jedis.DefaultJedisClientConfig
 import redis.clients.jedis.HostAndPort
 import redis.clients.jedis.Jedis
 import java.io.IOException
+import java.io.UncheckedIOException
 import java.net.ServerSocket
 import java.nio.file.Files
 import java.nio.file.Path
@@ -26,9 +27,14 @@ import java.util.concurrent.TimeUnit
  * nothing on disk; [Builder.appendOnlyDir] makes every acknowledged write durable
  * (`appendfsync always`), so the server can be stopped and started again without losing data.
  *
+ * An [EmbeddedRedis] that is never closed is stopped when its JVM exits normally or on SIGTERM
+ * or Ctrl-C: a shutdown hook kills the server and deletes its files (a directory given to
+ * [Builder.appendOnlyDir] is kept). A JVM killed with SIGKILL runs no hook, so its server keeps
+ * running until it is stopped by other means.
+ *
  * Design note: no thread is started. The server's log goes to a file in its working directory
- * (a pipe nobody reads would stall the server once full), and a JVM shutdown hook stops the
- * process if [close] was never called.
+ * (a pipe nobody reads would stall the server once full), and the shutdown hook is registered only
+ * while the server runs: [close] removes it.
  */
 public class EmbeddedRedis private constructor(
     private val executable: RedisServerBinary.Binary,
@@ -44,7 +50,7 @@ public class EmbeddedRedis private constructor(
     private val lock = Any()
     @Volatile private var process: Process? = null // written under lock
     private var closed = false // guarded by lock
-    private val hook = Thread({ process?.destroyForcibly() }, "prime-embedded-redis-stop")
+    private val hook = Thread({ stopAtExit() }, "prime-embedded-redis-stop")
 
     /** The URL that reaches this server, `redis://127.0.0.1:<port>`. */
     public val uri: String get() = "redis://127.0.0.1:$port"
@@ -65,6 +71,22 @@ public class EmbeddedRedis private constructor(
             Runtime.getRuntime().removeShutdownHook(hook)
         } catch (_: IllegalStateException) {
             // the JVM is shutting down already; the hook runs anyway
+        }
+        if (ownsDir) deleteTree(dir)
+    }
+
+    /**
+     * The shutdown hook's work: kills the server and deletes its own files. No lock is taken, so
+     * an exit while another thread holds it (a [close] or [restart] in progress) cannot hang the
+     * JVM; the wait for the process is bounded.
+     */
+    private fun stopAtExit() {
+        val running = process ?: return
+        running.destroyForcibly()
+        try {
+            running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
+        } catch (_: InterruptedException) {
+            return
         }
         if (ownsDir) deleteTree(dir)
     }
@@ -255,6 +277,8 @@ public class EmbeddedRedis private constructor(
                 }
             } catch (_: IOException) {
                 // a temporary directory left behind is harmless
+            } catch (_: UncheckedIOException) {
+                // a file deleted meanwhile by a racing close() or shutdown hook
             }
         }
     }
