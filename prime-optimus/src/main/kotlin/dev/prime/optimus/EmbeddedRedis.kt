@@ -27,14 +27,16 @@ import java.util.concurrent.TimeUnit
  * nothing on disk; [Builder.appendOnlyDir] makes every acknowledged write durable
  * (`appendfsync always`), so the server can be stopped and started again without losing data.
  *
- * An [EmbeddedRedis] that is never closed is stopped when its JVM exits normally or on SIGTERM
- * or Ctrl-C: a shutdown hook kills the server and deletes its files (a directory given to
- * [Builder.appendOnlyDir] is kept). A JVM killed with SIGKILL runs no hook, so its server keeps
- * running until it is stopped by other means.
+ * An [EmbeddedRedis] that is never closed does not outlive its JVM. When the JVM exits normally,
+ * on SIGTERM or on Ctrl-C, a shutdown hook kills the server and deletes its files (a directory
+ * given to [Builder.appendOnlyDir] is kept). Where `/bin/sh` exists (Linux, macOS), a JVM killed
+ * with SIGKILL or crashed is covered too: a small shell process kills the server within a second
+ * of the JVM's end and deletes its files.
  *
  * Design note: no thread is started. The server's log goes to a file in its working directory
- * (a pipe nobody reads would stall the server once full), and the shutdown hook is registered only
- * while the server runs: [close] removes it.
+ * (a pipe nobody reads would stall the server once full). The shutdown hook is registered only
+ * while the server runs ([close] removes it), and the shell is a [RedisWatchdog], disarmed
+ * whenever this object stops the server itself.
  */
 public class EmbeddedRedis private constructor(
     private val executable: RedisServerBinary.Binary,
@@ -49,6 +51,7 @@ public class EmbeddedRedis private constructor(
 
     private val lock = Any()
     @Volatile private var process: Process? = null // written under lock
+    @Volatile private var watchdog: RedisWatchdog? = null // written under lock, with process
     private var closed = false // guarded by lock
     private val hook = Thread({ stopAtExit() }, "prime-embedded-redis-stop")
 
@@ -81,6 +84,7 @@ public class EmbeddedRedis private constructor(
      * JVM; the wait for the process is bounded.
      */
     private fun stopAtExit() {
+        watchdog?.disarm()
         val running = process ?: return
         running.destroyForcibly()
         try {
@@ -138,7 +142,10 @@ public class EmbeddedRedis private constructor(
                         "port $port; its log ends with:\n${tail(log)}",
                 )
             }
-            if (answers(started.pid())) return
+            if (answers(started.pid())) {
+                watchdog = RedisWatchdog.arm(started, dir.takeIf { ownsDir })
+                return
+            }
             if (System.nanoTime() > deadline) {
                 started.destroyForcibly()
                 throw PrimeException(
@@ -167,6 +174,8 @@ public class EmbeddedRedis private constructor(
     private fun stopProcess(graceful: Boolean) {
         val running = process ?: return
         process = null
+        watchdog?.disarm()
+        watchdog = null
         if (graceful) running.destroy() else running.destroyForcibly()
         try {
             if (!running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)) {
