@@ -143,7 +143,7 @@ public class EmbeddedRedis private constructor(
                 )
             }
             if (answers(started.pid())) {
-                watchdog = RedisWatchdog.arm(started, dir.takeIf { ownsDir })
+                watchdog = RedisWatchdog.arm(started.pid(), dir.takeIf { ownsDir })
                 return
             }
             if (System.nanoTime() > deadline) {

@@ -30,6 +30,20 @@ internal class RedisWatchdog private constructor(private val shell: Process) {
         }
     }
 
+    /**
+     * Fires the watchdog as the end of this JVM would: closes its pipe and waits at most 10 s for
+     * the shell to act. For tests.
+     */
+    internal fun fireForTest(): Boolean {
+        shell.outputStream.close()
+        return try {
+            shell.waitFor(DISARM_TIMEOUT_S, TimeUnit.SECONDS)
+        } catch (_: InterruptedException) {
+            Thread.currentThread().interrupt()
+            false
+        }
+    }
+
     internal companion object {
         private const val DISARM_TIMEOUT_S = 10L
         private val SHELL: Path = Path.of("/bin/sh")
@@ -43,13 +57,13 @@ internal class RedisWatchdog private constructor(private val shell: Process) {
         """
 
         /**
-         * Watches [server] for this JVM; at its end the shell kills the server and deletes
+         * Watches the server [serverPid] for this JVM; at its end the shell kills it and deletes
          * [ownDir] if given. Null where no shell can be started.
          */
-        fun arm(server: Process, ownDir: Path?): RedisWatchdog? {
+        fun arm(serverPid: Long, ownDir: Path?): RedisWatchdog? {
             if (!Files.isExecutable(SHELL)) return null
             return try {
-                val shell = ProcessBuilder(SHELL.toString(), "-c", SCRIPT, "prime-redis-watchdog", server.pid().toString(), ownDir?.toString() ?: "")
+                val shell = ProcessBuilder(SHELL.toString(), "-c", SCRIPT, "prime-redis-watchdog", serverPid.toString(), ownDir?.toString() ?: "")
                     .redirectOutput(ProcessBuilder.Redirect.DISCARD)
                     .redirectError(ProcessBuilder.Redirect.DISCARD)
                     .start()
