@@ -153,6 +153,14 @@ final class FaultProxy implements AutoCloseable {
         closeQuietly(client); // the server is down: the client sees a refused connection
         continue;
       }
+      try { // as Redis and Jedis do: a small write does not wait for the ACK of the one before
+        client.setTcpNoDelay(true);
+        upstream.setTcpNoDelay(true);
+      } catch (IOException e) {
+        closeQuietly(client);
+        closeQuietly(upstream);
+        continue;
+      }
       accepted.incrementAndGet();
       Connection connection = new Connection(client, upstream);
       connections.add(connection);

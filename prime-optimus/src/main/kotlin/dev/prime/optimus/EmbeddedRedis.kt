@@ -5,6 +5,7 @@ import redis.clients.jedis.DefaultJedisClientConfig
 import redis.clients.jedis.HostAndPort
 import redis.clients.jedis.Jedis
 import java.io.IOException
+import java.io.UncheckedIOException
 import java.net.ServerSocket
 import java.nio.file.Files
 import java.nio.file.Path
@@ -26,9 +27,16 @@ import java.util.concurrent.TimeUnit
  * nothing on disk; [Builder.appendOnlyDir] makes every acknowledged write durable
  * (`appendfsync always`), so the server can be stopped and started again without losing data.
  *
+ * An [EmbeddedRedis] that is never closed does not outlive its JVM. When the JVM exits normally,
+ * on SIGTERM or on Ctrl-C, a shutdown hook kills the server and deletes its files (a directory
+ * given to [Builder.appendOnlyDir] is kept). Where `/bin/sh` exists (Linux, macOS), a JVM killed
+ * with SIGKILL or crashed is covered too: a small shell process kills the server within a second
+ * of the JVM's end and deletes its files.
+ *
  * Design note: no thread is started. The server's log goes to a file in its working directory
- * (a pipe nobody reads would stall the server once full), and a JVM shutdown hook stops the
- * process if [close] was never called.
+ * (a pipe nobody reads would stall the server once full). The shutdown hook is registered only
+ * while the server runs ([close] removes it), and the shell is a [RedisWatchdog], disarmed
+ * whenever this object stops the server itself.
  */
 public class EmbeddedRedis private constructor(
     private val executable: RedisServerBinary.Binary,
@@ -43,8 +51,9 @@ public class EmbeddedRedis private constructor(
 
     private val lock = Any()
     @Volatile private var process: Process? = null // written under lock
+    @Volatile private var watchdog: RedisWatchdog? = null // written under lock, with process
     private var closed = false // guarded by lock
-    private val hook = Thread({ process?.destroyForcibly() }, "prime-embedded-redis-stop")
+    private val hook = Thread({ stopAtExit() }, "prime-embedded-redis-stop")
 
     /** The URL that reaches this server, `redis://127.0.0.1:<port>`. */
     public val uri: String get() = "redis://127.0.0.1:$port"
@@ -65,6 +74,23 @@ public class EmbeddedRedis private constructor(
             Runtime.getRuntime().removeShutdownHook(hook)
         } catch (_: IllegalStateException) {
             // the JVM is shutting down already; the hook runs anyway
+        }
+        if (ownsDir) deleteTree(dir)
+    }
+
+    /**
+     * The shutdown hook's work: kills the server and deletes its own files. No lock is taken, so
+     * an exit while another thread holds it (a [close] or [restart] in progress) cannot hang the
+     * JVM; the wait for the process is bounded.
+     */
+    private fun stopAtExit() {
+        watchdog?.disarm()
+        val running = process ?: return
+        running.destroyForcibly()
+        try {
+            running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
+        } catch (_: InterruptedException) {
+            return
         }
         if (ownsDir) deleteTree(dir)
     }
@@ -116,7 +142,10 @@ public class EmbeddedRedis private constructor(
                         "port $port; its log ends with:\n${tail(log)}",
                 )
             }
-            if (answers(started.pid())) return
+            if (answers(started.pid())) {
+                watchdog = RedisWatchdog.arm(started.pid(), dir.takeIf { ownsDir })
+                return
+            }
             if (System.nanoTime() > deadline) {
                 started.destroyForcibly()
                 throw PrimeException(
@@ -145,6 +174,8 @@ public class EmbeddedRedis private constructor(
     private fun stopProcess(graceful: Boolean) {
         val running = process ?: return
         process = null
+        watchdog?.disarm()
+        watchdog = null
         if (graceful) running.destroy() else running.destroyForcibly()
         try {
             if (!running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)) {
@@ -255,6 +286,8 @@ public class EmbeddedRedis private constructor(
                 }
             } catch (_: IOException) {
                 // a temporary directory left behind is harmless
+            } catch (_: UncheckedIOException) {
+                // a file deleted meanwhile by a racing close() or shutdown hook
             }
         }
     }

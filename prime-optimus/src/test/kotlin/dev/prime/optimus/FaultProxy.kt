@@ -47,11 +47,12 @@ internal class FaultProxy(target: String, replyDelayNanos: Long = 0) : AutoClose
                 } catch (_: IOException) {
                     return@daemon
                 }
+                client.tcpNoDelay = true // as Redis and Jedis do: no write waits for the last one's ACK
                 sockets += client
                 daemon("fault-proxy-connect") {
                     awaitThaw()
                     val upstream = try {
-                        Socket(targetUri.host, targetUri.port)
+                        Socket(targetUri.host, targetUri.port).apply { tcpNoDelay = true }
                     } catch (_: IOException) {
                         client.close()
                         return@daemon
