@@ -298,6 +298,59 @@ public interface InterruptConformance extends ConformanceBase {
     assertNoThreadsLeft(core);
   }
 
+  /**
+   * A block that interrupts its own thread (one that catches an {@code InterruptedException} and
+   * restores the flag, as is customary) does not end the service it runs in: while the core is
+   * open, a service clears that flag after the block returns and goes on with the next value,
+   * whether it runs a chain linked to a source, a filter, a flat-map or a listener; only {@code
+   * close()} ends a service. A synchronous call of such a block returns the block's value (on the
+   * in-memory media the block ran on the caller's thread, whose flag it set: the caller sees it).
+   */
+  @Test
+  default void aBlockThatInterruptsItsOwnThreadDoesNotEndItsService()
+      throws InterruptedException {
+    CountDownLatch heard = new CountDownLatch(1);
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("self-interrupting", events);
+      Reader<Integer> mapped =
+          source.then(core.chain("self-interrupt", (Integer x) -> interruptOn(1, x))).reader();
+      Reader<Integer> passed = source.filter(x -> interruptOn(1, x) != null).reader();
+      Reader<Integer> expanded = source.flatMap((Integer x) -> List.of(interruptOn(1, x))).reader();
+      source.listen(
+          x -> {
+            interruptOn(1, x);
+            if (x == 2) {
+              heard.countDown();
+            }
+          });
+      Block<Integer, Integer> called =
+          core.chain("called-self-interrupt", (Integer x) -> interruptOn(1, x) * 10).toBlock();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(List.of(1, 2), takeOrFail(mapped, 2), "the chain's service went on");
+      assertEquals(List.of(1, 2), takeOrFail(passed, 2), "the filter went on");
+      assertEquals(List.of(1, 2), takeOrFail(expanded, 2), "the flat-map went on");
+      assertTrue(
+          heard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the listener went on");
+      try {
+        assertEquals(10, called.process(1), "a synchronous call returns the block's value");
+      } finally {
+        Thread.interrupted(); // the flag the block set on this thread, where it ran here
+      }
+      assertEquals(20, called.process(2), "the chain works after the block interrupted itself");
+    }
+  }
+
+  /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */
+  private static Integer interruptOn(int on, Integer x) {
+    if (x == on) {
+      Thread.currentThread().interrupt();
+    }
+    return x;
+  }
+
   @Test
   default void aListenerCanCloseItsOwnCore() throws InterruptedException {
     closeFromAService((core, events, close) -> core.source(events).listen(x -> close.run()));
