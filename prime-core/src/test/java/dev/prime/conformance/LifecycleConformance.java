@@ -313,8 +313,9 @@ public interface LifecycleConformance extends ConformanceBase {
    * {@link CoreConfig#shutdownTimeout()}: "how long {@link PrimeCore#close()} waits for each group
    * of services to stop". A service whose block ignores interrupts does not hold {@code close()}
    * up: it returns within a few shutdown timeouts (under 5 s here, a quarter of the patience the
-   * block would hold it), and the core is closed. The block is let go afterwards, and its thread
-   * then ends.
+   * block would hold it), the core is closed, and a WARN line naming the core ({@code core
+   * '<name>': ... still running ...}) says what it left running. The block is let go afterwards,
+   * and its thread then ends.
    */
   @Test
   default void closeReturnsWithinTheShutdownTimeoutWhenABlockIgnoresInterrupts()
@@ -323,6 +324,7 @@ public interface LifecycleConformance extends ConformanceBase {
     CountDownLatch inside = new CountDownLatch(1);
     CountDownLatch release = new CountDownLatch(1);
     PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
+    CapturedStderr err = new CapturedStderr();
     try {
       EventBlock<Integer> events = new EventBlock<>();
       core.source(events)
@@ -351,8 +353,13 @@ public interface LifecycleConformance extends ConformanceBase {
       assertTrue(
           took.compareTo(shutdown.multipliedBy(5).plusSeconds(4)) < 0,
           "close() waited " + took + " with a shutdown timeout of " + shutdown);
+      String named = "core '" + core.name() + "'";
+      assertTrue(
+          err.lines().stream().anyMatch(l -> l.contains(named) && l.contains("still running")),
+          "close() said that a service of " + named + " is still running: " + err.lines());
     } finally {
       release.countDown();
+      err.close();
     }
     long deadline = System.nanoTime() + patience().toNanos();
     while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
