@@ -271,4 +271,53 @@ public interface ErrorConformance extends ConformanceBase {
       assertTrue(refused.getMessage().contains("another-core"), refused.getMessage());
     }
   }
+  /**
+   * A value of the wrong type that reaches a block through a raw or unchecked cast fails in the
+   * block that takes it, as that block's own {@link ClassCastException}, never earlier in the
+   * media's code and never as another failure: a synchronous caller gets a {@link
+   * ChainFailedException} naming that chain (in a linked chain, the first, whose block took the
+   * value), and a service reports it to the error handler with the chain's name and the value,
+   * and goes on with the next value.
+   */
+  @Test
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  default void aValueOfTheWrongTypeFailsInTheBlockThatTakesItAndNamesItsChain()
+      throws InterruptedException {
+    List<List<Object>> reports = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  reports.add(Arrays.asList(service, input, error.getClass()));
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      Chain<Integer, Integer> increment = core.chain("increment", (Integer x) -> x + 1);
+      Chain<Integer, Integer> linked =
+          core.chain("describe", (Integer x) -> "n" + x)
+              .then(core.chain("length", (String s) -> s.length()));
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> halves =
+          core.source("typed", events).then(core.chain("halve", (Integer x) -> x / 2)).reader();
+      core.start();
+      Block raw = increment.toBlock();
+      ChainFailedException single =
+          assertThrows(ChainFailedException.class, () -> raw.process("seven"));
+      assertEquals("increment", single.chainName(), single.getMessage());
+      assertInstanceOf(ClassCastException.class, single.getCause(), single.toString());
+      assertEquals(8, raw.process(7), "the chain works after the wrong value");
+      Block rawLinked = linked.toBlock();
+      ChainFailedException first =
+          assertThrows(ChainFailedException.class, () -> rawLinked.process("seven"));
+      assertEquals("describe", first.chainName(), first.getMessage());
+      assertInstanceOf(ClassCastException.class, first.getCause(), first.toString());
+      ((EventBlock) events).publish("eight");
+      events.publish(8);
+      assertEquals(4, takeOrFail(halves), "the service went on after the wrong value");
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(Arrays.asList("halve", "eight", ClassCastException.class)), reports);
+    }
+  }
 }

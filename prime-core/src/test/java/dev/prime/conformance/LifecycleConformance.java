@@ -367,4 +367,130 @@ public interface LifecycleConformance extends ConformanceBase {
     }
     assertNoThreadsLeft(core);
   }
+  /**
+   * {@code close()} racing with work on other threads ends each cleanly, within the kit's
+   * patience: publishers, readers waiting in {@code take()} and callers of a chain's block run in
+   * loops while two threads close the core at once. A publish returns (after the close it
+   * publishes nothing) or throws {@link CoreClosedException}; a take returns a value or throws
+   * {@link CoreClosedException}, and every take ends with it; a call returns the block's value or
+   * throws {@link CoreClosedException}; nothing hangs, nothing else is thrown, both closes return,
+   * and the core leaves no thread. A call after {@code close()} of a chain of plain blocks returns
+   * the block's value where blocks run on the caller's thread (the in-memory media: the chain's
+   * block is a composed function that needs nothing of the core) and throws {@link
+   * CoreClosedException} where chains are services (architecture, <i>Lifecycle of a core</i>).
+   */
+  @Test
+  default void closeRacingWithPublishersTakersAndCallersEndsEachCleanly() throws Exception {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Source<Integer> doubled =
+        core.source("racing", events).then(core.chain("racing-double", (Integer x) -> x * 2));
+    Block<Integer, Integer> triple = core.chain("racing-triple", (Integer x) -> x * 3).toBlock();
+    List<Reader<Integer>> readers = List.of(doubled.reader(), doubled.reader());
+    core.start();
+    List<Throwable> unexpected = new CopyOnWriteArrayList<>();
+    List<String> endings = new CopyOnWriteArrayList<>();
+    CountDownLatch working = new CountDownLatch(6);
+    List<Thread> workers = new java.util.ArrayList<>();
+    for (int p = 0; p < 2; p++) {
+      workers.add(
+          worker(
+              "publisher",
+              working,
+              unexpected,
+              endings,
+              () -> {
+                for (int i = 0; !core.isClosed(); i++) {
+                  events.publish(i);
+                }
+              }));
+      workers.add(
+          worker(
+              "caller",
+              working,
+              unexpected,
+              endings,
+              () -> {
+                for (int i = 0; !core.isClosed(); i++) {
+                  if (triple.process(i) != i * 3) {
+                    throw new AssertionError("a call racing close() returned a wrong value");
+                  }
+                }
+              }));
+    }
+    for (Reader<Integer> reader : readers) {
+      workers.add(
+          worker(
+              "taker",
+              working,
+              unexpected,
+              endings,
+              () -> {
+                while (true) {
+                  if (reader.take() % 2 != 0) {
+                    throw new AssertionError("a take racing close() returned a wrong value");
+                  }
+                }
+              }));
+    }
+    assertTrue(working.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the workers began");
+    CountDownLatch closed = new CountDownLatch(2);
+    for (int c = 0; c < 2; c++) {
+      Thread closer =
+          new Thread(
+              () -> {
+                try {
+                  core.close();
+                } catch (Throwable t) {
+                  unexpected.add(t);
+                } finally {
+                  closed.countDown();
+                }
+              },
+              "kit-closer-" + c);
+      closer.setDaemon(true);
+      closer.start();
+    }
+    assertTrue(closed.await(patience().toMillis(), TimeUnit.MILLISECONDS), "both closes returned");
+    for (Thread worker : workers) {
+      worker.join(patience().toMillis());
+      assertFalse(worker.isAlive(), worker.getName() + " still runs after close()");
+    }
+    assertEquals(List.of(), unexpected, "only CoreClosedException may end a racing call");
+    assertEquals(2, endings.stream().filter(e -> e.startsWith("taker")).count(), "endings " + endings);
+    if (blocksRunOnTheCallersThread()) {
+      assertEquals(15, triple.process(5), "a plain chain's block needs nothing of the closed core");
+    } else {
+      assertThrows(CoreClosedException.class, () -> triple.process(5), "a call after close()");
+    }
+    assertNoThreadsLeft(core);
+  }
+
+  /**
+   * A daemon thread that counts {@code working} down and runs {@code work}: an ending by {@link
+   * CoreClosedException} is noted in {@code endings}, any other throwable in {@code unexpected}.
+   */
+  private static Thread worker(
+      String name,
+      CountDownLatch working,
+      List<Throwable> unexpected,
+      List<String> endings,
+      InterruptConformance.Callable work) {
+    Thread thread =
+        new Thread(
+            () -> {
+              working.countDown();
+              try {
+                work.run();
+              } catch (CoreClosedException e) {
+                endings.add(name);
+              } catch (Throwable t) {
+                unexpected.add(t);
+              }
+            },
+            "kit-racing-" + name);
+    thread.setDaemon(true);
+    thread.start();
+    return thread;
+  }
 }
