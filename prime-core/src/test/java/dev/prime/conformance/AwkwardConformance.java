@@ -352,4 +352,94 @@ public interface AwkwardConformance extends ConformanceBase {
       }
     }
   }
+  /**
+   * A very large value travels like any other: a 4 MiB array published to a source reaches a
+   * reader and a service whole, and a synchronous call takes and returns one whole (Optimus
+   * carries values up to {@code OptimusCore.Builder.maxValueBytes}, 16 MiB by default, and
+   * refuses a bigger one where it is given, at the publish or the call).
+   */
+  @Test
+  default void aValueOfSeveralMebibytesTravelsWhole() throws InterruptedException {
+    byte[] big = new byte[4 << 20];
+    for (int i = 0; i < big.length; i++) {
+      big[i] = (byte) (i * 31 + (i >>> 13));
+    }
+    try (PrimeCore core = newCore()) {
+      EventBlock<byte[]> events = new EventBlock<>();
+      Source<byte[]> source = core.source("big", events);
+      Reader<byte[]> reader = source.reader();
+      Reader<Integer> sums = source.then(core.chain("big-sum", AwkwardConformance::sum)).reader();
+      dev.prime.Block<byte[], byte[]> reverse =
+          core.chain(
+                  "big-reverse",
+                  (byte[] b) -> {
+                    byte[] r = new byte[b.length];
+                    for (int i = 0; i < b.length; i++) {
+                      r[i] = b[b.length - 1 - i];
+                    }
+                    return r;
+                  })
+              .toBlock();
+      core.start();
+      events.publish(big);
+      assertTrue(java.util.Arrays.equals(big, takeOrFail(reader)), "the reader got it whole");
+      assertEquals(sum(big), takeOrFail(sums), "the service got it whole");
+      byte[] reversed = reverse.process(big);
+      assertEquals(big.length, reversed.length);
+      assertEquals(big[0], reversed[reversed.length - 1]);
+      assertEquals(sum(big), sum(reversed), "the call took and returned it whole");
+    }
+  }
+
+  /** A checksum of every byte. */
+  private static int sum(byte[] bytes) {
+    int sum = 0;
+    for (byte b : bytes) {
+      sum = sum * 31 + b;
+    }
+    return sum;
+  }
+
+  /**
+   * A wide fan-out keeps broadcast and delivery: 100 readers and 10 listeners of one source each
+   * get every one of 100 values, in order.
+   */
+  @Test
+  default void aWideFanOutGivesEveryReaderAndServiceEveryValueInOrder()
+      throws InterruptedException {
+    int values = 100;
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("wide", events);
+      List<Reader<Integer>> readers = new ArrayList<>();
+      for (int r = 0; r < 100; r++) {
+        readers.add(source.reader());
+      }
+      List<List<Integer>> heard = new ArrayList<>();
+      CountDownLatch allHeard = new CountDownLatch(10);
+      for (int l = 0; l < 10; l++) {
+        List<Integer> mine = new java.util.concurrent.CopyOnWriteArrayList<>();
+        heard.add(mine);
+        source.listen(
+            x -> {
+              mine.add(x);
+              if (x == values - 1) {
+                allHeard.countDown();
+              }
+            });
+      }
+      core.start();
+      for (int i = 0; i < values; i++) {
+        events.publish(i);
+      }
+      List<Integer> expected = java.util.stream.IntStream.range(0, values).boxed().toList();
+      for (Reader<Integer> reader : readers) {
+        assertEquals(expected, takeOrFail(reader, values));
+      }
+      assertTrue(allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      for (List<Integer> mine : heard) {
+        assertEquals(expected, mine, "each listener heard every value, in order");
+      }
+    }
+  }
 }

@@ -307,6 +307,10 @@ public interface ErrorConformance extends ConformanceBase {
           assertThrows(ChainFailedException.class, () -> raw.process("seven"));
       assertEquals("increment", single.chainName(), single.getMessage());
       assertInstanceOf(ClassCastException.class, single.getCause(), single.toString());
+      assertTrue(
+          single.getMessage().contains("'increment'")
+              && single.getMessage().contains(String.class.getName()),
+          "names the chain and the wrong type: " + single.getMessage());
       assertEquals(8, raw.process(7), "the chain works after the wrong value");
       Block rawLinked = linked.toBlock();
       ChainFailedException first =

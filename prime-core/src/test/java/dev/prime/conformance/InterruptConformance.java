@@ -336,6 +336,9 @@ public interface InterruptConformance extends ConformanceBase {
           heard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the listener went on");
       try {
         assertEquals(10, called.process(1), "a synchronous call returns the block's value");
+        if (blocksRunOnTheCallersThread()) {
+          assertTrue(Thread.currentThread().isInterrupted(), "the block ran on this thread");
+        }
       } finally {
         Thread.interrupted(); // the flag the block set on this thread, where it ran here
       }

@@ -493,4 +493,70 @@ public interface LifecycleConformance extends ConformanceBase {
     thread.start();
     return thread;
   }
+  /**
+   * A {@code close()} that finds another {@code close()} under way returns at once, without
+   * waiting for it (a shutdown hook that closes a core another thread is closing does not wait
+   * out that close), and the core is closed for it; the first close still stops everything and
+   * leaves no thread once the block that held it returns.
+   */
+  @Test
+  default void aCloseThatFindsAnotherUnderWayReturnsAtOnce() throws InterruptedException {
+    Duration shutdown = Duration.ofSeconds(3);
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch firstReturned = new CountDownLatch(1);
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
+    try {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .then(
+              core.chain(
+                  "holding",
+                  (Integer x) -> {
+                    inside.countDown();
+                    long deadline = System.nanoTime() + patience().toNanos();
+                    while (release.getCount() > 0 && System.nanoTime() < deadline) {
+                      try {
+                        release.await(10, TimeUnit.MILLISECONDS);
+                      } catch (InterruptedException ignored) {
+                        // deaf on purpose: it holds the first close up to its shutdown timeout
+                      }
+                    }
+                    return x;
+                  }));
+      core.start();
+      events.publish(1);
+      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      Thread first =
+          new Thread(
+              () -> {
+                core.close();
+                firstReturned.countDown();
+              },
+              "kit-first-close");
+      first.setDaemon(true);
+      first.start();
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (!core.isClosed() && System.nanoTime() < deadline) {
+        firstReturned.await(1, TimeUnit.MILLISECONDS); // a bounded pause until it began
+      }
+      assertTrue(core.isClosed(), "the first close() began");
+      long began = System.nanoTime();
+      core.close();
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(
+          took.compareTo(Duration.ofSeconds(1)) < 0,
+          "the second close() returned at once, took " + took);
+      assertEquals(1, firstReturned.getCount(), "the first close() was still waiting meanwhile");
+    } finally {
+      release.countDown();
+    }
+    assertTrue(
+        firstReturned.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the first returned");
+    long deadline = System.nanoTime() + patience().toNanos();
+    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
+      release.await(10, TimeUnit.MILLISECONDS); // already open: a bounded pause
+    }
+    assertNoThreadsLeft(core);
+  }
 }
