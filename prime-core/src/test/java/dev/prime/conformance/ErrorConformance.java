@@ -115,6 +115,12 @@ public interface ErrorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.ErrorHandler}: "An exception thrown by the handler itself is logged and
+   * ignored". The service goes on, and the core logs one ERROR line {@code the error handler
+   * failed for service '<name>'} with the handler's exception, the block's failure suppressed in
+   * it, so neither is lost.
+   */
   @Test
   default void failingErrorHandlerDoesNotKillTheService() throws InterruptedException {
     CoreConfig config =
@@ -124,8 +130,21 @@ public interface ErrorConformance extends ConformanceBase {
                   throw new Boom("handler fails too");
                 })
             .build();
-    try (PrimeCore core = newCore(config)) {
-      assertEquals(2, secondValueAfterFirstFails(core, new Boom("first fails")));
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (PrimeCore core = newCore(config)) {
+        assertEquals(2, secondValueAfterFirstFails(core, new Boom("first fails")));
+      }
+      List<String> lines = err.lines();
+      assertTrue(
+          lines.stream()
+              .anyMatch(l -> l.contains("ERROR") && l.contains("the error handler failed for service")),
+          "the handler's failure is logged at ERROR: " + lines);
+      assertTrue(
+          lines.stream().anyMatch(l -> l.contains("Boom: handler fails too")),
+          "with the handler's exception: " + lines);
+      assertTrue(
+          lines.stream().anyMatch(l -> l.contains("Suppressed") && l.contains("Boom: first fails")),
+          "and the block's failure suppressed in it: " + lines);
     }
   }
 
