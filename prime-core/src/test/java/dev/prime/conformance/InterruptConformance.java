@@ -346,6 +346,58 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A synchronous call whose block hangs. Where blocks run on the caller's thread (Liberty,
+   * Radiant) the block hangs that very thread: interrupting the caller reaches the block, and
+   * what the block makes of it is what the caller gets (here the block fails, so a {@link
+   * dev.prime.ChainFailedException} naming the chain), while {@code close()} cannot reach it.
+   * Where chains are services (Optimus) the caller waits for a reply: interrupting it ends the wait
+   * with a {@link PrimeException} and keeps its flag, and {@code close()} ends the wait of another
+   * caller with {@link CoreClosedException}, within the kit's patience.
+   */
+  @Test
+  default void aCallerOfAHangingBlockEndsByItsInterruptOrWhereItWaitsForAReplyByClose()
+      throws InterruptedException {
+    CountDownLatch release = new CountDownLatch(1);
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(Duration.ofMillis(500)).build());
+    try {
+      CountDownLatch entered = new CountDownLatch(1);
+      Block<Integer, Integer> hanging =
+          core.chain(
+                  "hanging",
+                  (Integer x) -> {
+                    entered.countDown();
+                    try {
+                      release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      throw new IllegalStateException("the hanging block was interrupted", e);
+                    }
+                    return x;
+                  })
+              .toBlock();
+      core.start();
+      Caller interrupted = new Caller("hanging-interrupted", () -> hanging.process(1));
+      assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the block runs");
+      interrupted.thread.interrupt();
+      Throwable ended = interrupted.awaitFailure(patience());
+      if (blocksRunOnTheCallersThread()) {
+        assertInstanceOf(dev.prime.ChainFailedException.class, ended, "what the block made of it");
+        assertEquals("hanging", ((dev.prime.ChainFailedException) ended).chainName());
+        return;
+      }
+      assertInstanceOf(PrimeException.class, ended, "the wait for the reply ended");
+      assertTrue(interrupted.interruptedAtEnd, "the caller's interrupt flag stays set");
+      Caller waiting = new Caller("hanging-closed", () -> hanging.process(2));
+      assertFalse(
+          waiting.ended.await(200, TimeUnit.MILLISECONDS), "the caller waits for the hanging block");
+      core.close();
+      assertInstanceOf(CoreClosedException.class, waiting.awaitFailure(patience()));
+    } finally {
+      release.countDown();
+      core.close();
+    }
+  }
+
   /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */
   private static Integer interruptOn(int on, Integer x) {
     if (x == on) {
