@@ -425,6 +425,56 @@ public interface InterruptConformance extends ConformanceBase {
                     })));
   }
 
+  /**
+   * A block called synchronously may close its own core: {@code close()} returns within the
+   * kit's patience (also where the block runs on a service's thread, which it then cannot wait
+   * for), the caller gets the block's value (where the block ran on its own thread) or {@link
+   * CoreClosedException}, never a hang, and the core leaves no thread.
+   */
+  @Test
+  default void aBlockCalledSynchronouslyCanCloseItsOwnCore() throws InterruptedException {
+    CoreConfig config = CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore core = newCore(config);
+    CountDownLatch closeReturned = new CountDownLatch(1);
+    AtomicReference<Throwable> closeFailed = new AtomicReference<>();
+    Caller caller;
+    try (core) {
+      Block<Integer, Integer> closing =
+          core.chain(
+                  "self-closing",
+                  (Integer x) -> {
+                    try {
+                      core.close();
+                    } catch (Throwable t) {
+                      closeFailed.set(t);
+                    }
+                    closeReturned.countDown();
+                    return x + 1;
+                  })
+              .toBlock();
+      core.start();
+      AtomicReference<Integer> result = new AtomicReference<>();
+      caller = new Caller("self-closing", () -> result.set(closing.process(1)));
+      assertTrue(
+          closeReturned.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "close() called from the block did not return within " + patience());
+      Throwable ended = caller.awaitFailure(patience());
+      if (ended == null) {
+        assertEquals(2, result.get(), "the caller got the block's value");
+      } else {
+        assertInstanceOf(CoreClosedException.class, ended, "or CoreClosedException");
+      }
+    }
+    if (closeFailed.get() != null) {
+      throw new AssertionError("close() from the block threw", closeFailed.get());
+    }
+    long deadline = System.nanoTime() + patience().toNanos();
+    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
+      closeReturned.await(10, TimeUnit.MILLISECONDS); // already zero: a bounded pause
+    }
+    assertNoThreadsLeft(core);
+  }
+
   /** How a test declares a service that runs {@code close} when it gets a value. */
   @FunctionalInterface
   interface ClosingService {
