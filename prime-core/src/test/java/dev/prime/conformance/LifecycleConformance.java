@@ -314,8 +314,8 @@ public interface LifecycleConformance extends ConformanceBase {
    * of services to stop". A service whose block ignores interrupts does not hold {@code close()}
    * up: it returns within a few shutdown timeouts (under 5 s here, a quarter of the patience the
    * block would hold it), the core is closed, and a WARN line naming the core ({@code core
-   * '<name>': ... still running ...}) says what it left running. The block is let go afterwards,
-   * and its thread then ends.
+   * '<name>': ... still running ...}) says what it left running; a thread it left is a daemon,
+   * which cannot keep the JVM alive. The block is let go afterwards, and its thread then ends.
    */
   @Test
   default void closeReturnsWithinTheShutdownTimeoutWhenABlockIgnoresInterrupts()
@@ -353,6 +353,12 @@ public interface LifecycleConformance extends ConformanceBase {
       assertTrue(
           took.compareTo(shutdown.multipliedBy(5).plusSeconds(4)) < 0,
           "close() waited " + took + " with a shutdown timeout of " + shutdown);
+      String prefix = "prime-" + core.name() + "-";
+      for (Thread left : Thread.getAllStackTraces().keySet()) {
+        if (left.isAlive() && left.getName().startsWith(prefix)) {
+          assertTrue(left.isDaemon(), left.getName() + " left running cannot keep the JVM alive");
+        }
+      }
       String named = "core '" + core.name() + "'";
       assertTrue(
           err.lines().stream().anyMatch(l -> l.contains(named) && l.contains("still running")),
