@@ -28,9 +28,16 @@ package dev.prime;
  *         <tr><td>a {@link VirtualMachineError} ({@link OutOfMemoryError},
  *             {@link StackOverflowError}, {@link InternalError})</td>
  *             <td>the error itself, unwrapped, when the block runs on the caller's thread (the
- *             in-memory media); a media whose chains are services ends that service instead,
- *             and the caller gets no reply</td>
- *             <td>it ends the service's thread: the JVM itself is in trouble</td></tr>
+ *             in-memory media); a media whose chains are services replies to the caller first
+ *             (the very error in the process that ran the block, a {@link ChainFailedException}
+ *             describing it in another), then ends that service</td>
+ *             <td>it ends that service, logged at ERROR ({@code service '<name>' stops: ...}):
+ *             the JVM itself is in trouble; the error handler does not get it</td></tr>
+ *         <tr><td>a {@link ClassCastException}, also for a value of the wrong type that reached
+ *             it through a raw or unchecked cast</td>
+ *             <td>as any exception: a {@link ChainFailedException} naming the chain whose block
+ *             took the value</td>
+ *             <td>as any exception</td></tr>
  *       </table>
  *       A {@link ChainFailedException} or {@link CoreClosedException} thrown by a block (it called
  *       another chain) passes unchanged to a synchronous caller in the block's process; a caller in
@@ -41,8 +48,14 @@ package dev.prime;
  *       value after publishing or returning it, nor an input you received.
  *       {@link CoreConfig.Builder#copyValues} makes the in-memory media copy too, so a test
  *       catches a mutation or a type the codec refuses before deployment.
- *   <li><b>Nulls.</b> Chains pass {@code null} between blocks if a block returns it; sources never
- *       carry {@code null} (see {@link EventBlock#publish(Object)}).
+ *   <li><b>Nulls.</b> Chains pass {@code null} between blocks if a block returns it, on every
+ *       media and also inside a service; a synchronous caller gets it as the result; a chain
+ *       linked to a source publishes nothing for a {@code null} its last block returns. Sources
+ *       never carry {@code null} (see {@link EventBlock#publish(Object)}).
+ *   <li><b>Interrupts.</b> A block may interrupt its own thread (restore the flag of an {@link
+ *       InterruptedException} it caught): a service it runs in clears the flag afterwards and goes
+ *       on while the core is open; only {@link PrimeCore#close()} ends a service. A block called
+ *       synchronously on the in-memory media runs on the caller's thread, whose flag it sets.
  * </ul>
  *
  * @param <I> input type

@@ -6,7 +6,10 @@ package dev.prime;
  * service goes on with the next value (a generic service: with its next step, after its back-off).
  *
  * <p>Called on the service's thread; must be thread-safe if shared. An exception thrown by the
- * handler itself is logged and ignored.
+ * handler itself is logged and ignored, the same on every media: one ERROR line {@code the error
+ * handler failed for service '<name>'} with the handler's exception and its stack trace, the
+ * block's failure suppressed in it; the service goes on. A {@link VirtualMachineError} the
+ * handler throws ends the service, as one its block throws.
  */
 @FunctionalInterface
 public interface ErrorHandler {

@@ -14,7 +14,10 @@ import org.slf4j.LoggerFactory;
  * handler and the loop goes on with the next value: a service never dies silently. The handler
  * gets what the user wrote: a {@link ChainFailedException} (a chain's block failed) is reported
  * under the name of the chain that failed, with the block's own throwable, not the wrapper. Only
- * an interrupt, the closing of the core that runs it, or the closing of its input source ends it.
+ * the closing of the core that runs it (which interrupts it), an interrupt while it waits for a
+ * value, or the closing of its input source ends it. A step that interrupts its own thread while
+ * the core is open (a block that restores the flag of an {@code InterruptedException} it caught)
+ * does not: the loop clears that flag after the step and goes on.
  *
  * <p>An input that is a {@link BatchReader} (an in-memory service input) is drained in batches:
  * one call hands the loop every value available, each handled as above, instead of one {@link
@@ -92,7 +95,8 @@ final class SourceService<T> implements Runnable {
   /**
    * Runs the step on one value; a failure is reported, not thrown.
    *
-   * @return whether to go on: false once interrupted or once the owner closed under the step
+   * @return whether to go on: false once interrupted by the owner's close or once the owner
+   *     closed under the step
    */
   private boolean handle(T value) {
     try {
@@ -108,7 +112,24 @@ final class SourceService<T> implements Runnable {
     } catch (Throwable e) {
       report(value, e);
     }
-    return !Thread.currentThread().isInterrupted();
+    return !interruptedByClose();
+  }
+
+  /**
+   * Whether this thread's interrupt flag ends the loop: only once the owner is closed, which
+   * happens before it interrupts its services. A flag the step set on its own thread while the
+   * owner is open is cleared (cleared first, then the owner looked at: an interrupt by a close
+   * that comes meanwhile is kept).
+   */
+  private boolean interruptedByClose() {
+    if (!Thread.interrupted()) {
+      return false;
+    }
+    if (ownerClosed.getAsBoolean()) {
+      Thread.currentThread().interrupt();
+      return true;
+    }
+    return false;
   }
 
   private void report(T value, Throwable error) {

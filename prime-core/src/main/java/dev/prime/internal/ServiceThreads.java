@@ -15,14 +15,17 @@ import org.slf4j.LoggerFactory;
  * <p>Design: services declared before {@link #startAll()} wait; services added after it start at
  * once. Threads are daemons, so a core that was never closed cannot keep the JVM alive. Stopping
  * interrupts every thread and joins them against one shared deadline; a thread that ignores the
- * interrupt (a block stuck in uninterruptible I/O) is reported and abandoned. A service may stop
- * the services from its own thread (a listener that closes its core): that thread is neither
- * interrupted nor joined, since it cannot wait for itself; its loop ends when it returns to read
- * its closed source. All methods are synchronized: they run on lifecycle calls, never per value.
+ * interrupt (a block stuck in uninterruptible I/O) is reported in one WARN line naming the core
+ * and abandoned (a daemon, it ends when its block returns). A {@link VirtualMachineError} that
+ * ends a service's thread is logged at ERROR under the service's name before it goes on to the
+ * thread's uncaught-exception handler. A service may stop the services from its own thread (a
+ * listener that closes its core): that thread is neither interrupted nor joined, since it cannot
+ * wait for itself; its loop ends when it returns to read its closed source. All methods are synchronized: they run on lifecycle calls, never per value.
  */
 public final class ServiceThreads {
   private static final Logger LOG = LoggerFactory.getLogger(ServiceThreads.class);
 
+  private final String coreName;
   private final String prefix;
   private final Map<String, Thread> threads = new LinkedHashMap<>();
   private boolean started;
@@ -32,6 +35,7 @@ public final class ServiceThreads {
    * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
    */
   public ServiceThreads(String coreName) {
+    this.coreName = coreName;
     this.prefix = threadPrefix(coreName);
   }
 
@@ -58,12 +62,27 @@ public final class ServiceThreads {
     if (threads.containsKey(service)) {
       throw new IllegalArgumentException("service '" + service + "' already exists");
     }
-    Thread thread = new Thread(body, prefix + service);
+    Thread thread = new Thread(logFatal(service, body), prefix + service);
     thread.setDaemon(true);
     threads.put(service, thread);
     if (started) {
       thread.start();
     }
+  }
+
+  /**
+   * {@code body}, which logs a {@link VirtualMachineError} that ends it at ERROR under the
+   * service's name and throws it on: such an error ends the service, never silently.
+   */
+  private static Runnable logFatal(String service, Runnable body) {
+    return () -> {
+      try {
+        body.run();
+      } catch (VirtualMachineError e) {
+        LOG.error("service '{}' stops: {}", service, e.toString());
+        throw e;
+      }
+    };
   }
 
   /** Starts every service added so far. */
@@ -120,7 +139,12 @@ public final class ServiceThreads {
       Thread.currentThread().interrupt();
     }
     if (!stuck.isEmpty()) {
-      LOG.warn("services did not stop within {} and were abandoned: {}", timeout, stuck);
+      LOG.warn(
+          "core '{}': services still running after {}, abandoned (daemon threads, each ends when"
+              + " its block returns): {}",
+          coreName,
+          timeout,
+          stuck);
     }
     return stuck;
   }

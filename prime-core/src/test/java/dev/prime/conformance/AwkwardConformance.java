@@ -210,7 +210,9 @@ public interface AwkwardConformance extends ConformanceBase {
   /**
    * A stuck service holds its publishers up, and after the publish timeout refuses them with
    * {@link QueueFullException}: within the timeout and a second, and the refused value is
-   * published to nobody (neither the service nor a plain reader ever sees it).
+   * published to nobody (neither the service nor a plain reader ever sees it). Its message names
+   * the source and the service, says that nothing was published and how to fix it (among the
+   * fixes, a longer {@code publishTimeout}).
    */
   @Test
   default void stuckServiceMakesAPublishFailWithQueueFullWithinThePublishTimeout()
@@ -262,6 +264,17 @@ public interface AwkwardConformance extends ConformanceBase {
         assertTrue(
             refused.serviceName() != null && !refused.serviceName().isBlank(),
             "names the service: " + refused.getMessage());
+        for (String said :
+            List.of(
+                "'" + source.name() + "'",
+                "'" + refused.serviceName() + "'",
+                "nothing was published",
+                "publishTimeout")) {
+          assertTrue(
+              refused.getMessage().contains(said),
+              "names the source and the service, says nothing was published and how to wait"
+                  + " longer (" + said + "): " + refused.getMessage());
+        }
         List<Integer> seen = watcher.drain(); // a plain reader may have missed the oldest
         assertEquals(capacity, seen.get(seen.size() - 1), "the newest value a reader sees: " + seen);
         release.countDown();
@@ -349,6 +362,96 @@ public interface AwkwardConformance extends ConformanceBase {
           expected.add(i * 100 + c);
         }
         assertEquals(expected, takeOrFail(readers.get(c), 20));
+      }
+    }
+  }
+  /**
+   * A very large value travels like any other: a 4 MiB array published to a source reaches a
+   * reader and a service whole, and a synchronous call takes and returns one whole (Optimus
+   * carries values up to {@code OptimusCore.Builder.maxValueBytes}, 16 MiB by default, and
+   * refuses a bigger one where it is given, at the publish or the call).
+   */
+  @Test
+  default void aValueOfSeveralMebibytesTravelsWhole() throws InterruptedException {
+    byte[] big = new byte[4 << 20];
+    for (int i = 0; i < big.length; i++) {
+      big[i] = (byte) (i * 31 + (i >>> 13));
+    }
+    try (PrimeCore core = newCore()) {
+      EventBlock<byte[]> events = new EventBlock<>();
+      Source<byte[]> source = core.source("big", events);
+      Reader<byte[]> reader = source.reader();
+      Reader<Integer> sums = source.then(core.chain("big-sum", AwkwardConformance::sum)).reader();
+      dev.prime.Block<byte[], byte[]> reverse =
+          core.chain(
+                  "big-reverse",
+                  (byte[] b) -> {
+                    byte[] r = new byte[b.length];
+                    for (int i = 0; i < b.length; i++) {
+                      r[i] = b[b.length - 1 - i];
+                    }
+                    return r;
+                  })
+              .toBlock();
+      core.start();
+      events.publish(big);
+      assertTrue(java.util.Arrays.equals(big, takeOrFail(reader)), "the reader got it whole");
+      assertEquals(sum(big), takeOrFail(sums), "the service got it whole");
+      byte[] reversed = reverse.process(big);
+      assertEquals(big.length, reversed.length);
+      assertEquals(big[0], reversed[reversed.length - 1]);
+      assertEquals(sum(big), sum(reversed), "the call took and returned it whole");
+    }
+  }
+
+  /** A checksum of every byte. */
+  private static int sum(byte[] bytes) {
+    int sum = 0;
+    for (byte b : bytes) {
+      sum = sum * 31 + b;
+    }
+    return sum;
+  }
+
+  /**
+   * A wide fan-out keeps broadcast and delivery: 100 readers and 10 listeners of one source each
+   * get every one of 100 values, in order.
+   */
+  @Test
+  default void aWideFanOutGivesEveryReaderAndServiceEveryValueInOrder()
+      throws InterruptedException {
+    int values = 100;
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("wide", events);
+      List<Reader<Integer>> readers = new ArrayList<>();
+      for (int r = 0; r < 100; r++) {
+        readers.add(source.reader());
+      }
+      List<List<Integer>> heard = new ArrayList<>();
+      CountDownLatch allHeard = new CountDownLatch(10);
+      for (int l = 0; l < 10; l++) {
+        List<Integer> mine = new java.util.concurrent.CopyOnWriteArrayList<>();
+        heard.add(mine);
+        source.listen(
+            x -> {
+              mine.add(x);
+              if (x == values - 1) {
+                allHeard.countDown();
+              }
+            });
+      }
+      core.start();
+      for (int i = 0; i < values; i++) {
+        events.publish(i);
+      }
+      List<Integer> expected = java.util.stream.IntStream.range(0, values).boxed().toList();
+      for (Reader<Integer> reader : readers) {
+        assertEquals(expected, takeOrFail(reader, values));
+      }
+      assertTrue(allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      for (List<Integer> mine : heard) {
+        assertEquals(expected, mine, "each listener heard every value, in order");
       }
     }
   }

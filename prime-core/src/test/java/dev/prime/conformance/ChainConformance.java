@@ -171,6 +171,38 @@ public interface ChainConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link Block}, "Nulls": chains pass {@code null} between blocks if a block returns it. A
+   * synchronous call of a chain whose block returns {@code null} returns {@code null}; in a linked
+   * chain the next block gets that {@code null}, also where the linked chain runs as a service on
+   * a source (which publishes nothing only for a {@code null} its last block returns).
+   */
+  @Test
+  default void aNullABlockReturnsReachesTheCallerAndTheNextBlock() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      Block<Integer, String> nothing =
+          core.chain("nothing", (Integer x) -> (String) null).toBlock();
+      Block<Integer, String> linked =
+          core.chain("maybe", (Integer x) -> x > 0 ? "p" + x : null)
+              .then(core.chain("show", (String s) -> s == null ? "none" : s))
+              .toBlock();
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<String> shown =
+          core.source("maybes", events)
+              .then(
+                  core.chain("maybe-served", (Integer x) -> x > 0 ? "p" + x : null)
+                      .then(core.chain("show-served", (String s) -> s == null ? "none" : s)))
+              .reader();
+      core.start();
+      assertEquals(null, nothing.process(1), "a synchronous call returns the null");
+      assertEquals("none", linked.process(-1), "the next block got the null");
+      assertEquals("p2", linked.process(2));
+      events.publish(-1);
+      events.publish(3);
+      assertEquals(List.of("none", "p3"), takeOrFail(shown, 2), "the served chain's next block got it");
+    }
+  }
+
   @Test
   default void sourceThenChainsAcrossSeveralStages() throws InterruptedException {
     try (PrimeCore core = newCore()) {

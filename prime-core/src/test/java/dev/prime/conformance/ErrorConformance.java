@@ -115,6 +115,12 @@ public interface ErrorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.ErrorHandler}: "An exception thrown by the handler itself is logged and
+   * ignored". The service goes on, and the core logs one ERROR line {@code the error handler
+   * failed for service '<name>'} with the handler's exception, the block's failure suppressed in
+   * it, so neither is lost.
+   */
   @Test
   default void failingErrorHandlerDoesNotKillTheService() throws InterruptedException {
     CoreConfig config =
@@ -124,8 +130,21 @@ public interface ErrorConformance extends ConformanceBase {
                   throw new Boom("handler fails too");
                 })
             .build();
-    try (PrimeCore core = newCore(config)) {
-      assertEquals(2, secondValueAfterFirstFails(core, new Boom("first fails")));
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (PrimeCore core = newCore(config)) {
+        assertEquals(2, secondValueAfterFirstFails(core, new Boom("first fails")));
+      }
+      List<String> lines = err.lines();
+      assertTrue(
+          lines.stream()
+              .anyMatch(l -> l.contains("ERROR") && l.contains("the error handler failed for service")),
+          "the handler's failure is logged at ERROR: " + lines);
+      assertTrue(
+          lines.stream().anyMatch(l -> l.contains("Boom: handler fails too")),
+          "with the handler's exception: " + lines);
+      assertTrue(
+          lines.stream().anyMatch(l -> l.contains("Suppressed") && l.contains("Boom: first fails")),
+          "and the block's failure suppressed in it: " + lines);
     }
   }
 
@@ -269,6 +288,59 @@ public interface ErrorConformance extends ConformanceBase {
       RuntimeException refused = assertThrows(RuntimeException.class, () -> closedBlock.process(1));
       assertInstanceOf(CoreClosedException.class, refused, "passed on unwrapped");
       assertTrue(refused.getMessage().contains("another-core"), refused.getMessage());
+    }
+  }
+  /**
+   * A value of the wrong type that reaches a block through a raw or unchecked cast fails in the
+   * block that takes it, as that block's own {@link ClassCastException}, never earlier in the
+   * media's code and never as another failure: a synchronous caller gets a {@link
+   * ChainFailedException} naming that chain (in a linked chain, the first, whose block took the
+   * value), and a service reports it to the error handler with the chain's name and the value,
+   * and goes on with the next value.
+   */
+  @Test
+  @SuppressWarnings({"unchecked", "rawtypes"})
+  default void aValueOfTheWrongTypeFailsInTheBlockThatTakesItAndNamesItsChain()
+      throws InterruptedException {
+    List<List<Object>> reports = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  reports.add(Arrays.asList(service, input, error.getClass()));
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      Chain<Integer, Integer> increment = core.chain("increment", (Integer x) -> x + 1);
+      Chain<Integer, Integer> linked =
+          core.chain("describe", (Integer x) -> "n" + x)
+              .then(core.chain("length", (String s) -> s.length()));
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> halves =
+          core.source("typed", events).then(core.chain("halve", (Integer x) -> x / 2)).reader();
+      core.start();
+      Block raw = increment.toBlock();
+      ChainFailedException single =
+          assertThrows(ChainFailedException.class, () -> raw.process("seven"));
+      assertEquals("increment", single.chainName(), single.getMessage());
+      assertInstanceOf(ClassCastException.class, single.getCause(), single.toString());
+      assertTrue(
+          single.getMessage().contains("'increment'")
+              && single.getMessage().contains(String.class.getName()),
+          "names the chain and the wrong type: " + single.getMessage());
+      assertEquals(8, raw.process(7), "the chain works after the wrong value");
+      Block rawLinked = linked.toBlock();
+      ChainFailedException first =
+          assertThrows(ChainFailedException.class, () -> rawLinked.process("seven"));
+      assertEquals("describe", first.chainName(), first.getMessage());
+      assertInstanceOf(ClassCastException.class, first.getCause(), first.toString());
+      ((EventBlock) events).publish("eight");
+      events.publish(8);
+      assertEquals(4, takeOrFail(halves), "the service went on after the wrong value");
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(Arrays.asList("halve", "eight", ClassCastException.class)), reports);
     }
   }
 }

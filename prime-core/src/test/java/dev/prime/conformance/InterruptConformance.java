@@ -298,6 +298,114 @@ public interface InterruptConformance extends ConformanceBase {
     assertNoThreadsLeft(core);
   }
 
+  /**
+   * A block that interrupts its own thread (one that catches an {@code InterruptedException} and
+   * restores the flag, as is customary) does not end the service it runs in: while the core is
+   * open, a service clears that flag after the block returns and goes on with the next value,
+   * whether it runs a chain linked to a source, a filter, a flat-map or a listener; only {@code
+   * close()} ends a service. A synchronous call of such a block returns the block's value (on the
+   * in-memory media the block ran on the caller's thread, whose flag it set: the caller sees it).
+   */
+  @Test
+  default void aBlockThatInterruptsItsOwnThreadDoesNotEndItsService()
+      throws InterruptedException {
+    CountDownLatch heard = new CountDownLatch(1);
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("self-interrupting", events);
+      Reader<Integer> mapped =
+          source.then(core.chain("self-interrupt", (Integer x) -> interruptOn(1, x))).reader();
+      Reader<Integer> passed = source.filter(x -> interruptOn(1, x) != null).reader();
+      Reader<Integer> expanded = source.flatMap((Integer x) -> List.of(interruptOn(1, x))).reader();
+      source.listen(
+          x -> {
+            interruptOn(1, x);
+            if (x == 2) {
+              heard.countDown();
+            }
+          });
+      Block<Integer, Integer> called =
+          core.chain("called-self-interrupt", (Integer x) -> interruptOn(1, x) * 10).toBlock();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(List.of(1, 2), takeOrFail(mapped, 2), "the chain's service went on");
+      assertEquals(List.of(1, 2), takeOrFail(passed, 2), "the filter went on");
+      assertEquals(List.of(1, 2), takeOrFail(expanded, 2), "the flat-map went on");
+      assertTrue(
+          heard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the listener went on");
+      try {
+        assertEquals(10, called.process(1), "a synchronous call returns the block's value");
+        if (blocksRunOnTheCallersThread()) {
+          assertTrue(Thread.currentThread().isInterrupted(), "the block ran on this thread");
+        }
+      } finally {
+        Thread.interrupted(); // the flag the block set on this thread, where it ran here
+      }
+      assertEquals(20, called.process(2), "the chain works after the block interrupted itself");
+    }
+  }
+
+  /**
+   * A synchronous call whose block hangs. Where blocks run on the caller's thread (Liberty,
+   * Radiant) the block hangs that very thread: interrupting the caller reaches the block, and
+   * what the block makes of it is what the caller gets (here the block fails, so a {@link
+   * dev.prime.ChainFailedException} naming the chain), while {@code close()} cannot reach it.
+   * Where chains are services (Optimus) the caller waits for a reply: interrupting it ends the wait
+   * with a {@link PrimeException} and keeps its flag, and {@code close()} ends the wait of another
+   * caller with {@link CoreClosedException}, within the kit's patience.
+   */
+  @Test
+  default void aCallerOfAHangingBlockEndsByItsInterruptOrWhereItWaitsForAReplyByClose()
+      throws InterruptedException {
+    CountDownLatch release = new CountDownLatch(1);
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(Duration.ofMillis(500)).build());
+    try {
+      CountDownLatch entered = new CountDownLatch(1);
+      Block<Integer, Integer> hanging =
+          core.chain(
+                  "hanging",
+                  (Integer x) -> {
+                    entered.countDown();
+                    try {
+                      release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      throw new IllegalStateException("the hanging block was interrupted", e);
+                    }
+                    return x;
+                  })
+              .toBlock();
+      core.start();
+      Caller interrupted = new Caller("hanging-interrupted", () -> hanging.process(1));
+      assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the block runs");
+      interrupted.thread.interrupt();
+      Throwable ended = interrupted.awaitFailure(patience());
+      if (blocksRunOnTheCallersThread()) {
+        assertInstanceOf(dev.prime.ChainFailedException.class, ended, "what the block made of it");
+        assertEquals("hanging", ((dev.prime.ChainFailedException) ended).chainName());
+        return;
+      }
+      assertInstanceOf(PrimeException.class, ended, "the wait for the reply ended");
+      assertTrue(interrupted.interruptedAtEnd, "the caller's interrupt flag stays set");
+      Caller waiting = new Caller("hanging-closed", () -> hanging.process(2));
+      assertFalse(
+          waiting.ended.await(200, TimeUnit.MILLISECONDS), "the caller waits for the hanging block");
+      core.close();
+      assertInstanceOf(CoreClosedException.class, waiting.awaitFailure(patience()));
+    } finally {
+      release.countDown();
+      core.close();
+    }
+  }
+
+  /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */
+  private static Integer interruptOn(int on, Integer x) {
+    if (x == on) {
+      Thread.currentThread().interrupt();
+    }
+    return x;
+  }
+
   @Test
   default void aListenerCanCloseItsOwnCore() throws InterruptedException {
     closeFromAService((core, events, close) -> core.source(events).listen(x -> close.run()));
@@ -315,6 +423,56 @@ public interface InterruptConformance extends ConformanceBase {
                       close.run();
                       return x;
                     })));
+  }
+
+  /**
+   * A block called synchronously may close its own core: {@code close()} returns within the
+   * kit's patience (also where the block runs on a service's thread, which it then cannot wait
+   * for), the caller gets the block's value (where the block ran on its own thread) or {@link
+   * CoreClosedException}, never a hang, and the core leaves no thread.
+   */
+  @Test
+  default void aBlockCalledSynchronouslyCanCloseItsOwnCore() throws InterruptedException {
+    CoreConfig config = CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore core = newCore(config);
+    CountDownLatch closeReturned = new CountDownLatch(1);
+    AtomicReference<Throwable> closeFailed = new AtomicReference<>();
+    Caller caller;
+    try (core) {
+      Block<Integer, Integer> closing =
+          core.chain(
+                  "self-closing",
+                  (Integer x) -> {
+                    try {
+                      core.close();
+                    } catch (Throwable t) {
+                      closeFailed.set(t);
+                    }
+                    closeReturned.countDown();
+                    return x + 1;
+                  })
+              .toBlock();
+      core.start();
+      AtomicReference<Integer> result = new AtomicReference<>();
+      caller = new Caller("self-closing", () -> result.set(closing.process(1)));
+      assertTrue(
+          closeReturned.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "close() called from the block did not return within " + patience());
+      Throwable ended = caller.awaitFailure(patience());
+      if (ended == null) {
+        assertEquals(2, result.get(), "the caller got the block's value");
+      } else {
+        assertInstanceOf(CoreClosedException.class, ended, "or CoreClosedException");
+      }
+    }
+    if (closeFailed.get() != null) {
+      throw new AssertionError("close() from the block threw", closeFailed.get());
+    }
+    long deadline = System.nanoTime() + patience().toNanos();
+    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
+      closeReturned.await(10, TimeUnit.MILLISECONDS); // already zero: a bounded pause
+    }
+    assertNoThreadsLeft(core);
   }
 
   /** How a test declares a service that runs {@code close} when it gets a value. */

@@ -313,8 +313,9 @@ public interface LifecycleConformance extends ConformanceBase {
    * {@link CoreConfig#shutdownTimeout()}: "how long {@link PrimeCore#close()} waits for each group
    * of services to stop". A service whose block ignores interrupts does not hold {@code close()}
    * up: it returns within a few shutdown timeouts (under 5 s here, a quarter of the patience the
-   * block would hold it), and the core is closed. The block is let go afterwards, and its thread
-   * then ends.
+   * block would hold it), the core is closed, and a WARN line naming the core ({@code core
+   * '<name>': ... still running ...}) says what it left running; a thread it left is a daemon,
+   * which cannot keep the JVM alive. The block is let go afterwards, and its thread then ends.
    */
   @Test
   default void closeReturnsWithinTheShutdownTimeoutWhenABlockIgnoresInterrupts()
@@ -323,6 +324,7 @@ public interface LifecycleConformance extends ConformanceBase {
     CountDownLatch inside = new CountDownLatch(1);
     CountDownLatch release = new CountDownLatch(1);
     PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
+    CapturedStderr err = new CapturedStderr();
     try {
       EventBlock<Integer> events = new EventBlock<>();
       core.source(events)
@@ -351,12 +353,215 @@ public interface LifecycleConformance extends ConformanceBase {
       assertTrue(
           took.compareTo(shutdown.multipliedBy(5).plusSeconds(4)) < 0,
           "close() waited " + took + " with a shutdown timeout of " + shutdown);
+      String prefix = "prime-" + core.name() + "-";
+      for (Thread left : Thread.getAllStackTraces().keySet()) {
+        if (left.isAlive() && left.getName().startsWith(prefix)) {
+          assertTrue(left.isDaemon(), left.getName() + " left running cannot keep the JVM alive");
+        }
+      }
+      String named = "core '" + core.name() + "'";
+      assertTrue(
+          err.lines().stream().anyMatch(l -> l.contains(named) && l.contains("still running")),
+          "close() said that a service of " + named + " is still running: " + err.lines());
     } finally {
       release.countDown();
+      err.close();
     }
     long deadline = System.nanoTime() + patience().toNanos();
     while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
       inside.await(10, TimeUnit.MILLISECONDS); // already zero: a bounded pause
+    }
+    assertNoThreadsLeft(core);
+  }
+  /**
+   * {@code close()} racing with work on other threads ends each cleanly, within the kit's
+   * patience: publishers, readers waiting in {@code take()} and callers of a chain's block run in
+   * loops while two threads close the core at once. A publish returns (after the close it
+   * publishes nothing) or throws {@link CoreClosedException}; a take returns a value or throws
+   * {@link CoreClosedException}, and every take ends with it; a call returns the block's value or
+   * throws {@link CoreClosedException}; nothing hangs, nothing else is thrown, both closes return,
+   * and the core leaves no thread. A call after {@code close()} of a chain of plain blocks returns
+   * the block's value where blocks run on the caller's thread (the in-memory media: the chain's
+   * block is a composed function that needs nothing of the core) and throws {@link
+   * CoreClosedException} where chains are services (architecture, <i>Lifecycle of a core</i>).
+   */
+  @Test
+  default void closeRacingWithPublishersTakersAndCallersEndsEachCleanly() throws Exception {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Source<Integer> doubled =
+        core.source("racing", events).then(core.chain("racing-double", (Integer x) -> x * 2));
+    Block<Integer, Integer> triple = core.chain("racing-triple", (Integer x) -> x * 3).toBlock();
+    List<Reader<Integer>> readers = List.of(doubled.reader(), doubled.reader());
+    core.start();
+    List<Throwable> unexpected = new CopyOnWriteArrayList<>();
+    List<String> endings = new CopyOnWriteArrayList<>();
+    CountDownLatch working = new CountDownLatch(6);
+    List<Thread> workers = new java.util.ArrayList<>();
+    for (int p = 0; p < 2; p++) {
+      workers.add(
+          worker(
+              "publisher",
+              working,
+              unexpected,
+              endings,
+              () -> {
+                for (int i = 0; !core.isClosed(); i++) {
+                  events.publish(i);
+                }
+              }));
+      workers.add(
+          worker(
+              "caller",
+              working,
+              unexpected,
+              endings,
+              () -> {
+                for (int i = 0; !core.isClosed(); i++) {
+                  if (triple.process(i) != i * 3) {
+                    throw new AssertionError("a call racing close() returned a wrong value");
+                  }
+                }
+              }));
+    }
+    for (Reader<Integer> reader : readers) {
+      workers.add(
+          worker(
+              "taker",
+              working,
+              unexpected,
+              endings,
+              () -> {
+                while (true) {
+                  if (reader.take() % 2 != 0) {
+                    throw new AssertionError("a take racing close() returned a wrong value");
+                  }
+                }
+              }));
+    }
+    assertTrue(working.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the workers began");
+    CountDownLatch closed = new CountDownLatch(2);
+    for (int c = 0; c < 2; c++) {
+      Thread closer =
+          new Thread(
+              () -> {
+                try {
+                  core.close();
+                } catch (Throwable t) {
+                  unexpected.add(t);
+                } finally {
+                  closed.countDown();
+                }
+              },
+              "kit-closer-" + c);
+      closer.setDaemon(true);
+      closer.start();
+    }
+    assertTrue(closed.await(patience().toMillis(), TimeUnit.MILLISECONDS), "both closes returned");
+    for (Thread worker : workers) {
+      worker.join(patience().toMillis());
+      assertFalse(worker.isAlive(), worker.getName() + " still runs after close()");
+    }
+    assertEquals(List.of(), unexpected, "only CoreClosedException may end a racing call");
+    assertEquals(2, endings.stream().filter(e -> e.startsWith("taker")).count(), "endings " + endings);
+    if (blocksRunOnTheCallersThread()) {
+      assertEquals(15, triple.process(5), "a plain chain's block needs nothing of the closed core");
+    } else {
+      assertThrows(CoreClosedException.class, () -> triple.process(5), "a call after close()");
+    }
+    assertNoThreadsLeft(core);
+  }
+
+  /**
+   * A daemon thread that counts {@code working} down and runs {@code work}: an ending by {@link
+   * CoreClosedException} is noted in {@code endings}, any other throwable in {@code unexpected}.
+   */
+  private static Thread worker(
+      String name,
+      CountDownLatch working,
+      List<Throwable> unexpected,
+      List<String> endings,
+      InterruptConformance.Callable work) {
+    Thread thread =
+        new Thread(
+            () -> {
+              working.countDown();
+              try {
+                work.run();
+              } catch (CoreClosedException e) {
+                endings.add(name);
+              } catch (Throwable t) {
+                unexpected.add(t);
+              }
+            },
+            "kit-racing-" + name);
+    thread.setDaemon(true);
+    thread.start();
+    return thread;
+  }
+  /**
+   * A {@code close()} that finds another {@code close()} under way returns at once, without
+   * waiting for it (a shutdown hook that closes a core another thread is closing does not wait
+   * out that close), and the core is closed for it; the first close still stops everything and
+   * leaves no thread once the block that held it returns.
+   */
+  @Test
+  default void aCloseThatFindsAnotherUnderWayReturnsAtOnce() throws InterruptedException {
+    Duration shutdown = Duration.ofSeconds(3);
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch firstReturned = new CountDownLatch(1);
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
+    try {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .then(
+              core.chain(
+                  "holding",
+                  (Integer x) -> {
+                    inside.countDown();
+                    long deadline = System.nanoTime() + patience().toNanos();
+                    while (release.getCount() > 0 && System.nanoTime() < deadline) {
+                      try {
+                        release.await(10, TimeUnit.MILLISECONDS);
+                      } catch (InterruptedException ignored) {
+                        // deaf on purpose: it holds the first close up to its shutdown timeout
+                      }
+                    }
+                    return x;
+                  }));
+      core.start();
+      events.publish(1);
+      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      Thread first =
+          new Thread(
+              () -> {
+                core.close();
+                firstReturned.countDown();
+              },
+              "kit-first-close");
+      first.setDaemon(true);
+      first.start();
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (!core.isClosed() && System.nanoTime() < deadline) {
+        firstReturned.await(1, TimeUnit.MILLISECONDS); // a bounded pause until it began
+      }
+      assertTrue(core.isClosed(), "the first close() began");
+      long began = System.nanoTime();
+      core.close();
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(
+          took.compareTo(Duration.ofSeconds(1)) < 0,
+          "the second close() returned at once, took " + took);
+      assertEquals(1, firstReturned.getCount(), "the first close() was still waiting meanwhile");
+    } finally {
+      release.countDown();
+    }
+    assertTrue(
+        firstReturned.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the first returned");
+    long deadline = System.nanoTime() + patience().toNanos();
+    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
+      release.await(10, TimeUnit.MILLISECONDS); // already open: a bounded pause
     }
     assertNoThreadsLeft(core);
   }

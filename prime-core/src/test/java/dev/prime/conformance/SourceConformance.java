@@ -209,13 +209,23 @@ public interface SourceConformance extends ConformanceBase {
     assertReadersLifecycle(core, events, core.source(events));
   }
 
+  /**
+   * {@link EventBlock#publish(Object)}: a {@code null} is refused with a {@link
+   * NullPointerException} that says sources carry no nulls and to publish an {@code Optional} or
+   * a sentinel instead.
+   */
   @Test
   default void sourcesCarryNoNulls() {
     try (PrimeCore core = newCore()) {
       EventBlock<Integer> events = new EventBlock<>();
       core.source(events);
       core.start();
-      assertThrows(NullPointerException.class, () -> events.publish(null));
+      NullPointerException refused =
+          assertThrows(NullPointerException.class, () -> events.publish(null));
+      assertTrue(
+          refused.getMessage().contains("sources carry no nulls")
+              && refused.getMessage().contains("Optional"),
+          "says what is wrong and what to publish instead: " + refused.getMessage());
     }
   }
 

@@ -1,5 +1,6 @@
 package dev.prime.conformance;
 
+import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertSame;
@@ -145,6 +146,63 @@ public interface ThrowableConformance extends ConformanceBase {
           patience(), () -> assertThrows(StackOverflowError.class, () -> deep.process(-1)));
       assertEquals(3, other.process(2), "the core's other services go on");
     }
+  }
+
+  /**
+   * A {@link VirtualMachineError} a block throws in an asynchronous service ends that service only,
+   * and not silently: the core logs an ERROR line {@code service '<name>' stops: <the error>}
+   * (the JVM itself is in trouble, so the error handler does not get it). The core's other
+   * services of the same source go on with every value, and {@code close()} still stops them and
+   * leaves no thread (architecture, <i>Errors</i>).
+   */
+  @Test
+  default void aVirtualMachineErrorInAnAsyncServiceEndsOnlyThatServiceAndIsLogged()
+      throws InterruptedException {
+    OutOfMemoryError oom = new OutOfMemoryError("thrown by the block of 'fatal' on purpose");
+    CopyOnWriteArrayList<Throwable> handled = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> handled.add(error)).build();
+    PrimeCore core = newCore(config);
+    List<String> stops = new ArrayList<>();
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (core) {
+        EventBlock<Integer> events = new EventBlock<>();
+        dev.prime.Source<Integer> source = core.source("vm-input", events);
+        source.then(
+            core.chain(
+                "fatal",
+                (Integer x) -> {
+                  if (x == 1) {
+                    throw oom;
+                  }
+                  return x;
+                }));
+        source.then(core.chain("overflow", (Integer x) -> x == 1 ? recurseForever(x) : x));
+        Reader<Integer> survivor = source.then(core.chain("survivor", (Integer x) -> x * 10)).reader();
+        core.start();
+        for (int i = 1; i <= 4; i++) {
+          events.publish(i);
+        }
+        assertEquals(List.of(10, 20, 30, 40), takeOrFail(survivor, 4), "the other service went on");
+        long deadline = System.nanoTime() + patience().toNanos();
+        CountDownLatch never = new CountDownLatch(1);
+        while (stops.size() < 2 && System.nanoTime() < deadline) {
+          never.await(10, TimeUnit.MILLISECONDS); // a bounded pause while the lines are written
+          stops.clear();
+          for (String line : err.lines()) {
+            if (line.contains("ERROR")
+                && line.contains("stops")
+                && (line.contains("fatal'") && line.contains(oom.getMessage())
+                    || line.contains("overflow'") && line.contains("StackOverflowError"))) {
+              stops.add(line);
+            }
+          }
+        }
+      }
+    }
+    assertEquals(2, stops.size(), "one ERROR line for each service that stopped: " + stops);
+    assertEquals(List.of(), handled, "a VirtualMachineError does not go to the error handler");
+    assertNoThreadsLeft(core);
   }
 
   /** Overflows the stack. */

@@ -6,6 +6,7 @@ import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.FailureReport
 import dev.prime.GenericService
 import dev.prime.PrimeCore
 import dev.prime.Reader
@@ -570,21 +571,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Gives a failure to the error handler as the user knows it: a [ChainFailedException] (a chain
-     * called from this service failed) under the failing chain's name, with its block's own throwable.
+     * called from this service failed) under the failing chain's name, with its block's own
+     * throwable. A handler that throws is logged as on every media ([FailureReport]).
      */
     internal fun reportFailure(service: String, input: Any, error: Throwable) {
-        val failed = error as? ChainFailedException
-        try {
-            if (failed?.cause != null) {
-                config().errorHandler().handle(failed.chainName(), input, failed.cause)
-            } else {
-                config().errorHandler().handle(service, input, error)
-            }
-        } catch (e: VirtualMachineError) {
-            throw e
-        } catch (e: Throwable) {
-            LOG.warn("the error handler of core '{}' failed on service '{}': {}", name(), service, e.toString())
-        }
+        FailureReport.report(config().errorHandler(), service, input, error)
     }
 
     // ------------------------------------------------------------------ internals

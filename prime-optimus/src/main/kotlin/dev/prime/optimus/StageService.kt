@@ -547,9 +547,11 @@ internal class StageService(
         var attempts = 0
         while (true) {
             attempts++
-            val payloads = ArrayList<ByteArray>(1)
+            val payloads = ArrayList<ByteArray?>(1)
             try {
-                logic.process(value) { output -> if (output != null) payloads += core.encode(output)!! }
+                // a null goes on to the next chain of a linked chain (as a null payload), as chains
+                // pass nulls between blocks on every media; the last chain publishes nothing for it
+                logic.process(value) { output -> if (output != null || next != null) payloads += core.encode(output) }
             } catch (e: VirtualMachineError) {
                 throw e
             } catch (e: Throwable) {
