@@ -20,7 +20,8 @@ import org.slf4j.LoggerFactory;
  * ends a service's thread is logged at ERROR under the service's name before it goes on to the
  * thread's uncaught-exception handler. A service may stop the services from its own thread (a
  * listener that closes its core): that thread is neither interrupted nor joined, since it cannot
- * wait for itself; its loop ends when it returns to read its closed source. All methods are synchronized: they run on lifecycle calls, never per value.
+ * wait for itself; its loop ends when it returns to read its closed source. All methods are
+ * synchronized: they run on lifecycle calls, never per value.
  */
 public final class ServiceThreads {
   private static final Logger LOG = LoggerFactory.getLogger(ServiceThreads.class);
