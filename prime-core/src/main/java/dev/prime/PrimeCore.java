@@ -6,12 +6,16 @@ import java.util.List;
 import java.util.Objects;
 import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.Consumer;
 import java.util.function.Function;
 import java.util.function.Predicate;
 import java.util.function.Supplier;
+import org.slf4j.Logger;
+import org.slf4j.LoggerFactory;
 
 /**
  * The media layer: turns blocks into chains and event blocks into sources, links them, and runs
@@ -64,6 +68,8 @@ public abstract class PrimeCore implements AutoCloseable {
   private static final ConcurrentHashMap<String, AtomicInteger> CORE_COUNTERS =
       new ConcurrentHashMap<>();
   private static final AtomicLong CREATED = new AtomicLong();
+  private static final Logger LOG = LoggerFactory.getLogger(PrimeCore.class);
+  private static final long CLOSE_WAIT_SLACK_MILLIS = 30_000;
 
   private enum State {
     NEW,
@@ -82,6 +88,8 @@ public abstract class PrimeCore implements AutoCloseable {
   private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
+  private volatile Thread closingThread; // the thread of the first close(), set under lifecycle
+  private final CountDownLatch closed = new CountDownLatch(1); // the first close() has finished
   private final long creationOrder = CREATED.incrementAndGet();
 
   /**
@@ -986,25 +994,75 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * Stops every service, waiting at most {@link CoreConfig#shutdownTimeout()} for them, and
    * releases the core's threads and connections. Idempotent.
+   *
+   * <p>A {@code close()} that finds another under way on another thread waits until that one has
+   * finished (at most twice {@code shutdownTimeout} plus 30 s), so a shutdown hook that closes a
+   * core the program is closing does not let the JVM exit half-way through. It returns at once
+   * when called from one of the core's own threads (a service, a listener), which the first close
+   * may be waiting for, or from within the first close (an {@code onClose} of {@link
+   * #whenRunning}); an interrupt ends its wait and stays set.
    */
   @Override
   public final void close() {
+    boolean first;
     synchronized (lifecycle) {
-      if (state == State.CLOSED) {
-        return;
+      first = state != State.CLOSED;
+      if (first) {
+        state = State.CLOSED;
+        closingThread = Thread.currentThread();
       }
-      state = State.CLOSED;
     }
-    hooks.closing();
-    inProcess.close();
-    services.stopAll(config.shutdownTimeout());
-    onClose();
-    combinators.closed();
-    ModelCompiler<?> declared = compiler;
-    if (declared != null) {
-      declared.closed();
+    if (!first) {
+      awaitClosed();
+      return;
     }
-    config.flushErrorSummaries();
+    try {
+      hooks.closing();
+      inProcess.close();
+      services.stopAll(config.shutdownTimeout());
+      onClose();
+      combinators.closed();
+      ModelCompiler<?> declared = compiler;
+      if (declared != null) {
+        declared.closed();
+      }
+      config.flushErrorSummaries();
+    } finally {
+      closed.countDown();
+    }
+  }
+
+  /** A second {@code close()}: waits for the first, unless that could wait for this thread. */
+  private void awaitClosed() {
+    Thread current = Thread.currentThread();
+    if (closed.getCount() == 0 || current == closingThread || isOwnThread(current)) {
+      return;
+    }
+    long bound = 2 * config.shutdownTimeout().toMillis() + CLOSE_WAIT_SLACK_MILLIS;
+    try {
+      if (!closed.await(bound, TimeUnit.MILLISECONDS)) {
+        LOG.warn(
+            "core '{}': close() waited {} ms for the close under way on thread {}, which has not"
+                + " finished; returning",
+            name,
+            bound,
+            closingThread.getName());
+      }
+    } catch (InterruptedException e) {
+      current.interrupt();
+    }
+  }
+
+  /**
+   * Whether {@code thread} is one of this core's own threads (one a service runs on), which the
+   * close under way may be waiting for: a {@code close()} from it returns at once instead of
+   * waiting for that close. A media whose services run on threads of its own adds those.
+   *
+   * @param thread a thread
+   * @return whether the core runs services on it
+   */
+  protected boolean isOwnThread(Thread thread) {
+    return services.isServiceThread(thread);
   }
 
   /**

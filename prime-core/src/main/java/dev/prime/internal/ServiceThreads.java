@@ -99,6 +99,16 @@ public final class ServiceThreads {
     }
   }
 
+  /**
+   * Whether {@code thread} is the thread of one of these services.
+   *
+   * @param thread a thread
+   * @return whether a service runs on it
+   */
+  public synchronized boolean isServiceThread(Thread thread) {
+    return threads.containsValue(thread);
+  }
+
   /** The names of the services. */
   public synchronized Set<String> names() {
     return Set.copyOf(threads.keySet());

@@ -11,6 +11,7 @@ import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
+import java.time.Duration;
 import java.util.List;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
@@ -48,6 +49,29 @@ public interface LifecycleHookConformance extends ConformanceBase {
       assertEquals(2, late.size());
     }
     assertThrows(CoreClosedException.class, () -> core.whenRunning("after", () -> {}, () -> {}));
+  }
+
+  /**
+   * A hook's {@code onClose} that closes its core again (the stop routine a program also calls
+   * itself) returns at once: the close under way is its own caller ({@link PrimeCore#close()}).
+   */
+  @Test
+  default void aHookThatClosesItsCoreFromItsOnCloseReturnsAtOnce() {
+    AtomicReference<Duration> again = new AtomicReference<>();
+    PrimeCore core = newCore();
+    core.whenRunning(
+        "stopper",
+        () -> {},
+        () -> {
+          long began = System.nanoTime();
+          core.close();
+          again.set(Duration.ofNanos(System.nanoTime() - began));
+        });
+    core.start();
+    core.close();
+    assertTrue(
+        again.get() != null && again.get().compareTo(Duration.ofSeconds(1)) < 0,
+        "the close() inside the hook's onClose returned at once: " + again.get());
   }
 
   @Test

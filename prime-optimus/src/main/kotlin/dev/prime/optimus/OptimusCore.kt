@@ -456,6 +456,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         readerMisses.flush() // the misses counted since the last line: no publish of this core comes after
     }
 
+    /** Also this core's own threads (services, listeners, the heartbeat), which a close under way joins. */
+    protected override fun isOwnThread(thread: Thread): Boolean = super.isOwnThread(thread) || thread in threads
+
     /** Stops the threads (all but the calling one, which ends when its service returns) and the embedded Redis. */
     private fun shutdownResources() {
         val current = Thread.currentThread()
