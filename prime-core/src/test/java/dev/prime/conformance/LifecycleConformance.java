@@ -329,22 +329,7 @@ public interface LifecycleConformance extends ConformanceBase {
     CapturedStderr err = new CapturedStderr();
     try {
       EventBlock<Integer> events = new EventBlock<>();
-      core.source(events)
-          .then(
-              core.chain(
-                  "deaf",
-                  (Integer x) -> {
-                    inside.countDown();
-                    long deadline = System.nanoTime() + patience().toNanos();
-                    while (release.getCount() > 0 && System.nanoTime() < deadline) {
-                      try {
-                        release.await(10, TimeUnit.MILLISECONDS);
-                      } catch (InterruptedException ignored) {
-                        // deaf on purpose: the test's subject
-                      }
-                    }
-                    return x;
-                  }));
+      core.source(events).then(deafChain(core, "deaf", inside, release));
       core.start();
       events.publish(1);
       assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
@@ -517,22 +502,7 @@ public interface LifecycleConformance extends ConformanceBase {
     PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
     try {
       EventBlock<Integer> events = new EventBlock<>();
-      core.source(events)
-          .then(
-              core.chain(
-                  "holding",
-                  (Integer x) -> {
-                    inside.countDown();
-                    long deadline = System.nanoTime() + patience().toNanos();
-                    while (release.getCount() > 0 && System.nanoTime() < deadline) {
-                      try {
-                        release.await(10, TimeUnit.MILLISECONDS);
-                      } catch (InterruptedException ignored) {
-                        // deaf on purpose: it holds the first close up to its shutdown timeout
-                      }
-                    }
-                    return x;
-                  }));
+      core.source(events).then(deafChain(core, "holding", inside, release));
       core.start();
       events.publish(1);
       assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
@@ -621,5 +591,27 @@ public interface LifecycleConformance extends ConformanceBase {
         blockClose.get().compareTo(Duration.ofSeconds(1)) < 0,
         "the block's close() returned at once: " + blockClose.get());
     assertNoThreadsLeft(core);
+  }
+
+  /**
+   * A chain whose block counts {@code inside} down, then ignores interrupts until {@code release}
+   * opens (or the kit's patience runs out): it holds a {@code close()} up to its shutdown timeout.
+   */
+  private Chain<Integer, Integer> deafChain(
+      PrimeCore core, String name, CountDownLatch inside, CountDownLatch release) {
+    return core.chain(
+        name,
+        (Integer x) -> {
+          inside.countDown();
+          long deadline = System.nanoTime() + patience().toNanos();
+          while (release.getCount() > 0 && System.nanoTime() < deadline) {
+            try {
+              release.await(10, TimeUnit.MILLISECONDS);
+            } catch (InterruptedException ignored) {
+              // deaf on purpose
+            }
+          }
+          return x;
+        });
   }
 }
