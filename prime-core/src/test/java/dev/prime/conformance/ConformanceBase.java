@@ -162,6 +162,19 @@ public interface ConformanceBase {
     return names;
   }
 
+  /**
+   * Waits, in bounded pauses and at most the patience, until a closed core has no thread left,
+   * then asserts it: for a thread that ends only after {@code close()} returned (a block let go).
+   */
+  default void awaitNoThreadsLeft(PrimeCore core) throws InterruptedException {
+    long deadline = System.nanoTime() + patience().toNanos();
+    CountDownLatch never = new CountDownLatch(1);
+    while (!threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
+      never.await(10, TimeUnit.MILLISECONDS); // a bounded pause
+    }
+    assertNoThreadsLeft(core);
+  }
+
   /** Asserts that a closed core left no thread behind. */
   static void assertNoThreadsLeft(PrimeCore core) {
     assertTrue(core.isClosed(), "close the core before checking its threads");

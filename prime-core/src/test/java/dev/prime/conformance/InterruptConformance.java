@@ -468,11 +468,7 @@ public interface InterruptConformance extends ConformanceBase {
     if (closeFailed.get() != null) {
       throw new AssertionError("close() from the block threw", closeFailed.get());
     }
-    long deadline = System.nanoTime() + patience().toNanos();
-    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
-      closeReturned.await(10, TimeUnit.MILLISECONDS); // already zero: a bounded pause
-    }
-    assertNoThreadsLeft(core);
+    awaitNoThreadsLeft(core);
   }
 
   /** How a test declares a service that runs {@code close} when it gets a value. */

@@ -354,11 +354,7 @@ public interface LifecycleConformance extends ConformanceBase {
       release.countDown();
       err.close();
     }
-    long deadline = System.nanoTime() + patience().toNanos();
-    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
-      inside.await(10, TimeUnit.MILLISECONDS); // already zero: a bounded pause
-    }
-    assertNoThreadsLeft(core);
+    awaitNoThreadsLeft(core);
   }
   /**
    * {@code close()} racing with work on other threads ends each cleanly, within the kit's
@@ -536,11 +532,7 @@ public interface LifecycleConformance extends ConformanceBase {
     } finally {
       release.countDown();
     }
-    long deadline = System.nanoTime() + patience().toNanos();
-    while (!ConformanceBase.threadsOf(core).isEmpty() && System.nanoTime() < deadline) {
-      release.await(10, TimeUnit.MILLISECONDS); // already open: a bounded pause
-    }
-    assertNoThreadsLeft(core);
+    awaitNoThreadsLeft(core);
   }
 
   /**
