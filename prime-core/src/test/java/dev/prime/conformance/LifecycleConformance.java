@@ -19,6 +19,7 @@ import dev.prime.Source;
 import dev.prime.Token;
 import java.time.Duration;
 import java.util.List;
+import java.util.Optional;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.ExecutorService;
@@ -30,6 +31,46 @@ import org.junit.jupiter.api.Test;
 
 /** Lifecycle and misuse: start/close, leaks, and clear exceptions for bad input. */
 public interface LifecycleConformance extends ConformanceBase {
+
+  /**
+   * Whether a core's topology outlives it (Optimus: it lives in Redis, and a core started later
+   * under the same name on the same Redis carries on); on the in-memory media every core starts
+   * empty.
+   */
+  default boolean topologyOutlivesItsCores() {
+    return false;
+  }
+
+  /**
+   * A core made under the name of a closed core starts empty on the in-memory media: its reader
+   * gets only what is published to it. Where the topology outlives its cores ({@link
+   * #topologyOutlivesItsCores()}, the Optimus README's "Several processes") it carries on where
+   * the closed one stopped: its reader first gets what the source retained from the earlier core,
+   * then the new value.
+   */
+  @Test
+  default void aCoreUnderTheNameOfAClosedOneStartsEmptyOrCarriesOnAsItsMediaSays()
+      throws InterruptedException {
+    CoreConfig config =
+        CoreConfig.builder().name("kit-again-" + Long.toString(System.nanoTime(), 36)).build();
+    try (PrimeCore first = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      first.source("numbers", events);
+      first.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+    }
+    try (PrimeCore second = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> reader = second.source("numbers", events).reader();
+      second.start();
+      events.publish(4);
+      List<Integer> expected = topologyOutlivesItsCores() ? List.of(1, 2, 3, 4) : List.of(4);
+      assertEquals(expected, takeOrFail(reader, expected.size()));
+      assertEquals(Optional.empty(), reader.take(Duration.ofMillis(200)), "nothing more");
+    }
+  }
 
   @Test
   default void startAndCloseManyTimesLeavesNoThreads() throws InterruptedException {
