@@ -4,56 +4,78 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.EventBlock;
+import dev.prime.optimus.LocalRedisCluster;
 import dev.prime.optimus.OptimusCore;
 import java.util.concurrent.atomic.AtomicReference;
-import org.junit.jupiter.api.Test;
+import org.junit.jupiter.params.ParameterizedTest;
+import org.junit.jupiter.params.provider.EnumSource;
+import org.junit.jupiter.params.provider.ValueSource;
 
 /**
  * Classic fault: the worker JVM hosting {@code stamp} is killed mid-stream, with SIGKILL (a crash)
  * and with SIGTERM (a graceful stop), and a successor takes over. Nothing accepted is lost,
- * duplicated or reordered. Short mode: 2 runs x 2,000 ids per signal; long: 6 x 10,000.
+ * duplicated or reordered: on one redis-server reached directly, on one reached over a slow
+ * network (every answer comes at least a millisecond late, see {@link Network}), and on a real
+ * Redis Cluster of 3 masters and 3 replicas. Short mode: 2 runs x 2,000 ids per signal and Redis;
+ * long: 6 x 10,000.
  */
 class WorkerKillTest {
 
-  @Test
-  void sigkillMidStreamLosesDuplicatesAndReordersNothing() throws Exception {
-    killRuns("SIGKILL", true);
+  @ParameterizedTest(name = "{0} network")
+  @EnumSource(Network.class)
+  void sigkillMidStreamLosesDuplicatesAndReordersNothing(Network network) throws Exception {
+    killRuns("SIGKILL", true, network);
   }
 
-  @Test
-  void sigtermMidStreamLosesDuplicatesAndReordersNothing() throws Exception {
-    killRuns("SIGTERM", false);
+  @ParameterizedTest(name = "{0} network")
+  @EnumSource(Network.class)
+  void sigtermMidStreamLosesDuplicatesAndReordersNothing(Network network) throws Exception {
+    killRuns("SIGTERM", false, network);
   }
 
-  private void killRuns(String signal, boolean forcibly) throws Exception {
+  @ParameterizedTest(name = "{0} on a Redis Cluster")
+  @ValueSource(strings = {"SIGKILL", "SIGTERM"})
+  void onARedisClusterAKilledWorkerLosesDuplicatesAndReordersNothing(String signal) throws Exception {
+    try (LocalRedisCluster cluster = LocalRedisCluster.start()) {
+      killRuns(signal, signal.equals("SIGKILL"), cluster.getUrl(), " (Redis Cluster)");
+    }
+  }
+
+  private void killRuns(String signal, boolean forcibly, Network network) throws Exception {
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        Network.Route route = network.open(redis)) {
+      killRuns(signal, forcibly, route.url(), network.suffix());
+    }
+  }
+
+  private void killRuns(String signal, boolean forcibly, String url, String where) throws Exception {
     FaultMode mode = FaultMode.current();
     String coreName = "kill-" + signal.toLowerCase(java.util.Locale.ROOT);
+    String run = "kill-worker " + signal + where;
     int n = mode.idsPerRun;
-    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null)) {
-      AtomicReference<Ledger> sink = new AtomicReference<>();
-      EventBlock<Long> ids = new EventBlock<>();
-      try (OptimusCore core = Cores.core(redis.url(), coreName, StreamTopology.WIDE_RETENTION)) {
-        var stream = StreamTopology.declareStream(core, ids, 0, true);
-        core.start();
-        LedgerFeed.start(stream.observer(), sink, coreName);
-        StreamRun runs = new StreamRun(redis.url(), coreName, StreamTopology.WIDE_RETENTION, ids, sink);
-        WorkerJvm worker = runs.startWorker(1);
-        try {
-          for (int run = 1; run <= mode.killRuns; run++) {
-            StreamRun.Outcome outcome = runs.killMidStream(worker, forcibly, run + 1, (long) (run - 1) * n, n, 2 * n / 5, n / 3, false);
-            worker = outcome.successor();
-            Ledger ledger = outcome.ledger();
-            Figures.report("kill-worker " + signal + " run " + run + "/" + mode.killRuns + ": " + ledger.counts()
-                + ", recovered in " + Figures.seconds(outcome.recoveredNanos()));
-            assertEquals(0, ledger.lost(), "lost: " + ledger.counts() + "\n" + worker.output());
-            assertEquals(0, ledger.duplicated(), "duplicated: " + ledger.counts());
-            assertEquals(0, ledger.reordered(), "reordered: " + ledger.counts());
-            assertEquals(0, ledger.refusedCount(), "refused: " + ledger.counts());
-            assertTrue(outcome.recoveredNanos() >= 0, "the successor delivered no value: " + ledger.counts() + "\n" + worker.output());
-          }
-        } finally {
-          worker.close();
+    AtomicReference<Ledger> sink = new AtomicReference<>();
+    EventBlock<Long> ids = new EventBlock<>();
+    try (OptimusCore core = Cores.core(url, coreName, StreamTopology.WIDE_RETENTION)) {
+      var stream = StreamTopology.declareStream(core, ids, 0, true);
+      core.start();
+      LedgerFeed.start(stream.observer(), sink, coreName);
+      StreamRun runs = new StreamRun(url, coreName, StreamTopology.WIDE_RETENTION, ids, sink);
+      WorkerJvm worker = runs.startWorker(1);
+      try {
+        for (int i = 1; i <= mode.killRuns; i++) {
+          StreamRun.Outcome outcome = runs.killMidStream(worker, forcibly, i + 1, (long) (i - 1) * n, n, 2 * n / 5, n / 3, false);
+          worker = outcome.successor();
+          Ledger ledger = outcome.ledger();
+          Figures.report(run + " run " + i + "/" + mode.killRuns + ": " + ledger.counts()
+              + ", recovered in " + Figures.seconds(outcome.recoveredNanos()));
+          assertEquals(0, ledger.lost(), "lost: " + ledger.counts() + "\n" + worker.output());
+          assertEquals(0, ledger.duplicated(), "duplicated: " + ledger.counts());
+          assertEquals(0, ledger.reordered(), "reordered: " + ledger.counts());
+          assertEquals(0, ledger.refusedCount(), "refused: " + ledger.counts());
+          assertTrue(outcome.recoveredNanos() >= 0, "the successor delivered no value: " + ledger.counts() + "\n" + worker.output());
         }
+      } finally {
+        worker.close();
       }
     }
   }
