@@ -5,8 +5,8 @@ import java.util.Locale;
 
 /**
  * How hard the suite pushes: {@code short} (the default, run by {@code ./mvnw -B verify}, about
- * three minutes on two cores) or {@code long} ({@code -Dprime.faults=long}: more runs, more values,
- * longer outages). Every figure a test uses comes from here, so the two modes differ in one place.
+ * four and a half minutes on two cores) or {@code long} ({@code -Dprime.faults=long}: more runs,
+ * more values, longer outages). Every figure a test uses comes from here, so the two modes differ in one place.
  */
 enum FaultMode {
   SHORT(2, 2_000, Duration.ZERO, 1, 5_000, 8, 120, 500, 200),

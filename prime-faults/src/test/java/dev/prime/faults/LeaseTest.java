@@ -9,28 +9,31 @@ import dev.prime.optimus.OptimusCore;
 import java.time.Duration;
 import java.util.Optional;
 import java.util.concurrent.atomic.AtomicReference;
-import org.junit.jupiter.api.Test;
+import org.junit.jupiter.params.ParameterizedTest;
+import org.junit.jupiter.params.provider.EnumSource;
 import redis.clients.jedis.Jedis;
 
 /**
  * Liveness leases between processes (issue 9 items 10 and 13): the readers of a worker JVM killed
  * with SIGKILL are reclaimed by a live process once its lease expired; a second host of a service
  * is refused with "already hosted by", and when the host is killed mid-stream its successor takes
- * over with nothing lost, duplicated or reordered, and no two hosts ever interleave.
+ * over with nothing lost, duplicated or reordered, and no two hosts ever interleave. On every
+ * {@link RedisSetup}.
  */
 class LeaseTest {
   /** The default lease time is 5 s; a killed process's readers must be gone well within this. */
   private static final Duration RECLAIM_LIMIT = Duration.ofSeconds(30);
 
-  @Test
-  void aKilledProcesssReadersAreReclaimedAfterItsLease() throws Exception {
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(RedisSetup.class)
+  void aKilledProcesssReadersAreReclaimedAfterItsLease(RedisSetup setup) throws Exception {
     int count = FaultMode.current().deadReaders;
     String name = "dead-readers";
     TopologyKeys keys = new TopologyKeys(name);
     EventBlock<Long> ids = new EventBlock<>();
-    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+    try (RedisSetup.Redis redis = setup.start();
         OptimusCore core = Cores.core(redis.url(), name, 1024);
-        Jedis raw = redis.client()) {
+        Jedis raw = redis.clientFor(name)) {
       Reader<Long> mine = core.source("ids", ids).reader();
       core.start();
       try (WorkerJvm worker = WorkerJvm.start("readers", "readers", redis.url(), name, Integer.toString(count))) {
@@ -47,7 +50,7 @@ class LeaseTest {
       long keysLeft = Leftovers.keys(raw, keys.readerLists()).size();
       ids.publish(2L);
       Optional<Long> stillReads = mine.take(Duration.ofSeconds(10));
-      Figures.report("dead readers: " + count + " readers of a SIGKILLed JVM, " + (left - 1) + " still registered and "
+      Figures.report("dead readers" + setup.suffix() + ": " + count + " readers of a SIGKILLed JVM, " + (left - 1) + " still registered and "
           + keysLeft + " reader lists in Redis (1 is this process's) "
           + (reclaimed < 0 ? "after " + Figures.seconds(RECLAIM_LIMIT) : "after " + Figures.seconds(reclaimed))
           + " since the kill; the live reader " + (stillReads.isPresent() ? "still reads" : "stopped reading")
@@ -58,14 +61,15 @@ class LeaseTest {
     }
   }
 
-  @Test
-  void aSecondHostIsRefusedAndAKilledHostsSuccessorLosesNothing() throws Exception {
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(RedisSetup.class)
+  void aSecondHostIsRefusedAndAKilledHostsSuccessorLosesNothing(RedisSetup setup) throws Exception {
     FaultMode mode = FaultMode.current();
     String name = "single-host";
     int n = mode.idsPerRun;
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
-    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+    try (RedisSetup.Redis redis = setup.start();
         OptimusCore core = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION)) {
       var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
@@ -85,7 +89,7 @@ class LeaseTest {
         StreamRun.Outcome outcome = runs.killMidStream(host, true, 3, 0, n, 2 * n / 5, n / 3, false);
         host = outcome.successor();
         Ledger ledger = outcome.ledger();
-        Figures.report("second host: " + (refusal.startsWith("REFUSED") ? "refused" : "NOT refused") + " after "
+        Figures.report("second host" + setup.suffix() + ": " + (refusal.startsWith("REFUSED") ? "refused" : "NOT refused") + " after "
             + Figures.seconds(refusedIn) + " (\"" + refusal + "\"); host SIGKILLed mid-stream: " + ledger.counts()
             + ", successor recovered in " + Figures.seconds(outcome.recoveredNanos()) + ", host switches " + ledger.tagSwitches());
         assertTrue(refusal.startsWith("REFUSED") && refusal.contains("already hosted by") && refusal.contains("stamp"), refusal);

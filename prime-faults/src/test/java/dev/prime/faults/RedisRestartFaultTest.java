@@ -19,22 +19,22 @@ import org.junit.jupiter.params.provider.EnumSource;
  * is lost and values flow again within seconds (classic); empty (no persistence), every process
  * re-declares its part of the topology, counts the reset, and values published after Redis is
  * back arrive (issue 9 item 2). Both on a direct network and on a slow one (every answer from Redis
- * comes at least a millisecond late, see {@link Network}).
+ * comes at least a millisecond late, see {@link RedisSetup}).
  */
 class RedisRestartFaultTest {
   /** How soon after a restart values must flow again. */
   private static final Duration FLOW_BACK = Duration.ofSeconds(10);
 
-  @ParameterizedTest(name = "{0} network")
-  @EnumSource(Network.class)
-  void crashWithAppendOnlyFileLosesNothingAndFlowsBack(Network network, @TempDir Path dir) throws Exception {
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(value = RedisSetup.class, names = {"DIRECT", "SLOW_NETWORK"})
+  void crashWithAppendOnlyFileLosesNothingAndFlowsBack(RedisSetup setup, @TempDir Path dir) throws Exception {
     FaultMode mode = FaultMode.current();
     int n = mode.idsPerRun;
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.AOF_ALWAYS, dir);
-        Network.Route route = network.open(redis);
-        OptimusCore core = Cores.core(route.url(), "redis-aof", StreamTopology.WIDE_RETENTION, "stamp")) {
+        RedisSetup.Redis way = setup.through(redis);
+        OptimusCore core = Cores.core(way.url(), "redis-aof", StreamTopology.WIDE_RETENTION, "stamp")) {
       var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
       LedgerFeed.start(stream.observer(), sink, "redis-aof");
@@ -61,7 +61,7 @@ class RedisRestartFaultTest {
           restarted.countDown();
           publisher.join(FaultMode.PATIENCE.toMillis());
         }
-        Figures.report("redis-" + (run % 2 == 0 ? "SIGTERM" : "SIGKILL") + " (AOF always)" + network.suffix() + " run " + run + "/" + mode.redisRuns + ", down "
+        Figures.report("redis-" + (run % 2 == 0 ? "SIGTERM" : "SIGKILL") + " (AOF always)" + setup.suffix() + " run " + run + "/" + mode.redisRuns + ", down "
             + Figures.seconds(mode.redisOutage) + ": " + ledger.counts() + ", flow back "
             + (flowBack < 0 ? "never" : "in " + Figures.seconds(flowBack)) + " after the restart");
         assertEquals(0, ledger.lost(), ledger.counts());
@@ -72,18 +72,18 @@ class RedisRestartFaultTest {
     }
   }
 
-  @ParameterizedTest(name = "{0} network")
-  @EnumSource(Network.class)
-  void restartWithoutDataIsCountedAndValuesPublishedAfterItArrive(Network network) throws Exception {
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(value = RedisSetup.class, names = {"DIRECT", "SLOW_NETWORK"})
+  void restartWithoutDataIsCountedAndValuesPublishedAfterItArrive(RedisSetup setup) throws Exception {
     int before = 100;
     int after = FaultMode.current().idsPerRun / 4;
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
     String name = "redis-empty";
     try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
-        Network.Route route = network.open(redis);
-        OptimusCore worker = Cores.core(route.url(), name, StreamTopology.WIDE_RETENTION, "stamp");
-        OptimusCore collector = Cores.core(route.url(), name, StreamTopology.WIDE_RETENTION)) {
+        RedisSetup.Redis way = setup.through(redis);
+        OptimusCore worker = Cores.core(way.url(), name, StreamTopology.WIDE_RETENTION, "stamp");
+        OptimusCore collector = Cores.core(way.url(), name, StreamTopology.WIDE_RETENTION)) {
       StreamTopology.declareStream(worker, new EventBlock<>(), 1, false);
       var stream = StreamTopology.declareStream(collector, ids, 0, true);
       worker.start();
@@ -113,7 +113,7 @@ class RedisRestartFaultTest {
       Bounded.hold(Duration.ofMillis(300));
       long workerResets = worker.redisResets();
       long collectorResets = collector.redisResets();
-      Figures.report("redis-restart empty" + network.suffix() + ": " + ledger.counts() + " (published after it was back), redisResets() "
+      Figures.report("redis-restart empty" + setup.suffix() + ": " + ledger.counts() + " (published after it was back), redisResets() "
           + workerResets + " in the worker, " + collectorResets + " in the collector, re-declared "
           + (redeclared < 0 ? "(not seen)" : "in " + Figures.seconds(redeclared)) + " after the restart ("
           + Figures.seconds(System.nanoTime() - restartedAt) + " to the end of the run)");

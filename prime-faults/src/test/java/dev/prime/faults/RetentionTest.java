@@ -6,17 +6,19 @@ import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.optimus.OptimusCore;
 import java.util.concurrent.atomic.AtomicReference;
-import org.junit.jupiter.api.Test;
+import org.junit.jupiter.params.ParameterizedTest;
+import org.junit.jupiter.params.provider.EnumSource;
 
 /**
  * Issue 9 item 1: the worker JVM hosting a service is killed and, while it is down, far more
  * values than the source retention (the default 1024) are published; a successor processes every
- * one of them. A service's input is a queue, not a retention window.
+ * one of them. A service's input is a queue, not a retention window. On every {@link RedisSetup}.
  */
 class RetentionTest {
 
-  @Test
-  void valuesPublishedWhileTheHostIsDownAreNotTrimmedAway() throws Exception {
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(RedisSetup.class)
+  void valuesPublishedWhileTheHostIsDownAreNotTrimmedAway(RedisSetup setup) throws Exception {
     int retention = CoreConfig.defaults().sourceRetention();
     int backlog = FaultMode.current().backlog;
     int first = 500;
@@ -24,7 +26,7 @@ class RetentionTest {
     String name = "retention";
     AtomicReference<Ledger> sink = new AtomicReference<>();
     EventBlock<Long> ids = new EventBlock<>();
-    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+    try (RedisSetup.Redis redis = setup.start();
         OptimusCore core = Cores.core(redis.url(), name, retention)) {
       var stream = StreamTopology.declareStream(core, ids, 0, true);
       core.start();
@@ -36,7 +38,7 @@ class RetentionTest {
         StreamRun.Outcome outcome = runs.killMidStream(host, true, 2, 0, n, first, first, true);
         host = outcome.successor();
         Ledger ledger = outcome.ledger();
-        Figures.report("host down, " + backlog + " published (retention " + retention + "): " + ledger.counts()
+        Figures.report("host down" + setup.suffix() + ", " + backlog + " published (retention " + retention + "): " + ledger.counts()
             + ", successor's first value " + Figures.seconds(outcome.recoveredNanos()) + " after the kill");
         assertEquals(0, ledger.lost(), "nothing accepted is lost: " + ledger.counts());
         assertEquals(0, ledger.duplicated(), ledger.counts());

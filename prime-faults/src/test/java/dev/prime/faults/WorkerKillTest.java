@@ -4,47 +4,34 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.EventBlock;
-import dev.prime.optimus.LocalRedisCluster;
 import dev.prime.optimus.OptimusCore;
 import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.params.ParameterizedTest;
 import org.junit.jupiter.params.provider.EnumSource;
-import org.junit.jupiter.params.provider.ValueSource;
 
 /**
  * Classic fault: the worker JVM hosting {@code stamp} is killed mid-stream, with SIGKILL (a crash)
  * and with SIGTERM (a graceful stop), and a successor takes over. Nothing accepted is lost,
  * duplicated or reordered: on one redis-server reached directly, on one reached over a slow
- * network (every answer comes at least a millisecond late, see {@link Network}), and on a real
- * Redis Cluster of 3 masters and 3 replicas. Short mode: 2 runs x 2,000 ids per signal and Redis;
+ * network (every answer comes at least a millisecond late), and on a real Redis Cluster of 3
+ * masters and 3 replicas (see {@link RedisSetup}). Short mode: 2 runs x 2,000 ids per signal and Redis;
  * long: 6 x 10,000.
  */
 class WorkerKillTest {
 
-  @ParameterizedTest(name = "{0} network")
-  @EnumSource(Network.class)
-  void sigkillMidStreamLosesDuplicatesAndReordersNothing(Network network) throws Exception {
-    killRuns("SIGKILL", true, network);
-  }
-
-  @ParameterizedTest(name = "{0} network")
-  @EnumSource(Network.class)
-  void sigtermMidStreamLosesDuplicatesAndReordersNothing(Network network) throws Exception {
-    killRuns("SIGTERM", false, network);
-  }
-
-  @ParameterizedTest(name = "{0} on a Redis Cluster")
-  @ValueSource(strings = {"SIGKILL", "SIGTERM"})
-  void onARedisClusterAKilledWorkerLosesDuplicatesAndReordersNothing(String signal) throws Exception {
-    try (LocalRedisCluster cluster = LocalRedisCluster.start()) {
-      killRuns(signal, signal.equals("SIGKILL"), cluster.getUrl(), " (Redis Cluster)");
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(RedisSetup.class)
+  void sigkillMidStreamLosesDuplicatesAndReordersNothing(RedisSetup setup) throws Exception {
+    try (RedisSetup.Redis redis = setup.start()) {
+      killRuns("SIGKILL", true, redis.url(), setup.suffix());
     }
   }
 
-  private void killRuns(String signal, boolean forcibly, Network network) throws Exception {
-    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
-        Network.Route route = network.open(redis)) {
-      killRuns(signal, forcibly, route.url(), network.suffix());
+  @ParameterizedTest(name = "{0}")
+  @EnumSource(RedisSetup.class)
+  void sigtermMidStreamLosesDuplicatesAndReordersNothing(RedisSetup setup) throws Exception {
+    try (RedisSetup.Redis redis = setup.start()) {
+      killRuns("SIGTERM", false, redis.url(), setup.suffix());
     }
   }
 
