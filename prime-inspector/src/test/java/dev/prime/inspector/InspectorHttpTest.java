@@ -31,9 +31,9 @@ import org.junit.jupiter.api.Test;
 class InspectorHttpTest {
   private static final ObjectMapper JSON = new ObjectMapper();
 
-  private record Answer(int status, String contentType, String body) {}
+  record Answer(int status, String contentType, String body) {}
 
-  private static Answer get(URI uri, String path) throws IOException {
+  static Answer get(URI uri, String path) throws IOException {
     return request(uri, path, "GET");
   }
 
@@ -181,7 +181,7 @@ class InspectorHttpTest {
    * its own): the status line and headers, then the body's lines, decoding the chunked transfer
    * encoding the server streams with.
    */
-  private static final class RawStream implements AutoCloseable {
+  static final class RawStream implements AutoCloseable {
     private final Socket socket;
     private final InputStream in;
     private boolean inBody;
@@ -371,7 +371,7 @@ class InspectorHttpTest {
     }
   }
 
-  private static Set<String> inspectorThreads() {
+  static Set<String> inspectorThreads() {
     return Thread.getAllStackTraces().keySet().stream()
         .filter(Thread::isAlive)
         .map(Thread::getName)
