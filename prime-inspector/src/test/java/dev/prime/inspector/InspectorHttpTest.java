@@ -158,6 +158,9 @@ class InspectorHttpTest {
       assertEquals(409, values.status());
       assertTrue(values.body().contains("records nothing"), values.body());
       assertTrue(values.body().contains("RecordingOptions.defaults()"), values.body());
+      Answer unknown = get(inspector.uri(), "/api/values/nowhere");
+      assertEquals(404, unknown.status(), "a name that is no node of the core: " + unknown.body());
+      assertTrue(unknown.body().contains("no service, source or chain named 'nowhere'"), unknown.body());
       JsonNode topology = JSON.readTree(get(inspector.uri(), "/api/topology").body());
       assertFalse(topology.get("recording").asBoolean());
       assertTrue(topology.get("figures").asText().contains("recording"), topology.toString());
