@@ -122,6 +122,22 @@ class RecordReplayTest {
   }
 
   @Test
+  void aReplayWithoutStepsTakesThemFromTheFileAndTheUsageSaysSo() {
+    Path file = dir.resolve("short.mcap");
+    Run run = main("--steps", "20", "--trace-every", "1", "--record", file.toString());
+    assertEquals(1, run.code(), "20 steps do not reach the goal: " + run.out());
+    assertEquals(20, run.trace().size(), run.out());
+
+    Run replay = main("--replay", file.toString());
+
+    assertEquals(1, replay.code(), replay.out());
+    assertTrue(replay.out().contains("  from the recording: --goal 2.0,1.0 --steps 20 --trace-every 1"), replay.out());
+    assertEquals(run.trace(), replay.trace());
+    assertTrue(RobotOptions.USAGE.contains("the recorded run's --goal, --steps and --trace-every unless given"),
+        RobotOptions.USAGE);
+  }
+
+  @Test
   void aReplayStopsAfterTheStepsGiven() {
     List<String> trace = new Run(0, recordRun, "").trace();
     int steps = 10;
