@@ -23,7 +23,9 @@ import org.junit.jupiter.api.io.TempDir;
  * What the README promises of a run on any media: its recording written ({@link
  * RecordingMcap#write}) and streamed ({@link RecordingMcap#stream}) as MCAP, one channel per
  * recorded service with its values, and replayed ({@link McapReplay}) into a diagram of the same
- * core, which computes what the recorded run computed. Once on each media.
+ * core, which computes what the recorded run computed; the file says which process recorded it,
+ * and a written (not a streamed) channel how many values fell out of the recording's ring. Once on
+ * each media.
  */
 class RecordingMcapOnEveryMediaTest {
   private static final Duration WAIT = Duration.ofSeconds(20);
@@ -100,6 +102,10 @@ class RecordingMcapOnEveryMediaTest {
         assertEquals("odometry", odometry.metadata().get("prime.service"), file.toString());
         String recordedBy = odometry.metadata().get(RecordingMcap.PROCESS_METADATA);
         assertEquals(process, recordedBy.substring(0, recordedBy.indexOf('@') + 1), file.toString());
+        assertEquals(Long.toString(ProcessHandle.current().pid()),
+            reader.metadata(RecordingMcap.PROCESS_METADATA).get(0).get("pid"), file.toString());
+        // what fell out of the recording's rings: none here; a streamed channel has no such count
+        assertEquals(file == written ? "0" : null, odometry.metadata().get("prime.dropped"), file.toString());
       }
     }
 
