@@ -82,7 +82,7 @@ public final class PrimeInspector implements AutoCloseable {
    * @param address where to listen; port 0 picks a free port (see {@link #uri()})
    * @return the running inspector; close it when done
    * @throws UncheckedIOException if the address cannot be bound (a port taken, an address not of
-   *     this machine); the message names the address
+   *     this machine, a host name not resolved); the message names the address and what to give
    * @throws NullPointerException if an argument is null
    */
   public static PrimeInspector start(PrimeCore core, InetSocketAddress address) {

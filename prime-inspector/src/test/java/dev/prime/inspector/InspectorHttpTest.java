@@ -180,6 +180,19 @@ class InspectorHttpTest {
     }
   }
 
+  @Test
+  void anUnresolvedAddressIsRefusedSayingWhatToGiveAndNoThreadIsLeft() throws Exception {
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()))) {
+      InetSocketAddress unresolved = InetSocketAddress.createUnresolved("robot.invalid", 8080);
+      UncheckedIOException refused =
+          assertThrows(UncheckedIOException.class, () -> PrimeInspector.start(core, unresolved));
+      assertTrue(refused.getMessage().contains("the host name 'robot.invalid' is not resolved"), refused.getMessage());
+      assertFalse(refused.getMessage().contains("port"), "the port is not the problem: " + refused.getMessage());
+      assertTrue(refused.getMessage().contains("like new InetSocketAddress(\"127.0.0.1\", 8080)"), refused.getMessage());
+      assertEquals(Set.of(), inspectorThreads(), "threads left by the refused start");
+    }
+  }
+
   /**
    * Reads one server-sent event stream over a plain socket (no client library, so no threads of
    * its own): the status line and headers, then the body's lines, decoding the chunked transfer
