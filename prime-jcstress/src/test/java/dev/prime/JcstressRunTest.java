@@ -23,7 +23,7 @@ import org.junit.jupiter.api.Test;
  */
 class JcstressRunTest {
   /** The tests over Prime's classes: every {@code dev.prime.MemorySource*Stress} class. */
-  private static final String SUITE = "^dev\\.prime\\.MemorySource.*Stress$";
+  static final String SUITE = "^dev\\.prime\\.MemorySource.*Stress$";
 
   private static final String TOY_NAME = "dev.prime.selfcheck.UnlockedClaimToy";
 

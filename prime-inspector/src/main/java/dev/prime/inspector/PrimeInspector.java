@@ -47,7 +47,7 @@ import java.util.Objects;
  * /api/events} the figures as server-sent events, {@code /api/events/NAME} the same with the
  * values recorded under {@code NAME}; {@code /api/values/NAME} the latest values of {@code NAME}
  * as JSON. A name that is not a node of the core, or not recorded, gets 404 with a message that
- * says why; a name asked for with recording off gets 409.
+ * says why; a name of the core asked for with recording off gets 409.
  *
  * <p><b>Threads.</b> One sampler thread and one thread per open page (at most 32), named {@code
  * prime-inspector-<core name>-...}, and the JDK server's dispatcher. {@link #close()} ends them
@@ -82,7 +82,7 @@ public final class PrimeInspector implements AutoCloseable {
    * @param address where to listen; port 0 picks a free port (see {@link #uri()})
    * @return the running inspector; close it when done
    * @throws UncheckedIOException if the address cannot be bound (a port taken, an address not of
-   *     this machine); the message names the address
+   *     this machine, a host name not resolved); the message names the address and what to give
    * @throws NullPointerException if an argument is null
    */
   public static PrimeInspector start(PrimeCore core, InetSocketAddress address) {

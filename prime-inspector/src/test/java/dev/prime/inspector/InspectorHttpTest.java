@@ -8,6 +8,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import com.fasterxml.jackson.databind.JsonNode;
 import com.fasterxml.jackson.databind.ObjectMapper;
 import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.RecordingOptions;
 import dev.prime.liberty.LibertyCore;
@@ -31,9 +32,9 @@ import org.junit.jupiter.api.Test;
 class InspectorHttpTest {
   private static final ObjectMapper JSON = new ObjectMapper();
 
-  private record Answer(int status, String contentType, String body) {}
+  record Answer(int status, String contentType, String body) {}
 
-  private static Answer get(URI uri, String path) throws IOException {
+  static Answer get(URI uri, String path) throws IOException {
     return request(uri, path, "GET");
   }
 
@@ -158,6 +159,9 @@ class InspectorHttpTest {
       assertEquals(409, values.status());
       assertTrue(values.body().contains("records nothing"), values.body());
       assertTrue(values.body().contains("RecordingOptions.defaults()"), values.body());
+      Answer unknown = get(inspector.uri(), "/api/values/nowhere");
+      assertEquals(404, unknown.status(), "a name that is no node of the core: " + unknown.body());
+      assertTrue(unknown.body().contains("no service, source or chain named 'nowhere'"), unknown.body());
       JsonNode topology = JSON.readTree(get(inspector.uri(), "/api/topology").body());
       assertFalse(topology.get("recording").asBoolean());
       assertTrue(topology.get("figures").asText().contains("recording"), topology.toString());
@@ -176,12 +180,25 @@ class InspectorHttpTest {
     }
   }
 
+  @Test
+  void anUnresolvedAddressIsRefusedSayingWhatToGiveAndNoThreadIsLeft() throws Exception {
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()))) {
+      InetSocketAddress unresolved = InetSocketAddress.createUnresolved("robot.invalid", 8080);
+      UncheckedIOException refused =
+          assertThrows(UncheckedIOException.class, () -> PrimeInspector.start(core, unresolved));
+      assertTrue(refused.getMessage().contains("the host name 'robot.invalid' is not resolved"), refused.getMessage());
+      assertFalse(refused.getMessage().contains("port"), "the port is not the problem: " + refused.getMessage());
+      assertTrue(refused.getMessage().contains("like new InetSocketAddress(\"127.0.0.1\", 8080)"), refused.getMessage());
+      assertEquals(Set.of(), inspectorThreads(), "threads left by the refused start");
+    }
+  }
+
   /**
    * Reads one server-sent event stream over a plain socket (no client library, so no threads of
    * its own): the status line and headers, then the body's lines, decoding the chunked transfer
    * encoding the server streams with.
    */
-  private static final class RawStream implements AutoCloseable {
+  static final class RawStream implements AutoCloseable {
     private final Socket socket;
     private final InputStream in;
     private boolean inBody;
@@ -308,6 +325,88 @@ class InspectorHttpTest {
     }
   }
 
+  /** A value whose points are long in JSON: twelve numeric fields with long names and digits. */
+  record Wide(
+      double leftWheelPositionMetres, double rightWheelPositionMetres,
+      double leftWheelVelocityMetres, double rightWheelVelocityMetres,
+      double estimatedHeadingRadians, double estimatedPositionXMetres,
+      double estimatedPositionYMetres, double commandedLeftMotorVolts,
+      double commandedRightMotorVolts, double distanceToTheGoalMetres,
+      double yawRateFromTheGyroscope, double lateralOffsetFromLine) {
+    static Wide of(int i) {
+      double v = i + Math.PI / 10;
+      return new Wide(v, v, v, v, v, v, v, v, v, v, v, v);
+    }
+  }
+
+  /** Whether {@code thread} is writing to a stream now (in {@code InspectorServer.write}). */
+  private static boolean writing(Thread thread) {
+    for (StackTraceElement frame : thread.getStackTrace()) {
+      if (frame.getClassName().endsWith("InspectorServer") && frame.getMethodName().equals("write")) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /**
+   * A browser that stops reading its stream stalls that stream's thread in a write, and nothing
+   * else: another page's stream goes on getting the figures twice a second, plain requests are
+   * answered, and close() still ends every thread, the stalled one too.
+   */
+  @Test
+  void aBrowserThatStopsReadingStallsOnlyItsOwnStream() throws Exception {
+    try (PrimeCore core = new LibertyCore(recording())) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      core.source("ticks", ticks).then(core.chain("wide", Wide::of));
+      PrimeInspector inspector = PrimeInspector.start(core);
+      core.start();
+      java.util.concurrent.atomic.AtomicBoolean publishing = new java.util.concurrent.atomic.AtomicBoolean(true);
+      Thread publisher = new Thread(() -> {
+        for (int i = 0; publishing.get() && i < 100_000_000; i++) {
+          ticks.publish(i);
+          java.util.concurrent.locks.LockSupport.parkNanos(200_000); // about 5000 values a second
+        }
+      }, "wide-publisher");
+      publisher.start();
+      Socket deaf = new Socket();
+      try (inspector) {
+        deaf.setReceiveBufferSize(1024);
+        deaf.connect(new InetSocketAddress("127.0.0.1", inspector.uri().getPort()), 5_000);
+        deaf.getOutputStream().write(("GET /api/events/wide HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+            .getBytes(StandardCharsets.US_ASCII));
+        // never read: the server's writes fill the socket's buffers, then block
+        Thread stalled = null;
+        long deadline = System.nanoTime() + 60_000_000_000L;
+        while (stalled == null) {
+          assertTrue(System.nanoTime() < deadline, "the stream of a page that reads nothing never stalled in 60 s");
+          Set<Thread> inWrite = Thread.getAllStackTraces().keySet().stream()
+              .filter(t -> t.getName().startsWith("prime-inspector-demo-http-") && writing(t))
+              .collect(Collectors.toSet());
+          Thread.sleep(1_000); // a write that is still under way a second later is stalled
+          stalled = inWrite.stream().filter(InspectorHttpTest::writing).findFirst().orElse(null);
+        }
+
+        try (RawStream other = new RawStream(inspector.uri(), "/api/events")) {
+          assertEquals("HTTP/1.1 200 OK", other.line());
+          long start = System.nanoTime();
+          for (int i = 0; i < 4; i++) {
+            other.until("event: figures", 50);
+          }
+          long millis = (System.nanoTime() - start) / 1_000_000;
+          assertTrue(millis < 5_000, "4 postings to another page took " + millis + " ms");
+        }
+        assertEquals(200, get(inspector.uri(), "/api/topology").status(), "plain requests are answered");
+        assertTrue(stalled.isAlive() && writing(stalled), "the deaf page's stream is still stalled");
+      } finally {
+        publishing.set(false);
+        publisher.join(10_000);
+        deaf.close();
+      }
+      assertEquals(Set.of(), inspectorThreads(), "threads left after close, the stalled one too");
+    }
+  }
+
   @Test
   void anInspectorThatOutlivesItsCoreShowsItClosed() throws Exception {
     CoreConfig config =
@@ -371,7 +470,7 @@ class InspectorHttpTest {
     }
   }
 
-  private static Set<String> inspectorThreads() {
+  static Set<String> inspectorThreads() {
     return Thread.getAllStackTraces().keySet().stream()
         .filter(Thread::isAlive)
         .map(Thread::getName)

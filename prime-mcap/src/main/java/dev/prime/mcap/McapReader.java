@@ -165,7 +165,8 @@ public final class McapReader implements Closeable {
     if (!Arrays.equals(end, Opcode.MAGIC)) {
       throw problem(Math.max(0, size - 8), "truncated or unfinished: the file does not end with the"
           + " MCAP magic, so it has no footer (the writer was not closed: crashed or still writing);"
-          + " McapReader.openUnfinished reads the complete records it has");
+          + " McapReader.openUnfinished reads the complete records it has, and McapMerge --unfinished"
+          + " (Options.readUnfinished()) writes them to a finished file that a replay opens");
     }
     readFooterAndSummary(headerEnd);
   }

@@ -163,6 +163,39 @@ class McapReplayTest {
     assertEquals(List.of(), fed);
   }
 
+  /**
+   * The file of a recorder that was killed has no footer: a replay of it is refused, saying how to
+   * make a finished file of its complete chunks, and that file replays.
+   */
+  @Test
+  void anUnfinishedFileIsRefusedSayingHowToReplayWhatItHolds() throws Exception {
+    Path whole = dir.resolve("whole.mcap");
+    try (McapWriter writer = McapWriter.open(whole, McapWriterOptions.defaults().synchronous().chunkSize(64))) {
+      McapChannel<Integer> ticks = writer.channel("ticks", Integer.class);
+      for (int i = 0; i < 20; i++) {
+        ticks.write(i, i, i, i);
+      }
+    }
+    byte[] bytes = java.nio.file.Files.readAllBytes(whole);
+    Path killed = java.nio.file.Files.write(dir.resolve("killed.mcap"), java.util.Arrays.copyOf(bytes, bytes.length / 2));
+    List<Integer> fed = new ArrayList<>();
+    EventBlock<Integer> ticks = new EventBlock<>();
+    ticks.subscribe(fed::add);
+
+    McapFormatException e =
+        assertThrows(McapFormatException.class, () -> McapReplay.of(killed).feed("ticks", ticks, Integer.class).run());
+
+    assertTrue(e.getMessage().contains("the writer was not closed"), e.getMessage());
+    assertTrue(e.getMessage().contains("McapMerge") && e.getMessage().contains("--unfinished"), e.getMessage());
+    assertEquals(List.of(), fed);
+
+    Path finished = dir.resolve("finished.mcap");
+    McapMerge.merge(List.of(killed), finished, McapMerge.Options.defaults().readUnfinished());
+    assertTrue(McapReplay.of(finished).feed("ticks", ticks, Integer.class).run().fed("ticks") > 0);
+    assertEquals(fed.size(), fed.stream().distinct().count(), "each value once: " + fed);
+    assertEquals(fed.get(0), 0, "from the first: " + fed);
+  }
+
   @Test
   void nothingNamedOrAChannelNamedTwiceIsRefused() throws Exception {
     Path file = twoChannels();

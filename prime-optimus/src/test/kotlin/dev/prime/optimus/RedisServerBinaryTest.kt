@@ -18,6 +18,45 @@ import java.nio.file.attribute.PosixFilePermissions
  */
 class RedisServerBinaryTest {
 
+    /**
+     * `prime-redis-embedded` promises binaries for Linux and macOS, x86-64 and arm64: on this
+     * class path each of the four is found under the name its platform looks for, has its
+     * pinned SHA-256 and is extracted.
+     */
+    @Test
+    fun theArtifactBringsAPinnedBinaryForLinuxAndMacOsOnX8664AndArm64(@TempDir tmp: Path) {
+        val platforms = mapOf(
+            ("Linux" to "amd64") to "linux-amd64",
+            ("Linux" to "aarch64") to "linux-arm64",
+            ("Mac OS X" to "x86_64") to "darwin-amd64",
+            ("Mac OS X" to "aarch64") to "darwin-arm64",
+        )
+        val osName = System.getProperty("os.name")
+        val osArch = System.getProperty("os.arch")
+        val found = mutableMapOf<String, String>()
+        try {
+            for ((platform, suffix) in platforms) {
+                System.setProperty("os.name", platform.first)
+                System.setProperty("os.arch", platform.second)
+                val root = Files.createDirectories(tmp.resolve(suffix))
+                found[suffix] = try {
+                    val binary = RedisServerBinary.bundled(root)
+                    binary.verify()
+                    binary.path.fileName.toString()
+                } catch (e: PrimeException) {
+                    "refused: ${e.message}"
+                }
+            }
+        } finally {
+            System.setProperty("os.name", osName)
+            System.setProperty("os.arch", osArch)
+        }
+        assertEquals(
+            platforms.values.associateWith { "redis-server-${RedisServerBinary.BUNDLED_VERSION}-$it" },
+            found,
+        )
+    }
+
     @Test
     fun aFilePlantedInTheSharedTempDirectoryIsNotExecuted(@TempDir tmp: Path) {
         val marker = tmp.resolve("planted-ran")

@@ -61,8 +61,8 @@ public record RobotOptions(
               + " --remote, what this process hosts: merge it with the worker's file"
               + " (dev.prime.mcap.McapMerge)",
           "  --replay FILE     drive the controller with the encoder readings recorded in FILE"
-              + " instead of the simulated robot (the recorded run's --goal and --trace-every"
-              + " unless given)",
+              + " instead of the simulated robot (the recorded run's --goal, --steps and"
+              + " --trace-every unless given)",
           "with Maven: ./mvnw -q -pl examples -am test-compile exec:java"
               + " -Dexec.args=\"--goal 1.5,-0.5\"");
 

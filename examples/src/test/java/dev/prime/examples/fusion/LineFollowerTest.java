@@ -8,6 +8,7 @@ import dev.prime.PrimeCore;
 import dev.prime.VirtualClock;
 import dev.prime.examples.fusion.LineFollower.Steering;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.optimus.OptimusCore;
 import dev.prime.radiant.RadiantCore;
 import java.io.IOException;
 import java.nio.file.Files;
@@ -31,7 +32,9 @@ class LineFollowerTest {
   static Stream<Named<Function<CoreConfig, PrimeCore>>> media() {
     return Stream.of(
         Named.<Function<CoreConfig, PrimeCore>>of("Liberty", LibertyCore::new),
-        Named.<Function<CoreConfig, PrimeCore>>of("Radiant", RadiantCore::new));
+        Named.<Function<CoreConfig, PrimeCore>>of("Radiant", RadiantCore::new),
+        Named.<Function<CoreConfig, PrimeCore>>of(
+            "Optimus", config -> OptimusCore.builder().config(config).build()));
   }
 
   @ParameterizedTest

@@ -29,10 +29,13 @@ import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.Timeout;
 import org.junit.jupiter.api.io.TempDir;
+import org.junit.jupiter.params.ParameterizedTest;
+import org.junit.jupiter.params.provider.ValueSource;
 
 /**
  * {@code --record} and {@code --replay}: a run recorded on Optimus (embedded Redis) and replayed on
- * Liberty prints the same trace, every step; the file is checked by an independent MCAP reader.
+ * Liberty prints the same trace, every step, and so does a run recorded on Liberty or Radiant and
+ * replayed on Optimus; the file is checked by an independent MCAP reader.
  */
 class RecordReplayTest {
   private static final String GOAL = "1,0.5";
@@ -86,6 +89,22 @@ class RecordReplayTest {
     assertTrue(recordRun.contains("recorded "), recordRun);
   }
 
+  @ParameterizedTest
+  @ValueSource(strings = {"liberty", "radiant"})
+  void aRunRecordedOnAnInMemoryMediaReplaysOnOptimusWithTheSameTraceEveryStep(String media) {
+    Path file = dir.resolve(media + ".mcap");
+    Run run = main("--media", media, "--goal", GOAL, "--trace-every", "1", "--record", file.toString());
+    assertEquals(0, run.code(), run.out() + run.err());
+    assertTrue(run.out().contains(" to " + file + ": encoders "), run.out());
+    assertEquals(new Run(0, recordRun, "").trace(), run.trace(), "the same run as on Optimus");
+
+    Run replay = main("--media", "optimus", "--replay", file.toString());
+
+    assertEquals(0, replay.code(), replay.out() + replay.err());
+    assertTrue(replay.out().contains("  from the recording: --goal 1.0,0.5 --steps 3000 --trace-every 1"), replay.out());
+    assertEquals(run.trace(), replay.trace());
+  }
+
   @Test
   void aReplayWithoutGoalOrTraceIntervalTakesThemFromTheFile() throws Exception {
     try (McapReader reader = McapReader.open(recorded)) {
@@ -100,6 +119,22 @@ class RecordReplayTest {
     assertEquals(0, replay.code(), replay.out() + replay.err());
     assertTrue(replay.out().contains("  from the recording: --goal 1.0,0.5 --steps 3000 --trace-every 1"), replay.out());
     assertEquals(new Run(0, recordRun, "").trace(), replay.trace());
+  }
+
+  @Test
+  void aReplayWithoutStepsTakesThemFromTheFileAndTheUsageSaysSo() {
+    Path file = dir.resolve("short.mcap");
+    Run run = main("--steps", "20", "--trace-every", "1", "--record", file.toString());
+    assertEquals(1, run.code(), "20 steps do not reach the goal: " + run.out());
+    assertEquals(20, run.trace().size(), run.out());
+
+    Run replay = main("--replay", file.toString());
+
+    assertEquals(1, replay.code(), replay.out());
+    assertTrue(replay.out().contains("  from the recording: --goal 2.0,1.0 --steps 20 --trace-every 1"), replay.out());
+    assertEquals(run.trace(), replay.trace());
+    assertTrue(RobotOptions.USAGE.contains("the recorded run's --goal, --steps and --trace-every unless given"),
+        RobotOptions.USAGE);
   }
 
   @Test

@@ -3,20 +3,23 @@ package dev.prime.examples.robot;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
+import static org.junit.jupiter.api.Assumptions.assumeFalse;
 
 import java.io.ByteArrayOutputStream;
 import java.io.IOException;
 import java.io.OutputStream;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
 import java.util.List;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 
 /**
  * {@link RobotWorker} as a real JVM, the way systemd or Docker run it: with its standard input
- * closed it keeps serving, SIGTERM closes it cleanly (exit code 143, after {@code STOPPED}), and a
- * line {@code STOP} stops it with exit code 0.
+ * closed it keeps serving, SIGTERM closes it cleanly (exit code 143, after {@code STOPPED}), as
+ * Ctrl-C's SIGINT does (exit code 130), and a line {@code STOP} stops it with exit code 0.
  */
 class RobotWorkerProcessTest {
 
@@ -52,6 +55,40 @@ class RobotWorkerProcessTest {
       assertTrue(worker.process().toHandle().destroy(), "SIGTERM could not be sent");
       assertTrue(worker.process().waitFor(30, TimeUnit.SECONDS), "still running: " + worker.output());
       assertEquals(143, worker.process().exitValue(), worker.output());
+      assertNotNull(worker.awaitLine("STOPPED", 10));
+    } finally {
+      worker.process().destroyForcibly();
+    }
+  }
+
+  /** Whether the process ignores SIGINT (on Linux; elsewhere assumed not to). */
+  private static boolean ignoresSigint(long pid) throws IOException {
+    Path status = Path.of("/proc", Long.toString(pid), "status");
+    if (!Files.exists(status)) {
+      return false;
+    }
+    for (String line : Files.readAllLines(status)) {
+      if (line.startsWith("SigIgn:")) {
+        return (Long.parseUnsignedLong(line.substring(7).trim(), 16) & (1L << 1)) != 0; // SIGINT = 2
+      }
+    }
+    return false;
+  }
+
+  @Test
+  void workerStopsOnCtrlCWithExitCode130() throws Exception {
+    WorkerJvm worker = start(true);
+    try {
+      worker.awaitLine(READY_PREFIX, 60);
+      long pid = worker.process().pid();
+      assumeFalse(ignoresSigint(pid),
+          "the worker JVM ignores SIGINT (started as a background job without job control), so"
+              + " no Ctrl-C can reach it here");
+      Process kill = new ProcessBuilder("kill", "-INT", Long.toString(pid)).start();
+      assertTrue(kill.waitFor(10, TimeUnit.SECONDS), "kill -INT did not end");
+      assertEquals(0, kill.exitValue(), "kill -INT " + pid + " failed");
+      assertTrue(worker.process().waitFor(30, TimeUnit.SECONDS), "still running: " + worker.output());
+      assertEquals(130, worker.process().exitValue(), worker.output());
       assertNotNull(worker.awaitLine("STOPPED", 10));
     } finally {
       worker.process().destroyForcibly();

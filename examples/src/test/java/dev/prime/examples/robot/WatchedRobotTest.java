@@ -124,6 +124,63 @@ class WatchedRobotTest {
     }
   }
 
+  /**
+   * The program as the README runs it, on a free port for a few seconds: the address it prints
+   * serves the page while the robot drives, it ends by itself with exit code 0 and a summary, and
+   * leaves no thread of its own behind.
+   */
+  @Test
+  void theProgramPrintsAnAddressThatServesThePageAndEndsAfterItsSeconds() throws Exception {
+    java.io.PipedInputStream piped = new java.io.PipedInputStream(1 << 16);
+    PrintStream out = new PrintStream(new java.io.PipedOutputStream(piped), true, StandardCharsets.UTF_8);
+    ByteArrayOutputStream err = new ByteArrayOutputStream();
+    java.util.concurrent.ExecutorService program = java.util.concurrent.Executors.newSingleThreadExecutor();
+    try {
+      java.util.concurrent.Future<Integer> code = program.submit(() -> {
+        try (out) {
+          return WatchedRobot.run(new String[] {"--port", "0", "--seconds", "3"}, out,
+              new PrintStream(err, true, StandardCharsets.UTF_8));
+        }
+      });
+      java.io.BufferedReader lines =
+          new java.io.BufferedReader(new java.io.InputStreamReader(piped, StandardCharsets.UTF_8));
+      String watch = null;
+      List<String> printed = new java.util.ArrayList<>();
+      for (String line = lines.readLine(); line != null && printed.size() < 10; line = lines.readLine()) {
+        printed.add(line);
+        if (line.startsWith("watch it at ")) {
+          watch = line;
+          break;
+        }
+      }
+      assertTrue(watch != null && watch.endsWith(" (for 3 s)"), "printed: " + printed + err);
+      java.net.URI page = java.net.URI.create(watch.substring("watch it at ".length(), watch.indexOf(" (for")));
+      assertEquals("127.0.0.1", page.getHost(), watch);
+      java.net.HttpURLConnection get = (java.net.HttpURLConnection) page.resolve("/api/topology").toURL().openConnection();
+      get.setConnectTimeout(5_000);
+      get.setReadTimeout(10_000);
+      try {
+        assertEquals(200, get.getResponseCode(), watch);
+        assertTrue(new String(get.getInputStream().readAllBytes(), StandardCharsets.UTF_8).contains("\"odometry\""));
+      } finally {
+        get.disconnect();
+      }
+      String rest = new String(piped.readAllBytes(), StandardCharsets.UTF_8); // until run() closes out
+      assertEquals(0, code.get(30, java.util.concurrent.TimeUnit.SECONDS), rest + err);
+      assertTrue(rest.matches("(?s)(at|not at) the goal after \\d+ steps; odometry says .*"), rest);
+      Set<String> left = new HashSet<>();
+      for (Thread thread : Thread.getAllStackTraces().keySet()) {
+        if (thread.isAlive() && (thread.getName().startsWith("prime-inspector-robot")
+            || thread.getName().equals("robot-driver"))) {
+          left.add(thread.getName());
+        }
+      }
+      assertEquals(Set.of(), left, "threads left after the program ended");
+    } finally {
+      program.shutdownNow();
+    }
+  }
+
   @Test
   void badArgumentsAndATakenPortAreExplained() throws Exception {
     ByteArrayOutputStream out = new ByteArrayOutputStream();

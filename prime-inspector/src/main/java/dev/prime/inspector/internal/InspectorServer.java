@@ -95,9 +95,12 @@ public final class InspectorServer implements AutoCloseable {
     try {
       bound = HttpServer.create(address, 0);
     } catch (IOException e) {
+      String fix = address.isUnresolved()
+          ? "the host name '" + address.getHostString() + "' is not resolved; give an address of"
+              + " this machine, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")"
+          : "is the port taken? port 0 picks a free one";
       throw new UncheckedIOException(
-          "the inspector cannot listen on " + address + ": " + e.getMessage()
-              + " (is the port taken? port 0 picks a free one)", e);
+          "the inspector cannot listen on " + address + ": " + e.getMessage() + " (" + fix + ")", e);
     }
     this.server = bound;
     String prefix = "prime-inspector-" + core.name();
