@@ -184,6 +184,10 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     }
   }
 
+  // A registry keeps a meter's object only weakly (a counter whose object is gone stops at its
+  // last count, a gauge gives NaN), and its function strongly: the functions read this binder's
+  // snapshots, so that its meters go on reading the core while they are registered, also when
+  // the program keeps no reference to the binder (PrimeMetrics.of(core).bindTo(registry)).
   private FunctionCounter counter(
       MeterRegistry registry,
       String meter,
@@ -194,8 +198,8 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     return FunctionCounter.builder(
             meter,
             snapshots,
-            cache -> {
-              ServiceMetrics now = cache.service(service);
+            unused -> {
+              ServiceMetrics now = snapshots.service(service);
               return now == null ? Double.NaN : count.applyAsDouble(now);
             })
         .description(description)
@@ -214,8 +218,8 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     return Gauge.builder(
             meter,
             snapshots,
-            cache -> {
-              ServiceMetrics now = cache.service(service);
+            unused -> {
+              ServiceMetrics now = snapshots.service(service);
               double v = now == null ? -1 : value.applyAsDouble(now);
               return v < 0 ? Double.NaN : v; // no longer metered here, or unknown now
             })

@@ -18,6 +18,7 @@ import io.micrometer.core.instrument.Timer;
 import io.micrometer.core.instrument.distribution.DistributionStatisticConfig;
 import io.micrometer.core.instrument.distribution.pause.PauseDetector;
 import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
+import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Collections;
@@ -344,6 +345,39 @@ abstract class PrimeMetricsContract {
       assertEquals(1, timers.size());
       assertEquals(Boolean.TRUE, timers.get(0).isPercentileHistogram(), "the timer's histogram");
     }
+  }
+
+  /**
+   * A binder the program keeps no reference to, as in {@code PrimeMetrics.of(core).bindTo(registry)},
+   * keeps its meters reading the core's metrics after a garbage collection.
+   */
+  @Test
+  void theMetersOfABinderNobodyKeepsGoOnReadingAfterAGarbageCollection() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> small = core.source("numbers", events).filter(x -> x < 100).reader();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry); // nothing keeps the binder
+      core.start();
+      assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "numbers"));
+      collectGarbage();
+      events.publish(1);
+      assertEquals(1, take(small));
+      assertEquals(1, count(registry, PrimeMetrics.VALUES_IN, "numbers"), "the counter after a GC");
+      assertEquals(
+          0.0,
+          registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "filter(numbers)").gauge().value(),
+          "the gauge after a GC");
+    }
+  }
+
+  /** Runs the collector until an object nothing refers to is gone (at most 50 times). */
+  private static void collectGarbage() {
+    WeakReference<Object> canary = new WeakReference<>(new Object());
+    for (int i = 0; i < 50 && canary.get() != null; i++) {
+      System.gc();
+    }
+    assertNull(canary.get(), "no garbage collection happened");
   }
 
   static double count(SimpleMeterRegistry registry, String meter, String service) {
