@@ -139,13 +139,19 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
 
   /**
    * Registers the meters of every metered node declared now (see the class's docs) and starts
-   * timing their values. Binding to a second registry registers them there too.
+   * timing their values. Binding to a second registry registers them there too; binding again to
+   * a registry this binder is bound to does nothing (its timers would count each value twice).
    *
    * @param registry the registry
    */
   @Override
-  public void bindTo(MeterRegistry registry) {
+  public synchronized void bindTo(MeterRegistry registry) {
     Objects.requireNonNull(registry, "registry must not be null");
+    for (Bound b : bound) {
+      if (b.registry() == registry) {
+        return;
+      }
+    }
     for (ServiceMetrics service : metrics.services()) {
       String name = service.name();
       Tags tags =
@@ -178,9 +184,7 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
       meters.add(timer);
       Metrics.Subscription timing =
           metrics.onProcessed(name, (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
-      synchronized (this) {
-        bound.add(new Bound(registry, meters, timing));
-      }
+      bound.add(new Bound(registry, meters, timing));
     }
   }
 

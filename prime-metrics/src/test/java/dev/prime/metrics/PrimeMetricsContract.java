@@ -380,6 +380,28 @@ abstract class PrimeMetricsContract {
     assertNull(canary.get(), "no garbage collection happened");
   }
 
+  /**
+   * Binding again to a registry the binder is bound to changes nothing: the registry holds one
+   * meter of each name and tags, and its timer counts each value once.
+   */
+  @Test
+  void bindingTwiceToOneRegistryTimesEachValueOnce() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics binder = PrimeMetrics.of(core, Duration.ZERO);
+      binder.bindTo(registry);
+      int meters = registry.getMeters().size();
+      binder.bindTo(registry);
+      core.start();
+      assertEquals(7, same.process(7));
+      assertEquals(meters, registry.getMeters().size());
+      assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count());
+      binder.close();
+      assertEquals(List.of(), registry.getMeters());
+    }
+  }
+
   static double count(SimpleMeterRegistry registry, String meter, String service) {
     return registry.get(meter).tag("service", service).functionCounter().count();
   }
