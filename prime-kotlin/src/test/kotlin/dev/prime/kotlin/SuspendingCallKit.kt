@@ -1,5 +1,6 @@
 package dev.prime.kotlin
 
+import dev.prime.Block
 import dev.prime.ChainFailedException
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CompletableDeferred
@@ -13,9 +14,11 @@ import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
 import java.util.concurrent.ConcurrentHashMap
+import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicInteger
+import kotlin.coroutines.EmptyCoroutineContext
 
 /**
  * `processSuspending` on one media: a cancelled call (by `withTimeout` or by `cancel()`) ends
@@ -157,6 +160,30 @@ internal abstract class SuspendingCallKit(private val media: Media) {
             } else {
                 assertEquals(4, runs.get(), "runs: two values and two interrupted calls")
             }
+        }
+    }
+
+    /**
+     * `processSuspending(input, EmptyCoroutineContext)` runs the block on the caller's thread, and
+     * a cancellation still interrupts it there.
+     */
+    @Test
+    fun `with an empty context the call runs on the caller's thread, still interruptibly`() = runBlocking {
+        media.newCore().use { core ->
+            val gate = Gate()
+            val chain = core.chain("gated", gate::process).toBlock()
+            val threads = ConcurrentLinkedQueue<Thread>()
+            val block = Block<Int, Int> { x -> threads.add(Thread.currentThread()); chain.process(x) }
+            core.start()
+            assertEquals(10, block.processSuspending(1, EmptyCoroutineContext))
+            assertEquals(listOf(Thread.currentThread()), threads.toList(), "the thread the block ran on")
+
+            val began = System.nanoTime()
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { block.processSuspending(-1, EmptyCoroutineContext) } } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < PROMPT_MILLIS, "the timed-out call ended after $millis ms")
+            gate.release.countDown()
+            assertEquals(20, block.processSuspending(2, EmptyCoroutineContext))
         }
     }
 
