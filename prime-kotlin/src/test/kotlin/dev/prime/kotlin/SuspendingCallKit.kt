@@ -187,11 +187,44 @@ internal abstract class SuspendingCallKit(private val media: Media) {
         }
     }
 
+    /**
+     * A chain's block that ignores interrupts: where it runs on the calling thread (Liberty,
+     * Radiant) it runs to its end before the cancellation is reported; where the call waits for a
+     * service (Optimus) the wait ends at once.
+     */
+    @Test
+    fun `a cancelled call of a block that ignores interrupts ends when the block ends, or at once where calls wait for a service`() = runBlocking {
+        media.newCore().use { core ->
+            val finished = CountDownLatch(1)
+            val deaf = core.chain("deaf") { x: Int ->
+                val until = System.nanoTime() + DEAF_MILLIS * 1_000_000
+                while (System.nanoTime() < until) Thread.onSpinWait() // ignores interrupts
+                if (x == 2) finished.countDown()
+                x
+            }.toBlock()
+            core.start()
+            assertEquals(1, deaf.processSuspending(1)) // warm
+            val began = System.nanoTime()
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { deaf.processSuspending(2) } } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            if (media.callsQueueAtTheService) {
+                assertTrue(millis < PROMPT_MILLIS, "the cancelled call waited for the service for $millis ms")
+            } else {
+                assertTrue(millis >= DEAF_MILLIS, "the cancellation was reported after $millis ms, before the block ended")
+                assertEquals(0L, finished.count, "the block had ended when the cancellation was reported")
+            }
+            assertTrue(finished.await(WAIT_SECONDS, TimeUnit.SECONDS), "the block never ended")
+        }
+    }
+
     private companion object {
         const val WAIT_SECONDS = 20L
 
         /** Well under the one-second slices a network wait used to poll in, with room for a loaded machine. */
         const val PROMPT_MILLIS = 750L
+
+        /** How long a block that ignores interrupts spins: well over a cancellation's promptness. */
+        const val DEAF_MILLIS = 1_500L
     }
 }
 
