@@ -2,17 +2,21 @@ package dev.prime.kotlin
 
 import dev.prime.Block
 import dev.prime.ChainFailedException
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.TimeoutCancellationException
 import kotlinx.coroutines.async
+import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
+import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.CountDownLatch
@@ -217,6 +221,38 @@ internal abstract class SuspendingCallKit(private val media: Media) {
         }
     }
 
+    /**
+     * A suspending block in a service: closing the core interrupts the service's thread (Liberty
+     * and Radiant at once, Optimus once the service has had its shutdown timeout to finish the
+     * value), which cancels the block's logic, so the logic is cancelled when `close()` returns.
+     */
+    @Test
+    fun `closing the core cancels a suspending block its service runs`() {
+        val running = CountDownLatch(1)
+        val cancelled = CountDownLatch(1)
+        val timeout = Duration.ofSeconds(2)
+        val core = media.newCore(CoreConfig.builder().shutdownTimeout(timeout).build())
+        val events = EventBlock<Int>()
+        core.source("numbers", events).then(core.chain("waits", suspendingBlock { x: Int ->
+            running.countDown()
+            try {
+                awaitCancellation()
+            } catch (e: CancellationException) {
+                cancelled.countDown()
+                throw e
+            }
+            x
+        })).reader()
+        core.start()
+        events.publish(1)
+        assertTrue(running.await(WAIT_SECONDS, TimeUnit.SECONDS), "the service never ran the block")
+        val began = System.nanoTime()
+        core.close()
+        val millis = (System.nanoTime() - began) / 1_000_000
+        assertTrue(cancelled.await(0, TimeUnit.SECONDS), "close() returned after $millis ms and the block's logic was not cancelled")
+        assertTrue(millis < timeout.toMillis() + CLOSE_SLACK_MILLIS, "close() took $millis ms")
+    }
+
     private companion object {
         const val WAIT_SECONDS = 20L
 
@@ -225,6 +261,9 @@ internal abstract class SuspendingCallKit(private val media: Media) {
 
         /** How long a block that ignores interrupts spins: well over a cancellation's promptness. */
         const val DEAF_MILLIS = 1_500L
+
+        /** What a close() may take beyond its shutdown timeout on a loaded machine. */
+        const val CLOSE_SLACK_MILLIS = 5_000L
     }
 }
 
