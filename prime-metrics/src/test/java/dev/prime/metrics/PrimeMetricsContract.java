@@ -14,6 +14,7 @@ import dev.prime.Reader;
 import dev.prime.Source;
 import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.Meter;
+import io.micrometer.core.instrument.Tag;
 import io.micrometer.core.instrument.Timer;
 import io.micrometer.core.instrument.distribution.DistributionStatisticConfig;
 import io.micrometer.core.instrument.distribution.pause.PauseDetector;
@@ -22,8 +23,13 @@ import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Collections;
+import java.util.HashSet;
 import java.util.List;
+import java.util.Map;
 import java.util.Optional;
+import java.util.Set;
+import java.util.TreeMap;
+import java.util.TreeSet;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
@@ -399,6 +405,67 @@ abstract class PrimeMetricsContract {
       assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count());
       binder.close();
       assertEquals(List.of(), registry.getMeters());
+    }
+  }
+
+  /**
+   * The meters are named and tagged as the README and the Javadoc say, for every kind of metered
+   * node: chains, filters, flat-maps, listeners, event sources, combinators, timers and generic
+   * services.
+   */
+  @Test
+  void everyMeteredNodeGetsTheMetersTheDocsName() {
+    try (PrimeCore core = newCore(CoreConfig.builder().name("named").metrics(true).build())) {
+      Source<Integer> numbers = core.source("numbers", new EventBlock<Integer>());
+      Source<Integer> others = core.source("others", new EventBlock<Integer>());
+      core.chain("same", (Integer x) -> x);
+      numbers.filter(x -> x > 0);
+      numbers.flatMap(x -> List.of(x, x));
+      numbers.listen(x -> {});
+      core.merge(numbers, others);
+      core.timer("clock", Duration.ofHours(1));
+      core.service("idle", () -> {});
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core).bindTo(registry);
+
+      Set<String> names = new TreeSet<>();
+      Set<List<String>> tagKeys = new HashSet<>();
+      Map<String, String> kinds = new TreeMap<>();
+      for (Meter meter : registry.getMeters()) {
+        names.add(meter.getId().getName());
+        tagKeys.add(meter.getId().getTags().stream().map(Tag::getKey).sorted().toList());
+        assertEquals(media(), meter.getId().getTag("media"));
+        assertEquals("named", meter.getId().getTag("core"));
+        kinds.put(meter.getId().getTag("service"), meter.getId().getTag("kind"));
+      }
+      assertEquals(
+          new TreeSet<>(
+              List.of(
+                  "prime.service.values.in",
+                  "prime.service.values.out",
+                  "prime.service.failures",
+                  "prime.service.missed",
+                  "prime.service.dead.letters",
+                  "prime.service.queue.depth",
+                  "prime.service.processing")),
+          names);
+      assertEquals(Set.of(List.of("core", "kind", "media", "service")), tagKeys);
+      assertEquals("BlockChain", kinds.get("same"));
+      assertEquals("Filter", kinds.get("filter(numbers)"));
+      assertEquals("FlatMap", kinds.get("flatMap(numbers)"));
+      assertEquals("Listener", kinds.get("listen(numbers)"));
+      assertEquals("EventSource", kinds.get("numbers"));
+      assertEquals("Combinator", kinds.get("merge(numbers|others)"));
+      assertEquals("Timer", kinds.get("clock"));
+      assertEquals("GenericServiceNode", kinds.get("idle"));
+      for (String service : kinds.keySet()) {
+        long meters =
+            registry.getMeters().stream()
+                .filter(m -> service.equals(m.getId().getTag("service")))
+                .count();
+        boolean queue = registry.find(PrimeMetrics.QUEUE_DEPTH).tag("service", service).gauge() != null;
+        assertEquals(queue ? 7 : 6, meters, "the meters of " + service);
+      }
     }
   }
 
