@@ -47,10 +47,14 @@ class PrimeTestExtensionTest {
 
   static final List<String> LOG = new CopyOnWriteArrayList<>();
 
+  /** Cores a setup made that the extension refused. */
+  static final List<PrimeCore> REFUSED = new CopyOnWriteArrayList<>();
+
   @BeforeEach
   void clear() {
     CORES.clear();
     LOG.clear();
+    REFUSED.clear();
   }
 
   // ------------------------------------------------------------------ one run per media
@@ -200,7 +204,10 @@ class PrimeTestExtensionTest {
   static final class IgnoresTheConfig implements CoreSetup {
     @Override
     public PrimeCore optimus(CoreConfig config, String redisUrl) {
-      return OptimusCore.builder().config(CoreConfig.builder().name("fixed").build()).redis(redisUrl).build();
+      PrimeCore made =
+          OptimusCore.builder().config(CoreConfig.builder().name("fixed").build()).redis(redisUrl).build();
+      REFUSED.add(made);
+      return made;
     }
   }
 
@@ -219,6 +226,8 @@ class PrimeTestExtensionTest {
     assertTrue(message.contains("must make the core with the config it is given"), message);
     assertTrue(message.contains("a core named 'fixed'"), message);
     assertEquals(List.of(), CORES);
+    assertEquals(1, REFUSED.size());
+    assertTrue(REFUSED.get(0).isClosed(), "the refused core is closed, its connections with it");
   }
 
   static final class NoPlainConstructor implements CoreSetup {
