@@ -66,4 +66,25 @@ class OptimusPrimeMetricsTest extends PrimeMetricsContract {
       assertEquals(0, deadLetters.value());
     }
   }
+
+  /**
+   * The gauges read NaN while Optimus cannot read the numbers from Redis, as after the core
+   * closed (the queue-depth gauge exists from binding, when they could be read).
+   */
+  @Test
+  void theGaugesReadNanWhileRedisCannotBeRead() throws Exception {
+    PrimeCore core = newCore(CoreConfig.builder().metrics(true).build());
+    try (core) {
+      core.chain("same", (Integer x) -> x);
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      core.start();
+      assertEquals(0, registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "same").gauge().value());
+      core.close();
+      assertEquals(
+          Double.NaN, registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "same").gauge().value());
+      assertEquals(
+          Double.NaN, registry.get(PrimeMetrics.DEAD_LETTERS).tag("service", "same").gauge().value());
+    }
+  }
 }
