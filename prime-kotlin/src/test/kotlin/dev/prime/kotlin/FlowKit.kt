@@ -49,7 +49,7 @@ internal abstract class FlowKit(private val media: Media) {
     }
 
     @Test
-    fun `cancelling a source's collector ends its blocked take promptly, and the source flows again`() = runBlocking {
+    fun `cancelling a source's collector ends its blocked take promptly, closes its reader, and the source flows again`() = runBlocking {
         media.newCore().use { core ->
             val events = EventBlock<Int>()
             val source = core.source("numbers", events)
@@ -58,11 +58,13 @@ internal abstract class FlowKit(private val media: Media) {
             val collector = async(Dispatchers.IO) { source.asFlow().collect { seen.send(it) } }
             events.publish(1)
             assertEquals(1, withTimeout(WAIT_MILLIS) { seen.receive() })
+            media.readersKept(core, "numbers")?.let { assertEquals(1L, it, "readers kept while the flow is collected") }
             val began = System.nanoTime()
             collector.cancel() // its reader waits in take() for a second value
             withTimeout(WAIT_MILLIS) { collector.join() }
             val millis = (System.nanoTime() - began) / 1_000_000
             assertTrue(millis < PROMPT_MILLIS, "the cancelled collector stopped after $millis ms")
+            media.readersKept(core, "numbers")?.let { assertEquals(0L, it, "readers kept after the collector was cancelled") }
             events.publish(2)
             assertEquals(listOf(1, 2), withTimeout(WAIT_MILLIS) { source.asFlow().take(2).toList() })
         }
