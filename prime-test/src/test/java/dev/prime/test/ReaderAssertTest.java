@@ -284,5 +284,19 @@ class ReaderAssertTest {
     assertThrows(NullPointerException.class, () -> assertThat(null));
     assertThrows(IllegalArgumentException.class, () -> assertThat(reader).within(Duration.ofMillis(-1)));
     assertThrows(IllegalArgumentException.class, () -> assertThat(reader).emitsCount(-1));
+    ReaderAssert<Integer> steps = assertThat(reader);
+    List<Executable> nulls =
+        List.of(
+            () -> steps.within(null),
+            () -> steps.emits((Integer[]) null),
+            () -> steps.emitsAll(null),
+            () -> steps.emitsMatching(null),
+            () -> steps.emitsSatisfying(null),
+            () -> steps.skipsUntil("the goal", null),
+            () -> steps.emitsNothingWithin(null));
+    for (Executable call : nulls) {
+      String message = assertThrows(NullPointerException.class, call).getMessage();
+      assertTrue(message != null && message.endsWith(" must not be null"), message);
+    }
   }
 }
