@@ -202,6 +202,36 @@ public interface LifecycleConformance extends ConformanceBase {
     assertNoThreadsLeft(core);
   }
 
+  /**
+   * A reader ends when its core closes, even with values left unread (the {@link Reader} methods'
+   * {@code @throws CoreClosedException}; prime-test's {@code ReaderAssert.completes()} relies on
+   * it): every read of a source's reader and of a chain's output reader then throws {@link
+   * CoreClosedException} instead of handing out what was left.
+   */
+  @Test
+  default void aClosedCoresReadersThrowThoughValuesWereLeftUnread() throws InterruptedException {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Source<Integer> source = core.source("numbers", events);
+    Reader<Integer> numbers = source.reader();
+    Reader<Integer> doubled = source.then(core.chain("double", (Integer x) -> 2 * x)).reader();
+    core.start();
+    for (int i = 1; i <= 3; i++) {
+      events.publish(i);
+    }
+    assertEquals(1, numbers.take(patience()).orElseThrow());
+    assertEquals(2, doubled.take(patience()).orElseThrow());
+    assertEquals(4, doubled.take(patience()).orElseThrow());
+    core.close();
+    for (Reader<Integer> reader : List.of(numbers, doubled)) {
+      assertThrows(CoreClosedException.class, reader::take);
+      assertThrows(CoreClosedException.class, reader::poll);
+      assertThrows(CoreClosedException.class, reader::drain);
+      assertThrows(CoreClosedException.class, () -> reader.take(Duration.ofMillis(10)));
+      assertThrows(CoreClosedException.class, () -> reader.take(Duration.ZERO));
+    }
+  }
+
   @Test
   default void nullArgumentsAreRefusedWithAMessage() {
     try (PrimeCore core = newCore()) {

@@ -24,9 +24,10 @@ import kotlin.coroutines.EmptyCoroutineContext
  * waiting at once, takes its request back if no service took it yet, and the reply of a request a
  * service already took is recognised by its id and discarded, so a later call never receives it.
  *
- * A block that ignores interrupts (a busy loop) runs to its end before the cancellation is
- * reported. A failure of a call that was not cancelled reaches the caller as the block's media
- * throws it.
+ * A block that ignores interrupts (a busy loop) and runs on the calling thread (a plain block, a
+ * chain's block on Liberty and Radiant) runs to its end before the cancellation is reported; an
+ * Optimus chain's call, which waits for the service running the block, stops waiting at once. A
+ * failure of a call that was not cancelled reaches the caller as the block's media throws it.
  *
  * @param input the input value
  * @param context where the block runs; [EmptyCoroutineContext] runs it on the caller's thread,

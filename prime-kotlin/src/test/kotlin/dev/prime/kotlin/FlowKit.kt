@@ -1,5 +1,6 @@
 package dev.prime.kotlin
 
+import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import dev.prime.ValueCodec
@@ -15,15 +16,19 @@ import kotlinx.coroutines.flow.toList
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertInstanceOf
+import org.junit.jupiter.api.Assertions.assertNotEquals
 import org.junit.jupiter.api.Assertions.assertSame
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.assertThrows
 import java.nio.ByteBuffer
 import java.time.Duration
 import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicInteger
 
 /** Sources as flows and flows as sources, on one media. */
 internal abstract class FlowKit(private val media: Media) {
@@ -44,7 +49,7 @@ internal abstract class FlowKit(private val media: Media) {
     }
 
     @Test
-    fun `cancelling a source's collector ends its blocked take promptly, and the source flows again`() = runBlocking {
+    fun `cancelling a source's collector ends its blocked take promptly, closes its reader, and the source flows again`() = runBlocking {
         media.newCore().use { core ->
             val events = EventBlock<Int>()
             val source = core.source("numbers", events)
@@ -53,11 +58,13 @@ internal abstract class FlowKit(private val media: Media) {
             val collector = async(Dispatchers.IO) { source.asFlow().collect { seen.send(it) } }
             events.publish(1)
             assertEquals(1, withTimeout(WAIT_MILLIS) { seen.receive() })
+            media.readersKept(core, "numbers")?.let { assertEquals(1L, it, "readers kept while the flow is collected") }
             val began = System.nanoTime()
             collector.cancel() // its reader waits in take() for a second value
             withTimeout(WAIT_MILLIS) { collector.join() }
             val millis = (System.nanoTime() - began) / 1_000_000
             assertTrue(millis < PROMPT_MILLIS, "the cancelled collector stopped after $millis ms")
+            media.readersKept(core, "numbers")?.let { assertEquals(0L, it, "readers kept after the collector was cancelled") }
             events.publish(2)
             assertEquals(listOf(1, 2), withTimeout(WAIT_MILLIS) { source.asFlow().take(2).toList() })
         }
@@ -149,6 +156,54 @@ internal abstract class FlowKit(private val media: Media) {
         }
     }
 
+    /**
+     * `PrimeCore.source(name, flow)`: the flow is collected once, from the core's start (not when
+     * the source is declared).
+     */
+    @Test
+    fun `a flow is collected once, from the core's start and not before`() = runBlocking {
+        val collections = AtomicInteger()
+        val collecting = CountDownLatch(1)
+        val counted = flow {
+            collections.incrementAndGet()
+            collecting.countDown()
+            emit(1)
+            emit(2)
+        }
+        val core = media.newCore()
+        val source = core.source("counted", counted)
+        val reader = source.reader()
+        assertFalse(collecting.await(NOT_BEFORE_MILLIS, TimeUnit.MILLISECONDS), "the flow was collected before start()")
+        core.start()
+        assertEquals(listOf(1, 2), List(2) { reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+        core.close()
+        assertEquals(1, collections.get(), "collections of the flow")
+    }
+
+    /** `PrimeCore.source(flow)`: a source without a name is named `source-N`, as an event block's. */
+    @Test
+    fun `a flow's source without a name is named source-N`() {
+        media.newCore().use { core ->
+            val first = core.source(flowOf(1))
+            val second = core.source(flowOf(2))
+            assertTrue(first.name().matches(Regex("source-\\d+")), first.name())
+            assertTrue(second.name().matches(Regex("source-\\d+")), second.name())
+            assertNotEquals(first.name(), second.name())
+        }
+    }
+
+    /** `PrimeCore.source(name, flow)` on a closed core throws `CoreClosedException` and collects nothing. */
+    @Test
+    fun `a flow's source declared on a closed core is refused with CoreClosedException`() {
+        val collected = AtomicInteger()
+        val core = media.newCore()
+        core.start()
+        core.close()
+        assertThrows<CoreClosedException> { core.source("late", flow { collected.incrementAndGet(); emit(1) }) }
+        assertThrows<CoreClosedException> { core.source(flow { collected.incrementAndGet(); emit(1) }) }
+        assertEquals(0, collected.get())
+    }
+
     /** A type no codec knows. */
     private class Unshippable
 
@@ -165,6 +220,9 @@ internal abstract class FlowKit(private val media: Media) {
     private companion object {
         const val WAIT_MILLIS = 20_000L
         const val PROMPT_MILLIS = 750L
+
+        /** How long a flow must stay uncollected before start() to count as not collected early. */
+        const val NOT_BEFORE_MILLIS = 300L
     }
 }
 

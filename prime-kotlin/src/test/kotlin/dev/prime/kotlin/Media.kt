@@ -6,6 +6,8 @@ import dev.prime.liberty.LibertyCore
 import dev.prime.optimus.EmbeddedRedis
 import dev.prime.optimus.OptimusCore
 import dev.prime.radiant.RadiantCore
+import redis.clients.jedis.Jedis
+import java.net.URI
 
 /** The media the kits of this module run on: each makes a new, not yet started core. */
 internal interface Media {
@@ -17,6 +19,13 @@ internal interface Media {
      * block on its caller's thread at once (Liberty, Radiant).
      */
     val callsQueueAtTheService: Boolean get() = false
+
+    /**
+     * How many readers [source] of [core] keeps values for, where the media can tell (Optimus: the
+     * source's reader set in Redis); `null` where a reader costs its source nothing to keep
+     * (Liberty and Radiant: readers share one ring of retained values).
+     */
+    fun readersKept(core: PrimeCore, source: String): Long? = null
 }
 
 internal object Liberty : Media {
@@ -35,4 +44,7 @@ internal object Optimus : Media {
         OptimusCore.builder().config(config).redis(redis.uri).build()
 
     override val callsQueueAtTheService: Boolean get() = true
+
+    override fun readersKept(core: PrimeCore, source: String): Long? =
+        Jedis(URI(redis.uri)).use { it.scard("prime:{${core.name()}}:src:$source:readers") }
 }

@@ -1,21 +1,28 @@
 package dev.prime.kotlin
 
+import dev.prime.Block
 import dev.prime.ChainFailedException
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.TimeoutCancellationException
 import kotlinx.coroutines.async
+import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
+import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
+import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicInteger
+import kotlin.coroutines.EmptyCoroutineContext
 
 /**
  * `processSuspending` on one media: a cancelled call (by `withTimeout` or by `cancel()`) ends
@@ -160,11 +167,103 @@ internal abstract class SuspendingCallKit(private val media: Media) {
         }
     }
 
+    /**
+     * `processSuspending(input, EmptyCoroutineContext)` runs the block on the caller's thread, and
+     * a cancellation still interrupts it there.
+     */
+    @Test
+    fun `with an empty context the call runs on the caller's thread, still interruptibly`() = runBlocking {
+        media.newCore().use { core ->
+            val gate = Gate()
+            val chain = core.chain("gated", gate::process).toBlock()
+            val threads = ConcurrentLinkedQueue<Thread>()
+            val block = Block<Int, Int> { x -> threads.add(Thread.currentThread()); chain.process(x) }
+            core.start()
+            assertEquals(10, block.processSuspending(1, EmptyCoroutineContext))
+            assertEquals(listOf(Thread.currentThread()), threads.toList(), "the thread the block ran on")
+
+            val began = System.nanoTime()
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { block.processSuspending(-1, EmptyCoroutineContext) } } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < PROMPT_MILLIS, "the timed-out call ended after $millis ms")
+            gate.release.countDown()
+            assertEquals(20, block.processSuspending(2, EmptyCoroutineContext))
+        }
+    }
+
+    /**
+     * A chain's block that ignores interrupts: where it runs on the calling thread (Liberty,
+     * Radiant) it runs to its end before the cancellation is reported; where the call waits for a
+     * service (Optimus) the wait ends at once.
+     */
+    @Test
+    fun `a cancelled call of a block that ignores interrupts ends when the block ends, or at once where calls wait for a service`() = runBlocking {
+        media.newCore().use { core ->
+            val finished = CountDownLatch(1)
+            val deaf = core.chain("deaf") { x: Int ->
+                val until = System.nanoTime() + DEAF_MILLIS * 1_000_000
+                while (System.nanoTime() < until) Thread.onSpinWait() // ignores interrupts
+                if (x == 2) finished.countDown()
+                x
+            }.toBlock()
+            core.start()
+            assertEquals(1, deaf.processSuspending(1)) // warm
+            val began = System.nanoTime()
+            assertThrows<TimeoutCancellationException> { runBlocking { withTimeout(50) { deaf.processSuspending(2) } } }
+            val millis = (System.nanoTime() - began) / 1_000_000
+            if (media.callsQueueAtTheService) {
+                assertTrue(millis < PROMPT_MILLIS, "the cancelled call waited for the service for $millis ms")
+            } else {
+                assertTrue(millis >= DEAF_MILLIS, "the cancellation was reported after $millis ms, before the block ended")
+                assertEquals(0L, finished.count, "the block had ended when the cancellation was reported")
+            }
+            assertTrue(finished.await(WAIT_SECONDS, TimeUnit.SECONDS), "the block never ended")
+        }
+    }
+
+    /**
+     * A suspending block in a service: closing the core interrupts the service's thread (Liberty
+     * and Radiant at once, Optimus once the service has had its shutdown timeout to finish the
+     * value), which cancels the block's logic, so the logic is cancelled when `close()` returns.
+     */
+    @Test
+    fun `closing the core cancels a suspending block its service runs`() {
+        val running = CountDownLatch(1)
+        val cancelled = CountDownLatch(1)
+        val timeout = Duration.ofSeconds(2)
+        val core = media.newCore(CoreConfig.builder().shutdownTimeout(timeout).build())
+        val events = EventBlock<Int>()
+        core.source("numbers", events).then(core.chain("waits", suspendingBlock { x: Int ->
+            running.countDown()
+            try {
+                awaitCancellation()
+            } catch (e: CancellationException) {
+                cancelled.countDown()
+                throw e
+            }
+            x
+        })).reader()
+        core.start()
+        events.publish(1)
+        assertTrue(running.await(WAIT_SECONDS, TimeUnit.SECONDS), "the service never ran the block")
+        val began = System.nanoTime()
+        core.close()
+        val millis = (System.nanoTime() - began) / 1_000_000
+        assertTrue(cancelled.await(0, TimeUnit.SECONDS), "close() returned after $millis ms and the block's logic was not cancelled")
+        assertTrue(millis < timeout.toMillis() + CLOSE_SLACK_MILLIS, "close() took $millis ms")
+    }
+
     private companion object {
         const val WAIT_SECONDS = 20L
 
         /** Well under the one-second slices a network wait used to poll in, with room for a loaded machine. */
         const val PROMPT_MILLIS = 750L
+
+        /** How long a block that ignores interrupts spins: well over a cancellation's promptness. */
+        const val DEAF_MILLIS = 1_500L
+
+        /** What a close() may take beyond its shutdown timeout on a loaded machine. */
+        const val CLOSE_SLACK_MILLIS = 5_000L
     }
 }
 

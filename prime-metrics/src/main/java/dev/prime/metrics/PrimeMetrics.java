@@ -139,13 +139,19 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
 
   /**
    * Registers the meters of every metered node declared now (see the class's docs) and starts
-   * timing their values. Binding to a second registry registers them there too.
+   * timing their values. Binding to a second registry registers them there too; binding again to
+   * a registry this binder is bound to does nothing (its timers would count each value twice).
    *
    * @param registry the registry
    */
   @Override
-  public void bindTo(MeterRegistry registry) {
+  public synchronized void bindTo(MeterRegistry registry) {
     Objects.requireNonNull(registry, "registry must not be null");
+    for (Bound b : bound) {
+      if (b.registry() == registry) {
+        return;
+      }
+    }
     for (ServiceMetrics service : metrics.services()) {
       String name = service.name();
       Tags tags =
@@ -178,12 +184,14 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
       meters.add(timer);
       Metrics.Subscription timing =
           metrics.onProcessed(name, (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
-      synchronized (this) {
-        bound.add(new Bound(registry, meters, timing));
-      }
+      bound.add(new Bound(registry, meters, timing));
     }
   }
 
+  // A registry keeps a meter's object only weakly (a counter whose object is gone stops at its
+  // last count, a gauge gives NaN), and its function strongly: the functions read this binder's
+  // snapshots, so that its meters go on reading the core while they are registered, also when
+  // the program keeps no reference to the binder (PrimeMetrics.of(core).bindTo(registry)).
   private FunctionCounter counter(
       MeterRegistry registry,
       String meter,
@@ -194,8 +202,8 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     return FunctionCounter.builder(
             meter,
             snapshots,
-            cache -> {
-              ServiceMetrics now = cache.service(service);
+            unused -> {
+              ServiceMetrics now = snapshots.service(service);
               return now == null ? Double.NaN : count.applyAsDouble(now);
             })
         .description(description)
@@ -214,8 +222,8 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     return Gauge.builder(
             meter,
             snapshots,
-            cache -> {
-              ServiceMetrics now = cache.service(service);
+            unused -> {
+              ServiceMetrics now = snapshots.service(service);
               double v = now == null ? -1 : value.applyAsDouble(now);
               return v < 0 ? Double.NaN : v; // no longer metered here, or unknown now
             })

@@ -1,8 +1,16 @@
 package dev.prime.metrics;
 
+import static org.junit.jupiter.api.Assertions.assertEquals;
+
 import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.Reader;
 import dev.prime.optimus.OptimusCore;
+import io.micrometer.core.instrument.Gauge;
+import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
+import java.time.Duration;
+import org.junit.jupiter.api.Test;
 
 /** The binder on Optimus, each core on an embedded Redis of its own (a real redis-server). */
 class OptimusPrimeMetricsTest extends PrimeMetricsContract {
@@ -24,5 +32,59 @@ class OptimusPrimeMetricsTest extends PrimeMetricsContract {
   @Override
   boolean chainsHaveQueues() {
     return true;
+  }
+
+  /** The dead-letter gauge reads the service's dead letters, so clearing them lowers it. */
+  @Test
+  void clearingAServicesDeadLettersLowersItsGauge() throws Exception {
+    CoreConfig config =
+        CoreConfig.builder().metrics(true).errorHandler((service, input, error) -> {}).build();
+    try (OptimusCore core = (OptimusCore) newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> passed =
+          core.source("numbers", events)
+              .then(
+                  core.chain(
+                      "picky",
+                      (Integer x) -> {
+                        if (x < 0) {
+                          throw new IllegalArgumentException("negative: " + x);
+                        }
+                        return x;
+                      }))
+              .reader();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      core.start();
+      events.publish(-1);
+      events.publish(-2);
+      events.publish(3);
+      assertEquals(3, take(passed)); // the two before it are dead letters by now
+      Gauge deadLetters = registry.get(PrimeMetrics.DEAD_LETTERS).tag("service", "picky").gauge();
+      assertEquals(2, deadLetters.value());
+      assertEquals(2, core.clearDeadLetters("picky"));
+      assertEquals(0, deadLetters.value());
+    }
+  }
+
+  /**
+   * The gauges read NaN while Optimus cannot read the numbers from Redis, as after the core
+   * closed (the queue-depth gauge exists from binding, when they could be read).
+   */
+  @Test
+  void theGaugesReadNanWhileRedisCannotBeRead() throws Exception {
+    PrimeCore core = newCore(CoreConfig.builder().metrics(true).build());
+    try (core) {
+      core.chain("same", (Integer x) -> x);
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      core.start();
+      assertEquals(0, registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "same").gauge().value());
+      core.close();
+      assertEquals(
+          Double.NaN, registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "same").gauge().value());
+      assertEquals(
+          Double.NaN, registry.get(PrimeMetrics.DEAD_LETTERS).tag("service", "same").gauge().value());
+    }
   }
 }

@@ -12,14 +12,25 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.Meter;
+import io.micrometer.core.instrument.Tag;
 import io.micrometer.core.instrument.Timer;
+import io.micrometer.core.instrument.distribution.DistributionStatisticConfig;
+import io.micrometer.core.instrument.distribution.pause.PauseDetector;
 import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
+import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Collections;
+import java.util.HashSet;
 import java.util.List;
+import java.util.Map;
 import java.util.Optional;
+import java.util.Set;
+import java.util.TreeMap;
+import java.util.TreeSet;
+import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 
@@ -220,6 +231,241 @@ abstract class PrimeMetricsContract {
       assertEquals(8, same.process(8));
       assertEquals(1, firstTimer.count(), "a closed binder times no more values");
       assertEquals(1, secondTimer.count(), "a closed binder times no more values");
+    }
+  }
+
+  /**
+   * The missed counter is the event source's {@code missed()}: what a reader that fell behind the
+   * source's retention lost.
+   */
+  @Test
+  void theMissedCounterCountsWhatALaggingReaderLost() throws Exception {
+    int retention = 4;
+    int published = 20;
+    CoreConfig config = CoreConfig.builder().metrics(true).sourceRetention(retention).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> lagging = core.source("numbers", events).reader();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      core.start();
+      for (int i = 1; i <= published; i++) {
+        events.publish(i);
+      }
+      assertEquals(published - retention + 1, take(lagging), "the oldest value retained");
+      long missed = lagging.missed();
+      assertTrue(missed > 0, "the reader missed values: " + missed);
+      assertEquals(missed, core.metrics().service("numbers").missed());
+      assertEquals(missed, count(registry, PrimeMetrics.MISSED, "numbers"));
+      assertEquals(published, count(registry, PrimeMetrics.VALUES_IN, "numbers"));
+    }
+  }
+
+  /**
+   * The queue-depth gauge is the node's {@code queueDepth()}: the values waiting in its input and
+   * the one in progress.
+   */
+  @Test
+  void theQueueDepthGaugeCountsWhatWaitsAndWhatIsInProgress() throws Exception {
+    CountDownLatch started = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> passed =
+          core.source("numbers", events)
+              .filter(
+                  x -> {
+                    started.countDown();
+                    try {
+                      return release.await(PATIENCE.toMillis(), TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                      return false;
+                    }
+                  })
+              .reader();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      try {
+        assertTrue(started.await(PATIENCE.toMillis(), TimeUnit.MILLISECONDS), "the filter never ran");
+        Gauge depth = registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "filter(numbers)").gauge();
+        long deadline = System.nanoTime() + PATIENCE.toNanos();
+        double seen = depth.value();
+        for (int i = 0; i < 100_000 && seen != 3 && System.nanoTime() < deadline; i++) {
+          Thread.onSpinWait();
+          seen = depth.value();
+        }
+        assertEquals(3, seen, "one value in progress and two waiting");
+        assertEquals(core.metrics().service("filter(numbers)").queueDepth(), (long) depth.value());
+      } finally {
+        release.countDown();
+      }
+      for (int i = 1; i <= 3; i++) {
+        assertEquals(i, take(passed));
+      }
+    }
+  }
+
+  /**
+   * Bound after the core started, the counters count every value the core counted, and the timer
+   * every value processed after binding.
+   */
+  @Test
+  void aBinderBoundAfterTheStartCountsEverythingAndTimesWhatFollows() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      core.start();
+      assertEquals(1, same.process(1));
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      assertEquals(2, same.process(2));
+      assertEquals(2, count(registry, PrimeMetrics.VALUES_IN, "same"));
+      assertEquals(2, count(registry, PrimeMetrics.VALUES_OUT, "same"));
+      assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count());
+    }
+  }
+
+  /**
+   * The timer asks for a percentile histogram, so a registry that publishes aggregable
+   * percentiles (Prometheus, ...) gets its buckets.
+   */
+  @Test
+  void theTimerAsksForAPercentileHistogram() {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      core.chain("same", (Integer x) -> x);
+      List<DistributionStatisticConfig> timers = new ArrayList<>();
+      SimpleMeterRegistry registry =
+          new SimpleMeterRegistry() {
+            @Override
+            protected Timer newTimer(
+                Meter.Id id, DistributionStatisticConfig config, PauseDetector pauseDetector) {
+              timers.add(config);
+              return super.newTimer(id, config, pauseDetector);
+            }
+          };
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      assertEquals(1, timers.size());
+      assertEquals(Boolean.TRUE, timers.get(0).isPercentileHistogram(), "the timer's histogram");
+    }
+  }
+
+  /**
+   * A binder the program keeps no reference to, as in {@code PrimeMetrics.of(core).bindTo(registry)},
+   * keeps its meters reading the core's metrics after a garbage collection.
+   */
+  @Test
+  void theMetersOfABinderNobodyKeepsGoOnReadingAfterAGarbageCollection() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> small = core.source("numbers", events).filter(x -> x < 100).reader();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry); // nothing keeps the binder
+      core.start();
+      assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "numbers"));
+      collectGarbage();
+      events.publish(1);
+      assertEquals(1, take(small));
+      assertEquals(1, count(registry, PrimeMetrics.VALUES_IN, "numbers"), "the counter after a GC");
+      assertEquals(
+          0.0,
+          registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "filter(numbers)").gauge().value(),
+          "the gauge after a GC");
+    }
+  }
+
+  /** Runs the collector until an object nothing refers to is gone (at most 50 times). */
+  private static void collectGarbage() {
+    WeakReference<Object> canary = new WeakReference<>(new Object());
+    for (int i = 0; i < 50 && canary.get() != null; i++) {
+      System.gc();
+    }
+    assertNull(canary.get(), "no garbage collection happened");
+  }
+
+  /**
+   * Binding again to a registry the binder is bound to changes nothing: the registry holds one
+   * meter of each name and tags, and its timer counts each value once.
+   */
+  @Test
+  void bindingTwiceToOneRegistryTimesEachValueOnce() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics binder = PrimeMetrics.of(core, Duration.ZERO);
+      binder.bindTo(registry);
+      int meters = registry.getMeters().size();
+      binder.bindTo(registry);
+      core.start();
+      assertEquals(7, same.process(7));
+      assertEquals(meters, registry.getMeters().size());
+      assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count());
+      binder.close();
+      assertEquals(List.of(), registry.getMeters());
+    }
+  }
+
+  /**
+   * The meters are named and tagged as the README and the Javadoc say, for every kind of metered
+   * node: chains, filters, flat-maps, listeners, event sources, combinators, timers and generic
+   * services.
+   */
+  @Test
+  void everyMeteredNodeGetsTheMetersTheDocsName() {
+    try (PrimeCore core = newCore(CoreConfig.builder().name("named").metrics(true).build())) {
+      Source<Integer> numbers = core.source("numbers", new EventBlock<Integer>());
+      Source<Integer> others = core.source("others", new EventBlock<Integer>());
+      core.chain("same", (Integer x) -> x);
+      numbers.filter(x -> x > 0);
+      numbers.flatMap(x -> List.of(x, x));
+      numbers.listen(x -> {});
+      core.merge(numbers, others);
+      core.timer("clock", Duration.ofHours(1));
+      core.service("idle", () -> {});
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core).bindTo(registry);
+
+      Set<String> names = new TreeSet<>();
+      Set<List<String>> tagKeys = new HashSet<>();
+      Map<String, String> kinds = new TreeMap<>();
+      for (Meter meter : registry.getMeters()) {
+        names.add(meter.getId().getName());
+        tagKeys.add(meter.getId().getTags().stream().map(Tag::getKey).sorted().toList());
+        assertEquals(media(), meter.getId().getTag("media"));
+        assertEquals("named", meter.getId().getTag("core"));
+        kinds.put(meter.getId().getTag("service"), meter.getId().getTag("kind"));
+      }
+      assertEquals(
+          new TreeSet<>(
+              List.of(
+                  "prime.service.values.in",
+                  "prime.service.values.out",
+                  "prime.service.failures",
+                  "prime.service.missed",
+                  "prime.service.dead.letters",
+                  "prime.service.queue.depth",
+                  "prime.service.processing")),
+          names);
+      assertEquals(Set.of(List.of("core", "kind", "media", "service")), tagKeys);
+      assertEquals("BlockChain", kinds.get("same"));
+      assertEquals("Filter", kinds.get("filter(numbers)"));
+      assertEquals("FlatMap", kinds.get("flatMap(numbers)"));
+      assertEquals("Listener", kinds.get("listen(numbers)"));
+      assertEquals("EventSource", kinds.get("numbers"));
+      assertEquals("Combinator", kinds.get("merge(numbers|others)"));
+      assertEquals("Timer", kinds.get("clock"));
+      assertEquals("GenericServiceNode", kinds.get("idle"));
+      for (String service : kinds.keySet()) {
+        long meters =
+            registry.getMeters().stream()
+                .filter(m -> service.equals(m.getId().getTag("service")))
+                .count();
+        boolean queue = registry.find(PrimeMetrics.QUEUE_DEPTH).tag("service", service).gauge() != null;
+        assertEquals(queue ? 7 : 6, meters, "the meters of " + service);
+      }
     }
   }
 

@@ -89,6 +89,7 @@ public final class ReaderAssert<T> {
    */
   @SafeVarargs
   public final ReaderAssert<T> emits(T... expected) {
+    Objects.requireNonNull(expected, "expected values must not be null");
     List<T> values = new ArrayList<>(expected.length);
     for (T value : expected) {
       values.add(value);

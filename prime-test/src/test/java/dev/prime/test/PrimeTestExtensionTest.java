@@ -47,10 +47,14 @@ class PrimeTestExtensionTest {
 
   static final List<String> LOG = new CopyOnWriteArrayList<>();
 
+  /** Cores a setup made that the extension refused. */
+  static final List<PrimeCore> REFUSED = new CopyOnWriteArrayList<>();
+
   @BeforeEach
   void clear() {
     CORES.clear();
     LOG.clear();
+    REFUSED.clear();
   }
 
   // ------------------------------------------------------------------ one run per media
@@ -200,7 +204,10 @@ class PrimeTestExtensionTest {
   static final class IgnoresTheConfig implements CoreSetup {
     @Override
     public PrimeCore optimus(CoreConfig config, String redisUrl) {
-      return OptimusCore.builder().config(CoreConfig.builder().name("fixed").build()).redis(redisUrl).build();
+      PrimeCore made =
+          OptimusCore.builder().config(CoreConfig.builder().name("fixed").build()).redis(redisUrl).build();
+      REFUSED.add(made);
+      return made;
     }
   }
 
@@ -219,6 +226,8 @@ class PrimeTestExtensionTest {
     assertTrue(message.contains("must make the core with the config it is given"), message);
     assertTrue(message.contains("a core named 'fixed'"), message);
     assertEquals(List.of(), CORES);
+    assertEquals(1, REFUSED.size());
+    assertTrue(REFUSED.get(0).isClosed(), "the refused core is closed, its connections with it");
   }
 
   static final class NoPlainConstructor implements CoreSetup {
@@ -237,6 +246,108 @@ class PrimeTestExtensionTest {
     results.testEvents().assertStatistics(s -> s.started(0));
     String message = failure(results.containerEvents().failed().list().get(0)).getMessage();
     assertTrue(message.contains("NoPlainConstructor has no constructor without parameters"), message);
+  }
+
+  /** Records every instance JUnit's runs make and which of its methods each run called. */
+  static final class CountsItsInstances implements CoreSetup {
+    private CountsItsInstances() {}
+
+    @Override
+    public void configure(Media media, CoreConfig.Builder config) {
+      LOG.add("configure " + media + " on setup " + System.identityHashCode(this));
+    }
+
+    @Override
+    public PrimeCore optimus(CoreConfig config, String redisUrl) {
+      LOG.add("optimus on setup " + System.identityHashCode(this));
+      return CoreSetup.super.optimus(config, redisUrl);
+    }
+  }
+
+  static class WithACountedSetup {
+    @PrimeTest(setup = CountsItsInstances.class)
+    void runs(PrimeCore core) {
+      CORES.add(core);
+    }
+  }
+
+  @Test
+  void theSetupIsMadeOncePerRun() {
+    EngineExecutionResults results = run(WithACountedSetup.class);
+
+    results.testEvents().assertStatistics(s -> s.started(3).succeeded(3));
+    assertEquals(4, LOG.size(), LOG.toString());
+    List<String> instances = LOG.stream().map(line -> line.substring(line.lastIndexOf(' ') + 1)).toList();
+    assertEquals(3, instances.stream().distinct().count(), "one setup per run: " + LOG);
+    assertEquals(instances.get(2), instances.get(3), "the Optimus run's setup configures and makes its core: " + LOG);
+    assertTrue(LOG.get(0).startsWith("configure LIBERTY"), LOG.toString());
+    assertTrue(LOG.get(2).startsWith("configure OPTIMUS"), LOG.toString());
+  }
+
+  abstract static class AbstractSetup implements CoreSetup {}
+
+  static class WithAnAbstractSetup {
+    @PrimeTest(setup = AbstractSetup.class)
+    void runs(PrimeCore core) {}
+  }
+
+  final class InnerSetup implements CoreSetup {}
+
+  static class WithAnInnerSetup {
+    @PrimeTest(setup = InnerSetup.class)
+    void runs(PrimeCore core) {}
+  }
+
+  static final class ThrowingSetup implements CoreSetup {
+    ThrowingSetup() {
+      throw new IllegalStateException("no robot configured");
+    }
+  }
+
+  static class WithAThrowingSetup {
+    @PrimeTest(media = Media.LIBERTY, setup = ThrowingSetup.class)
+    void runs(PrimeCore core) {}
+  }
+
+  @Test
+  void aSetupClassThatCannotBeMadeIsAClearError() {
+    String abstractSetup =
+        failure(run(WithAnAbstractSetup.class).containerEvents().failed().list().get(0)).getMessage();
+    assertTrue(abstractSetup.contains("@PrimeTest(setup = AbstractSetup.class) on runs()"), abstractSetup);
+    assertTrue(abstractSetup.contains("AbstractSetup is abstract; name a concrete class implementing CoreSetup"), abstractSetup);
+
+    String inner =
+        failure(run(WithAnInnerSetup.class).containerEvents().failed().list().get(0)).getMessage();
+    assertTrue(inner.contains("InnerSetup is an inner class; make it static"), inner);
+
+    String throwing =
+        failure(run(WithAThrowingSetup.class).testEvents().failed().list().get(0)).getMessage();
+    assertTrue(throwing.contains("the constructor of " + ThrowingSetup.class.getName() + " threw"), throwing);
+    assertTrue(throwing.contains("no robot configured"), throwing);
+  }
+
+  static final class LongName implements CoreSetup {
+    @Override
+    public void configure(Media media, CoreConfig.Builder config) {
+      config.name("r".repeat(64));
+    }
+  }
+
+  static class WithALongName {
+    @PrimeTest(media = Media.LIBERTY, setup = LongName.class)
+    void runs(PrimeCore core) {
+      CORES.add(core);
+    }
+  }
+
+  @Test
+  void aNameTooLongForTheRunsSuffixIsCutToTheLongestCoreName() {
+    EngineExecutionResults results = run(WithALongName.class);
+
+    results.testEvents().assertStatistics(s -> s.started(1).succeeded(1));
+    String name = CORES.get(0).name();
+    assertEquals(64, name.length(), name);
+    assertTrue(name.matches("r+-liberty-\\d+-[0-9a-z]{1,4}"), name);
   }
 
   static class NoMedia {

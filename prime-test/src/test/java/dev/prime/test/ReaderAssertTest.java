@@ -239,6 +239,44 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).emits(1)));
   }
 
+  @PrimeTest
+  void completesWhenTheCoreIsClosedThoughValuesWereLeftUnread(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+    publish(1, 2);
+    assertThat(reader).emits(1);
+    core.close();
+
+    assertThat(reader).completes();
+  }
+
+  @PrimeTest
+  void withinZeroCountsOnlyTheValuesAlreadyThere(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+    publish(1);
+    assertThat(reader).emits(1); // the reader is there and its source delivers
+    publish(2);
+    long start = System.nanoTime();
+
+    assertThat(reader).within(Duration.ZERO).emits(2);
+    assertMatches(
+        "expected value 3 within 0 ms but no value came; waited \\d+ ms \\(no value taken before\\)",
+        failure(() -> assertThat(reader).within(Duration.ZERO).emits(3)));
+
+    long waited = TimeUnit.NANOSECONDS.toMillis(System.nanoTime() - start);
+    assertTrue(waited < 5_000, "waited " + waited + " ms");
+  }
+
+  @PrimeTest
+  void emitsNothingWithinWaitsAllOfItsTimeWhateverTheTimeout(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+    long start = System.nanoTime();
+
+    assertThat(reader).within(Duration.ZERO).emitsNothingWithin(SHORT);
+
+    long waited = TimeUnit.NANOSECONDS.toMillis(System.nanoTime() - start);
+    assertTrue(waited >= SHORT.toMillis(), "waited " + waited + " ms");
+  }
+
   @PrimeTest(media = Media.LIBERTY)
   void badArgumentsAreRefusedAtTheCall(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
@@ -246,5 +284,19 @@ class ReaderAssertTest {
     assertThrows(NullPointerException.class, () -> assertThat(null));
     assertThrows(IllegalArgumentException.class, () -> assertThat(reader).within(Duration.ofMillis(-1)));
     assertThrows(IllegalArgumentException.class, () -> assertThat(reader).emitsCount(-1));
+    ReaderAssert<Integer> steps = assertThat(reader);
+    List<Executable> nulls =
+        List.of(
+            () -> steps.within(null),
+            () -> steps.emits((Integer[]) null),
+            () -> steps.emitsAll(null),
+            () -> steps.emitsMatching(null),
+            () -> steps.emitsSatisfying(null),
+            () -> steps.skipsUntil("the goal", null),
+            () -> steps.emitsNothingWithin(null));
+    for (Executable call : nulls) {
+      String message = assertThrows(NullPointerException.class, call).getMessage();
+      assertTrue(message != null && message.endsWith(" must not be null"), message);
+    }
   }
 }

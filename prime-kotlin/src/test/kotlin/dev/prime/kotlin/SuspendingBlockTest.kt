@@ -1,0 +1,53 @@
+package dev.prime.kotlin
+
+import kotlinx.coroutines.CancellationException
+import kotlinx.coroutines.awaitCancellation
+import org.junit.jupiter.api.Assertions.assertInstanceOf
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicReference
+
+/** `suspendingBlock` as a plain block, with no core: what its KDoc says of a call's thread. */
+internal class SuspendingBlockTest {
+
+    /** Interrupting the thread that calls the block cancels the logic, and the call throws `InterruptedException`. */
+    @Test
+    fun `interrupting the calling thread cancels the logic and the call throws InterruptedException`() {
+        val running = CountDownLatch(1)
+        val cancelled = CountDownLatch(1)
+        val block = suspendingBlock { x: Int ->
+            running.countDown()
+            try {
+                awaitCancellation()
+            } catch (e: CancellationException) {
+                cancelled.countDown()
+                throw e
+            }
+            x
+        }
+        val thrown = AtomicReference<Throwable>()
+        val caller = Thread { thrown.set(runCatching { block.process(1) }.exceptionOrNull()) }.apply { isDaemon = true }
+        caller.start()
+        assertTrue(running.await(WAIT_SECONDS, TimeUnit.SECONDS), "the logic never ran")
+        caller.interrupt()
+        caller.join(WAIT_SECONDS * 1000)
+        assertTrue(!caller.isAlive, "the interrupted call did not end")
+        assertTrue(cancelled.await(0, TimeUnit.SECONDS), "the logic was not cancelled")
+        assertInstanceOf(InterruptedException::class.java, thrown.get(), "what the call threw")
+    }
+
+    /** The calling thread is blocked while the logic runs: the call returns the logic's value. */
+    @Test
+    fun `each call runs the logic to its end and returns its value`() {
+        val threads = mutableListOf<Thread>()
+        val block = suspendingBlock { x: Int -> threads += Thread.currentThread(); x * 2 }
+        assertTrue(block.process(21) == 42)
+        assertTrue(threads == listOf(Thread.currentThread()), "ran on $threads")
+    }
+
+    private companion object {
+        const val WAIT_SECONDS = 20L
+    }
+}
