@@ -25,6 +25,8 @@ import java.nio.charset.StandardCharsets;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Set;
+import java.util.concurrent.atomic.AtomicBoolean;
+import java.util.concurrent.locks.LockSupport;
 import java.util.stream.Collectors;
 import org.junit.jupiter.api.Test;
 
@@ -361,11 +363,11 @@ class InspectorHttpTest {
       core.source("ticks", ticks).then(core.chain("wide", Wide::of));
       PrimeInspector inspector = PrimeInspector.start(core);
       core.start();
-      java.util.concurrent.atomic.AtomicBoolean publishing = new java.util.concurrent.atomic.AtomicBoolean(true);
+      AtomicBoolean publishing = new AtomicBoolean(true);
       Thread publisher = new Thread(() -> {
         for (int i = 0; publishing.get() && i < 100_000_000; i++) {
           ticks.publish(i);
-          java.util.concurrent.locks.LockSupport.parkNanos(200_000); // about 5000 values a second
+          LockSupport.parkNanos(200_000); // about 5000 values a second
         }
       }, "wide-publisher");
       publisher.start();
