@@ -142,7 +142,15 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
    * timing their values. Binding to a second registry registers them there too; binding again to
    * a registry this binder is bound to does nothing (its timers would count each value twice).
    *
+   * <p>One binder per core and registry: the meters of a second binder would be the first one's
+   * (a registry keeps one meter per name and tags), so its timers would time each value twice
+   * and closing either binder would remove the other's meters. Binding a second one is refused,
+   * and so is binding a core whose name, media and nodes are those of another core bound there;
+   * close the first binder, or give the cores distinct names.
+   *
    * @param registry the registry
+   * @throws IllegalStateException if {@code registry} holds the meters of a node of this core
+   *     bound by another binder (the message names the node and the fix); nothing is registered
    */
   @Override
   public synchronized void bindTo(MeterRegistry registry) {
@@ -152,14 +160,19 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
         return;
       }
     }
-    for (ServiceMetrics service : metrics.services()) {
+    List<ServiceMetrics> services = metrics.services();
+    for (ServiceMetrics service : services) {
+      if (registry.find(VALUES_IN).tags(tagsOf(service)).functionCounter() != null) {
+        throw new IllegalStateException(
+            "the registry already has the meters of node '" + service.name() + "' of core '"
+                + metrics.core() + "' on " + metrics.media() + ", bound by another PrimeMetrics:"
+                + " bind one PrimeMetrics per core and registry (close the other first), or give"
+                + " cores bound to one registry distinct names");
+      }
+    }
+    for (ServiceMetrics service : services) {
       String name = service.name();
-      Tags tags =
-          Tags.of(
-              "service", name,
-              "kind", service.kind(),
-              "media", metrics.media(),
-              "core", metrics.core());
+      Tags tags = tagsOf(service);
       List<Meter> meters = new ArrayList<>();
       meters.add(counter(registry, VALUES_IN, "values given to the node", tags, name,
           ServiceMetrics::valuesIn));
@@ -186,6 +199,14 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
           metrics.onProcessed(name, (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
       bound.add(new Bound(registry, meters, timing));
     }
+  }
+
+  private Tags tagsOf(ServiceMetrics service) {
+    return Tags.of(
+        "service", service.name(),
+        "kind", service.kind(),
+        "media", metrics.media(),
+        "core", metrics.core());
   }
 
   // A registry keeps a meter's object only weakly (a counter whose object is gone stops at its

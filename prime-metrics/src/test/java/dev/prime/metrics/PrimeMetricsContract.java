@@ -409,6 +409,40 @@ abstract class PrimeMetricsContract {
   }
 
   /**
+   * A second binder of one core on one registry is refused with a message that names the node and
+   * the fix, registers nothing, and leaves the first binder's meters counting and timing each
+   * value once; once the first is closed, the second binds.
+   */
+  @Test
+  void aSecondBinderOfACoreOnOneRegistryIsRefusedAndChangesNothing() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().name("twice").metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics first = PrimeMetrics.of(core, Duration.ZERO);
+      first.bindTo(registry);
+      List<Meter> meters = List.copyOf(registry.getMeters());
+      PrimeMetrics second = PrimeMetrics.of(core, Duration.ZERO);
+      IllegalStateException refused =
+          assertThrows(IllegalStateException.class, () -> second.bindTo(registry));
+      assertTrue(refused.getMessage().contains("node 'same' of core 'twice'")
+              && refused.getMessage().contains("one PrimeMetrics per core and registry"),
+          refused.getMessage());
+      core.start();
+      assertEquals(7, same.process(7));
+      second.close();
+      assertEquals(meters, registry.getMeters(), "the refused binder registered and removed nothing");
+      assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count(),
+          "each value timed once");
+      assertEquals(1.0, registry.get(PrimeMetrics.VALUES_IN).tag("service", "same").functionCounter().count());
+
+      first.close();
+      second.bindTo(registry);
+      assertEquals(meters.size(), registry.getMeters().size(), "the second binds once the first is closed");
+      second.close();
+    }
+  }
+
+  /**
    * The meters are named and tagged as the README and the Javadoc say, for every kind of metered
    * node: chains, filters, flat-maps, listeners, event sources, combinators, timers and generic
    * services.
