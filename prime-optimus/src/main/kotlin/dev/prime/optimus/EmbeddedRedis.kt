@@ -85,12 +85,14 @@ public class EmbeddedRedis private constructor(
      */
     private fun stopAtExit() {
         watchdog?.disarm()
-        val running = process ?: return
-        running.destroyForcibly()
-        try {
-            running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
-        } catch (_: InterruptedException) {
-            return
+        val running = process // null if the server was stopped or crashed (kill) and not restarted: its files stay until here
+        if (running != null) {
+            running.destroyForcibly()
+            try {
+                running.waitFor(STOP_TIMEOUT_S, TimeUnit.SECONDS)
+            } catch (_: InterruptedException) {
+                return
+            }
         }
         if (ownsDir) deleteTree(dir)
     }
