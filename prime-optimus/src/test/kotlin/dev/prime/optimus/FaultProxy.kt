@@ -21,8 +21,9 @@ import java.util.concurrent.locks.LockSupport
  *   awkward (slow-Redis) variant of the conformance kit.
  *
  * Two daemon threads per connection pump the bytes; [close] closes every socket, which ends them.
+ * In this module's test-jar, so other modules' tests can run on a slow Redis too.
  */
-internal class FaultProxy(target: String, replyDelayNanos: Long = 0) : AutoCloseable {
+class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long = 0) : AutoCloseable {
     /** How long each chunk of a reply is held back from now on (see the class note). */
     @Volatile var replyDelayNanos: Long = replyDelayNanos
 

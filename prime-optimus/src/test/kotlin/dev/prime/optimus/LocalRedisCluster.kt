@@ -24,9 +24,9 @@ import java.time.Duration
  * the other masters and its replica promotes itself (`cluster-replica-validity-factor 0`: it
  * always may). `cluster-require-full-coverage no` keeps the other masters serving meanwhile.
  *
- * Shared: the cluster tests of this module use it, and so does prime-bench's
- * `ClusterReplicaAcksBenchmark`, through this module's test-jar (which holds this class only):
- * hence public, and [start] callable from Java.
+ * Shared: the cluster tests of this module use it, and so do prime-bench's
+ * `ClusterReplicaAcksBenchmark` and prime-faults, through this module's test-jar (which holds
+ * this class and [FaultProxy] only): hence public, and [start] callable from Java.
  */
 public class LocalRedisCluster private constructor(
     private val root: Path,
