@@ -20,6 +20,9 @@ internal class Keys(topology: String) {
      */
     fun clusterSlot(): Int = JedisClusterCRC16.getSlot(prefix)
 
+    /** The `SCAN` pattern of every key of the topology (a core name holds no glob character). */
+    val all: ByteArray = key("*")
+
     /** The list a service takes its input from. */
     fun serviceInput(service: String): ByteArray = key("svc:$service:in")
 

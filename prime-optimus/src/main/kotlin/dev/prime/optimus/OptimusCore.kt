@@ -32,6 +32,7 @@ import org.slf4j.LoggerFactory
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Pipeline
 import redis.clients.jedis.exceptions.JedisDataException
+import redis.clients.jedis.params.ScanParams
 import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
@@ -157,6 +158,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private val embedded: EmbeddedRedis?
     private val endpoint: RedisTarget
+    private val givenRedisUrl: String? = settings.redisUrl
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
     internal val declaredTypes: DeclaredTypes = DeclaredTypes()
@@ -348,6 +350,60 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 length.get().toInt()
             }
         }
+    }
+
+    // ------------------------------------------------------------------ retiring a topology
+
+    /**
+     * Deletes every Redis key of this core's topology, `prime:{<name>}:*`: what its sources
+     * retain, the services' queues and processing lists, dead letters, readers' lists, leases and
+     * sequence numbers. Optimus keeps these after [close] on purpose (a restarted process goes on
+     * where the last one stopped); delete them for a topology you retire, or after a test that
+     * gave its run a topology of its own on a shared Redis (`@PrimeTest` does so after every run).
+     *
+     * Only on a closed core, and only once no other process runs the topology on this Redis:
+     * a process that still does recreates keys as it goes, and the values it had are lost. Keys of
+     * other topologies are not touched (they have other names). A core on an embedded Redis of
+     * its own has nothing to delete: its data went with its server at [close]; this returns 0.
+     *
+     * The deletion is not atomic: it scans the topology's keys (the Redis user needs `scan` besides
+     * the commands a core needs) and deletes them in batches, retrying on a new connection while
+     * Redis is unreachable, for at most 10 s. Run again, it deletes what is left.
+     *
+     * @return how many keys were deleted
+     * @throws IllegalStateException if the core is not closed
+     * @throws RedisUnavailableException if Redis cannot be reached for 10 s
+     * @throws dev.prime.PrimeException if the Redis user lacks `scan`, `del` or the topology's keys
+     *   (the message says what to grant)
+     */
+    public fun deleteKeys(): Long {
+        check(isClosed) {
+            "core '${name()}' is not closed: close() it before deleteKeys() (its services and readers use those keys)"
+        }
+        val url = givenRedisUrl ?: return 0
+        val target = RedisTarget.parse(url, keys)
+        val connections = RedisConnections(target, name())
+        val deadline = System.nanoTime() + DELETE_KEYS_TIMEOUT.toNanos()
+        val what = "delete the keys of topology '${name()}'"
+        var deleted = 0L
+        try {
+            explainingRefusals(what) {
+                RedisSession(connections).use { session ->
+                    session.retryingUntil(deadline, what) { jedis ->
+                        val match = ScanParams().match(keys.all).count(DELETE_KEYS_BATCH)
+                        var cursor = ScanParams.SCAN_POINTER_START_BINARY
+                        do {
+                            val page = jedis.scan(cursor, match)
+                            if (page.result.isNotEmpty()) deleted += jedis.del(*page.result.toTypedArray())
+                            cursor = page.cursorAsBytes
+                        } while (!cursor.contentEquals(ScanParams.SCAN_POINTER_START_BINARY))
+                    }
+                }
+            }
+        } finally {
+            connections.closeAll()
+        }
+        return deleted
     }
 
     /**
@@ -1154,6 +1210,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
+        private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
+        private const val DELETE_KEYS_BATCH = 1_000
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
         private const val STANDBY_MIN_WAIT_MS = 10L
         private val MIN_REPLY_TTL = Duration.ofMinutes(10)

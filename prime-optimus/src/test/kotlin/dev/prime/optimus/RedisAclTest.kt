@@ -32,6 +32,25 @@ class RedisAclTest {
     }
 
     @Test
+    fun deletingAClosedCoresKeysWithoutScanIsToldToGrantIt() {
+        val user = "prime-noscan"
+        Jedis(URI(TestRedis.url)).use { admin ->
+            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~*", "&*", "+@all", "-scan")
+        }
+        try {
+            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+            val core = OptimusCore.builder().redis(url).config(dev.prime.CoreConfig.builder().name("noscan").build()).build()
+            core.use { it.start() }
+            val refused = assertThrows(PrimeException::class.java) { core.deleteKeys() }
+            val message = refused.message!!
+            assertTrue("delete the keys of topology 'noscan' was refused: the Redis user '$user' lacks the command 'scan'" in message, message)
+            assertTrue("ACL SETUSER $user +scan" in message, message)
+        } finally {
+            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
+        }
+    }
+
+    @Test
     fun aUserWithoutACommandOptimusNeedsIsToldWhichOne() {
         val user = "prime-noscript"
         Jedis(URI(TestRedis.url)).use { admin ->

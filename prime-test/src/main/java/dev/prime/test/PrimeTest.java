@@ -37,7 +37,10 @@ import org.junit.jupiter.api.extension.ExtendWith;
  *       parameter typed as a media's own core class ({@code LibertyCore}, ...) is accepted on that
  *       media and refused with a clear message on the others.
  *   <li>The core is made (not started) on first use and closed after the run, after the
- *       {@code @AfterEach} methods, whether the test passed or failed.
+ *       {@code @AfterEach} methods, whether the test passed or failed. On Optimus its Redis keys
+ *       are then deleted ({@code OptimusCore.deleteKeys()}), so a Redis the runs share keeps
+ *       nothing of the runs that are over; if Redis cannot be reached for that (10 s), the run
+ *       fails with a {@code RedisUnavailableException}.
  *   <li>Every core has a name of its own ({@code test-liberty-1-k3f9}, ...: see {@link
  *       CoreSetup#configure}), so runs never see each other's sources or Redis keys.
  *   <li>Optimus runs share one Redis per test class: an embedded {@code redis-server} started

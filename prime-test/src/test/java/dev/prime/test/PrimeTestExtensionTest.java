@@ -23,6 +23,7 @@ import java.net.Socket;
 import java.net.URI;
 import java.time.Duration;
 import java.util.List;
+import java.util.Set;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.stream.Stream;
 import org.junit.jupiter.api.AfterEach;
@@ -36,6 +37,7 @@ import org.junit.platform.testkit.engine.EngineExecutionResults;
 import org.junit.platform.testkit.engine.EngineTestKit;
 import org.junit.platform.testkit.engine.Event;
 import org.junit.platform.testkit.engine.Events;
+import redis.clients.jedis.Jedis;
 
 /**
  * {@link PrimeTest} run by JUnit's own engine (through the platform's test kit) on the small test
@@ -490,6 +492,74 @@ class PrimeTestExtensionTest {
       results.testEvents().assertStatistics(s -> s.succeeded(3));
       assertEquals(redis.getPort(), port((OptimusCore) CORES.get(2)));
       assertTrue(redis.isRunning(), "a Redis the extension did not start is not stopped");
+    }
+  }
+
+  static class UsesRedis {
+    static String url;
+
+    @PrimeTest(media = Media.OPTIMUS)
+    void passes(PrimeCore core) throws InterruptedException {
+      publishAndRead(core);
+    }
+
+    @PrimeTest(media = Media.OPTIMUS)
+    void fails(PrimeCore core) throws InterruptedException {
+      publishAndRead(core);
+      throw new AssertionError("fails on purpose");
+    }
+
+    /** A source, a chain with a dead letter and a reader: keys that stay after close. */
+    private static void publishAndRead(PrimeCore core) throws InterruptedException {
+      EventBlock<Integer> numbers = new EventBlock<>();
+      Reader<Integer> out =
+          core.source("numbers", numbers)
+              .then(core.chain("not-two", (Integer x) -> {
+                if (x == 2) {
+                  throw new IllegalArgumentException("two");
+                }
+                return x;
+              }))
+              .reader();
+      core.start();
+      numbers.publish(1);
+      numbers.publish(2);
+      numbers.publish(3);
+      assertEquals(1, out.take(Duration.ofSeconds(20)).orElseThrow());
+      assertEquals(3, out.take(Duration.ofSeconds(20)).orElseThrow());
+      LOG.add(core.name() + " " + keysOf(core.name()).size());
+      CORES.add(core);
+    }
+
+    static List<String> keysOf(String topology) {
+      try (Jedis jedis = new Jedis(URI.create(url))) {
+        return List.copyOf(jedis.keys("prime:{" + topology + "}:*"));
+      }
+    }
+  }
+
+  @Test
+  void anOptimusRunsRedisKeysAreDeletedAfterItWhetherItPassedOrFailed() {
+    try (EmbeddedRedis redis = EmbeddedRedis.start();
+        Jedis jedis = new Jedis(URI.create(redis.getUri()))) {
+      jedis.set("someone-elses-key", "kept");
+      UsesRedis.url = redis.getUri();
+      EngineExecutionResults results =
+          EngineTestKit.engine("junit-jupiter")
+              .configurationParameter("prime.test.redis", redis.getUri())
+              .selectors(selectClass(UsesRedis.class))
+              .execute();
+
+      results.testEvents().assertStatistics(s -> s.succeeded(1).failed(1));
+      assertEquals(2, LOG.size(), LOG.toString());
+      for (String line : LOG) {
+        int during = Integer.parseInt(line.substring(line.indexOf(' ') + 1));
+        assertTrue(during >= 5, "the run had keys in Redis: " + line);
+      }
+      for (PrimeCore core : CORES) {
+        assertEquals(List.of(), UsesRedis.keysOf(core.name()), "keys of " + core.name() + " after its run");
+      }
+      assertEquals(Set.of("someone-elses-key"), jedis.keys("*"), "only the key that was not a run's is left");
     }
   }
 

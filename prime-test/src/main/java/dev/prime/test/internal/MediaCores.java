@@ -54,6 +54,19 @@ public final class MediaCores {
     return OptimusCores.create(config, redisUrl);
   }
 
+  /**
+   * Deletes the Redis keys of a closed Optimus core (its name is its run's own, so nothing else
+   * uses them); nothing on the other media, which keep nothing outside the JVM.
+   *
+   * @param media the media of the run
+   * @param core the run's core, closed
+   */
+  static void deleteKeys(Media media, PrimeCore core) {
+    if (media == Media.OPTIMUS) {
+      OptimusCores.deleteKeys(core);
+    }
+  }
+
   /** Starts an embedded redis-server for a test class. */
   static SharedRedis startEmbeddedRedis() {
     requireOnClassPath(Media.OPTIMUS);

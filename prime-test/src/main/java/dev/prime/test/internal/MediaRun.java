@@ -24,7 +24,7 @@ import org.junit.jupiter.api.extension.TestTemplateInvocationContext;
 /**
  * One run of a {@code @PrimeTest} method on one media: its display name and the extension that
  * makes the run's core (before the {@code @BeforeEach} methods), injects it, and closes it after
- * the {@code @AfterEach} methods.
+ * the {@code @AfterEach} methods (on Optimus, then deletes its Redis keys).
  *
  * <p>Design note: JUnit makes one instance per run and calls it from the run's thread; the core
  * is still kept under a lock, so that a test that spreads its own threads over the callbacks
@@ -80,6 +80,7 @@ final class MediaRun implements TestTemplateInvocationContext {
       }
       if (made != null) {
         made.close();
+        MediaCores.deleteKeys(media, made);
       }
     }
 

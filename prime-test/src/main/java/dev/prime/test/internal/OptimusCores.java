@@ -13,6 +13,13 @@ final class OptimusCores {
     return OptimusCore.builder().config(config).redis(redisUrl).build();
   }
 
+  /** Deletes the keys of {@code core}, closed, if it is an Optimus core (a setup may make another). */
+  static void deleteKeys(PrimeCore core) {
+    if (core instanceof OptimusCore optimus) {
+      optimus.deleteKeys();
+    }
+  }
+
   static SharedRedis startEmbeddedRedis() {
     EmbeddedRedis server = EmbeddedRedis.start();
     return new SharedRedis(server.getUri(), server::close);

@@ -1,0 +1,162 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.params.ScanParams
+import java.net.URI
+import java.time.Duration
+import java.util.UUID
+
+/**
+ * [OptimusCore.deleteKeys] on every Optimus set-up: it deletes all of a closed core's topology
+ * and nothing of another's, and refuses a core that is not closed.
+ */
+abstract class DeleteKeysTest {
+    /** The Redis URL the cores of this variant use. */
+    protected abstract val url: String
+
+    /** The keys of [topology], read straight from the server that holds them. */
+    protected abstract fun keysOf(topology: String): List<String>
+
+    @Test
+    fun deletesEveryKeyOfAClosedCoresTopologyAndNoneOfAnothers() {
+        val name = uniqueName("retired")
+        val otherName = uniqueName("kept")
+        core(otherName).use { other ->
+            val readings = EventBlock<Int>()
+            val kept = other.source("readings", readings).reader()
+            other.start()
+            readings.publish(1)
+            assertEquals(1, kept.take(PATIENCE).orElseThrow())
+            val otherKeys = keysOf(otherName)
+            assertTrue(otherKeys.isNotEmpty(), "the other topology has keys")
+
+            val core = core(name)
+            core.use {
+                val events = EventBlock<Int>()
+                val out = core.source("numbers", events)
+                    .then(core.chain("fragile") { x: Int -> check(x != 2) { "two is refused" }; x * 10 })
+                    .reader()
+                core.start()
+                events.publish(1)
+                events.publish(2) // dead-lettered
+                events.publish(3)
+                assertEquals(10, out.take(PATIENCE).orElseThrow())
+                assertEquals(30, out.take(PATIENCE).orElseThrow())
+                assertEquals(1, core.deadLetters("fragile").size)
+            }
+            val before = keysOf(name)
+            assertTrue(before.any { ":svc:fragile:dead" in it }, "a dead letter, a source log and more are left after close: $before")
+
+            assertEquals(before.size.toLong(), core.deleteKeys(), "deleted: every key that was there ($before)")
+            assertEquals(emptyList<String>(), keysOf(name), "nothing of the topology is left")
+            assertEquals(otherKeys.sorted(), keysOf(otherName).sorted(), "the other topology keeps every key")
+            assertEquals(0L, core.deleteKeys(), "run again, there is nothing to delete")
+
+            readings.publish(2) // the other core goes on
+            assertEquals(2, kept.take(PATIENCE).orElseThrow())
+        }
+    }
+
+    @Test
+    fun refusesACoreThatIsNotClosedAndDeletesNothing() {
+        val name = uniqueName("open")
+        core(name).use { core ->
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events).reader()
+            val beforeStart = assertThrows(IllegalStateException::class.java) { core.deleteKeys() }
+            assertEquals(
+                "core '$name' is not closed: close() it before deleteKeys() (its services and readers use those keys)",
+                beforeStart.message,
+            )
+            core.start()
+            events.publish(7)
+            assertEquals(7, out.take(PATIENCE).orElseThrow())
+            val keys = keysOf(name)
+            assertThrows(IllegalStateException::class.java) { core.deleteKeys() }
+            assertEquals(keys.sorted(), keysOf(name).sorted(), "a refused deleteKeys() deletes nothing")
+        }
+    }
+
+    private fun core(name: String): OptimusCore =
+        OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(url).build()
+
+    protected companion object {
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+
+        fun uniqueName(what: String) = "delete-keys-$what-" + UUID.randomUUID().toString().substring(0, 8)
+
+        /** Every key that matches `prime:{topology}:*` on the server [jedis] talks to. */
+        fun scanTopology(jedis: Jedis, topology: String): List<String> {
+            val params = ScanParams().match("prime:{$topology}:*").count(1000)
+            var cursor = ScanParams.SCAN_POINTER_START
+            val found = ArrayList<String>()
+            repeat(10_000) {
+                val page = jedis.scan(cursor, params)
+                found += page.result
+                cursor = page.cursor
+                if (cursor == ScanParams.SCAN_POINTER_START) return found
+            }
+            throw AssertionError("SCAN did not finish")
+        }
+    }
+}
+
+/** On one `redis-server`; also the cases that do not depend on the set-up. */
+class DeleteKeysOnRedisTest : DeleteKeysTest() {
+    override val url: String get() = TestRedis.url
+
+    override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { scanTopology(it, topology) }
+
+    @Test
+    fun aCoreOnAnEmbeddedRedisOfItsOwnHasNothingToDelete() {
+        val core = OptimusCore()
+        core.use {
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events).reader()
+            core.start()
+            events.publish(1)
+            assertEquals(1, out.take(PATIENCE).orElseThrow())
+        }
+        assertEquals(0L, core.deleteKeys())
+    }
+
+    @Test
+    fun givesUpWithRedisUnavailableWhenRedisCannotBeReached() {
+        FaultProxy(TestRedis.url).use { proxy ->
+            val name = uniqueName("unreachable")
+            val core = OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(proxy.url).build()
+            core.use { it.start() }
+            proxy.freeze()
+            val started = System.nanoTime()
+            val failure = assertThrows(RedisUnavailableException::class.java) { core.deleteKeys() }
+            val seconds = (System.nanoTime() - started) / 1e9
+            assertTrue(seconds < 15, "gave up after $seconds s, within its 10 s and a connect timeout")
+            assertTrue("delete the keys of topology '$name'" in failure.message!!, failure.message)
+        }
+    }
+}
+
+/** Through a proxy that holds every reply of Redis for half a millisecond. */
+class DeleteKeysOnSlowRedisTest : DeleteKeysTest() {
+    override val url: String get() = proxy.url
+
+    override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { scanTopology(it, topology) }
+
+    private companion object {
+        val proxy: FaultProxy by lazy { FaultProxy(TestRedis.url, replyDelayNanos = 500_000) }
+    }
+}
+
+/** On a Redis Cluster: the topology's keys are on the master of its slot. */
+class DeleteKeysOnClusterTest : DeleteKeysTest() {
+    override val url: String get() = TestCluster.url
+
+    override fun keysOf(topology: String): List<String> =
+        TestCluster.cluster.masterOfKey("prime:{$topology}:").jedis().use { scanTopology(it, topology) }
+}
