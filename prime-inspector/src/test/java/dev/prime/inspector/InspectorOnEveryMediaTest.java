@@ -13,6 +13,7 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.RecordingOptions;
+import dev.prime.optimus.FaultProxy;
 import dev.prime.optimus.OptimusCore;
 import dev.prime.test.CoreSetup;
 import dev.prime.test.Media;
@@ -29,7 +30,8 @@ import java.util.TreeSet;
  * The page of a running core on each media: the diagram of its services, the figures of its
  * metrics (queue depths where the media has them: Optimus), the values it recorded; closing the
  * inspector ends its threads and leaves the core running. And on Optimus, the services another
- * process hosts are marked so the page draws them dashed.
+ * process hosts are marked so the page draws them dashed. The Optimus runs again over a slow
+ * Redis.
  */
 class InspectorOnEveryMediaTest {
   private static final ObjectMapper JSON = new ObjectMapper();
@@ -52,6 +54,22 @@ class InspectorOnEveryMediaTest {
     }
   }
 
+  /** Optimus on the class's Redis through a proxy that holds every reply back half a millisecond. */
+  static final class WatchedOnSlowRedis extends Watched {
+    @Override
+    public PrimeCore optimus(CoreConfig config, String redisUrl) {
+      return OptimusCore.builder().config(config).redis(FaultProxy.slowLinkTo(redisUrl)).build();
+    }
+  }
+
+  /** {@link HostsOdometryOnly} on the slow Redis of {@link WatchedOnSlowRedis}. */
+  static final class HostsOdometryOnlyOnSlowRedis extends Watched {
+    @Override
+    public PrimeCore optimus(CoreConfig config, String redisUrl) {
+      return new HostsOdometryOnly().optimus(config, FaultProxy.slowLinkTo(redisUrl));
+    }
+  }
+
   private static Estimate odometry(Integer ticks) {
     return new Estimate(ticks * 0.5, -ticks);
   }
@@ -69,6 +87,12 @@ class InspectorOnEveryMediaTest {
       }
     }
     throw new AssertionError("no figures with " + total + " values into '" + node + "': " + figures);
+  }
+
+  @PrimeTest(media = Media.OPTIMUS, setup = WatchedOnSlowRedis.class)
+  void showsTheDiagramFiguresAndValuesOfACoreOnASlowRedis(PrimeCore core, Media media)
+      throws Exception {
+    showsTheDiagramFiguresAndValuesOfACoreOnEveryMediaAndLeavesItRunning(core, media);
   }
 
   @PrimeTest(setup = Watched.class)
@@ -120,6 +144,12 @@ class InspectorOnEveryMediaTest {
     assertFalse(core.isClosed(), "closing the inspector closed the core");
     encoders.publish(6);
     assertEquals(odometry(6), estimates.take(WAIT).orElseThrow(), "the core runs on");
+  }
+
+  @PrimeTest(media = Media.OPTIMUS, setup = HostsOdometryOnlyOnSlowRedis.class)
+  void servicesAnotherProcessHostsAreMarkedToBeDrawnDashedOnASlowRedis(PrimeCore core)
+      throws Exception {
+    servicesAnotherProcessHostsAreMarkedToBeDrawnDashed(core);
   }
 
   @PrimeTest(media = Media.OPTIMUS, setup = HostsOdometryOnly.class)

@@ -231,3 +231,5 @@ internal class LibertyFlowTest : FlowKit(Liberty)
 internal class RadiantFlowTest : FlowKit(Radiant)
 
 internal class OptimusFlowTest : FlowKit(Optimus)
+
+internal class OptimusSlowRedisFlowTest : FlowKit(OptimusSlowRedis)

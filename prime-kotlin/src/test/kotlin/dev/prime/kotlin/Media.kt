@@ -4,6 +4,7 @@ import dev.prime.CoreConfig
 import dev.prime.PrimeCore
 import dev.prime.liberty.LibertyCore
 import dev.prime.optimus.EmbeddedRedis
+import dev.prime.optimus.FaultProxy
 import dev.prime.optimus.OptimusCore
 import dev.prime.radiant.RadiantCore
 import redis.clients.jedis.Jedis
@@ -38,7 +39,7 @@ internal object Radiant : Media {
 
 /** Optimus on one embedded Redis for this test JVM (each core is its own namespace on it). */
 internal object Optimus : Media {
-    private val redis: EmbeddedRedis by lazy { EmbeddedRedis.start() }
+    internal val redis: EmbeddedRedis by lazy { EmbeddedRedis.start() }
 
     override fun newCore(config: CoreConfig): PrimeCore =
         OptimusCore.builder().config(config).redis(redis.uri).build()
@@ -47,4 +48,14 @@ internal object Optimus : Media {
 
     override fun readersKept(core: PrimeCore, source: String): Long? =
         Jedis(URI(redis.uri)).use { it.scard("prime:{${core.name()}}:src:$source:readers") }
+}
+
+/**
+ * The awkward variant: Optimus on the same Redis through a proxy that holds every reply back half
+ * a millisecond (as the conformance kit's slow-Redis variant), so values are in flight while
+ * flows collect, suspending calls wait and cores close.
+ */
+internal object OptimusSlowRedis : Media by Optimus {
+    override fun newCore(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(FaultProxy.slowLinkTo(Optimus.redis.uri)).build()
 }

@@ -272,3 +272,5 @@ internal class LibertySuspendingCallTest : SuspendingCallKit(Liberty)
 internal class RadiantSuspendingCallTest : SuspendingCallKit(Radiant)
 
 internal class OptimusSuspendingCallTest : SuspendingCallKit(Optimus)
+
+internal class OptimusSlowRedisSuspendingCallTest : SuspendingCallKit(OptimusSlowRedis)

@@ -7,6 +7,8 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.RecordingOptions;
+import dev.prime.optimus.FaultProxy;
+import dev.prime.optimus.OptimusCore;
 import dev.prime.test.CoreSetup;
 import dev.prime.test.Media;
 import dev.prime.test.PrimeTest;
@@ -42,6 +44,19 @@ class RecordingMcapOnEveryMediaTest {
     }
   }
 
+  /** Optimus on the class's Redis through a proxy that holds every reply back half a millisecond. */
+  static final class RecordedOnSlowRedis implements CoreSetup {
+    @Override
+    public void configure(Media media, CoreConfig.Builder config) {
+      new Recorded().configure(media, config);
+    }
+
+    @Override
+    public PrimeCore optimus(CoreConfig config, String redisUrl) {
+      return OptimusCore.builder().config(config).redis(FaultProxy.slowLinkTo(redisUrl)).build();
+    }
+  }
+
   private static Pose odometry(Integer ticks) {
     return new Pose(ticks, -ticks / 2.0);
   }
@@ -52,6 +67,11 @@ class RecordingMcapOnEveryMediaTest {
       taken.add(reader.take(WAIT).orElseThrow(() -> new AssertionError("no value within " + WAIT)));
     }
     return taken;
+  }
+
+  @PrimeTest(media = Media.OPTIMUS, setup = RecordedOnSlowRedis.class)
+  void aRunIsWrittenStreamedAndReplayedOnASlowRedis(PrimeCore core) throws Exception {
+    aRunIsWrittenStreamedAndReplayedOnEveryMedia(core);
   }
 
   @PrimeTest(setup = Recorded.class)

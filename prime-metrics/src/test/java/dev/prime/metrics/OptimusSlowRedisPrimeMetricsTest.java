@@ -20,7 +20,7 @@ class OptimusSlowRedisPrimeMetricsTest extends OptimusPrimeMetricsTest {
   @Override
   PrimeCore newCore(CoreConfig config) {
     EmbeddedRedis redis = EmbeddedRedis.start();
-    FaultProxy proxy = new FaultProxy(redis.getUri(), 500_000);
+    FaultProxy proxy = new FaultProxy(redis.getUri(), FaultProxy.SLOW_REPLY_NANOS);
     redisOfCores.add(redis);
     redisOfCores.add(proxy);
     return OptimusCore.builder().config(config).redis(proxy.getUrl()).build();

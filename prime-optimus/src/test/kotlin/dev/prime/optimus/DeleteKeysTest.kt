@@ -144,13 +144,9 @@ class DeleteKeysOnRedisTest : DeleteKeysTest() {
 
 /** Through a proxy that holds every reply of Redis for half a millisecond. */
 class DeleteKeysOnSlowRedisTest : DeleteKeysTest() {
-    override val url: String get() = proxy.url
+    override val url: String get() = FaultProxy.slowLinkTo(TestRedis.url)
 
     override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { scanTopology(it, topology) }
-
-    private companion object {
-        val proxy: FaultProxy by lazy { FaultProxy(TestRedis.url, replyDelayNanos = 500_000) }
-    }
 }
 
 /** On a Redis Cluster: the topology's keys are on the master of its slot. */

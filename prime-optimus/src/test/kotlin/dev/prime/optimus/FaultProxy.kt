@@ -130,8 +130,26 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
         Thread(body, name).apply { isDaemon = true }.start()
     }
 
-    private companion object {
-        fun contains(buffer: ByteArray, length: Int, wanted: ByteArray): Boolean {
+    companion object {
+        /** How long the slow-Redis variants hold every chunk of a reply back: half a millisecond. */
+        const val SLOW_REPLY_NANOS: Long = 500_000
+
+        private val slowLinks = ConcurrentHashMap<String, FaultProxy>()
+
+        /**
+         * The URL of a proxy in front of the Redis at [target] that holds every reply back
+         * [SLOW_REPLY_NANOS] (the kit's slow Redis), for tests handed a Redis URL they do not own
+         * (a `CoreSetup` of `@PrimeTest`). One proxy per target for the JVM, closed when it ends.
+         */
+        @JvmStatic
+        fun slowLinkTo(target: String): String = slowLinks.computeIfAbsent(target) { url ->
+            if (slowLinks.isEmpty()) {
+                Runtime.getRuntime().addShutdownHook(Thread({ slowLinks.values.forEach(FaultProxy::close) }, "fault-proxy-close"))
+            }
+            FaultProxy(url, SLOW_REPLY_NANOS)
+        }.url
+
+        private fun contains(buffer: ByteArray, length: Int, wanted: ByteArray): Boolean {
             outer@ for (start in 0..length - wanted.size) {
                 for (i in wanted.indices) if (buffer[start + i] != wanted[i]) continue@outer
                 return true

@@ -11,23 +11,23 @@ import dev.prime.conformance.MediaConformance
  */
 class OptimusSlowRedisConformanceTest : MediaConformance {
     override fun newCore(config: CoreConfig): PrimeCore =
-        OptimusCore.builder().config(config).redis(proxy.url).build()
+        OptimusCore.builder().config(config).redis(slowUrl).build()
 
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
     /** A service's input holds its queue limit, not the retention. */
     override fun newCoreWithServiceInputCapacity(config: CoreConfig, capacity: Int): PrimeCore =
-        OptimusCore.builder().config(config).redis(proxy.url).queueLimit(capacity).build()
+        OptimusCore.builder().config(config).redis(slowUrl).queueLimit(capacity).build()
 
     /** Blocks run in services: a VirtualMachineError reaches the caller promptly, then ends the service. */
     override fun blocksRunOnTheCallersThread(): Boolean = false
 
     /** Cores of one name on one Redis share a topology; each runs only the services it hosts. */
     override fun newCoreHosting(config: CoreConfig, services: Set<String>): PrimeCore =
-        OptimusCore.builder().config(config).redis(proxy.url).hosts(services).build()
+        OptimusCore.builder().config(config).redis(slowUrl).hosts(services).build()
 
     private companion object {
-        val proxy: FaultProxy by lazy { FaultProxy(TestRedis.url, replyDelayNanos = 500_000) }
+        val slowUrl: String get() = FaultProxy.slowLinkTo(TestRedis.url)
     }
 
     /** A value on which a service's block threw is dead-lettered. */
