@@ -133,6 +133,26 @@ public final class Metrics {
   }
 
   /**
+   * Whether a metered node has an input queue on this media, so that {@link
+   * ServiceMetrics#queueDepth()} of its snapshots is a count whenever the media can read it: a
+   * filter's, flat-map's or listener's input on every media, and every service's input on Optimus.
+   * It does not depend on reading the queue, so it tells a node without a queue (always {@code
+   * -1}) from a queue that cannot be read now (Optimus while Redis is unreachable).
+   *
+   * @param name its name in the topology model
+   * @return whether it has a queue
+   * @throws IllegalArgumentException if no metered node has that name (the message lists those
+   *     that have)
+   */
+  public boolean hasQueue(String name) {
+    ServiceMeter meter = meter(name);
+    if (meter.queueDepth() >= 0) {
+      return true; // an input queue of the core's own
+    }
+    return gauges != null && !meter.isSource() && !meter.runByCore() && gauges.hasQueue(name);
+  }
+
+  /**
    * Calls {@code listener} with the time of every value the node {@code service} processes from
    * now on, on the thread that processed it (see {@link ProcessingListener}). A metrics library
    * that keeps its own histogram registers one per node.

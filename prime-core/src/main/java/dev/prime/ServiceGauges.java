@@ -18,6 +18,19 @@ public interface ServiceGauges {
   long queueDepth(String service);
 
   /**
+   * Whether the media has an input queue for a service, whether or not it can read it now; asked
+   * when a metrics library registers its meters, so that a queue that cannot be read at that
+   * moment still gets its gauge. The default, {@code queueDepth(service) >= 0}, suits a media
+   * that can always read its queues; a media that reads them remotely overrides it.
+   *
+   * @param service a metered node's name
+   * @return whether {@link #queueDepth} counts a queue of it
+   */
+  default boolean hasQueue(String service) {
+    return queueDepth(service) >= 0;
+  }
+
+  /**
    * Values of a service the media set aside as dead letters.
    *
    * @param service a metered node's name

@@ -31,7 +31,7 @@ import java.util.Objects;
  *     -1} where the media has no queue for the node (a chain on Liberty and Radiant runs in its
  *     caller's thread or inside the service it is linked into; a source has no input; generic
  *     services, combinators and timers have none on any media) or cannot
- *     read it now (Optimus with Redis unreachable)
+ *     read it now (Optimus with Redis unreachable); {@link Metrics#hasQueue} tells the two apart
  * @param missed for an event source, the values its plain readers missed (see {@link
  *     Reader#missed()}), as this process counted them: on Liberty and Radiant when a lagging
  *     reader next reads, on Optimus when a publish of this process trims a reader's list; 0 for

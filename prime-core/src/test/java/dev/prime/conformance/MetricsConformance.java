@@ -1,6 +1,7 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
@@ -95,7 +96,16 @@ public interface MetricsConformance extends ConformanceBase {
       for (ServiceMetrics service : metrics.services()) {
         assertEquals(0, service.deadLetters(), service.toString());
         assertEquals(0, service.missed(), service.toString());
+        assertEquals(service.queueDepth() >= 0, metrics.hasQueue(service.name()),
+            "hasQueue agrees with a queue depth read now: " + service);
       }
+      assertTrue(metrics.hasQueue("filter(numbers>double)"), "a filter's input is a queue");
+      assertFalse(metrics.hasQueue("numbers"), "a source has no input queue");
+      assertEquals(!blocksRunOnTheCallersThread(), metrics.hasQueue("double"));
+      assertEquals(!blocksRunOnTheCallersThread(), metrics.hasQueue("length"));
+      IllegalArgumentException unknown =
+          assertThrows(IllegalArgumentException.class, () -> metrics.hasQueue("no-such-node"));
+      assertTrue(unknown.getMessage().contains("no-such-node"), unknown.getMessage());
       assertEquals(List.of(), failures);
     }
   }
@@ -441,6 +451,7 @@ public interface MetricsConformance extends ConformanceBase {
       assertEquals(4, driver.valuesIn(), driver.toString());
       assertEquals(3, driver.processing().count(), "the waiting call is not timed yet: " + driver);
       assertEquals(-1, driver.queueDepth(), "a generic service has no input queue: " + driver);
+      assertFalse(core.metrics().hasQueue("driver"), "a generic service has no input queue");
       assertEquals(0, driver.deadLetters(), driver.toString());
       assertTrue(core.metrics().names().contains("driver"), core.metrics().names().toString());
       assertEquals(1, handled.size(), "the error handler saw the failure: " + handled);
@@ -473,6 +484,7 @@ public interface MetricsConformance extends ConformanceBase {
               m -> m.valuesIn() == 5 && m.valuesOut() == 2 && m.processing().count() == 5);
       assertCounts(zip, "Combinator", 5, 2, 0);
       assertEquals(-1, zip.queueDepth(), zip.toString());
+      assertFalse(core.metrics().hasQueue(pairs.name()), "a combinator has no input queue");
       assertEquals(0, zip.deadLetters(), zip.toString());
       assertCounts(core.metrics().service("left"), "EventSource", 3, 3, 0);
       assertEquals(List.of(), failures);
@@ -496,6 +508,7 @@ public interface MetricsConformance extends ConformanceBase {
               m -> m.valuesOut() == 100 && m.valuesIn() == 100 && m.processing().count() == 100);
       assertCounts(beat, "Timer", 100, 100, 0);
       assertEquals(-1, beat.queueDepth(), beat.toString());
+      assertFalse(core.metrics().hasQueue("beat"), "a timer has no input queue");
       assertEquals(0, beat.deadLetters(), beat.toString());
     }
   }

@@ -41,8 +41,9 @@ import java.util.function.ToDoubleFunction;
  *       <td>{@link ServiceMetrics#deadLetters()} (a gauge: clearing an Optimus service's dead
  *       letters lowers it)</td></tr>
  *   <tr><td>{@value #QUEUE_DEPTH}</td><td>gauge</td>
- *       <td>{@link ServiceMetrics#queueDepth()}; only for nodes with a queue when bound (NaN
- *       while the media cannot read it)</td></tr>
+ *       <td>{@link ServiceMetrics#queueDepth()}; only for nodes with a queue ({@link
+ *       dev.prime.Metrics#hasQueue}), also when bound while the media cannot read it (NaN while
+ *       it cannot)</td></tr>
  *   <tr><td>{@value #PROCESSING}</td><td>timer with a percentile histogram</td>
  *       <td>the time of every value processed after binding, recorded by a {@link
  *       dev.prime.ProcessingListener} on the thread that processed it</td></tr>
@@ -184,7 +185,7 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
           ServiceMetrics::missed));
       meters.add(gauge(registry, DEAD_LETTERS, "values the media set aside as dead letters",
           tags, name, ServiceMetrics::deadLetters));
-      if (service.queueDepth() >= 0) {
+      if (metrics.hasQueue(name)) {
         meters.add(gauge(registry, QUEUE_DEPTH, "values in the node's input not finished",
             tags, name, ServiceMetrics::queueDepth));
       }

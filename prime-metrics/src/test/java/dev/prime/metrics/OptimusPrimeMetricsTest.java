@@ -1,11 +1,15 @@
 package dev.prime.metrics;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNotNull;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
+import dev.prime.optimus.EmbeddedRedis;
+import dev.prime.optimus.FaultProxy;
 import dev.prime.optimus.OptimusCore;
 import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
@@ -64,6 +68,44 @@ class OptimusPrimeMetricsTest extends PrimeMetricsContract {
       assertEquals(2, deadLetters.value());
       assertEquals(2, core.clearDeadLetters("picky"));
       assertEquals(0, deadLetters.value());
+    }
+  }
+
+  /**
+   * A service's queue-depth gauge is registered when the binder binds while Redis is unreachable
+   * (it reads NaN then), and reads the queue once Redis answers again.
+   */
+  @Test
+  void aQueueBoundWhileRedisIsUnreachableGetsItsGaugeWhichReadsOnceRedisIsBack() throws Exception {
+    try (EmbeddedRedis redis = EmbeddedRedis.start();
+        FaultProxy proxy = new FaultProxy(redis.getUri());
+        OptimusCore core =
+            OptimusCore.builder()
+                .config(CoreConfig.builder().metrics(true).build())
+                .redis(proxy.getUrl())
+                .build()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out = core.source("numbers", events).then(core.chain("same", (Integer x) -> x)).reader();
+      core.start();
+      proxy.refuse();
+      assertEquals(-1, core.metrics().service("same").queueDepth(), "Redis cannot be read now");
+      assertTrue(core.metrics().hasQueue("same"));
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(core, Duration.ZERO).bindTo(registry);
+      Gauge depth = registry.find(PrimeMetrics.QUEUE_DEPTH).tag("service", "same").gauge();
+      assertNotNull(depth, "a queue-depth gauge for the service, bound while Redis was down");
+      assertEquals(Double.NaN, depth.value());
+
+      proxy.restore();
+      events.publish(5);
+      assertEquals(5, take(out));
+      // Redis answers (the value went through); the gauges' own connection was cut, so their
+      // first read may fail (NaN) and drop it, and the next one connects anew
+      double read = depth.value();
+      for (int i = 0; i < 3 && Double.isNaN(read); i++) {
+        read = depth.value();
+      }
+      assertEquals(0, read, "the gauge reads the queue once Redis answers");
     }
   }
 

@@ -28,6 +28,8 @@ internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompil
 
     override fun queueDepth(service: String): Long = gauges.queueDepth(service)
 
+    override fun hasQueue(service: String): Boolean = gauges.hasQueue(service)
+
     override fun deadLetters(service: String): Long = gauges.deadLetters(service)
 
     override fun missed(source: String): Long = gauges.missed(source)

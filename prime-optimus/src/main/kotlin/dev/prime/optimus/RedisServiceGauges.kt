@@ -28,6 +28,9 @@ internal class RedisServiceGauges(private val core: OptimusCore) : ServiceGauges
         Script.QUEUE_DEPTH.run(jedis, lists, emptyList()) as Long
     }
 
+    /** Every Optimus service the core asks about has an input list, read or not. */
+    override fun hasQueue(service: String): Boolean = true
+
     override fun deadLetters(service: String): Long = read { jedis ->
         val kept = jedis.llen(core.keys.deadLetters(service))
         val trimmed = jedis.get(core.keys.deadLettersTrimmed(service))?.toString(UTF_8)?.toLong() ?: 0L

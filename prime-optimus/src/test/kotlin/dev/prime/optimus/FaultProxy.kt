@@ -17,6 +17,8 @@ import java.util.concurrent.locks.LockSupport
  *   reached Redis.
  * - [freeze]: stops forwarding in both directions and leaves every socket open (new connections
  *   are accepted and then left silent): a network that drops everything, as a pulled cable.
+ * - [refuse]: closes every connection and each new one, until [restore]: a Redis that is down
+ *   (every attempt fails at once, where a frozen one waits for its timeout).
  * - [replyDelayNanos]: holds every chunk of a reply back that long: a slow network, for the
  *   awkward (slow-Redis) variant of the conformance kit.
  *
@@ -33,6 +35,7 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
     private val lock = Object()
     private var frozen = false // guarded by lock
     @Volatile private var marker: ByteArray? = null
+    @Volatile private var refusing = false
     private val markedWrites = AtomicInteger()
 
     /** How many connections were cut after forwarding a marked write. */
@@ -47,6 +50,10 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
                     server.accept()
                 } catch (_: IOException) {
                     return@daemon
+                }
+                if (refusing) {
+                    client.close()
+                    continue
                 }
                 client.tcpNoDelay = true // as Redis and Jedis do: no write waits for the last one's ACK
                 sockets += client
@@ -70,6 +77,17 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
     /** Cuts the connection after forwarding every other client write that contains [text]. */
     fun cutAfterWritesContaining(text: String) {
         marker = text.toByteArray()
+    }
+
+    /** Closes every connection, and each new one at once, until [restore]: a Redis that is down. */
+    fun refuse() {
+        refusing = true
+        sockets.forEach { it.close() }
+    }
+
+    /** Connects new connections to Redis again, after [refuse]. */
+    fun restore() {
+        refusing = false
     }
 
     /** Stops forwarding; connections stay open and silent until [thaw]. */
