@@ -361,17 +361,20 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * where the last one stopped); delete them for a topology you retire, or after a test that
      * gave its run a topology of its own on a shared Redis (`@PrimeTest` does so after every run).
      *
-     * Only on a closed core, and only once no other process runs the topology on this Redis:
-     * a process that still does recreates keys as it goes, and the values it had are lost. Keys of
-     * other topologies are not touched (they have other names). A core on an embedded Redis of
+     * Only on a closed core, and only once no other process runs the topology on this Redis: one
+     * whose liveness lease lives (from its first reader or [start] until its [close], or until the
+     * lease lapses after it died) makes this refuse and delete nothing. Keys of other topologies
+     * are not touched (they have other names). A core on an embedded Redis of
      * its own has nothing to delete: its data went with its server at [close]; this returns 0.
      *
      * The deletion is not atomic: it scans the topology's keys (the Redis user needs `scan` besides
      * the commands a core needs) and deletes them in batches, retrying on a new connection while
-     * Redis is unreachable, for at most 10 s. Run again, it deletes what is left.
+     * Redis is unreachable, for at most 10 s. Run again, it deletes what is left. A process that
+     * starts the topology while it runs may find some keys gone.
      *
      * @return how many keys were deleted
-     * @throws IllegalStateException if the core is not closed
+     * @throws IllegalStateException if the core is not closed, or another process runs the
+     *   topology (the message names it)
      * @throws RedisUnavailableException if Redis cannot be reached for 10 s
      * @throws dev.prime.PrimeException if the Redis user lacks `scan`, `del` or the topology's keys
      *   (the message says what to grant)
@@ -390,6 +393,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             explainingRefusals(what) {
                 RedisSession(connections).use { session ->
                     session.retryingUntil(deadline, what) { jedis ->
+                        val running = jedis.smembers(keys.instances)
+                            .mapNotNull { jedis.get(keys.instanceLease(it.toString(UTF_8)))?.toString(UTF_8) }
+                        check(running.isEmpty()) {
+                            "topology '${name()}' is still run by ${running.size} other process(es) on this Redis " +
+                                "(${running.sorted().joinToString()}): close them before deleteKeys(), or if they died, " +
+                                "wait until their leases lapse (leaseTime, ${leaseTime.toMillis()} ms here); nothing was deleted"
+                        }
                         val match = ScanParams().match(keys.all).count(DELETE_KEYS_BATCH)
                         var cursor = ScanParams.SCAN_POINTER_START_BINARY
                         do {

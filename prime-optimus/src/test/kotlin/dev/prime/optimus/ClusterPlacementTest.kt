@@ -6,7 +6,6 @@ import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertNotEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
-import redis.clients.jedis.params.ScanParams
 import java.time.Duration
 
 /**
@@ -47,16 +46,6 @@ class ClusterPlacementTest {
     private fun core(name: String) =
         OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(TestCluster.url).build()
 
-    private fun keysOf(node: LocalRedisCluster.Node, topology: String): List<String> = node.jedis().use { jedis ->
-        val params = ScanParams().match("prime:{$topology}:*").count(1000)
-        var cursor = ScanParams.SCAN_POINTER_START
-        val found = ArrayList<String>()
-        repeat(10_000) {
-            val page = jedis.scan(cursor, params)
-            found += page.result
-            cursor = page.cursor
-            if (cursor == ScanParams.SCAN_POINTER_START) return@use found
-        }
-        throw AssertionError("SCAN of $node did not finish")
-    }
+    private fun keysOf(node: LocalRedisCluster.Node, topology: String): List<String> =
+        node.jedis().use { TestRedis.keysOf(it, topology) }
 }

@@ -7,7 +7,6 @@ import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
-import redis.clients.jedis.params.ScanParams
 import java.net.URI
 import java.time.Duration
 import java.util.UUID
@@ -83,6 +82,34 @@ abstract class DeleteKeysTest {
         }
     }
 
+    @Test
+    fun refusesWhileAnotherProcessRunsTheTopologyAndDeletesOnceItIsClosed() {
+        val name = uniqueName("shared")
+        val core = core(name)
+        core.use {
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events).reader()
+            core.start()
+            events.publish(1)
+            assertEquals(1, out.take(PATIENCE).orElseThrow())
+        }
+        // another process of the topology: it hosts nothing and reads the source
+        OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(url).hosts(emptyList()).build().use { other ->
+            other.source("numbers", EventBlock<Int>()).reader()
+            other.start()
+            val keys = keysOf(name)
+            val refused = assertThrows(IllegalStateException::class.java) { core.deleteKeys() }
+            assertTrue(
+                refused.message!!.startsWith("topology '$name' is still run by 1 other process(es) on this Redis ("),
+                refused.message,
+            )
+            assertTrue("nothing was deleted" in refused.message!!, refused.message)
+            assertTrue(keysOf(name).containsAll(keys), "a refused deleteKeys() deletes nothing")
+        }
+        assertTrue(core.deleteKeys() > 0, "once the other process closed")
+        assertEquals(emptyList<String>(), keysOf(name))
+    }
+
     private fun core(name: String): OptimusCore =
         OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(url).build()
 
@@ -90,20 +117,6 @@ abstract class DeleteKeysTest {
         val PATIENCE: Duration = Duration.ofSeconds(20)
 
         fun uniqueName(what: String) = "delete-keys-$what-" + UUID.randomUUID().toString().substring(0, 8)
-
-        /** Every key that matches `prime:{topology}:*` on the server [jedis] talks to. */
-        fun scanTopology(jedis: Jedis, topology: String): List<String> {
-            val params = ScanParams().match("prime:{$topology}:*").count(1000)
-            var cursor = ScanParams.SCAN_POINTER_START
-            val found = ArrayList<String>()
-            repeat(10_000) {
-                val page = jedis.scan(cursor, params)
-                found += page.result
-                cursor = page.cursor
-                if (cursor == ScanParams.SCAN_POINTER_START) return found
-            }
-            throw AssertionError("SCAN did not finish")
-        }
     }
 }
 
@@ -111,7 +124,7 @@ abstract class DeleteKeysTest {
 class DeleteKeysOnRedisTest : DeleteKeysTest() {
     override val url: String get() = TestRedis.url
 
-    override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { scanTopology(it, topology) }
+    override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { TestRedis.keysOf(it, topology) }
 
     @Test
     fun aCoreOnAnEmbeddedRedisOfItsOwnHasNothingToDelete() {
@@ -146,7 +159,7 @@ class DeleteKeysOnRedisTest : DeleteKeysTest() {
 class DeleteKeysOnSlowRedisTest : DeleteKeysTest() {
     override val url: String get() = FaultProxy.slowLinkTo(TestRedis.url)
 
-    override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { scanTopology(it, topology) }
+    override fun keysOf(topology: String): List<String> = Jedis(URI(TestRedis.url)).use { TestRedis.keysOf(it, topology) }
 }
 
 /** On a Redis Cluster: the topology's keys are on the master of its slot. */
@@ -154,5 +167,5 @@ class DeleteKeysOnClusterTest : DeleteKeysTest() {
     override val url: String get() = TestCluster.url
 
     override fun keysOf(topology: String): List<String> =
-        TestCluster.cluster.masterOfKey("prime:{$topology}:").jedis().use { scanTopology(it, topology) }
+        TestCluster.cluster.masterOfKey("prime:{$topology}:").jedis().use { TestRedis.keysOf(it, topology) }
 }

@@ -14,11 +14,7 @@ class RedisAclTest {
     @Test
     fun aUserWithoutTheTopologysKeysIsToldWhichPatternToGrant() {
         val user = "prime-otherkeys"
-        Jedis(URI(TestRedis.url)).use { admin ->
-            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~other:*", "&*", "+@all")
-        }
-        try {
-            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+        withUser(user, "~other:*", "&*", "+@all") { url ->
             OptimusCore.builder().redis(url).config(dev.prime.CoreConfig.builder().name("locked").build()).build().use { core ->
                 val numbers = core.source("numbers", EventBlock<Int>())
                 val refused = assertThrows(PrimeException::class.java) { numbers.reader() }
@@ -26,38 +22,26 @@ class RedisAclTest {
                 assertTrue("'$user'" in message, message)
                 assertTrue("prime:{locked}:*" in message, message)
             }
-        } finally {
-            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
         }
     }
 
     @Test
     fun deletingAClosedCoresKeysWithoutScanIsToldToGrantIt() {
         val user = "prime-noscan"
-        Jedis(URI(TestRedis.url)).use { admin ->
-            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~*", "&*", "+@all", "-scan")
-        }
-        try {
-            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+        withUser(user, "~*", "&*", "+@all", "-scan") { url ->
             val core = OptimusCore.builder().redis(url).config(dev.prime.CoreConfig.builder().name("noscan").build()).build()
             core.use { it.start() }
             val refused = assertThrows(PrimeException::class.java) { core.deleteKeys() }
             val message = refused.message!!
             assertTrue("delete the keys of topology 'noscan' was refused: the Redis user '$user' lacks the command 'scan'" in message, message)
             assertTrue("ACL SETUSER $user +scan" in message, message)
-        } finally {
-            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
         }
     }
 
     @Test
     fun aUserWithoutACommandOptimusNeedsIsToldWhichOne() {
         val user = "prime-noscript"
-        Jedis(URI(TestRedis.url)).use { admin ->
-            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~*", "&*", "+@all", "-evalsha", "-eval")
-        }
-        try {
-            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+        withUser(user, "~*", "&*", "+@all", "-evalsha", "-eval") { url ->
             OptimusCore.builder().redis(url).build().use { core ->
                 val numbers = core.source("numbers", EventBlock<Int>())
                 val refused = assertThrows(PrimeException::class.java) { numbers.reader() }
@@ -66,19 +50,13 @@ class RedisAclTest {
                 assertTrue("evalsha" in message.lowercase(), message)
                 assertTrue("docs/architecture.md" in message, message)
             }
-        } finally {
-            Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
         }
     }
 
     @Test
     fun aCallerAndAReaderWithoutACommandTheyNeedAreToldWhichOne() {
         val user = "prime-noblmove"
-        Jedis(URI(TestRedis.url)).use { admin ->
-            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", "~*", "&*", "+@all", "-blmove")
-        }
-        try {
-            val url = TestRedis.url.replace("redis://", "redis://$user:secret@")
+        withUser(user, "~*", "&*", "+@all", "-blmove") { url ->
             val config = dev.prime.CoreConfig.builder().name("acl-caller").build()
             // hosts nothing: the call's request waits in Redis, and the caller's wait for the reply needs BLMOVE
             OptimusCore.builder().redis(url).config(config).hosts(emptyList()).callTimeout(java.time.Duration.ofSeconds(5)).build().use { core ->
@@ -95,6 +73,19 @@ class RedisAclTest {
                     assertTrue("docs/architecture.md" in message, message)
                 }
             }
+        }
+    }
+
+    /**
+     * Runs [body] with the URL of a Redis user [user] (password `secret`) that has the ACL [rules]
+     * besides `reset on`, deleting the user afterwards.
+     */
+    private fun withUser(user: String, vararg rules: String, body: (String) -> Unit) {
+        Jedis(URI(TestRedis.url)).use { admin ->
+            admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "SETUSER", user, "reset", "on", ">secret", *rules)
+        }
+        try {
+            body(TestRedis.url.replace("redis://", "redis://$user:secret@"))
         } finally {
             Jedis(URI(TestRedis.url)).use { admin -> admin.sendCommand(redis.clients.jedis.Protocol.Command.ACL, "DELUSER", user) }
         }

@@ -39,8 +39,9 @@ import org.junit.jupiter.api.extension.ExtendWith;
  *   <li>The core is made (not started) on first use and closed after the run, after the
  *       {@code @AfterEach} methods, whether the test passed or failed. On Optimus its Redis keys
  *       are then deleted ({@code OptimusCore.deleteKeys()}), so a Redis the runs share keeps
- *       nothing of the runs that are over; if Redis cannot be reached for that (10 s), the run
- *       fails with a {@code RedisUnavailableException}.
+ *       nothing of the runs that are over. The run fails if they cannot be deleted: with a
+ *       {@code RedisUnavailableException} if Redis cannot be reached for 10 s, with an {@code
+ *       IllegalStateException} if another core of the run's name is still open.
  *   <li>Every core has a name of its own ({@code test-liberty-1-k3f9}, ...: see {@link
  *       CoreSetup#configure}), so runs never see each other's sources or Redis keys.
  *   <li>Optimus runs share one Redis per test class: an embedded {@code redis-server} started

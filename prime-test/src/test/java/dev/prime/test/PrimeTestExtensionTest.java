@@ -563,6 +563,39 @@ class PrimeTestExtensionTest {
     }
   }
 
+  static class LeavesASecondCoreOpen {
+    static final List<PrimeCore> LEFT_OPEN = new CopyOnWriteArrayList<>();
+
+    @PrimeTest(media = Media.OPTIMUS)
+    void passes(PrimeCore core) {
+      OptimusCore second =
+          OptimusCore.builder()
+              .config(CoreConfig.builder().name(core.name()).build())
+              .redis(((OptimusCore) core).getRedisUrl())
+              .hosts(List.of())
+              .build();
+      LEFT_OPEN.add(second);
+      second.source("numbers", new EventBlock<Integer>()).reader();
+      second.start();
+    }
+  }
+
+  @Test
+  void anOptimusRunWhoseKeysCannotBeDeletedBecauseAnotherCoreOfItsNameIsOpenFails() {
+    try {
+      EngineExecutionResults results = run(LeavesASecondCoreOpen.class);
+      results.testEvents().assertStatistics(s -> s.failed(1));
+      Throwable thrown =
+          results.testEvents().failed().stream().findFirst().orElseThrow()
+              .getPayload(TestExecutionResult.class).orElseThrow().getThrowable().orElseThrow();
+      assertInstanceOf(IllegalStateException.class, thrown);
+      assertTrue(thrown.getMessage().contains("is still run by 1 other process(es)"), thrown.getMessage());
+    } finally {
+      LeavesASecondCoreOpen.LEFT_OPEN.forEach(PrimeCore::close);
+      LeavesASecondCoreOpen.LEFT_OPEN.clear();
+    }
+  }
+
   // ------------------------------------------------------------------ helpers
 
   static EngineExecutionResults run(Class<?> testClass) {
