@@ -364,8 +364,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Only on a closed core, and only once no other process runs the topology on this Redis: one
      * whose liveness lease lives (from its first reader or [start] until its [close], or until the
      * lease lapses after it died) makes this refuse and delete nothing. Keys of other topologies
-     * are not touched (they have other names). A core on an embedded Redis of
-     * its own has nothing to delete: its data went with its server at [close]; this returns 0.
+     * are not touched (they have other names). A core on an embedded Redis of its own has nothing
+     * to delete: its data went with its server at [close]; this returns 0.
      *
      * The deletion is not atomic: it scans the topology's keys (the Redis user needs `scan` besides
      * the commands a core needs) and deletes them in batches, retrying on a new connection while

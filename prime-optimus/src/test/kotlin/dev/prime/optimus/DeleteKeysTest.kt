@@ -83,6 +83,25 @@ abstract class DeleteKeysTest {
     }
 
     @Test
+    fun aToolRetiresATopologyWithACoreOfItsNameBuiltAndClosedWithoutStarting() {
+        val name = uniqueName("tool")
+        core(name).use { core ->
+            val events = EventBlock<Int>()
+            val out = core.source("numbers", events).then(core.chain("twice") { x: Int -> 2 * x }).reader()
+            core.start()
+            events.publish(21)
+            assertEquals(42, out.take(PATIENCE).orElseThrow())
+        }
+        val left = keysOf(name)
+        assertTrue(left.isNotEmpty(), "the topology's keys outlive its core")
+
+        val tool = core(name)
+        tool.close()
+        assertEquals(left.size.toLong(), tool.deleteKeys())
+        assertEquals(emptyList<String>(), keysOf(name))
+    }
+
+    @Test
     fun refusesWhileAnotherProcessRunsTheTopologyAndDeletesOnceItIsClosed() {
         val name = uniqueName("shared")
         val core = core(name)
