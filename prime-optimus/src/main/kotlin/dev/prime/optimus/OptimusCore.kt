@@ -159,6 +159,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val embedded: EmbeddedRedis?
     private val endpoint: RedisTarget
     private val givenRedisUrl: String? = settings.redisUrl
+    private val replicaAcks: ReplicaAcks? = settings.replicaAcks
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
     internal val declaredTypes: DeclaredTypes = DeclaredTypes()
@@ -370,7 +371,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * The deletion is not atomic: it scans the topology's keys (the Redis user needs `scan` besides
      * the commands a core needs) and deletes them in batches, retrying on a new connection while
      * Redis is unreachable, for at most 10 s. Run again, it deletes what is left. A process that
-     * starts the topology while it runs may find some keys gone.
+     * starts the topology while it runs may find some keys gone. With [Builder.replicaAcks] every
+     * step is confirmed by the replicas, as every operation of the core is.
      *
      * @return how many keys were deleted
      * @throws IllegalStateException if the core is not closed, or another process runs the
@@ -385,7 +387,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
         val url = givenRedisUrl ?: return 0
         val target = RedisTarget.parse(url, keys)
-        val connections = RedisConnections(target, name())
+        val connections = RedisConnections(target, name(), replicaAcks) // confirmed like every operation of the core
         val deadline = System.nanoTime() + DELETE_KEYS_TIMEOUT.toNanos()
         val what = "delete the keys of topology '${name()}'"
         var deleted = 0L

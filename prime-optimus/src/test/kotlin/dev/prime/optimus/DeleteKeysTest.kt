@@ -187,4 +187,27 @@ class DeleteKeysOnClusterTest : DeleteKeysTest() {
 
     override fun keysOf(topology: String): List<String> =
         TestCluster.cluster.masterOfKey("prime:{$topology}:").jedis().use { TestRedis.keysOf(it, topology) }
+
+    @Test
+    fun withReplicaAcksTheDeletionIsConfirmedByAReplicaAsEveryOperationIs() {
+        val name = uniqueName("acked")
+        val core = OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(url).replicaAcks(1).build()
+        core.use {
+            val twice = core.chain("twice") { x: Int -> 2 * x }.toBlock()
+            core.start()
+            assertEquals(42, twice.process(21))
+        }
+        val master = TestCluster.cluster.masterOfKey("prime:{$name}:")
+        val waitsBefore = master.jedis().use { waits(it.info("commandstats")) }
+        assertTrue(core.deleteKeys() > 0)
+        val waitsAfter = master.jedis().use { waits(it.info("commandstats")) }
+        assertTrue(waitsAfter > waitsBefore, "the deletion waited for a replica (WAIT calls: $waitsBefore, then $waitsAfter)")
+        val replica = TestCluster.cluster.replicaOf(master)
+        assertEquals(emptyList<String>(), replica.jedis().use { TestRedis.keysOf(it, name) }, "the replica has none of them")
+    }
+
+    /** How many `WAIT` commands the server ran, from its `INFO commandstats`. */
+    private fun waits(commandStats: String): Long =
+        commandStats.lines().firstOrNull { it.startsWith("cmdstat_wait:") }
+            ?.substringAfter("calls=")?.substringBefore(',')?.toLong() ?: 0L
 }
