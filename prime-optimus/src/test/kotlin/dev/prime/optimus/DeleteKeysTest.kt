@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
@@ -28,10 +29,7 @@ abstract class DeleteKeysTest {
         val otherName = uniqueName("kept")
         core(otherName).use { other ->
             val readings = EventBlock<Int>()
-            val kept = other.source("readings", readings).reader()
-            other.start()
-            readings.publish(1)
-            assertEquals(1, kept.take(PATIENCE).orElseThrow())
+            val kept = readsOneValue(other, readings)
             val otherKeys = keysOf(otherName)
             assertTrue(otherKeys.isNotEmpty(), "the other topology has keys")
 
@@ -57,8 +55,8 @@ abstract class DeleteKeysTest {
             assertEquals(otherKeys.sorted(), keysOf(otherName).sorted(), "the other topology keeps every key")
             assertEquals(0L, core.deleteKeys(), "run again, there is nothing to delete")
 
-            readings.publish(2) // the other core goes on
-            assertEquals(2, kept.take(PATIENCE).orElseThrow())
+            readings.publish(8) // the other core goes on
+            assertEquals(8, kept.take(PATIENCE).orElseThrow())
         }
     }
 
@@ -85,13 +83,7 @@ abstract class DeleteKeysTest {
     @Test
     fun aToolRetiresATopologyWithACoreOfItsNameBuiltAndClosedWithoutStarting() {
         val name = uniqueName("tool")
-        core(name).use { core ->
-            val events = EventBlock<Int>()
-            val out = core.source("numbers", events).then(core.chain("twice") { x: Int -> 2 * x }).reader()
-            core.start()
-            events.publish(21)
-            assertEquals(42, out.take(PATIENCE).orElseThrow())
-        }
+        core(name).use { readsOneValue(it) }
         val left = keysOf(name)
         assertTrue(left.isNotEmpty(), "the topology's keys outlive its core")
 
@@ -105,13 +97,7 @@ abstract class DeleteKeysTest {
     fun refusesWhileAnotherProcessRunsTheTopologyAndDeletesOnceItIsClosed() {
         val name = uniqueName("shared")
         val core = core(name)
-        core.use {
-            val events = EventBlock<Int>()
-            val out = core.source("numbers", events).reader()
-            core.start()
-            events.publish(1)
-            assertEquals(1, out.take(PATIENCE).orElseThrow())
-        }
+        core.use { readsOneValue(it) }
         // another process of the topology: it hosts nothing and reads the source
         OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(url).hosts(emptyList()).build().use { other ->
             other.source("numbers", EventBlock<Int>()).reader()
@@ -132,6 +118,18 @@ abstract class DeleteKeysTest {
     private fun core(name: String): OptimusCore =
         OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(url).build()
 
+    /**
+     * Declares a source with a reader on [core], starts it and sees one value through: the
+     * topology has keys in Redis. Returns the reader, to read [events]' later values.
+     */
+    protected fun readsOneValue(core: OptimusCore, events: EventBlock<Int> = EventBlock()): Reader<Int> {
+        val out = core.source("numbers", events).reader()
+        core.start()
+        events.publish(7)
+        assertEquals(7, out.take(PATIENCE).orElseThrow())
+        return out
+    }
+
     protected companion object {
         val PATIENCE: Duration = Duration.ofSeconds(20)
 
@@ -148,13 +146,7 @@ class DeleteKeysOnRedisTest : DeleteKeysTest() {
     @Test
     fun aCoreOnAnEmbeddedRedisOfItsOwnHasNothingToDelete() {
         val core = OptimusCore()
-        core.use {
-            val events = EventBlock<Int>()
-            val out = core.source("numbers", events).reader()
-            core.start()
-            events.publish(1)
-            assertEquals(1, out.take(PATIENCE).orElseThrow())
-        }
+        core.use { readsOneValue(it) }
         assertEquals(0L, core.deleteKeys())
     }
 
