@@ -17,16 +17,7 @@ internal class SuspendingBlockTest {
     fun `interrupting the calling thread cancels the logic and the call throws InterruptedException`() {
         val running = CountDownLatch(1)
         val cancelled = CountDownLatch(1)
-        val block = suspendingBlock { x: Int ->
-            running.countDown()
-            try {
-                awaitCancellation()
-            } catch (e: CancellationException) {
-                cancelled.countDown()
-                throw e
-            }
-            x
-        }
+        val block = suspendingBlock<Int, Int> { awaitCancellationSignalling(running, cancelled) }
         val thrown = AtomicReference<Throwable>()
         val caller = Thread { thrown.set(runCatching { block.process(1) }.exceptionOrNull()) }.apply { isDaemon = true }
         caller.start()
@@ -49,5 +40,19 @@ internal class SuspendingBlockTest {
 
     private companion object {
         const val WAIT_SECONDS = 20L
+    }
+}
+
+/**
+ * Suspending logic that counts [running] down, waits until it is cancelled, then counts
+ * [cancelled] down and rethrows the cancellation.
+ */
+internal suspend fun awaitCancellationSignalling(running: CountDownLatch, cancelled: CountDownLatch): Nothing {
+    running.countDown()
+    try {
+        awaitCancellation()
+    } catch (e: CancellationException) {
+        cancelled.countDown()
+        throw e
     }
 }

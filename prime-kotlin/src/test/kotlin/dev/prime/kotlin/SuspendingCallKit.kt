@@ -9,7 +9,6 @@ import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.TimeoutCancellationException
 import kotlinx.coroutines.async
-import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
@@ -233,16 +232,9 @@ internal abstract class SuspendingCallKit(private val media: Media) {
         val timeout = Duration.ofSeconds(2)
         val core = media.newCore(CoreConfig.builder().shutdownTimeout(timeout).build())
         val events = EventBlock<Int>()
-        core.source("numbers", events).then(core.chain("waits", suspendingBlock { x: Int ->
-            running.countDown()
-            try {
-                awaitCancellation()
-            } catch (e: CancellationException) {
-                cancelled.countDown()
-                throw e
-            }
-            x
-        })).reader()
+        core.source("numbers", events)
+            .then(core.chain("waits", suspendingBlock<Int, Int> { awaitCancellationSignalling(running, cancelled) }))
+            .reader()
         core.start()
         events.publish(1)
         assertTrue(running.await(WAIT_SECONDS, TimeUnit.SECONDS), "the service never ran the block")
