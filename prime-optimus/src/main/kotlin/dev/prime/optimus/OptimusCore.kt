@@ -370,7 +370,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      *
      * The deletion is not atomic: it scans the topology's keys (the Redis user needs `scan` besides
      * the commands a core needs) and deletes them in batches, retrying on a new connection while
-     * Redis is unreachable, for at most 10 s. Run again, it deletes what is left. A process that
+     * Redis is unreachable, for at most 10 s; an interrupt ends that wait at once with a
+     * [dev.prime.PrimeException] and keeps the flag (a command already sent runs to its reply or
+     * its timeout first). Run again, it deletes what is left. A process that
      * starts the topology while it runs may find some keys gone. With [Builder.replicaAcks] every
      * step is confirmed by the replicas, as every operation of the core is.
      *

@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.PrimeException
 import dev.prime.Reader
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
@@ -162,6 +163,25 @@ class DeleteKeysOnRedisTest : DeleteKeysTest() {
             val seconds = (System.nanoTime() - started) / 1e9
             assertTrue(seconds < 15, "gave up after $seconds s, within its 10 s and a connect timeout")
             assertTrue("delete the keys of topology '$name'" in failure.message!!, failure.message)
+        }
+    }
+
+    @Test
+    fun anInterruptWhileRedisIsDownEndsItAtOnceWithThePrimeExceptionOfAnyOptimusWaitAndKeepsTheFlag() {
+        FaultProxy(TestRedis.url).use { proxy ->
+            val core = OptimusCore.builder().config(CoreConfig.builder().name(uniqueName("interrupted")).build()).redis(proxy.url).build()
+            core.use { it.start() }
+            proxy.refuse() // every attempt fails at once: the deletion waits between attempts
+            Thread.currentThread().interrupt()
+            val started = System.nanoTime()
+            try {
+                assertThrows(PrimeException::class.java) { core.deleteKeys() }
+                assertTrue(Thread.currentThread().isInterrupted, "the interrupt flag is kept")
+            } finally {
+                Thread.interrupted()
+            }
+            val seconds = (System.nanoTime() - started) / 1e9
+            assertTrue(seconds < 2, "ended at once, not after its 10 s: $seconds s")
         }
     }
 }
