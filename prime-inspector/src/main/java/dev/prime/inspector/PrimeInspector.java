@@ -35,9 +35,10 @@ import java.util.Objects;
  * node (every chain that runs logic, template, filter, flat-map, listener and event source; see
  * {@link dev.prime.Metrics}) shows the values it took per second and in all, its mean processing
  * time over the last half second, its failures and, where the media has them, dead letters,
- * queue depth and missed values. With metrics off but recording on ({@link
- * CoreConfig.Builder#recording(RecordingOptions)}), each recorded source and chain shows the values
- * it recorded per second and in all. The page says which it shows.
+ * queue depth and missed values. A queue whose depth the media cannot read now (Optimus while
+ * Redis is unreachable) shows as {@code queue ?}, not as no queue. With metrics off but recording
+ * on ({@link CoreConfig.Builder#recording(RecordingOptions)}), each recorded source and chain shows
+ * the values it recorded per second and in all. The page says which it shows.
  *
  * <p><b>Values.</b> With recording on, the values of a recorded name can be plotted: numbers,
  * booleans (0 or 1) and the numeric components of records (nested records as {@code pose.x}).

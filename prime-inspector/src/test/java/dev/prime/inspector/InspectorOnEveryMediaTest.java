@@ -136,6 +136,7 @@ class InspectorOnEveryMediaTest {
         assertEquals(0, odometry.get("errors").asLong(), odometry.toString());
         assertEquals(media == Media.OPTIMUS, odometry.get("queueDepth").isNumber(),
             "a queue depth where the media has a queue for the chain (Optimus): " + odometry);
+        assertFalse(odometry.has("queueUnknown"), "a queue read, or none, is not unknown: " + odometry);
       }
     } finally {
       inspector.close();

@@ -178,6 +178,9 @@ public final class InspectorServer implements AutoCloseable {
       count(json, "errors", f.errors());
       count(json, "deadLetters", f.deadLetters());
       count(json, "queueDepth", f.queueDepth());
+      if (f.queueUnknown()) {
+        json.name("queueUnknown").value(true);
+      }
       count(json, "missed", f.missed());
       json.endObject();
     }

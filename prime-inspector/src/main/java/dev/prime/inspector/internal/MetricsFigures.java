@@ -14,6 +14,7 @@ import java.util.Map;
 public final class MetricsFigures implements LiveFigures {
   private final Metrics metrics;
   private final Map<String, ServiceMetrics> last = new HashMap<>();
+  private final Map<String, Boolean> queues = new HashMap<>(); // structure: asked once per node
   private final SamplingClock clock = new SamplingClock();
 
   /**
@@ -50,6 +51,8 @@ public final class MetricsFigures implements LiveFigures {
               service.failures(),
               service.deadLetters(),
               service.queueDepth(),
+              service.queueDepth() < 0
+                  && queues.computeIfAbsent(service.name(), metrics::hasQueue),
               service.missed()));
     }
     return figures;
@@ -59,6 +62,6 @@ public final class MetricsFigures implements LiveFigures {
   public String description() {
     return "Figures from the core's metrics: values taken per second and the mean processing time"
         + " over the last half second, failures, and where the media has them dead letters, queue"
-        + " depth and missed values.";
+        + " depth (or that it cannot be read now) and missed values.";
   }
 }

@@ -11,7 +11,10 @@ package dev.prime.inspector.internal;
  *     milliseconds, or NaN
  * @param errors failures so far, or -1
  * @param deadLetters values the media set aside, or -1
- * @param queueDepth values waiting in the node's input now, or -1
+ * @param queueDepth values waiting in the node's input now, or -1 (no queue, or see {@code
+ *     queueUnknown})
+ * @param queueUnknown the node has an input queue whose depth the media cannot read now (Optimus
+ *     while Redis is unreachable); {@code queueDepth} is then -1
  * @param missed values the node's input missed, or -1
  */
 public record NodeFigures(
@@ -21,10 +24,11 @@ public record NodeFigures(
     long errors,
     long deadLetters,
     long queueDepth,
+    boolean queueUnknown,
     long missed) {
 
   /** Figures with a rate and a total only. */
   static NodeFigures counted(double rate, long total) {
-    return new NodeFigures(rate, total, Double.NaN, -1, -1, -1, -1);
+    return new NodeFigures(rate, total, Double.NaN, -1, -1, -1, false, -1);
   }
 }

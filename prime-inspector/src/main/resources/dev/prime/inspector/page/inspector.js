@@ -182,18 +182,22 @@
       if (n.latencyMs === null && n.errors === null) parts.push(`${n.total} in all`);
       if (n.deadLetters > 0) parts.push(`${n.deadLetters} dead`);
       if (n.queueDepth > 0) parts.push(`${n.queueDepth} queued`);
+      if (n.queueUnknown) parts.push('queue ?');
       if (n.missed > 0) parts.push(`${n.missed} missed`);
       g.querySelector('.figures').textContent = parts.join(' · ');
       g.setAttribute('data-rate', String(n.rate));
       g.setAttribute('data-total', String(n.total));
       for (const key of ['latencyMs', 'errors', 'deadLetters', 'queueDepth', 'missed']) {
         if (n[key] !== null) g.setAttribute('data-' + key.toLowerCase(), String(n[key]));
+        else g.removeAttribute('data-' + key.toLowerCase());
       }
+      g.classList.toggle('queue-unknown', n.queueUnknown === true);
       const title = g.querySelector('title');
       title.textContent = title.textContent.split('\n')[0]
         + `\n${n.total} values in all` + (n.errors !== null ? `, ${n.errors} failed` : '')
         + (n.deadLetters !== null ? `, ${n.deadLetters} dead letters` : '')
         + (n.queueDepth !== null && n.queueDepth >= 0 ? `, ${n.queueDepth} queued` : '')
+        + (n.queueUnknown ? ', queue depth unknown (the media cannot read it now)' : '')
         + (n.missed !== null ? `, ${n.missed} missed` : '');
       g.classList.toggle('active', n.rate > 0);
       g.classList.toggle('failing', n.errors > 0);
