@@ -73,14 +73,19 @@ public final class WatchedRobot implements AutoCloseable {
     WheelEncoders encoders = new WheelEncoders(SPEC);
     DifferentialDrivePlant plant = new DifferentialDrivePlant(SPEC, Pose.ORIGIN);
     Block<Token, DriveCommand> control;
+    PrimeInspector page = null;
     try {
       control = RobotController.wire(core, encoders, SPEC, goal, Mission.DT);
-      inspector = PrimeInspector.start(core, address);
+      page = PrimeInspector.start(core, address);
+      core.start();
     } catch (RuntimeException e) {
+      if (page != null) {
+        page.close(); // its threads and port, then the core's
+      }
       core.close();
       throw e;
     }
-    core.start();
+    inspector = page;
     driver = new Thread(() -> drive(encoders, plant, control), "robot-driver");
     driver.start();
   }
