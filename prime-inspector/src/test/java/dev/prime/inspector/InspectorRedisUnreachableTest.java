@@ -15,12 +15,15 @@ import dev.prime.optimus.OptimusCore;
 import java.time.Duration;
 import java.util.function.Predicate;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.params.ParameterizedTest;
+import org.junit.jupiter.params.provider.ValueSource;
 
 /**
  * An Optimus service's queue depth while Redis cannot be read: the figures say it is unknown
  * ({@code "queueUnknown": true}, the page "queue ?"), not that the service has no queue, and show
  * the depth again once Redis answers. Redis is made unreachable by a proxy that closes every
- * connection at once.
+ * connection at once; the event-stream test runs again with the proxy holding every reply back as
+ * the kit's slow Redis does.
  */
 class InspectorRedisUnreachableTest {
   private static final ObjectMapper JSON = new ObjectMapper();
@@ -48,10 +51,12 @@ class InspectorRedisUnreachableTest {
     throw new AssertionError("no figures where " + what + "; the last: " + same);
   }
 
-  @Test
-  void theFiguresSayAQueueIsUnknownWhileRedisCannotBeReadAndShowItAgainAfter() throws Exception {
+  @ParameterizedTest(name = "reply delay {0} ns")
+  @ValueSource(longs = {0, FaultProxy.SLOW_REPLY_NANOS})
+  void theFiguresSayAQueueIsUnknownWhileRedisCannotBeReadAndShowItAgainAfter(long replyDelayNanos)
+      throws Exception {
     try (EmbeddedRedis redis = EmbeddedRedis.start();
-        FaultProxy proxy = new FaultProxy(redis.getUri());
+        FaultProxy proxy = new FaultProxy(redis.getUri(), replyDelayNanos);
         OptimusCore core = meteredCore(proxy)) {
       EventBlock<Integer> events = new EventBlock<>();
       Reader<Integer> out =
