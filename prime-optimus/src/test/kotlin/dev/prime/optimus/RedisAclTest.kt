@@ -2,11 +2,14 @@ package dev.prime.optimus
 
 import dev.prime.EventBlock
 import dev.prime.PrimeException
+import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
 import java.net.URI
+import java.nio.file.Files
+import java.nio.file.Path
 
 /** A Redis user that lacks a command or key Optimus needs gets a message that names it and where the list is. */
 class RedisAclTest {
@@ -73,6 +76,29 @@ class RedisAclTest {
                     assertTrue("docs/architecture.md" in message, message)
                 }
             }
+        }
+    }
+
+    @Test
+    fun theDocumentedPermissionsAreAllRedisIsAskedFor() {
+        // docs/architecture.md, "Redis permissions": the example's commands, for this test's key pattern
+        val example = Files.readAllLines(Path.of("..", "docs", "architecture.md")).single { it.startsWith("ACL SETUSER robot ") }
+        val commands = example.split(" ").filter { it.startsWith("+") }
+        val user = "prime-documented"
+        withUser(user, "~prime:{acl-documented}:*", *commands.toTypedArray()) { url ->
+            Jedis(URI(TestRedis.url)).use { it.aclLogReset() }
+            val config = dev.prime.CoreConfig.builder().name("acl-documented").build()
+            OptimusCore.builder().redis(url).config(config).callTimeout(java.time.Duration.ofSeconds(10)).build().use { core ->
+                val numbers = EventBlock<Int>()
+                val reader = core.source("numbers", numbers).then(core.chain("inc") { x: Int -> x + 1 }).reader()
+                val twice = core.chain("twice") { x: Int -> 2 * x }.toBlock() // only called: its lone requests take the cheaper step
+                core.start()
+                (1..5).forEach(numbers::publish)
+                assertEquals((2..6).toList(), (1..5).map { reader.take(java.time.Duration.ofSeconds(10)).orElseThrow() })
+                assertEquals((1..5).map { 2 * it }, (1..5).map { twice.process(it) })
+            }
+            val refused = Jedis(URI(TestRedis.url)).use { admin -> admin.aclLog().filter { it.username == user }.map { "${it.reason} ${it.`object`}" } }
+            assertEquals(emptyList<String>(), refused, "what Redis refused the user with the documented permissions (ACL LOG)")
         }
     }
 
