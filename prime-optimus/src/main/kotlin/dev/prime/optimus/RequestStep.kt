@@ -5,6 +5,7 @@ import redis.clients.jedis.Connection
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisConnectionException
+import redis.clients.jedis.exceptions.JedisDataException
 import redis.clients.jedis.exceptions.JedisNoScriptException
 import java.nio.charset.StandardCharsets.UTF_8
 
@@ -100,6 +101,38 @@ internal class RequestStep(
     }
 
     /**
+     * Whether steps may go without the script: only once [checkPermissions] found that the Redis
+     * user may send all it needs. Until then, and for good after a refusal, takes are not watched
+     * and every step goes with the script.
+     */
+    private var withoutScript = false
+
+    /** Whether [checkPermissions] has run to its end. */
+    var permissionsChecked: Boolean = false
+        private set
+
+    /**
+     * Checks that the Redis user may send what a step without the script adds to the script's
+     * commands (`watch`, `unwatch`, `multi`, `exec`): sends them with nothing to guard or run
+     * (`WATCH lease`, `UNWATCH`, `MULTI`, `EXEC`). Returns the first refusal, after which steps go
+     * with the script for good, or `null`, after which they may go without it. Without this check
+     * a user lacking `multi` would have the transaction's commands run one by one, unguarded.
+     * After a refusal the connection may be left watching or inside a transaction: drop it.
+     */
+    fun checkPermissions(jedis: Jedis): JedisDataException? {
+        forget()
+        val connection = jedis.connection
+        connection.sendCommand(commandOf(Protocol.Command.WATCH, fence.lease))
+        connection.sendCommand(UNWATCH)
+        connection.sendCommand(MULTI)
+        connection.sendCommand(EXEC)
+        val refusal = connection.getMany(4).firstOrNull { it is JedisDataException && RedisPermissions.isRefusal(it) }
+        withoutScript = refusal == null
+        permissionsChecked = true
+        return refusal as JedisDataException?
+    }
+
+    /**
      * The blocking take of an idle service (`BLMOVE input processing`, waiting up to [waitSeconds]),
      * watched so that the step of what it moves may go without the script ([storeWatched]); the
      * moved entry, or `null`. A take Redis refused throws its error.
@@ -158,6 +191,7 @@ internal class RequestStep(
             commandOf(Protocol.Command.BLMOVE, input, processing, LEFT, RIGHT, waitSeconds)
         }
         connection.sendCommand(take)
+        if (!withoutScript) return
         // answered when the take ends: an earlier WATCH left on the connection could only make a later EXEC refuse
         if (unwatch) connection.sendCommand(UNWATCH)
         for (command in watchGroup) connection.sendCommand(command)
@@ -187,10 +221,11 @@ internal class RequestStep(
      * in the processing list and the input is empty.
      */
     private fun readTake(jedis: Jedis, unwatch: Boolean, guarded: Boolean = false, throwRefusal: Boolean = false): ByteArray? {
-        val answers = jedis.connection.getMany(if (unwatch) 6 else 5)
+        val answers = jedis.connection.getMany(if (!withoutScript) 1 else if (unwatch) 6 else 5)
         val taken = answers[0]
         if (throwRefusal && taken is RuntimeException) throw taken
         val moved = taken as? ByteArray ?: return null
+        if (!withoutScript) return moved
         val at = if (unwatch) 2 else 1
         val holder = answers[at + 1]
         if (guarded && holder is ByteArray && holder.contentEquals(fence.instance) && answers[at + 2] == 1L && answers[at + 3] == 0L) {

@@ -123,6 +123,7 @@ internal class StageService(
                 pending = if (taken == null) {
                     null // the host lease lapsed: wait for the heartbeat to re-claim it
                 } else if (taken.isEmpty()) {
+                    checkStepsWithoutScript(session)
                     val one = session.once { idleTake(it) }
                     // after an idle wait, the fenced peek comes first: this host may have been frozen in it
                     if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
@@ -160,6 +161,22 @@ internal class StageService(
                 delay(backoff.next())
             }
         }
+    }
+
+    /**
+     * Before the first idle take of a service that may step lone requests without the script (see
+     * [storeRequest]), checks once that its Redis user may send what that needs; if not, says so
+     * once at ERROR and steps every request with the script, which needs none of it.
+     */
+    private fun checkStepsWithoutScript(session: RedisSession) {
+        val step = requestStep ?: return
+        if (step.permissionsChecked || seat.membership != null || core.connections.replicaAcks != null) return
+        val refusal = session.once { step.checkPermissions(it) } ?: return
+        session.abort() // perhaps left watching or inside a transaction
+        LOG.error(
+            "{}; it steps its calls with the script from now on, which costs Redis more per call",
+            RedisPermissions.explain(refusal, core.redisUser, core.name(), "service '$name'").message,
+        )
     }
 
     /**

@@ -2,10 +2,13 @@ package dev.prime.optimus
 
 import dev.prime.EventBlock
 import dev.prime.PrimeException
+import dev.prime.conformance.CapturedStderr
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import org.junit.jupiter.params.ParameterizedTest
+import org.junit.jupiter.params.provider.ValueSource
 import redis.clients.jedis.Jedis
 import java.net.URI
 import java.nio.file.Files
@@ -99,6 +102,33 @@ class RedisAclTest {
             }
             val refused = Jedis(URI(TestRedis.url)).use { admin -> admin.aclLog().filter { it.username == user }.map { "${it.reason} ${it.`object`}" } }
             assertEquals(emptyList<String>(), refused, "what Redis refused the user with the documented permissions (ACL LOG)")
+        }
+    }
+
+    /**
+     * A service only called steps a lone request without the script ([RequestStep]) when its user
+     * may send `multi`, `exec`, `watch` and `unwatch`. A user that lacks one gets one ERROR line
+     * naming it, and the service steps its calls with the script: every call answered once, in
+     * order, none lost or doubled.
+     */
+    @ParameterizedTest(name = "without {0}")
+    @ValueSource(strings = ["multi", "exec", "watch", "unwatch"])
+    fun aServiceOnlyCalledWhoseUserLacksACommandOfTheStepWithoutTheScriptSaysSoOnceAndGoesOn(command: String) {
+        val example = Files.readAllLines(Path.of("..", "docs", "architecture.md")).single { it.startsWith("ACL SETUSER robot ") }
+        val commands = example.split(" ").filter { it.startsWith("+") && it != "+$command" }
+        val user = "prime-no$command"
+        withUser(user, "~prime:{acl-no-$command}:*", *commands.toTypedArray()) { url ->
+            val config = dev.prime.CoreConfig.builder().name("acl-no-$command").build()
+            CapturedStderr().use { err ->
+                OptimusCore.builder().redis(url).config(config).callTimeout(java.time.Duration.ofSeconds(10)).build().use { core ->
+                    val twice = core.chain("twice") { x: Int -> 2 * x }.toBlock()
+                    core.start()
+                    assertEquals((1..30).map { 2 * it }, (1..30).map { twice.process(it) })
+                }
+                val errors = err.lines().filter { " ERROR " in it && "'$command'" in it }
+                assertEquals(1, errors.size, "ERROR lines naming '$command': $errors")
+                assertTrue("service 'twice'" in errors.single() && "'$user'" in errors.single(), errors.single())
+            }
         }
     }
 
