@@ -1038,7 +1038,13 @@ public abstract class PrimeCore implements AutoCloseable {
     if (closed.getCount() == 0 || current == closingThread || isOwnThread(current)) {
       return;
     }
-    long bound = 2 * config.shutdownTimeout().toMillis() + CLOSE_WAIT_SLACK_MILLIS;
+    long shutdownMillis;
+    try {
+      shutdownMillis = Math.min(config.shutdownTimeout().toMillis(), Long.MAX_VALUE / 4);
+    } catch (ArithmeticException tooLong) { // longer than a long holds: as long as it takes
+      shutdownMillis = Long.MAX_VALUE / 4;
+    }
+    long bound = 2 * shutdownMillis + CLOSE_WAIT_SLACK_MILLIS;
     try {
       if (!closed.await(bound, TimeUnit.MILLISECONDS)) {
         LOG.warn(

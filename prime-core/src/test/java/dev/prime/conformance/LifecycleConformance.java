@@ -657,6 +657,81 @@ public interface LifecycleConformance extends ConformanceBase {
   }
 
   /**
+   * The longest timeouts a {@link Duration} holds are timeouts like any other: {@link
+   * CoreConfig.Builder#shutdownTimeout} takes any positive one and {@link
+   * CoreConfig.Builder#publishTimeout} any zero or positive one, so a program that means "as long
+   * as it takes" may give {@code Duration.ofSeconds(Long.MAX_VALUE)}. A publish then goes through,
+   * {@code close()} stops every service ({@link PrimeCore}, "What every media guarantees"), and a
+   * second {@code close()} that finds the first under way waits for it ({@link PrimeCore#close()});
+   * none of them throws.
+   */
+  @Test
+  default void theLongestTimeoutsADurationHoldsWorkLikeAnyOther() throws InterruptedException {
+    Duration longest = Duration.ofSeconds(Long.MAX_VALUE, 999_999_999);
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    List<Throwable> failures = new CopyOnWriteArrayList<>();
+    PrimeCore core =
+        newCore(CoreConfig.builder().shutdownTimeout(longest).publishTimeout(longest).build());
+    Thread first = null;
+    Thread second = null;
+    try {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out = core.source(events).then(core.chain((Integer x) -> x + 1)).reader();
+      core.source(events).then(deafChain(core, "holding", inside, release));
+      core.start();
+      events.publish(1);
+      assertEquals(2, takeOrFail(out), "the publish went through");
+      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      first = closer(core, "kit-longest-first-close", failures);
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (!core.isClosed() && first.isAlive() && System.nanoTime() < deadline) {
+        first.join(1); // a bounded pause until the first close() began
+      }
+      assertTrue(core.isClosed(), "the first close() began");
+      second = closer(core, "kit-longest-second-close", failures);
+      while (second.isAlive()
+          && second.getState() != Thread.State.WAITING
+          && second.getState() != Thread.State.TIMED_WAITING
+          && System.nanoTime() < deadline) {
+        second.join(1); // a bounded pause until the second close() waits or ended
+      }
+      assertTrue(first.isAlive(), "the first close() waits for the block that ignores interrupts");
+    } finally {
+      release.countDown();
+      if (first == null) {
+        closer(core, "kit-longest-cleanup-close", failures).join(patience().toMillis());
+      }
+      for (Thread closing : new Thread[] {first, second}) {
+        if (closing != null) {
+          closing.join(patience().toMillis());
+          assertFalse(closing.isAlive(), closing.getName() + " returned");
+        }
+      }
+    }
+    assertEquals(List.of(), failures, "what the close() calls threw");
+    assertTrue(core.isClosed());
+    awaitNoThreadsLeft(core);
+  }
+
+  /** A daemon thread that closes {@code core} and notes in {@code failures} what it threw. */
+  private static Thread closer(PrimeCore core, String name, List<Throwable> failures) {
+    Thread thread =
+        new Thread(
+            () -> {
+              try {
+                core.close();
+              } catch (Throwable t) {
+                failures.add(t);
+              }
+            },
+            name);
+    thread.setDaemon(true);
+    thread.start();
+    return thread;
+  }
+
+  /**
    * A chain whose block counts {@code inside} down, then ignores interrupts until {@code release}
    * opens (or the kit's patience runs out): it holds a {@code close()} up to its shutdown timeout.
    */

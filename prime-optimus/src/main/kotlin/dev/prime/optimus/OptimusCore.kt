@@ -519,7 +519,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         // A service closing its own core (a listener) cannot wait for itself: it waits for the
         // other services' threads only, in shutdownResources.
         if (!ownThread) {
-            runBlocking { withTimeoutOrNull(timeout.toMillis()) { supervisor.join() } }
+            runBlocking { withTimeoutOrNull(boundedNanos(timeout) / 1_000_000) { supervisor.join() } }
                 ?: LOG.warn("core '{}': services still running after {}", name(), timeout)
         }
         shutdownResources()
@@ -538,7 +538,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             executor.shutdown()
             // every service but the calling one: a service closing its own core goes on until it returns
             threads.filter { it !== current }.forEach(Thread::interrupt)
-            val deadline = System.nanoTime() + config().shutdownTimeout().toNanos()
+            val deadline = System.nanoTime() + boundedNanos(config().shutdownTimeout())
             for (thread in threads) {
                 if (thread === current) continue
                 try {
@@ -910,7 +910,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     private fun publish(source: SourceKeys, envelopes: List<ByteArray>) {
         checkStarted("publishing to an Optimus source")
-        val deadline = System.nanoTime() + publishTimeout.toNanos()
+        val deadline = System.nanoTime() + boundedNanos(publishTimeout)
         val what = "publish to source '${source.name}'"
         val step = StepBatch(source.log, source.log, source, null, null, null, stepRules)
         envelopes.forEach(step::publish)
@@ -1238,4 +1238,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         @JvmStatic
         public fun builder(): Builder = Builder()
     }
+}
+
+/**
+ * [timeout] in nanoseconds, at most `Long.MAX_VALUE / 2` (146 years), so that a deadline made of
+ * it does not overflow: the longest durations mean "as long as it takes".
+ */
+private fun boundedNanos(timeout: Duration): Long = try {
+    minOf(timeout.toNanos(), Long.MAX_VALUE / 2)
+} catch (_: ArithmeticException) {
+    Long.MAX_VALUE / 2
 }
