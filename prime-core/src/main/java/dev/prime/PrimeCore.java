@@ -103,7 +103,7 @@ public abstract class PrimeCore implements AutoCloseable {
         config.name() != null
             ? config.name()
             : media + "-" + CORE_COUNTERS.computeIfAbsent(media, k -> new AtomicInteger()).incrementAndGet();
-    this.services = new ServiceThreads(name);
+    this.services = new ServiceThreads(name, () -> new CoreClosedException(name));
     this.inProcess = new InProcessServices(this, services);
     this.combinators = new Combinators(this, services);
   }

@@ -6,6 +6,7 @@ import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Set;
+import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
 
@@ -29,15 +30,19 @@ public final class ServiceThreads {
   private final String coreName;
   private final String prefix;
   private final Map<String, Thread> threads = new LinkedHashMap<>();
+  private final Supplier<? extends RuntimeException> stoppedError;
   private boolean started;
   private boolean stopped;
 
   /**
    * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
+   * @param stoppedError what {@link #add} throws once the services are stopped (the core's
+   *     closed exception)
    */
-  public ServiceThreads(String coreName) {
+  public ServiceThreads(String coreName, Supplier<? extends RuntimeException> stoppedError) {
     this.coreName = coreName;
     this.prefix = threadPrefix(coreName);
+    this.stoppedError = stoppedError;
   }
 
   /**
@@ -55,10 +60,12 @@ public final class ServiceThreads {
    *
    * @param service unique service name
    * @param body the service loop; must return when interrupted
+   * @throws RuntimeException the constructor's {@code stoppedError} if the services are stopped:
+   *     the core closed while the service was being declared
    */
   public synchronized void add(String service, Runnable body) {
     if (stopped) {
-      throw new IllegalStateException("services are stopped");
+      throw stoppedError.get();
     }
     if (threads.containsKey(service)) {
       throw new IllegalArgumentException("service '" + service + "' already exists");

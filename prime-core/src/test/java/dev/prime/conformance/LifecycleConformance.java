@@ -732,6 +732,56 @@ public interface LifecycleConformance extends ConformanceBase {
   }
 
   /**
+   * Declarations racing {@code close()} end cleanly: declaring is "allowed at any time before
+   * {@link PrimeCore#close()}" and "a closed core throws {@link CoreClosedException}" ({@link
+   * PrimeCore}, "Threading" and "What every media guarantees"). Here a thread declares sources,
+   * links, filters, listeners and generic services on a started core in a loop while the core
+   * closes: each declaration either succeeds or throws {@link CoreClosedException}, nothing else,
+   * and the core leaves no thread, in every one of a number of rounds.
+   */
+  @Test
+  default void declarationsRacingCloseSucceedOrThrowCoreClosedException() throws Exception {
+    for (int round = 0; round < 100; round++) {
+      PrimeCore core = newCore();
+      core.start();
+      CountDownLatch declaring = new CountDownLatch(1);
+      AtomicReference<Throwable> ending = new AtomicReference<>();
+      Thread declarer =
+          new Thread(
+              () -> {
+                try {
+                  for (int i = 0; i < 10_000 && !core.isClosed(); i++) {
+                    EventBlock<Integer> events = new EventBlock<>();
+                    Source<Integer> source = core.source("racing-" + i, events);
+                    declaring.countDown();
+                    source.then(core.chain("racing-chain-" + i, (Integer x) -> x));
+                    source.filter(x -> x > 0);
+                    source.listen(x -> {});
+                    core.service("racing-service-" + i, () -> Thread.sleep(1_000));
+                  }
+                } catch (Throwable t) {
+                  ending.set(t);
+                } finally {
+                  declaring.countDown();
+                }
+              },
+              "kit-racing-declarer");
+      declarer.setDaemon(true);
+      declarer.start();
+      assertTrue(declaring.await(patience().toMillis(), TimeUnit.MILLISECONDS), "declaring began");
+      core.close();
+      declarer.join(patience().toMillis());
+      assertFalse(declarer.isAlive(), "the declarer ended after close()");
+      Throwable thrown = ending.get();
+      if (thrown != null && !(thrown instanceof CoreClosedException)) {
+        throw new AssertionError(
+            "round " + round + ": a declaration racing close() threw " + thrown, thrown);
+      }
+      awaitNoThreadsLeft(core);
+    }
+  }
+
+  /**
    * A chain whose block counts {@code inside} down, then ignores interrupts until {@code release}
    * opens (or the kit's patience runs out): it holds a {@code close()} up to its shutdown timeout.
    */
