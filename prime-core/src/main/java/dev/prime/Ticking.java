@@ -66,7 +66,7 @@ final class Ticking implements Runnable {
     long count = 0;
     while (!Thread.currentThread().isInterrupted() && !core.isClosed()) {
       count++;
-      long due = origin + count * periodNanos;
+      long due = due(origin, count);
       try {
         clock.sleepUntil(due);
       } catch (InterruptedException e) {
@@ -88,6 +88,19 @@ final class Ticking implements Runnable {
       } catch (Throwable e) {
         report(count, e);
       }
+    }
+  }
+
+  /**
+   * When tick {@code count} is due: {@code count} periods after {@code origin}, or never ({@code
+   * Long.MAX_VALUE}) if that is past what the clock's long reading holds (a period of a century,
+   * from its third tick on), where the sum would overflow to a time long past.
+   */
+  private long due(long origin, long count) {
+    try {
+      return Math.addExact(origin, Math.multiplyExact(count, periodNanos));
+    } catch (ArithmeticException pastTheClock) {
+      return Long.MAX_VALUE;
     }
   }
 

@@ -287,6 +287,29 @@ public interface CombinatorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A timer's tick {@code n} is due {@code n} periods after the start and is published then, not
+   * earlier ({@link PrimeCore#timer}; architecture.md, "What every media keeps", <i>Timers and the
+   * clock</i>), also for the longest periods a timer takes: with a period of a century on a
+   * virtual clock advanced by two centuries, ticks 1 and 2 come, each with its due time, and tick
+   * 3, due in the third century, does not.
+   */
+  @Test
+  default void aTimerOfACenturyPublishesNoTickBeforeItIsDue() throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    Instant origin = clock.now();
+    Duration century = Duration.ofDays(36_525);
+    try (PrimeCore core = newCore(CoreConfig.builder().clock(clock).build())) {
+      Reader<Tick> ticks = core.timer("century", century).reader();
+      core.start();
+      clock.advance(century.multipliedBy(2));
+      assertEquals(
+          List.of(new Tick(1, origin.plus(century)), new Tick(2, origin.plus(century.multipliedBy(2)))),
+          takeOrFail(ticks, 2));
+      assertEquals(Optional.empty(), ticks.take(quiet()), "tick 3 is due in the third century");
+    }
+  }
+
   @Test
   default void timerTicksOnTheSystemClockOnePeriodApart() throws InterruptedException {
     try (PrimeCore core = newCore()) {
