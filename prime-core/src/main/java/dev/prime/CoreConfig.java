@@ -185,7 +185,11 @@ public final class CoreConfig {
      * How many of its latest values each source keeps for plain readers and collectors, which
      * skip (and count as missed) what falls out of it; on the in-memory media also how many
      * values a service's input holds before a publish waits for room (see {@link
-     * #publishTimeout(Duration)}).
+     * #publishTimeout(Duration)}). The in-memory media keep it in a ring of that many slots that
+     * each source (an event source or a service's output) allocates when it is declared, a
+     * reference each: there a retention the heap cannot hold makes that declaration throw {@link
+     * IllegalArgumentException}, changing nothing. A media that keeps sources outside the process
+     * (Optimus: in Redis) allocates no ring.
      *
      * @param values how many values each source keeps, at least 1
      * @return this builder

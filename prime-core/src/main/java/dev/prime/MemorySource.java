@@ -248,7 +248,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     if (retention < 1) {
       throw new IllegalArgumentException("retention must be at least 1, was " + retention);
     }
-    this.ring = new Object[retention];
+    this.ring = newRing(name, retention);
     this.mask = Integer.bitCount(retention) == 1 ? retention - 1 : -1;
   }
 
@@ -903,6 +903,29 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     @Override
     public String toString() {
       return "Reader[" + name + "]";
+    }
+  }
+
+  /**
+   * The ring of {@code retention} slots, allocated up front: a retention this JVM cannot allocate
+   * (the configuration accepts up to {@code Integer.MAX_VALUE}, which a media that keeps sources
+   * outside the process may hold) is refused with a message that says what to change, not with an {@link
+   * OutOfMemoryError} that a declaration would pass on.
+   */
+  private static Object[] newRing(String name, int retention) {
+    try {
+      return new Object[retention];
+    } catch (OutOfMemoryError tooLarge) {
+      throw new IllegalArgumentException(
+          "source '"
+              + name
+              + "' cannot retain "
+              + retention
+              + " values: the in-memory media keep a source's retention in a ring of that many"
+              + " slots allocated when the source is declared, and this JVM could not allocate it ("
+              + tooLarge.getMessage()
+              + "); lower CoreConfig.Builder.sourceRetention or give the JVM more heap (-Xmx)",
+          tooLarge);
     }
   }
 

@@ -229,6 +229,38 @@ public interface SourceConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link CoreConfig.Builder#sourceRetention}: every retention of at least 1 is accepted; the
+   * in-memory media keep it in a ring that each source allocates when it is declared, so there a
+   * retention the heap cannot hold ({@code Integer.MAX_VALUE} slots pass any JVM's array limit)
+   * makes that declaration throw {@link IllegalArgumentException} naming the setting, changing
+   * nothing (the source's name stays free); a media that keeps sources outside the process carries
+   * values as with any retention. Never an {@link Error}.
+   */
+  @Test
+  default void theLargestRetentionWorksOrItsSourceIsRefusedClearly() throws InterruptedException {
+    try (PrimeCore core = newCore(CoreConfig.builder().sourceRetention(Integer.MAX_VALUE).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source;
+      try {
+        source = core.source("kept", events);
+      } catch (IllegalArgumentException refused) {
+        assertTrue(
+            refused.getMessage().contains("sourceRetention") && refused.getMessage().contains("kept"),
+            "names the source and the setting to change: " + refused.getMessage());
+        core.chain("kept", (Integer x) -> x); // the refused source's name was not claimed
+        return;
+      }
+      Reader<Integer> plain = source.reader();
+      Reader<Integer> mapped = source.then(core.chain((Integer x) -> x * 2)).reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(List.of(1, 2), takeOrFail(plain, 2));
+      assertEquals(List.of(2, 4), takeOrFail(mapped, 2));
+    }
+  }
+
   @Test
   default void oneEventBlockFeedsSeveralSourcesAndCores() throws InterruptedException {
     EventBlock<Integer> events = new EventBlock<>();
