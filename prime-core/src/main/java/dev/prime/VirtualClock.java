@@ -46,7 +46,9 @@ public final class VirtualClock implements PrimeClock {
    * Moves the time forward and wakes every sleeper whose deadline it reached.
    *
    * @param amount how far; zero does nothing
-   * @throws IllegalArgumentException if {@code amount} is negative (time never goes back)
+   * @throws IllegalArgumentException if {@code amount} is negative (time never goes back), or if
+   *     it would take the reading past {@code Long.MAX_VALUE} nanoseconds (about 292 years), the
+   *     last a clock's reading holds; the time then stays where it was
    */
   public void advance(Duration amount) {
     Objects.requireNonNull(amount, "amount must not be null");
@@ -54,9 +56,17 @@ public final class VirtualClock implements PrimeClock {
       throw new IllegalArgumentException(
           "a virtual clock never goes back: advance by zero or more, not " + amount);
     }
-    long step = amount.toNanos();
     synchronized (this) {
-      nanos = Math.addExact(nanos, step);
+      try {
+        nanos = Math.addExact(nanos, amount.toNanos());
+      } catch (ArithmeticException pastTheEnd) {
+        throw new IllegalArgumentException(
+            "a virtual clock reads at most Long.MAX_VALUE ns (about 292 years): at "
+                + Duration.ofNanos(nanos)
+                + " it cannot advance by "
+                + amount,
+            pastTheEnd);
+      }
       notifyAll();
     }
   }

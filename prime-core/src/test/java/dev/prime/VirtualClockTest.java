@@ -7,6 +7,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import java.time.Duration;
 import java.time.Instant;
+import java.util.List;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicReference;
@@ -98,6 +99,23 @@ class VirtualClockTest {
         assertThrows(IllegalArgumentException.class, () -> clock.advance(Duration.ofNanos(-1)));
     assertTrue(back.getMessage().contains("never goes back"), back.getMessage());
     assertEquals(0, clock.nanoTime());
+  }
+
+  /** {@link VirtualClock#advance}: past the last reading a long holds, refused, time unchanged. */
+  @Test
+  void anAdvancePastTheLastReadingIsRefusedAndTheTimeStays() {
+    VirtualClock clock = new VirtualClock();
+    Duration century = Duration.ofDays(36_525);
+    clock.advance(century.multipliedBy(2));
+    long reading = clock.nanoTime();
+    for (Duration tooFar : List.of(century, Duration.ofSeconds(Long.MAX_VALUE))) {
+      IllegalArgumentException refused =
+          assertThrows(IllegalArgumentException.class, () -> clock.advance(tooFar));
+      assertTrue(refused.getMessage().contains("at most Long.MAX_VALUE ns"), refused.getMessage());
+      assertEquals(reading, clock.nanoTime(), "the time stays where it was");
+    }
+    clock.advance(Duration.ofNanos(Long.MAX_VALUE - reading));
+    assertEquals(Long.MAX_VALUE, clock.nanoTime(), "the last reading itself is reachable");
   }
 
   @Test
