@@ -695,10 +695,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * media that spreads services over processes only the process that hosts it ticks.
    *
    * @param name the timer's name, unique in this core (like a chain's)
-   * @param period the time between two ticks, positive
+   * @param period the time between two ticks, positive, at most {@code Long.MAX_VALUE}
+   *     nanoseconds (about 292 years)
    * @return the source of the ticks
    * @throws IllegalArgumentException if the name is invalid or taken, or the period is not
-   *     positive
+   *     positive or longer than that
    */
   public final Source<Tick> timer(String name, java.time.Duration period) {
     return combinators.timer(name, period);

@@ -109,9 +109,10 @@ public interface Source<T> {
    * its freshest value. Periods count from the core's start. A service of this source's core,
    * named {@code sample(this)}.
    *
-   * @param period how often to publish, positive
+   * @param period how often to publish, positive, at most {@code Long.MAX_VALUE} nanoseconds
+   *     (about 292 years)
    * @return the sampled source
-   * @throws IllegalArgumentException if the period is not positive
+   * @throws IllegalArgumentException if the period is not positive or longer than that
    */
   default Source<T> sample(java.time.Duration period) {
     return core().combinators().sample(this, period);

@@ -509,6 +509,11 @@ public interface CombinatorConformance extends ConformanceBase {
           assertThrows(IllegalArgumentException.class, () -> core.timer("t", Duration.ZERO));
       assertTrue(zero.getMessage().contains("positive"), zero.getMessage());
       assertThrows(IllegalArgumentException.class, () -> a.sample(Duration.ofMillis(-1)));
+      Duration longest = Duration.ofSeconds(Long.MAX_VALUE);
+      IllegalArgumentException tooLong =
+          assertThrows(IllegalArgumentException.class, () -> core.timer("t", longest));
+      assertTrue(tooLong.getMessage().contains("292 years"), tooLong.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> a.sample(longest));
       assertThrows(NullPointerException.class, () -> core.timer(null, Duration.ofSeconds(1)));
       assertThrows(IllegalArgumentException.class, () -> core.timer("a", Duration.ofSeconds(1)));
       assertEquals(List.of(), List.copyOf(core.serviceNames()), "a refused call records nothing");
