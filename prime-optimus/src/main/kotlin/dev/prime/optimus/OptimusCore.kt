@@ -173,7 +173,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val queueLimits: Map<String, Int> = settings.queueLimits
     internal val stepRules: StepRules = StepRules(
         keys.replyPrefix,
-        maxOf(MIN_REPLY_TTL, (callTimeout ?: MIN_REPLY_TTL).multipliedBy(2)).toMillis(),
+        maxOf(MIN_REPLY_TTL.toMillis(), 2 * (boundedNanos(callTimeout ?: MIN_REPLY_TTL) / 1_000_000)),
         settings.deadLetterLimit,
         // a value at the limit, in an envelope with the longest reply key, alone in a frame
         (maxValueBytes.toLong() + ENVELOPE_OVERHEAD + Frame.HEADER + Frame.PER_VALUE).coerceAtMost(Int.MAX_VALUE.toLong()).toInt(),
@@ -1244,7 +1244,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
  * [timeout] in nanoseconds, at most `Long.MAX_VALUE / 2` (146 years), so that a deadline made of
  * it does not overflow: the longest durations mean "as long as it takes".
  */
-private fun boundedNanos(timeout: Duration): Long = try {
+internal fun boundedNanos(timeout: Duration): Long = try {
     minOf(timeout.toNanos(), Long.MAX_VALUE / 2)
 } catch (_: ArithmeticException) {
     Long.MAX_VALUE / 2

@@ -64,7 +64,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         val id = core.ids.next()
         val request = Envelope.request(id, replyKey, payload)
         val timeout = core.callTimeout
-        val deadline = timeout?.let { System.nanoTime() + it.toNanos() }
+        val deadline = timeout?.let { System.nanoTime() + boundedNanos(it) }
         val what = "the call to service '$chainName'"
         var pending = try {
             val wait = core.connections.replicaAcks == null // else the push is confirmed before the wait

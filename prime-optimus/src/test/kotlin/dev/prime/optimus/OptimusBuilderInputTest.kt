@@ -55,6 +55,20 @@ class OptimusBuilderInputTest {
         bounds.forEach(::assertDoesNotThrow)
     }
 
+    /**
+     * The call timeout takes any duration that is not negative, so the longest a [Duration] holds
+     * (a program's "as long as it takes") builds a core whose calls are answered like any other.
+     */
+    @Test
+    fun theLongestCallTimeoutWorksLikeAnyOther() {
+        OptimusCore.builder().config(config()).redis(TestRedis.url)
+            .callTimeout(Duration.ofSeconds(Long.MAX_VALUE, 999_999_999)).build().use { core ->
+                val triple = core.chain("triple") { x: Int -> 3 * x }.toBlock()
+                core.start()
+                assertEquals(6, triple.process(2))
+            }
+    }
+
     @Test
     fun startWarnsOfAQueueLimitForAServiceItsChainsDoNotHave() {
         val lines = CapturedStderr().use { err ->
