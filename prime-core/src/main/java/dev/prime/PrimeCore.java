@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.internal.Deadlines;
 import dev.prime.internal.ServiceThreads;
 import dev.prime.topology.Topology;
 import java.util.List;
@@ -1039,12 +1040,8 @@ public abstract class PrimeCore implements AutoCloseable {
     if (closed.getCount() == 0 || current == closingThread || isOwnThread(current)) {
       return;
     }
-    long shutdownMillis;
-    try {
-      shutdownMillis = Math.min(config.shutdownTimeout().toMillis(), Long.MAX_VALUE / 4);
-    } catch (ArithmeticException tooLong) { // longer than a long holds: as long as it takes
-      shutdownMillis = Long.MAX_VALUE / 4;
-    }
+    long shutdownMillis =
+        TimeUnit.NANOSECONDS.toMillis(Deadlines.boundedNanos(config.shutdownTimeout()));
     long bound = 2 * shutdownMillis + CLOSE_WAIT_SLACK_MILLIS;
     try {
       if (!closed.await(bound, TimeUnit.MILLISECONDS)) {

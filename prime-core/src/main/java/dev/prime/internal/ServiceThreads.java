@@ -137,7 +137,7 @@ public final class ServiceThreads {
     for (Thread thread : toJoin) {
       thread.interrupt();
     }
-    long deadline = System.nanoTime() + boundedNanos(timeout);
+    long deadline = System.nanoTime() + Deadlines.boundedNanos(timeout);
     List<String> stuck = new ArrayList<>();
     boolean interrupted = false;
     for (Thread thread : toJoin) {
@@ -165,17 +165,5 @@ public final class ServiceThreads {
           stuck);
     }
     return stuck;
-  }
-
-  /**
-   * {@code timeout} in nanoseconds, at most {@code Long.MAX_VALUE / 2} (146 years), so that a
-   * deadline made of it does not overflow: the longest durations mean "as long as it takes".
-   */
-  private static long boundedNanos(Duration timeout) {
-    try {
-      return Math.min(timeout.toNanos(), Long.MAX_VALUE / 2);
-    } catch (ArithmeticException tooLong) {
-      return Long.MAX_VALUE / 2;
-    }
   }
 }

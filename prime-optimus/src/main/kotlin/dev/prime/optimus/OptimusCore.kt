@@ -14,6 +14,7 @@ import dev.prime.Source
 import dev.prime.ChainCompiler
 import dev.prime.GenericServiceLoop
 import dev.prime.SourceCompiler
+import dev.prime.internal.Deadlines.boundedNanos
 import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CoroutineName
@@ -1238,14 +1239,4 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         @JvmStatic
         public fun builder(): Builder = Builder()
     }
-}
-
-/**
- * [timeout] in nanoseconds, at most `Long.MAX_VALUE / 2` (146 years), so that a deadline made of
- * it does not overflow: the longest durations mean "as long as it takes".
- */
-internal fun boundedNanos(timeout: Duration): Long = try {
-    minOf(timeout.toNanos(), Long.MAX_VALUE / 2)
-} catch (_: ArithmeticException) {
-    Long.MAX_VALUE / 2
 }

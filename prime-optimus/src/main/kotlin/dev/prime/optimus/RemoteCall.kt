@@ -3,6 +3,7 @@ package dev.prime.optimus
 import dev.prime.Block
 import dev.prime.ChainFailedException
 import dev.prime.PrimeException
+import dev.prime.internal.Deadlines.boundedNanos
 import java.nio.channels.ClosedByInterruptException
 
 /**
