@@ -1125,14 +1125,20 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
         /**
          * How long a process counts as alive after its last heartbeat (default 5 s, at least
-         * 300 ms; the heartbeat runs every third of it). It bounds how long readers and reply
-         * lists of a killed process stay in Redis, and how long a successor waits in `start()` to
-         * take over the services of a killed host.
+         * 300 ms, at most 24 h; the heartbeat runs every third of it). It bounds how long readers
+         * and reply lists of a killed process stay in Redis, and how long a successor waits in
+         * `start()` to take over the services of a killed host.
+         *
+         * @throws IllegalArgumentException if [leaseTime] is shorter than 300 ms or longer than 24 h
          */
         public fun leaseTime(leaseTime: Duration): Builder = apply {
             require(leaseTime >= MIN_LEASE_TIME) {
                 "lease time must be at least ${MIN_LEASE_TIME.toMillis()} ms (shorter leases lapse on ordinary GC pauses), " +
                     "was $leaseTime"
+            }
+            require(leaseTime <= MAX_LEASE_TIME) {
+                "lease time must be at most ${MAX_LEASE_TIME.toHours()} h (a killed process's services wait that long " +
+                    "for a successor), was $leaseTime"
             }
             settings = settings.copy(leaseTime = leaseTime)
         }
@@ -1228,6 +1234,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
         private const val DELETE_KEYS_BATCH = 1_000
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
+        private val MAX_LEASE_TIME = Duration.ofHours(24)
         private const val STANDBY_MIN_WAIT_MS = 10L
         private val MIN_REPLY_TTL = Duration.ofMinutes(10)
         private val MAX_REPLICA_ACK_TIMEOUT = Duration.ofSeconds(5)

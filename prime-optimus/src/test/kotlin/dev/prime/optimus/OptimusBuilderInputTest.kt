@@ -29,6 +29,8 @@ class OptimusBuilderInputTest {
         refused("retries", "-1") { retries(-1) }
         refused("call timeout", "PT-1S") { callTimeout(Duration.ofSeconds(-1)) }
         refused("lease time", "PT0.299S") { leaseTime(Duration.ofMillis(299)) }
+        refused("lease time", "PT24H0.001S") { leaseTime(Duration.ofHours(24).plusMillis(1)) }
+        refused("lease time", "was PT${Long.MAX_VALUE / 3600}H") { leaseTime(Duration.ofSeconds(Long.MAX_VALUE)) }
         refused("queue limit", "was 0") { queueLimit(0) }
         refused("queue limit of service 'slow'", "was -3") { queueLimit("slow", -3) }
         refused("publish timeout", "PT-0.001S") { publishTimeout(Duration.ofMillis(-1)) }
@@ -45,6 +47,7 @@ class OptimusBuilderInputTest {
             Executable { builder.retries(0) },
             Executable { builder.callTimeout(Duration.ZERO) },
             Executable { builder.leaseTime(Duration.ofMillis(300)) },
+            Executable { builder.leaseTime(Duration.ofHours(24)) },
             Executable { builder.queueLimit(1) },
             Executable { builder.queueLimit("slow", 1) },
             Executable { builder.publishTimeout(Duration.ZERO) },
@@ -67,6 +70,16 @@ class OptimusBuilderInputTest {
                 core.start()
                 assertEquals(6, triple.process(2))
             }
+    }
+
+    /** The longest lease the builder takes (24 h) builds a core whose services answer. */
+    @Test
+    fun theLongestLeaseWorksLikeAnyOther() {
+        OptimusCore.builder().config(config()).redis(TestRedis.url).leaseTime(Duration.ofHours(24)).build().use { core ->
+            val triple = core.chain("triple") { x: Int -> 3 * x }.toBlock()
+            core.start()
+            assertEquals(6, triple.process(2))
+        }
     }
 
     @Test
