@@ -120,7 +120,9 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
    *
    * @param core a core whose metrics are on
    * @param refresh how long one snapshot serves the registry's reads; {@link Duration#ZERO}: a
-   *     fresh snapshot of the node on every read (exact, costlier on Optimus)
+   *     fresh snapshot of the node on every read (exact, costlier on Optimus); one of {@code
+   *     Long.MAX_VALUE} nanoseconds (about 292 years) or longer serves the first snapshot for as
+   *     long as the binder is bound
    * @return the binder
    * @throws IllegalStateException if the core's metrics are off
    * @throws IllegalArgumentException if {@code refresh} is negative

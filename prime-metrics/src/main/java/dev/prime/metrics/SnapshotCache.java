@@ -30,7 +30,9 @@ final class SnapshotCache {
       throw new IllegalArgumentException(
           "refresh must be zero (a snapshot per read) or positive, was " + refresh);
     }
-    this.refreshNanos = refresh.toNanos();
+    // A period longer than a long of nanoseconds (about 292 years) is one that never ends.
+    this.refreshNanos =
+        refresh.compareTo(Duration.ofNanos(Long.MAX_VALUE)) >= 0 ? Long.MAX_VALUE : refresh.toNanos();
   }
 
   /**

@@ -183,6 +183,26 @@ abstract class PrimeMetricsContract {
     }
   }
 
+  /**
+   * {@link PrimeMetrics#of(PrimeCore, Duration)} refuses only a negative refresh: one as long as a
+   * {@link Duration} holds is a snapshot that serves every read.
+   */
+  @Test
+  void aRefreshAsLongAsADurationHoldsServesTheFirstSnapshot() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      try (PrimeMetrics binder = PrimeMetrics.of(core, Duration.ofSeconds(Long.MAX_VALUE))) {
+        binder.bindTo(registry);
+        core.start();
+        assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "same")); // the snapshot is taken
+        assertEquals(7, same.process(7));
+        assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "same"), "served from the snapshot");
+        assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "same").timer().count());
+      }
+    }
+  }
+
   @Test
   void metricsOffAreRefusedWithHowToTurnThemOn() {
     try (PrimeCore core = newCore(CoreConfig.defaults())) {
