@@ -18,6 +18,7 @@ import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicLong;
@@ -121,6 +122,9 @@ public final class McapWriter implements Closeable {
 
   private static final Entry CLOSE = new Entry(null, 0, 0, 0, new byte[0]);
 
+  /** The largest message bound given an array queue (its array: 4 to 8 MiB). */
+  private static final int ARRAY_QUEUE_LIMIT = 1 << 20;
+
   private McapWriter(Path path, McapWriterOptions options, OutputOpener opener) throws IOException {
     this.firstPath = path;
     this.options = options;
@@ -130,7 +134,13 @@ public final class McapWriter implements Closeable {
       queue = null;
       thread = null;
     } else {
-      queue = new ArrayBlockingQueue<>(options.queueMessages());
+      // An array queue allocates its whole bound up front: a bound of more messages than
+      // ARRAY_QUEUE_LIMIT (queue() takes up to Integer.MAX_VALUE) gets a linked queue, which
+      // allocates per message queued, so that memory stays bounded by the byte bound.
+      queue =
+          options.queueMessages() <= ARRAY_QUEUE_LIMIT
+              ? new ArrayBlockingQueue<>(options.queueMessages())
+              : new LinkedBlockingQueue<>(options.queueMessages());
       thread = new Thread(this::drain, "prime-mcap-writer " + path.getFileName());
       thread.setDaemon(true);
       thread.start();

@@ -122,6 +122,26 @@ class BoundedQueueTest {
     }
   }
 
+  /**
+   * {@link McapWriterOptions#queue(int, long)} takes any positive bound in messages, and the
+   * writer's memory is bounded by the byte bound ({@link McapWriter}'s design note): a message
+   * bound as large as an int holds is a queue bounded in bytes only.
+   */
+  @Test
+  void aMessageBoundAsLargeAsAnIntIsAQueueBoundedInBytes() throws Exception {
+    Path file = dir.resolve("bytes-only.mcap");
+    try (McapWriter writer =
+        McapWriter.open(file, McapWriterOptions.defaults().queue(Integer.MAX_VALUE, 1 << 20))) {
+      McapChannel<Sample> samples = writer.channel("samples", Sample.class);
+      for (int i = 0; i < 100; i++) {
+        assertTrue(samples.write(i, i, i, new Sample(i, "")), "write " + i);
+      }
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(100, reader.messageCount("samples"));
+    }
+  }
+
   @Test
   void concurrentWritersLoseNothingUnaccounted() throws Exception {
     Path file = dir.resolve("concurrent.mcap");
