@@ -19,6 +19,9 @@ import java.util.ArrayList;
 import java.util.List;
 import java.util.Map;
 import java.util.Optional;
+import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
 
@@ -109,6 +112,41 @@ class McapReplayTest {
     // log times 10, 20, 20, 20, 30, 50: fed at the start plus (log time - 10)
     assertEquals(List.of(1_000L, 1_010L, 1_010L, 1_010L, 1_020L, 1_040L), fedAt);
     assertEquals(List.of(10L, 10L, 20L), clock.sleeps);
+  }
+
+  /**
+   * {@link McapReplay#run()}: {@code @throws InterruptedException if interrupted while waiting at
+   * recorded speed}; the wait for the next value, an hour on, ends with the interrupt.
+   */
+  @Test
+  void anInterruptEndsTheWaitAtRecordedSpeed() throws Exception {
+    Path file = dir.resolve("hour.mcap");
+    try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      McapChannel<Integer> ticks = writer.channel("ticks", Integer.class);
+      ticks.write(0, 0, 0, 0);
+      ticks.write(Duration.ofHours(1).toNanos(), Duration.ofHours(1).toNanos(), 1, 1);
+    }
+    EventBlock<Integer> ticks = new EventBlock<>();
+    CountDownLatch firstFed = new CountDownLatch(1);
+    ticks.subscribe(t -> firstFed.countDown());
+    CompletableFuture<Throwable> ended = new CompletableFuture<>();
+    Thread replaying = new Thread(() -> {
+      try {
+        McapReplay.of(file).feed("ticks", ticks, Integer.class).options(ReplayOptions.recordedSpeed()).run();
+        ended.complete(null);
+      } catch (Throwable t) {
+        ended.complete(t);
+      }
+    }, "replaying");
+    replaying.start();
+    assertTrue(firstFed.await(30, TimeUnit.SECONDS), "the first value is fed at once");
+    long interruptedAt = System.nanoTime();
+    replaying.interrupt();
+    Throwable thrown = ended.get(30, TimeUnit.SECONDS);
+    assertTrue(thrown instanceof InterruptedException, "run() ended with " + thrown);
+    assertTrue(System.nanoTime() - interruptedAt < TimeUnit.SECONDS.toNanos(10), "ended by the interrupt");
+    replaying.join(TimeUnit.SECONDS.toMillis(30));
+    assertFalse(replaying.isAlive());
   }
 
   @Test
