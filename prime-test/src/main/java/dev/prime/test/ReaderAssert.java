@@ -42,6 +42,9 @@ public final class ReaderAssert<T> {
   /** How long each step waits unless {@link #within(Duration)} says otherwise: 10 s. */
   public static final Duration DEFAULT_TIMEOUT = Duration.ofSeconds(10);
 
+  /** The longest wait a step's deadline is reckoned with (about 146 years): it cannot overflow. */
+  private static final long LONGEST_NANOS = Long.MAX_VALUE / 2;
+
   private static final int HISTORY_SHOWN = 20;
   private static final int VALUE_CHARS = 200;
 
@@ -254,7 +257,7 @@ public final class ReaderAssert<T> {
    */
   public void completes() {
     long start = System.nanoTime();
-    long deadline = start + timeout.toNanos();
+    long deadline = deadline(start);
     try {
       Optional<T> got = reader.take(Duration.ofNanos(Math.max(0, deadline - System.nanoTime())));
       if (got.isPresent()) {
@@ -280,7 +283,7 @@ public final class ReaderAssert<T> {
 
   /** The next value, or a failure saying what {@code step} waited for. */
   private T next(String step, long start) {
-    long deadline = start + timeout.toNanos();
+    long deadline = deadline(start);
     Optional<T> got;
     try {
       got = reader.take(Duration.ofNanos(Math.max(0, deadline - System.nanoTime())));
@@ -298,6 +301,15 @@ public final class ReaderAssert<T> {
     }
     taken.add(got.get());
     return got.get();
+  }
+
+  /**
+   * When a step begun at {@code start} times out; a timeout past Long.MAX_VALUE / 2 ns (about 146
+   * years) is cut to that, so that the deadline does not overflow.
+   */
+  private long deadline(long start) {
+    return start
+        + (timeout.compareTo(Duration.ofNanos(LONGEST_NANOS)) >= 0 ? LONGEST_NANOS : timeout.toNanos());
   }
 
   private AssertionFailedError interrupted(String step, long start, InterruptedException e) {
@@ -335,11 +347,13 @@ public final class ReaderAssert<T> {
   }
 
   private static String show(Duration d) {
-    long millis = d.toMillis();
-    if (millis < 1000) {
-      return millis + " ms";
+    if (d.getSeconds() < 1) {
+      return d.toMillis() + " ms";
     }
-    return String.format(Locale.ROOT, "%.1f s", millis / 1000.0);
+    if (d.getSeconds() >= 1_000_000) {
+      return d.getSeconds() + " s";
+    }
+    return String.format(Locale.ROOT, "%.1f s", d.getSeconds() + d.getNano() / 1e9);
   }
 
   private static String show(Object value) {

@@ -277,6 +277,43 @@ class ReaderAssertTest {
     assertTrue(waited >= SHORT.toMillis(), "waited " + waited + " ms");
   }
 
+  /**
+   * {@link ReaderAssert#within(Duration)} takes any timeout that is not negative, so one as long
+   * as a {@link Duration} holds too: each step waits for its values, and {@link
+   * ReaderAssert#emitsNothingWithin(Duration)} fails on a value that comes with an {@link
+   * AssertionFailedError}, as they do with any other.
+   */
+  @PrimeTest
+  void aTimeoutAsLongAsADurationHoldsWaitsForTheValues(PrimeCore core) throws InterruptedException {
+    Reader<Integer> reader = numbers(core);
+    Duration longest = Duration.ofSeconds(Long.MAX_VALUE);
+    publish(1);
+    assertThat(reader).within(longest).emits(1);
+    assertThat(reader).within(Duration.ofNanos(Long.MAX_VALUE)).emits(); // nothing expected
+    CountDownLatch waiting = new CountDownLatch(1);
+    Thread publisher =
+        new Thread(
+            () -> {
+              try {
+                if (waiting.await(10, TimeUnit.SECONDS)) {
+                  publish(2, 3);
+                }
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+              }
+            });
+    publisher.start();
+    waiting.countDown();
+    assertThat(reader).within(Duration.ofNanos(Long.MAX_VALUE)).emits(2, 3);
+    publisher.join(10_000);
+
+    publish(9);
+    assertMatches(
+        "expected no value within 9223372036854775807 s but got 9 " + AFTER
+            + " \\(values taken by this assertion: \\[9\\]\\)",
+        failure(() -> assertThat(reader).emitsNothingWithin(longest)));
+  }
+
   @PrimeTest(media = Media.LIBERTY)
   void badArgumentsAreRefusedAtTheCall(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
