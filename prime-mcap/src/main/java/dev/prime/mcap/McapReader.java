@@ -7,6 +7,8 @@ import java.io.IOException;
 import java.io.UncheckedIOException;
 import java.nio.ByteBuffer;
 import java.nio.channels.FileChannel;
+import java.nio.file.FileSystemException;
+import java.nio.file.Files;
 import java.nio.file.Path;
 import java.nio.file.StandardOpenOption;
 import java.util.ArrayList;
@@ -80,7 +82,7 @@ public final class McapReader implements Closeable {
    * @throws McapFormatException if it is not a well-formed MCAP file
    */
   public static McapReader open(Path path) throws IOException {
-    FileChannel file = FileChannel.open(path, StandardOpenOption.READ);
+    FileChannel file = openFile(path);
     try {
       McapReader reader = new McapReader(path, file);
       reader.readStructure();
@@ -104,7 +106,7 @@ public final class McapReader implements Closeable {
    * @throws McapFormatException if it is not MCAP or a complete record in it is malformed
    */
   public static McapReader openUnfinished(Path path) throws IOException {
-    FileChannel file = FileChannel.open(path, StandardOpenOption.READ);
+    FileChannel file = openFile(path);
     try {
       McapReader reader = new McapReader(path, file);
       reader.checkLeadingMagic();
@@ -114,6 +116,18 @@ public final class McapReader implements Closeable {
       file.close();
       throw e;
     }
+  }
+
+  /**
+   * Opens a file to read. A directory is refused naming it: it would open, and then fail to read
+   * with an IOException saying only "Is a directory".
+   */
+  private static FileChannel openFile(Path path) throws IOException {
+    if (Files.isDirectory(path)) {
+      throw new FileSystemException(
+          path.toString(), null, "a directory, where an MCAP file is expected: give the path of the file");
+    }
+    return FileChannel.open(path, StandardOpenOption.READ);
   }
 
   /**

@@ -5,6 +5,7 @@ import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.EventBlock;
 import dev.prime.mcap.internal.Opcode;
 import dev.prime.mcap.internal.RecordBuffer;
 import java.io.IOException;
@@ -19,6 +20,7 @@ import java.util.List;
 import java.util.Map;
 import java.util.stream.Collectors;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.function.Executable;
 import org.junit.jupiter.api.io.TempDir;
 
 /** Malformed files give a McapFormatException that names the file, the offset and the problem. */
@@ -54,6 +56,27 @@ class MalformedFileTest {
   private static long footerField(Path file, int field) throws IOException {
     byte[] bytes = Files.readAllBytes(file);
     return ByteBuffer.wrap(bytes, bytes.length - 8 - 29 + 9 + 8 * field, 8).order(ByteOrder.LITTLE_ENDIAN).getLong();
+  }
+
+  /**
+   * {@link McapReader#open}, {@link McapReader#openUnfinished}, {@link McapReplay#run()} and
+   * {@link McapMerge#merge(java.util.List, Path)}: {@code @throws IOException if the file cannot
+   * be read}; a directory given for the file is refused so, naming it.
+   */
+  @Test
+  void aDirectoryWhereAFileIsExpectedIsRefusedNamingIt() throws IOException {
+    Path folder = Files.createDirectory(dir.resolve("run.mcap"));
+    List<Executable> reads =
+        List.of(
+            () -> McapReader.open(folder).close(),
+            () -> McapReader.openUnfinished(folder).close(),
+            () -> McapReplay.of(folder).feed("readings", new EventBlock<Reading>(), Reading.class).run(),
+            () -> McapMerge.merge(List.of(folder), dir.resolve("merged.mcap")));
+    for (Executable read : reads) {
+      IOException e = assertThrows(IOException.class, read);
+      assertTrue(e.getMessage().contains(folder.toString()) && e.getMessage().contains("directory"),
+          e.getMessage());
+    }
   }
 
   @Test
