@@ -65,20 +65,7 @@ class ReaderAssertTest {
   @PrimeTest
   void emitsWaitsForValuesPublishedLater(PrimeCore core) throws InterruptedException {
     Reader<Integer> reader = numbers(core);
-    CountDownLatch waiting = new CountDownLatch(1);
-    Thread publisher =
-        new Thread(
-            () -> {
-              try {
-                if (waiting.await(10, TimeUnit.SECONDS)) {
-                  publish(1, 2);
-                }
-              } catch (InterruptedException e) {
-                Thread.currentThread().interrupt();
-              }
-            });
-    publisher.start();
-    waiting.countDown();
+    Thread publisher = publishingOnAnotherThread(1, 2);
 
     assertThat(reader).emits(1, 2);
     publisher.join(10_000);
@@ -290,20 +277,7 @@ class ReaderAssertTest {
     publish(1);
     assertThat(reader).within(longest).emits(1);
     assertThat(reader).within(Duration.ofNanos(Long.MAX_VALUE)).emits(); // nothing expected
-    CountDownLatch waiting = new CountDownLatch(1);
-    Thread publisher =
-        new Thread(
-            () -> {
-              try {
-                if (waiting.await(10, TimeUnit.SECONDS)) {
-                  publish(2, 3);
-                }
-              } catch (InterruptedException e) {
-                Thread.currentThread().interrupt();
-              }
-            });
-    publisher.start();
-    waiting.countDown();
+    Thread publisher = publishingOnAnotherThread(2, 3);
     assertThat(reader).within(Duration.ofNanos(Long.MAX_VALUE)).emits(2, 3);
     publisher.join(10_000);
 
@@ -335,5 +309,27 @@ class ReaderAssertTest {
       String message = assertThrows(NullPointerException.class, call).getMessage();
       assertTrue(message != null && message.endsWith(" must not be null"), message);
     }
+  }
+
+  /**
+   * Starts a thread that publishes {@code values} once it runs, while the test thread goes on to
+   * wait for them; join it afterwards.
+   */
+  private Thread publishingOnAnotherThread(Integer... values) {
+    CountDownLatch waiting = new CountDownLatch(1);
+    Thread publisher =
+        new Thread(
+            () -> {
+              try {
+                if (waiting.await(10, TimeUnit.SECONDS)) {
+                  publish(values);
+                }
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+              }
+            });
+    publisher.start();
+    waiting.countDown();
+    return publisher;
   }
 }
