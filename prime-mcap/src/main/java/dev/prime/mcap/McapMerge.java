@@ -120,13 +120,14 @@ public final class McapMerge {
     }
 
     /**
-     * @param bytes the output's chunk size, at least 1
+     * @param bytes the output's chunk size, 1 byte to 1 GiB, as {@link
+     *     McapWriterOptions#chunkSize(long)} takes
      * @return a copy with this chunk size
-     * @throws IllegalArgumentException for less than 1 byte
+     * @throws IllegalArgumentException for less than 1 byte or more than 1 GiB
      */
     public Options chunkSize(long bytes) {
-      if (bytes < 1) {
-        throw new IllegalArgumentException("chunkSize must be at least 1 byte, was " + bytes);
+      if (bytes < 1 || bytes > (1L << 30)) {
+        throw new IllegalArgumentException("chunk size must be 1 byte to 1 GiB, was " + bytes);
       }
       return new Options(bytes, readUnfinished);
     }

@@ -129,6 +129,23 @@ class McapMergeTest {
     }
   }
 
+  /**
+   * The merge's chunk size takes what the writer's takes ({@link
+   * McapWriterOptions#chunkSize(long)}), 1 byte to 1 GiB, and refuses the rest naming the value:
+   * the output is written by the same chunk writer.
+   */
+  @Test
+  void theChunkSizeIsOneByteToOneGibAsTheWritersIs() {
+    assertEquals(1, McapMerge.Options.defaults().chunkSize(1).chunkSizeBytes());
+    assertEquals(1L << 30, McapMerge.Options.defaults().chunkSize(1L << 30).chunkSizeBytes());
+    for (long bytes : new long[] {0, (1L << 30) + 1, Long.MAX_VALUE}) {
+      IllegalArgumentException refused =
+          assertThrows(IllegalArgumentException.class, () -> McapMerge.Options.defaults().chunkSize(bytes));
+      assertTrue(refused.getMessage().contains("1 GiB") && refused.getMessage().contains(Long.toString(bytes)),
+          refused.getMessage());
+    }
+  }
+
   @Test
   void eachInputsMetadataIsKeptWithWhereItCameFrom() throws Exception {
     Path robot = robotFile(20);
