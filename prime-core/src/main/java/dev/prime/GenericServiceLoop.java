@@ -1,6 +1,7 @@
 package dev.prime;
 
 import dev.prime.GenericService.Step;
+import dev.prime.internal.Deadlines;
 import java.time.Duration;
 import java.util.Objects;
 import java.util.concurrent.TimeUnit;
@@ -144,17 +145,9 @@ public final class GenericServiceLoop implements Runnable {
       return;
     }
     try {
-      TimeUnit.NANOSECONDS.sleep(saturatedNanos(wait));
+      TimeUnit.NANOSECONDS.sleep(Deadlines.boundedNanos(wait));
     } catch (InterruptedException e) {
       // stopping is checked next; a stray interrupt only shortens this wait
-    }
-  }
-
-  private static long saturatedNanos(Duration wait) {
-    try {
-      return wait.toNanos();
-    } catch (ArithmeticException e) {
-      return Long.MAX_VALUE;
     }
   }
 

@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.internal.Deadlines;
 import dev.prime.internal.RateLimitedLog;
 import java.lang.invoke.MethodHandles;
 import java.lang.invoke.VarHandle;
@@ -288,7 +289,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
           release(sequence); // wait for room holding nothing
           if (!timed) {
             timed = true;
-            deadline = System.nanoTime() + saturatedNanos(core.config().publishTimeout());
+            deadline = System.nanoTime() + Deadlines.boundedNanos(core.config().publishTimeout());
           }
           park = awaitRoom(blocking, deadline, park);
           continue;
@@ -786,7 +787,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     @Override
     public Optional<T> take(Duration timeout) throws InterruptedException {
       Objects.requireNonNull(timeout, "timeout must not be null");
-      long nanos = timeout.isNegative() ? 0 : saturatedNanos(timeout);
+      long nanos = timeout.isNegative() ? 0 : Deadlines.boundedNanos(timeout);
       long deadline = System.nanoTime() + nanos;
       long announced = NOT_ANNOUNCED;
       try {
@@ -929,11 +930,4 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
     }
   }
 
-  private static long saturatedNanos(Duration d) {
-    try {
-      return d.toNanos();
-    } catch (ArithmeticException e) {
-      return TimeUnit.DAYS.toNanos(365);
-    }
-  }
 }

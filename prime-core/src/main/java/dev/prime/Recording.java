@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.internal.Deadlines;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Arrays;
@@ -221,14 +222,7 @@ public final class Recording {
       throw new IllegalArgumentException("timeout must be zero or positive, was " + timeout);
     }
     RecordingRing ring = ring(name);
-    long nanos;
-    try {
-      nanos = timeout.toNanos();
-    } catch (ArithmeticException tooLong) {
-      nanos = Long.MAX_VALUE / 2;
-    }
-    RecordedValue<Object> latest =
-        ring.awaitLatest(Math.min(nanos, Long.MAX_VALUE / 2), finished);
+    RecordedValue<Object> latest = ring.awaitLatest(Deadlines.boundedNanos(timeout), finished);
     if (latest == null && finished.getAsBoolean()) {
       throw new NoSuchElementException(
           "nothing was recorded under '" + name + "' in core '" + core + "', and nothing will be:"

@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.CoreClosedException
 import dev.prime.Reader
+import dev.prime.internal.Deadlines.boundedNanos
 import org.slf4j.LoggerFactory
 import java.nio.channels.ClosedByInterruptException
 import java.time.Duration
@@ -63,7 +64,7 @@ internal class OptimusReader<T>(
     @Throws(InterruptedException::class)
     override fun take(timeout: Duration?): Optional<T> {
         java.util.Objects.requireNonNull(timeout, "timeout must not be null")
-        val nanos = if (timeout!!.isNegative) 0 else saturatedNanos(timeout)
+        val nanos = if (timeout!!.isNegative) 0 else boundedNanos(timeout)
         return synchronized(this) {
             if (nanos == 0L) present(next(wait = false, deadline = null))
             else present(next(wait = true, deadline = System.nanoTime() + nanos))
@@ -269,11 +270,5 @@ internal class OptimusReader<T>(
         /** Frames one plain take moves (up to 512 values when frames are full; at most 2 MiB unless a frame holds one big value). */
         const val FRAMES_PER_TAKE = 2
         val LOG = LoggerFactory.getLogger(OptimusReader::class.java)
-
-        fun saturatedNanos(timeout: Duration): Long = try {
-            timeout.toNanos()
-        } catch (_: ArithmeticException) {
-            Long.MAX_VALUE / 2
-        }
     }
 }
