@@ -2,7 +2,6 @@ package dev.prime.test;
 
 import dev.prime.CoreClosedException;
 import dev.prime.Reader;
-import dev.prime.internal.Deadlines;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
@@ -42,6 +41,9 @@ public final class ReaderAssert<T> {
 
   /** How long each step waits unless {@link #within(Duration)} says otherwise: 10 s. */
   public static final Duration DEFAULT_TIMEOUT = Duration.ofSeconds(10);
+
+  /** The longest wait a step's deadline is reckoned with (about 146 years): it cannot overflow. */
+  private static final long LONGEST_NANOS = Long.MAX_VALUE / 2;
 
   private static final int HISTORY_SHOWN = 20;
   private static final int VALUE_CHARS = 200;
@@ -301,9 +303,14 @@ public final class ReaderAssert<T> {
     return got.get();
   }
 
-  /** When a step begun at {@code start} times out (a timeout of over 146 years counts as that). */
+  /**
+   * When a step begun at {@code start} times out; a timeout past Long.MAX_VALUE / 2 ns (about 146
+   * years) counts as that, so that the deadline does not overflow. (Core's own cap is internal to
+   * the core and Optimus, whose module boundary the extension stays outside.)
+   */
   private long deadline(long start) {
-    return start + Deadlines.boundedNanos(timeout);
+    return start
+        + (timeout.compareTo(Duration.ofNanos(LONGEST_NANOS)) >= 0 ? LONGEST_NANOS : timeout.toNanos());
   }
 
   private AssertionFailedError interrupted(String step, long start, InterruptedException e) {
