@@ -532,7 +532,8 @@ public final class McapMerge {
     }
     try {
       Result result = merge(inputs, output, options);
-      out.println("merged " + result.messages() + " messages from " + inputs.size() + " files into "
+      out.println("merged " + counted(result.messages(), "message") + " from "
+          + counted(inputs.size(), "file") + " into "
           + output + ": " + result.messagesByTopic().entrySet().stream()
               .map(e -> e.getKey() + " " + e.getValue()).collect(Collectors.joining(", ")));
       return 0;
@@ -540,6 +541,10 @@ public final class McapMerge {
       err.println("error: " + e.getMessage());
       return 1;
     }
+  }
+
+  private static String counted(long count, String noun) {
+    return count + " " + noun + (count == 1 ? "" : "s");
   }
 
   private static int usage(PrintStream err, String problem) {

@@ -312,6 +312,17 @@ class McapMergeTest {
       assertEquals(64, reader.statistics().messageCount());
     }
 
+    stdout.reset();
+    Path one = dir.resolve("one.mcap");
+    try (McapWriter writer = McapWriter.open(one, McapWriterOptions.defaults().synchronous())) {
+      writer.channel("planner", Command.class).write(1, 1, 0, new Command(1, 2));
+    }
+    Path single = dir.resolve("single.mcap");
+    assertEquals(0, McapMerge.run(new String[] {"-o", single.toString(), one.toString()}, o, e),
+        stderr.toString(StandardCharsets.UTF_8));
+    assertTrue(stdout.toString(StandardCharsets.UTF_8).startsWith("merged 1 message from 1 file into " + single + ": "),
+        stdout.toString(StandardCharsets.UTF_8));
+
     assertEquals(2, McapMerge.run(new String[] {robot.toString()}, o, e));
     assertTrue(stderr.toString(StandardCharsets.UTF_8).contains("no output: give -o OUTPUT.mcap"));
     assertEquals(2, McapMerge.run(new String[] {"-o", out.toString(), dir.resolve("none.mcap").toString()}, o, e));
