@@ -17,6 +17,7 @@ import java.io.InputStream;
 import java.io.OutputStream;
 import java.io.UncheckedIOException;
 import java.net.HttpURLConnection;
+import java.net.InetAddress;
 import java.net.InetSocketAddress;
 import java.net.Socket;
 import java.net.URI;
@@ -190,6 +191,20 @@ class InspectorHttpTest {
           assertThrows(UncheckedIOException.class, () -> PrimeInspector.start(core, unresolved));
       assertTrue(refused.getMessage().contains("the host name 'robot.invalid' is not resolved"), refused.getMessage());
       assertFalse(refused.getMessage().contains("port"), "the port is not the problem: " + refused.getMessage());
+      assertTrue(refused.getMessage().contains("like new InetSocketAddress(\"127.0.0.1\", 8080)"), refused.getMessage());
+      assertEquals(Set.of(), inspectorThreads(), "threads left by the refused start");
+    }
+  }
+
+  @Test
+  void anAddressNotOfThisMachineIsRefusedSayingSoAndNoThreadIsLeft() throws Exception {
+    // 192.0.2.1 is reserved for documentation (TEST-NET-1): no machine has it, and a refused bind sends nothing.
+    InetSocketAddress elsewhere = new InetSocketAddress(InetAddress.getByAddress(new byte[] {(byte) 192, 0, 2, 1}), 8080);
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()))) {
+      UncheckedIOException refused =
+          assertThrows(UncheckedIOException.class, () -> PrimeInspector.start(core, elsewhere));
+      assertTrue(refused.getMessage().contains("192.0.2.1 is not an address of this machine"), refused.getMessage());
+      assertFalse(refused.getMessage().contains("port taken"), "the port is not the problem: " + refused.getMessage());
       assertTrue(refused.getMessage().contains("like new InetSocketAddress(\"127.0.0.1\", 8080)"), refused.getMessage());
       assertEquals(Set.of(), inspectorThreads(), "threads left by the refused start");
     }

@@ -10,7 +10,10 @@ import java.io.IOException;
 import java.io.InputStream;
 import java.io.OutputStream;
 import java.io.UncheckedIOException;
+import java.net.InetAddress;
 import java.net.InetSocketAddress;
+import java.net.NetworkInterface;
+import java.net.SocketException;
 import java.net.URI;
 import java.net.URLDecoder;
 import java.nio.charset.StandardCharsets;
@@ -82,6 +85,18 @@ public final class InspectorServer implements AutoCloseable {
    * @param address where to listen
    * @throws UncheckedIOException if the address cannot be bound
    */
+  /** Whether {@code address} is the wildcard, a loopback or an address of an interface here. */
+  private static boolean isOfThisMachine(InetAddress address) {
+    if (address.isAnyLocalAddress() || address.isLoopbackAddress()) {
+      return true;
+    }
+    try {
+      return NetworkInterface.getByInetAddress(address) != null;
+    } catch (SocketException e) {
+      return true; // the interfaces cannot be listed: make no claim about the address
+    }
+  }
+
   public InspectorServer(PrimeCore core, LiveFigures figures, InetSocketAddress address) {
     this.core = Objects.requireNonNull(core, "core");
     this.figures = Objects.requireNonNull(figures, "figures");
@@ -95,10 +110,16 @@ public final class InspectorServer implements AutoCloseable {
     try {
       bound = HttpServer.create(address, 0);
     } catch (IOException e) {
-      String fix = address.isUnresolved()
-          ? "the host name '" + address.getHostString() + "' is not resolved; give an address of"
-              + " this machine, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")"
-          : "is the port taken? port 0 picks a free one";
+      String fix;
+      if (address.isUnresolved()) {
+        fix = "the host name '" + address.getHostString() + "' is not resolved; give an address of"
+            + " this machine, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")";
+      } else if (!isOfThisMachine(address.getAddress())) {
+        fix = address.getAddress().getHostAddress() + " is not an address of this machine; give one"
+            + " of its addresses, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")";
+      } else {
+        fix = "is the port taken? port 0 picks a free one";
+      }
       throw new UncheckedIOException(
           "the inspector cannot listen on " + address + ": " + e.getMessage() + " (" + fix + ")", e);
     }
