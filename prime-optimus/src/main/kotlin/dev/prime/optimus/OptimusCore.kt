@@ -132,6 +132,14 @@ import java.util.concurrent.atomic.AtomicInteger
  *   kept per service; older ones are dropped and counted ([trimmedDeadLetters]). A Redis out of
  *   memory (`maxmemory` reached) or a missing permission is waited out like an outage, with a
  *   log line: nothing is dropped for it.
+ * - A Redis that evicts keys at its `maxmemory` (a `maxmemory-policy` other than `noeviction`)
+ *   may delete what these promises rest on: `allkeys-*` any key (queues, values in flight),
+ *   `volatile-*` the keys with an expiry (the leases: live instances and hosts are taken for
+ *   dead). [start] reads `INFO memory` (on a Redis Cluster, of the master of the topology's slot)
+ *   and, if `maxmemory` is set and the policy is not `noeviction`, logs one WARN naming the policy,
+ *   the `maxmemory`, what it may delete and the fix (`CONFIG SET maxmemory-policy noeviction`).
+ *   A Redis user without `info`, or a Redis out of reach at that moment, skips the check (one
+ *   attempt, no WARN); [start] goes on as without it.
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
@@ -446,6 +454,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         beginLiveness()
         checkCodecAgreement()
         declarations.codecDeclared = true
+        withSession { session -> EvictionCheck.check(session, name()) }
         try {
             hosts?.let { wanted ->
                 val declared = topology().services()

@@ -154,7 +154,15 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * enough replicas confirmed it; if they do not in time, it fails like a broken connection
      * ([ReplicaAcksMissing]: its effects are on the master, perhaps not on a replica).
      */
-    fun <T> once(deadline: Long?, serverWaitMillis: Long, op: (Jedis) -> T): T {
+    fun <T> once(deadline: Long?, serverWaitMillis: Long, op: (Jedis) -> T): T = attempt(deadline, serverWaitMillis, true, op)
+
+    /**
+     * Runs [op], which only reads, once, like [once] with the usual timeouts, but never waits for
+     * [RedisConnections.replicaAcks]: a read stores nothing a replica could lack.
+     */
+    fun <T> readOnce(op: (Jedis) -> T): T = attempt(null, 0, false, op)
+
+    private fun <T> attempt(deadline: Long?, serverWaitMillis: Long, confirmed: Boolean, op: (Jedis) -> T): T {
         val limit = socketLimit(deadline, serverWaitMillis)
         val current = jedis ?: connections.open(Duration.ofMillis(limit.toLong())).also {
             jedis = it
@@ -166,7 +174,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 socketMillis = limit
             }
             val result = op(current)
-            connections.replicaAcks?.confirm(current, deadline)
+            if (confirmed) connections.replicaAcks?.confirm(current, deadline)
             return result
         } catch (e: Exception) {
             if (RedisConnections.isTransient(e)) {

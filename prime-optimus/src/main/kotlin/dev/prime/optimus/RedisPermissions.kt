@@ -10,7 +10,7 @@ import redis.clients.jedis.exceptions.JedisDataException
 internal object RedisPermissions {
     /** The ACL commands Optimus needs; kept equal to the list in docs/architecture.md. */
     const val NEEDED: String = "blmove, client|setname, del, eval, evalsha, exec, exists, get, hdel, hello, hgetall, hlen, " +
-        "hset, incr, incrby, lindex, llen, lmove, lpop, lrange, lrem, lset, ltrim, multi, pexpire, ping, pttl, rpush, sadd, scard, " +
+        "hset, incr, incrby, info, lindex, llen, lmove, lpop, lrange, lrem, lset, ltrim, multi, pexpire, ping, pttl, rpush, sadd, scard, " +
         "select (with a database other than 0), set, sismember, smembers, srem, type, unwatch and watch"
 
     private val COMMAND = Regex("run the '([^']+)' command")

@@ -57,7 +57,7 @@ class ClusterAclTest {
         /** docs/architecture.md, "Redis permissions": the commands, and on a cluster `cluster|slots` and `wait`. */
         val PERMISSIONS = (
             "+blmove +client|setname +del +eval +evalsha +exec +exists +get +hdel +hello +hgetall +hlen +hset +incr " +
-                "+incrby +lindex +llen +lmove +lpop +lrange +lrem +lset +ltrim +multi +pexpire +ping +pttl +rpush +sadd +scard " +
+                "+incrby +info +lindex +llen +lmove +lpop +lrange +lrem +lset +ltrim +multi +pexpire +ping +pttl +rpush +sadd +scard " +
                 "+set +sismember +smembers +srem +type +unwatch +watch +cluster|slots +wait"
             ).split(' ')
     }
