@@ -48,7 +48,10 @@ internal interface LivenessHooks {
  *    a beat to renew theirs.
  *
  * The heartbeat is one task on the core's executor; it waits with [RedisConnections.pause], so
- * closing the connections ends it at once. The first beat runs on the caller of [begin], so the
+ * closing the connections ends it at once. Beats start a third of the lease time apart, counted
+ * from the start of the last one (at once after a beat that took longer): a beat costs about five
+ * round trips to Redis, which over a slow link would otherwise stretch the time between two
+ * renewals past the lease. The first beat runs on the caller of [begin], so the
  * lease exists before anything is registered.
  */
 internal class Liveness(
@@ -139,10 +142,13 @@ internal class Liveness(
     private fun heartbeat() {
         RedisSession(connections).use { session ->
             var failing = false
+            var beganAt = System.nanoTime()
             while (!connections.isClosed) {
                 try {
-                    connections.pause(interval)
+                    // from the start of the last beat: its round trips must not stretch the time between renewals
+                    connections.pause((interval - (System.nanoTime() - beganAt) / 1_000_000).coerceAtLeast(1))
                     if (connections.isClosed) return
+                    beganAt = System.nanoTime()
                     beat(session)
                     if (failing) LOG.info("the heartbeat of instance {} reaches Redis again", instance)
                     failing = false

@@ -99,6 +99,41 @@ class SlowLinkTest {
         } }
     }
 
+    /**
+     * A heartbeat renews the lease, then looks after host leases and dead instances, about five
+     * round trips in all: over a link of 300 ms that is most of a 2 s lease. Its renewals must
+     * still come a third of the lease apart (or back to back, when a beat takes longer), not a
+     * third of the lease after the end of the last beat, which is 2.2 s here: no lease lapses.
+     */
+    @Test
+    fun theHeartbeatsOwnRoundTripsDoNotStretchTheTimeBetweenRenewals() {
+        val name = "slow-beat"
+        val config = CoreConfig.builder().name(name).build()
+        val lease = Duration.ofSeconds(2)
+        val err = CapturedStderr()
+        err.use { FaultProxy(TestRedis.url, Duration.ofMillis(300).toNanos()).use { proxy ->
+            fun core(vararg hosts: String) = OptimusCore.builder().config(config).redis(proxy.url).leaseTime(lease).hosts(*hosts).build()
+            core("slow-beat-square").use { host ->
+                core().use { other ->
+                    host.chain("slow-beat-square") { x: Int -> x * x }.toBlock()
+                    val square = other.chain("slow-beat-square") { x: Int -> x * x }.toBlock()
+                    host.start()
+                    other.start()
+                    val began = System.nanoTime()
+                    var x = 0
+                    // calls (two round trips each) while both heartbeats run three lease times
+                    while (System.nanoTime() - began < 3 * lease.toNanos() && x < MAX_CALLS) {
+                        x++
+                        assertEquals(x * x, square.process(x))
+                    }
+                    assertEquals(0L, host.redisResets() + other.redisResets(), "Redis lost nothing")
+                }
+            }
+            val ourLines = err.lines().filter { line -> (" WARN " in line || " ERROR " in line) && name in line }
+            assertEquals(listOf<String>(), ourLines, "no lease lapsed, nobody taken for dead")
+        } }
+    }
+
     /** Takes [count] values from [reader] into [into] (bounded in count and time), then counts [done] down. */
     private fun collect(reader: Reader<Int>, count: Int, into: MutableList<Int>, done: CountDownLatch) {
         val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(PATIENCE_S)
