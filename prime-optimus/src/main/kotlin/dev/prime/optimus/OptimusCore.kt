@@ -470,6 +470,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             throw e
         }
         warnOfUnknownQueueLimits()
+        warnOfUnusedHostedChains()
         val hosted = (services.keys + coreThreadServices()).filter(::isHosted) + genericServices.keys
         try {
             withSession("declare the hosting modes of its services") { session ->
@@ -774,6 +775,24 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "core '{}' is given queue limits for {}, which are not services of its chains (yet): a limit applies only to " +
                 "a service of that name declared later; its services: {}",
             name(), unknown.sorted(), services.keys.sorted(),
+        )
+    }
+
+    /**
+     * A chain's service runs once the chain is used in this process ([Chain.toBlock], a link, a
+     * template, a source's `then`): a chain [Builder.hosts] names that nothing here has used by
+     * start runs nowhere, and other processes' calls to it wait out their timeout. One WARN names them.
+     */
+    private fun warnOfUnusedHostedChains() {
+        val wanted = hosts ?: return
+        val unused = wanted - services.keys - genericServices.keys - coreThreadServices().toSet()
+        if (unused.isEmpty()) return
+        LOG.warn(
+            "core '{}' is told to host {}, but no chain of this process has used {} by start() (toBlock(), a link, " +
+                "a template or a source's then()): a chain's service runs only once the chain is used, so calls " +
+                "from other processes wait out their timeout; declare the topology as the other processes do, " +
+                "the toBlock() calls too",
+            name(), unused.sorted(), if (unused.size == 1) "it" else "them",
         )
     }
 
@@ -1086,7 +1105,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
          * Runs only the named services in this process; the others run elsewhere. By default a
          * core hosts every service. Names are chain names (a linked chain's services are the
          * chains it was linked from), and those of filters, listeners, combinators of sources
-         * (`combineLatest(a|b)`, ...) and timers: the services of [topology].
+         * (`combineLatest(a|b)`, ...) and timers: the services of [topology]. A chain's service
+         * starts once the chain is used in this process ([dev.prime.Chain.toBlock], a link, a
+         * template, a source's `then`), so declare the topology as the other processes do, its
+         * `toBlock()` calls too; [start] logs one WARN naming the chains named here that nothing
+         * used by then (they run nowhere, and calls to them wait out [callTimeout]).
          */
         public fun hosts(vararg services: String): Builder = hosts(services.toList())
 
