@@ -75,6 +75,9 @@ internal class Keys(topology: String) {
     /** The fingerprint of the codec the topology's processes use. */
     val codec: ByteArray = key("codec")
 
+    /** A key that is never written: the list [CommandCheck] moves nothing from, to see that Redis knows `LMOVE`. */
+    val commandProbe: ByteArray = key("command-probe")
+
     /** The set of the ids of the topology's core instances (processes) that registered a lease. */
     val instances: ByteArray = key("instances")
 

@@ -140,6 +140,8 @@ import java.util.concurrent.atomic.AtomicInteger
  *   the `maxmemory`, what it may delete and the fix (`CONFIG SET maxmemory-policy noeviction`).
  *   A Redis user without `info`, or a Redis out of reach at that moment, skips the check (one
  *   attempt, no WARN); [start] goes on as without it.
+ * - [start] fails at once on a Redis without `LMOVE` or `BLMOVE` (Optimus needs Redis 6.2 or
+ *   newer), naming the command.
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call
@@ -451,6 +453,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     override fun onStart() {
         declaredTypes.check(name(), codec)
+        withSession { session -> CommandCheck.check(session, keys, name(), redisUrl) }
         beginLiveness()
         checkCodecAgreement()
         declarations.codecDeclared = true
