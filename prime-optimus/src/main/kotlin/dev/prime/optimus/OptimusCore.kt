@@ -140,8 +140,9 @@ import java.util.concurrent.atomic.AtomicInteger
  *   the `maxmemory`, what it may delete and the fix (`CONFIG SET maxmemory-policy noeviction`).
  *   A Redis user without `info`, or a Redis out of reach at that moment, skips the check (one
  *   attempt, no WARN); [start] goes on as without it.
- * - [start] fails at once on a Redis without `LMOVE` or `BLMOVE` (Optimus needs Redis 6.2 or
- *   newer), naming the command.
+ * - A Redis that does not fit fails or says so: [start] fails at once on a Redis without `LMOVE`
+ *   or `BLMOVE` (it needs Redis 6.2 or newer); on a read-only replica's URL the core waits as in an
+ *   outage and logs one WARN to give the master's URL.
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call

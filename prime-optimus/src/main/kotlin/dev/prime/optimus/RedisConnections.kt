@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import dev.prime.CoreClosedException
+import org.slf4j.LoggerFactory
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisConnectionException
@@ -11,6 +12,7 @@ import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicBoolean
 
 /**
  * Every Redis connection of one core, so that closing the core closes them all: closing a
@@ -32,6 +34,7 @@ internal class RedisConnections(
 ) {
     private val open: MutableSet<Jedis> = ConcurrentHashMap.newKeySet()
     private val closedLatch = CountDownLatch(1)
+    private val readOnlyWarned = AtomicBoolean()
 
     @Volatile
     var isClosed: Boolean = false
@@ -67,6 +70,22 @@ internal class RedisConnections(
         if (isClosed) throw CoreClosedException(coreName)
     }
 
+    /**
+     * Redis answered [e], `READONLY`: on one server (not a cluster, whose route finds the new
+     * master) that is a replica. Logs one WARN per core saying so; the caller goes on waiting, as
+     * during a failover, where a demoted master answers `READONLY` for a moment.
+     */
+    fun metReadOnly(e: Exception) {
+        if (endpoint !is RedisEndpoint || !readOnlyWarned.compareAndSet(false, true)) return
+        LOG.warn(
+            "core '{}': the Redis at {} is a read-only replica (it answered: {}): Optimus writes, so give the URL of " +
+                "the master (with Sentinel or a managed service, its primary endpoint). Until it accepts writes, " +
+                "start() waits and publishes and calls give up at their timeouts, as in an outage; during a failover " +
+                "a demoted master answers so for a moment only",
+            coreName, endpoint, e.message,
+        )
+    }
+
     /** A connection failed or Redis redirected it: the next [open] looks up where the keys are again. */
     fun routeFailed() {
         endpoint.routeFailed()
@@ -96,6 +115,8 @@ internal class RedisConnections(
     }
 
     companion object {
+        private val LOG = LoggerFactory.getLogger(RedisConnections::class.java)
+
         const val POLL_SECONDS = 1.0
         val COMMAND_TIMEOUT: Duration = Duration.ofSeconds(10)
         val BLOCKING_SOCKET_TIMEOUT: Duration = Duration.ofSeconds(6)
@@ -123,6 +144,9 @@ internal class RedisConnections(
         fun isTransient(e: Exception): Boolean =
             e is JedisConnectionException || e is JedisRedirectionException || e is ReplicaAcksMissing ||
                 (e is JedisDataException && TRANSIENT_ERRORS.any { e.message?.startsWith(it) == true })
+
+        /** Whether [e] is Redis's `READONLY`: the server is a replica (or a master being demoted). */
+        fun isReadOnly(e: Exception): Boolean = e is JedisDataException && e.message?.startsWith("READONLY") == true
 
         private val TRANSIENT_ERRORS = listOf("LOADING", "BUSY", "CLUSTERDOWN", "TRYAGAIN", "READONLY", "MASTERDOWN")
     }
@@ -177,6 +201,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
             if (confirmed) connections.replicaAcks?.confirm(current, deadline)
             return result
         } catch (e: Exception) {
+            if (RedisConnections.isReadOnly(e)) connections.metReadOnly(e)
             if (RedisConnections.isTransient(e)) {
                 drop(current)
                 if (e !is ReplicaAcksMissing) connections.routeFailed()
@@ -325,11 +350,12 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         /** The exception for [what] that gave up at its deadline because Redis was unreachable since [started]. */
         fun unavailable(what: String, started: Long, last: Exception): RedisUnavailableException {
             val waited = Duration.ofNanos(System.nanoTime() - started)
-            return RedisUnavailableException(
-                "$what gave up after ${waited.toMillis()} ms: Redis is unreachable ($last); check that Redis " +
-                    "runs and is reachable from this process",
-                last,
-            )
+            val why = if (RedisConnections.isReadOnly(last)) {
+                "Redis is a read-only replica ($last); give the URL of the master, or wait for a failover to end"
+            } else {
+                "Redis is unreachable ($last); check that Redis runs and is reachable from this process"
+            }
+            return RedisUnavailableException("$what gave up after ${waited.toMillis()} ms: $why", last)
         }
     }
 }

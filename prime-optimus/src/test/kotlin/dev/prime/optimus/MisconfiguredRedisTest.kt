@@ -1,19 +1,76 @@
 package dev.prime.optimus
 
+import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
+import dev.prime.EventBlock
 import dev.prime.PrimeException
+import dev.prime.conformance.CapturedStderr
+import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
 import org.junit.jupiter.params.ParameterizedTest
 import org.junit.jupiter.params.provider.ValueSource
+import redis.clients.jedis.Jedis
+import java.net.URI
 import java.time.Duration
+import java.util.concurrent.CompletableFuture
+import java.util.concurrent.ExecutionException
+import java.util.concurrent.TimeUnit
+import java.util.concurrent.TimeoutException
 
 /**
- * A `redis://` URL that names a Redis set up in a way Optimus cannot work with: a Redis without
- * `LMOVE`/`BLMOVE` (older than 6.2, or with the commands renamed away). Each runs on a
- * `redis-server` of its own, with the arguments that make it so, stopped at the end.
+ * A `redis://` URL that names a Redis set up in a way Optimus cannot work with: a read-only
+ * replica, a Redis without `LMOVE`/`BLMOVE` (older than 6.2, or with the commands renamed away).
+ * Each runs on a `redis-server` of its own, with the arguments that
+ * make it so, stopped at the end.
  */
 class MisconfiguredRedisTest {
+
+    /**
+     * On a replica's URL, `start()` waits (its writes are refused with `READONLY`, as during a
+     * failover) and one WARN says that the Redis is a read-only replica and the URL should name
+     * the master; `close()` ends the wait. A publish to a master demoted meanwhile gives up at its
+     * timeout with a message that says "read-only replica", not "unreachable".
+     */
+    @Test
+    fun aReplicasUrlSaysOnceThatItIsAReadOnlyReplica() {
+        EmbeddedRedis.start().use { master ->
+            EmbeddedRedis.builder().arguments("--replicaof", "127.0.0.1", master.port.toString()).start().use { replica ->
+                CapturedStderr().use { err ->
+                    val core = core("misconf-replica", replica.uri)
+                    val start = CompletableFuture.runAsync { core.start() }
+                    val warnings = { err.lines().filter { " WARN " in it && "read-only replica" in it && "misconf-replica" in it } }
+                    val deadline = System.nanoTime() + Duration.ofSeconds(5).toNanos()
+                    while (warnings().isEmpty() && System.nanoTime() < deadline) {
+                        try {
+                            start.get(50, TimeUnit.MILLISECONDS)
+                        } catch (_: TimeoutException) {
+                            // start() still waits, as it should
+                        }
+                    }
+                    assertTrue(!start.isDone, "start() on a replica should wait as during a failover, it ended: $start")
+                    core.close()
+                    val ended = assertThrows(ExecutionException::class.java) { start.get(5, TimeUnit.SECONDS) }
+                    assertTrue(ended.cause is CoreClosedException, "start() ended with ${ended.cause}")
+                    val lines = warnings()
+                    assertEquals(1, lines.size, "read-only replica WARN lines: $lines")
+                    assertTrue("give the URL of the master" in lines.single() && replica.uri in lines.single(), lines.single())
+                }
+            }
+            EmbeddedRedis.start().use { demoted ->
+                core("misconf-demoted", demoted.uri, Duration.ofSeconds(1)).use { core ->
+                    val events = EventBlock<Int>()
+                    core.source("numbers", events)
+                    core.start()
+                    Jedis(URI(demoted.uri)).use { it.replicaof("127.0.0.1", master.port) }
+                    val e = assertThrows(RedisUnavailableException::class.java) { events.publish(1) }
+                    assertTrue("is a read-only replica" in e.message!! && "URL of the master" in e.message!!, e.message)
+                    Jedis(URI(demoted.uri)).use { it.replicaofNoOne() }
+                }
+            }
+        }
+    }
 
     /**
      * A Redis that does not know `LMOVE` or `BLMOVE` (older than 6.2, or with them renamed away)
