@@ -142,7 +142,8 @@ import java.util.concurrent.atomic.AtomicInteger
  *   attempt, no WARN); [start] goes on as without it.
  * - A Redis that does not fit fails or says so: [start] fails at once on a Redis without `LMOVE`
  *   or `BLMOVE` (it needs Redis 6.2 or newer); on a read-only replica's URL the core waits as in an
- *   outage and logs one WARN to give the master's URL.
+ *   outage and logs one WARN to give the master's URL; a Redis at its `maxclients` fails the
+ *   operation that needed a new connection, saying to raise `maxclients`.
  * - A block's throwable never stops a service (anything but a [VirtualMachineError]): the error
  *   handler receives the service's name, the input and the block's own throwable.
  * - Values above [Builder.maxValueBytes] are refused where they are given, at publish or call

@@ -47,6 +47,7 @@ internal class RedisConnections(
             endpoint.connect("prime-$coreName", timeout, BLOCKING_SOCKET_TIMEOUT)
         } catch (e: RuntimeException) {
             if (isTransient(e)) endpoint.routeFailed()
+            if (e is JedisDataException && e.message?.contains(MAX_CLIENTS) == true) throw TooManyClients(endpoint.toString(), e)
             throw e
         }
         open.add(jedis)
@@ -116,6 +117,9 @@ internal class RedisConnections(
 
     companion object {
         private val LOG = LoggerFactory.getLogger(RedisConnections::class.java)
+
+        /** What Redis answers a connection over its `maxclients` (then it closes the connection). */
+        const val MAX_CLIENTS = "max number of clients reached"
 
         const val POLL_SECONDS = 1.0
         val COMMAND_TIMEOUT: Duration = Duration.ofSeconds(10)
@@ -400,3 +404,16 @@ internal class Backoff {
 
 /** Nanoseconds to whole milliseconds, rounded up (at least 1). */
 internal fun ceilMillis(nanos: Long): Long = ((nanos + 999_999) / 1_000_000).coerceAtLeast(1)
+
+/**
+ * Redis refused a new connection: it has `maxclients` clients connected. Still a
+ * [JedisDataException], so it is handled as Redis's own answer was (it fails the operation, it is
+ * not waited out); only its message says what to do.
+ */
+internal class TooManyClients(redis: String, cause: JedisDataException) : JedisDataException(
+    "the Redis at $redis refused a new connection: it has its maxclients clients connected (Redis said: " +
+        "${cause.message}). Each core opens a few connections (a heartbeat, one per hosted service, per calling " +
+        "thread, per reader and per publishing thread): raise maxclients (CONFIG SET maxclients <n>, or the " +
+        "managed service's parameter) or close clients that need not be connected (CLIENT LIST shows them)",
+    cause,
+)

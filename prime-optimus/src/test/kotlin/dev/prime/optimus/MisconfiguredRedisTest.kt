@@ -12,6 +12,7 @@ import org.junit.jupiter.api.Test
 import org.junit.jupiter.params.ParameterizedTest
 import org.junit.jupiter.params.provider.ValueSource
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.exceptions.JedisDataException
 import java.net.URI
 import java.time.Duration
 import java.util.concurrent.CompletableFuture
@@ -21,8 +22,8 @@ import java.util.concurrent.TimeoutException
 
 /**
  * A `redis://` URL that names a Redis set up in a way Optimus cannot work with: a read-only
- * replica, a Redis without `LMOVE`/`BLMOVE` (older than 6.2, or with the commands renamed away).
- * Each runs on a `redis-server` of its own, with the arguments that
+ * replica, a Redis without `LMOVE`/`BLMOVE` (older than 6.2, or with the commands renamed away),
+ * a Redis at its `maxclients`. Each runs on a `redis-server` of its own, with the arguments that
  * make it so, stopped at the end.
  */
 class MisconfiguredRedisTest {
@@ -88,6 +89,30 @@ class MisconfiguredRedisTest {
                 val took = Duration.ofNanos(System.nanoTime() - started)
                 assertTrue(took < Duration.ofSeconds(2), "start() failed after $took")
                 assertTrue("the command $command" in e.message!! && "Redis 6.2 or newer" in e.message!!, e.message)
+            }
+        }
+    }
+
+    /**
+     * A Redis at its `maxclients` refuses a new connection: building a core then fails at once, and
+     * a core that needs one more connection fails `start()` at once, each saying "max number of
+     * clients reached" and to raise `maxclients`.
+     */
+    @Test
+    fun aRedisAtItsMaxclientsSaysSoAtOnce() {
+        EmbeddedRedis.builder().arguments("--maxclients", "1").start().use { redis ->
+            Jedis(URI(redis.uri)).use { holder ->
+                holder.ping() // the one client Redis allows
+                val e = assertThrows(PrimeException::class.java) { core("misconf-full", redis.uri).close() }
+                assertTrue("max number of clients reached" in e.message!! && "CONFIG SET maxclients" in e.message!!, e.message)
+            }
+            core("misconf-maxclients", redis.uri).use { core ->
+                core.chain("twice") { x: Int -> 2 * x }.toBlock()
+                val started = System.nanoTime()
+                val e = assertThrows(JedisDataException::class.java) { core.start() }
+                val took = Duration.ofNanos(System.nanoTime() - started)
+                assertTrue(took < Duration.ofSeconds(2), "start() failed after $took")
+                assertTrue("max number of clients reached" in e.message!! && "CONFIG SET maxclients" in e.message!!, e.message)
             }
         }
     }
