@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.CommandArguments
+import redis.clients.jedis.Protocol
 import redis.clients.jedis.args.Rawable
 import redis.clients.jedis.commands.ProtocolCommand
 
@@ -23,3 +24,11 @@ internal fun commandOf(command: ProtocolCommand, vararg args: ByteArray): Comman
     for (arg in args) built.add(SentAsIs(arg))
     return built
 }
+
+/** `LEFT` and `RIGHT`, the ends of a list `LMOVE` and `BLMOVE` take from and push to. */
+internal val LEFT: ByteArray = "LEFT".toByteArray(Charsets.US_ASCII)
+internal val RIGHT: ByteArray = "RIGHT".toByteArray(Charsets.US_ASCII)
+
+/** `MULTI` and `EXEC`, built once: they have no arguments. */
+internal val MULTI: CommandArguments = commandOf(Protocol.Command.MULTI)
+internal val EXEC: CommandArguments = commandOf(Protocol.Command.EXEC)

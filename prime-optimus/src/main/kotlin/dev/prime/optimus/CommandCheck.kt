@@ -31,11 +31,10 @@ internal object CommandCheck {
             session.readOnce { jedis ->
                 val connection = jedis.connection
                 val probe = keys.commandProbe
-                val left = "LEFT".toByteArray()
-                connection.sendCommand(commandOf(Protocol.Command.MULTI))
-                connection.sendCommand(commandOf(Protocol.Command.LMOVE, probe, probe, left, left))
-                connection.sendCommand(commandOf(Protocol.Command.BLMOVE, probe, probe, left, left, "0.001".toByteArray()))
-                connection.sendCommand(commandOf(Protocol.Command.EXEC))
+                connection.sendCommand(MULTI)
+                connection.sendCommand(commandOf(Protocol.Command.LMOVE, probe, probe, LEFT, LEFT))
+                connection.sendCommand(commandOf(Protocol.Command.BLMOVE, probe, probe, LEFT, LEFT, "0.001".toByteArray()))
+                connection.sendCommand(EXEC)
                 connection.getMany(4)
             }
         } catch (_: Exception) {

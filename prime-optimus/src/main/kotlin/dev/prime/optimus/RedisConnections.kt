@@ -343,8 +343,6 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
 
     companion object {
         private const val MIN_WAIT_MS = 10L
-        private val LEFT = "LEFT".toByteArray()
-        private val RIGHT = "RIGHT".toByteArray()
 
         private val POLL_SECONDS_ARGUMENT = RedisConnections.POLL_SECONDS.toString().toByteArray()
 

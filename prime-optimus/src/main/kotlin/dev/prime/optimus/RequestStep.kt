@@ -266,12 +266,8 @@ internal class RequestStep(
     private companion object {
         val ONE = "1".toByteArray(UTF_8)
         val ZERO = "0".toByteArray(UTF_8)
-        val LEFT = "LEFT".toByteArray(UTF_8)
         val LAST = "-1".toByteArray(UTF_8)
-        val MULTI = commandOf(Protocol.Command.MULTI)
-        val EXEC = commandOf(Protocol.Command.EXEC)
         val UNWATCH = commandOf(Protocol.Command.UNWATCH)
-        val RIGHT = "RIGHT".toByteArray(UTF_8)
 
         fun number(n: Number): ByteArray = n.toString().toByteArray(UTF_8)
 
