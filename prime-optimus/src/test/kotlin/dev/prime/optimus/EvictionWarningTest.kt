@@ -56,6 +56,14 @@ class EvictionWarningTest {
     }
 
     @Test
+    fun theCheckWarnsThroughASlowLinkToo() {
+        configure("1gb", "allkeys-lru")
+        val warnings = warningsOfStarting("evict-slow", FaultProxy.slowLinkTo(redis.uri))
+        assertEquals(1, warnings.size, "eviction WARN lines: $warnings")
+        assertTrue("maxmemory-policy is allkeys-lru" in warnings.single(), warnings.single())
+    }
+
+    @Test
     fun noEvictionWithAMaxmemoryGivesNoWarning() {
         configure("1gb", "noeviction")
         assertEquals(emptyList<String>(), warningsOfStarting("evict-none", redis.uri))

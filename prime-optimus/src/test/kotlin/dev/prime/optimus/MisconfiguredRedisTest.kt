@@ -10,7 +10,7 @@ import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.params.ParameterizedTest
-import org.junit.jupiter.params.provider.ValueSource
+import org.junit.jupiter.params.provider.CsvSource
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.exceptions.JedisDataException
 import java.net.URI
@@ -79,10 +79,11 @@ class MisconfiguredRedisTest {
      * of services retrying "unknown command" forever.
      */
     @ParameterizedTest
-    @ValueSource(strings = ["LMOVE", "BLMOVE"])
-    fun aRedisWithoutACommandOptimusNeedsFailsTheStartNamingIt(command: String) {
+    @CsvSource("LMOVE,false", "BLMOVE,false", "BLMOVE,true")
+    fun aRedisWithoutACommandOptimusNeedsFailsTheStartNamingIt(command: String, slow: Boolean) {
         EmbeddedRedis.builder().arguments("--rename-command", command, "").start().use { redis ->
-            core("misconf-no-${command.lowercase()}", redis.uri).use { core ->
+            val url = if (slow) FaultProxy.slowLinkTo(redis.uri) else redis.uri
+            core("misconf-no-${command.lowercase()}", url).use { core ->
                 core.chain("twice") { x: Int -> 2 * x }.toBlock()
                 val started = System.nanoTime()
                 val e = assertThrows(PrimeException::class.java) { core.start() }
