@@ -141,7 +141,7 @@ internal class Liveness(
 
     private fun heartbeat() {
         RedisSession(connections).use { session ->
-            var failing = false
+            val outage = OutageCauses()
             var beganAt = System.nanoTime()
             while (!connections.isClosed) {
                 try {
@@ -150,20 +150,18 @@ internal class Liveness(
                     if (connections.isClosed) return
                     beganAt = System.nanoTime()
                     beat(session)
-                    if (failing) LOG.info("the heartbeat of instance {} reaches Redis again", instance)
-                    failing = false
+                    if (outage.end()) LOG.info("the heartbeat of instance {} reaches Redis again", instance)
                 } catch (_: CoreClosedException) {
                     return
                 } catch (e: Exception) {
                     if (connections.isClosed) return
-                    if (!failing) {
+                    if (outage.isNew(e)) {
                         LOG.warn(
                             "the heartbeat of instance {} of topology '{}' failed ({}); its lease lapses after {} ms unless a " +
                                 "beat succeeds",
                             instance, connections.coreName, e.toString(), leaseTime.toMillis(),
                         )
                     }
-                    failing = true
                     reclaimNotBefore = System.nanoTime() + leaseTime.toNanos()
                 }
             }

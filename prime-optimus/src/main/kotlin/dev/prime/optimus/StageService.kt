@@ -113,7 +113,7 @@ internal class StageService(
     private suspend fun loop(session: RedisSession) {
         var pending: List<TakenEntry>? = null // null: read the processing list first
         val backoff = Backoff()
-        var outage = false
+        val outage = OutageCauses()
         while (true) {
             currentCoroutineContext().ensureActive()
             if (core.connections.isClosed) return
@@ -134,8 +134,7 @@ internal class StageService(
                     val take = if (complete) seat.nextTake(parts.size, System.nanoTime() - handling) else 0
                     store(session, parts, take)?.takeIf { complete }
                 }
-                if (outage) LOG.info("service '{}' reconnected to Redis", name)
-                outage = false
+                if (outage.end()) LOG.info("service '{}' reconnected to Redis", name)
                 if (taken == null) delay(backoff.next()) else backoff.reset()
             } catch (e: CancellationException) {
                 throw e
@@ -148,14 +147,13 @@ internal class StageService(
                 throw e
             } catch (e: Throwable) {
                 if (core.connections.isClosed) return
-                if (!outage) {
+                if (outage.isNew(e)) {
                     if (e is JedisDataException && RedisPermissions.isRefusal(e)) {
                         LOG.error("service '{}' {}; retrying", name, describeFailure(e))
                     } else {
                         LOG.warn("service '{}' {}; retrying", name, describeFailure(e))
                     }
                 }
-                outage = true
                 waitBehindStep = false
                 pending = null
                 delay(backoff.next())
@@ -215,6 +213,7 @@ internal class StageService(
     }
 
     private fun describeFailure(e: Throwable): String = when {
+        e is TooManyClients -> "cannot connect to Redis: ${e.message}"
         e is Exception && RedisConnections.isTransient(e) -> "lost Redis ($e)"
         e is JedisDataException && isOutOfMemory(e) ->
             "cannot store anything: Redis is out of memory (its maxmemory is reached: ${e.message})"

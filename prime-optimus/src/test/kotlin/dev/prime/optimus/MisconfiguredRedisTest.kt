@@ -12,10 +12,12 @@ import org.junit.jupiter.api.Test
 import org.junit.jupiter.params.ParameterizedTest
 import org.junit.jupiter.params.provider.CsvSource
 import redis.clients.jedis.Jedis
+import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisDataException
 import java.net.URI
 import java.time.Duration
 import java.util.concurrent.CompletableFuture
+import java.util.concurrent.CountDownLatch
 import java.util.concurrent.ExecutionException
 import java.util.concurrent.TimeUnit
 import java.util.concurrent.TimeoutException
@@ -108,6 +110,62 @@ class MisconfiguredRedisTest {
                 core.chain("twice") { x: Int -> 2 * x }.toBlock()
                 val e = startFailsAtOnce(core, JedisDataException::class.java)
                 assertTrue("max number of clients reached" in e.message!! && "CONFIG SET maxclients" in e.message!!, e.message)
+            }
+        }
+    }
+
+    /**
+     * A running core whose connections are cut while Redis is at its `maxclients` (a
+     * `CONFIG SET maxclients` below the clients connected, then `CLIENT KILL` of the core's
+     * connections): its service and its heartbeat each say once that Redis refuses connections at
+     * its `maxclients`, after the lost connection's WARN; a
+     * publish meanwhile fails at once saying so; once Redis has room again the service and the
+     * publisher reconnect by themselves, and the values published then all arrive, in order, once.
+     */
+    @Test
+    fun aRunningCoreCutOffAtMaxclientsSaysSoAndRecoversOnceThereIsRoom() {
+        EmbeddedRedis.start().use { redis ->
+            CapturedStderr().use { err ->
+                core("misconf-cutoff", redis.uri, Duration.ofSeconds(1)).use { core ->
+                    val events = EventBlock<Int>()
+                    val doubled = core.source("numbers", events).then(core.chain("twice") { x: Int -> 2 * x }).reader()
+                    core.start()
+                    (1..5).forEach { events.publish(it) }
+                    assertEquals((1..5).map { 2 * it }, (1..5).map { doubled.take(Duration.ofSeconds(10)).orElseThrow() })
+                    Jedis(URI(redis.uri)).use { admin ->
+                        admin.configSet("maxclients", "1") // the clients connected stay; no new one is let in
+                        val ids = admin.clientList().lines().filter { " name=prime-misconf-cutoff " in " $it " }
+                            .map { line -> line.split(' ').first { it.startsWith("id=") }.removePrefix("id=") }
+                        assertTrue(ids.isNotEmpty(), admin.clientList())
+                        ids.forEach { admin.sendCommand(Protocol.Command.CLIENT, "KILL", "ID", it) }
+                        val refused = assertThrows(JedisDataException::class.java) { events.publish(6) }
+                        assertTrue("maxclients" in refused.message!!, refused.message)
+                        val serviceLines = {
+                            err.lines().filter { " WARN " in it && "service 'twice'" in it && "max number of clients reached" in it }
+                        }
+                        val heartbeatLines = {
+                            err.lines().filter { " WARN " in it && "heartbeat" in it && "max number of clients reached" in it }
+                        }
+                        val pause = CountDownLatch(1)
+                        val deadline = System.nanoTime() + Duration.ofSeconds(10).toNanos()
+                        while ((serviceLines().isEmpty() || heartbeatLines().isEmpty()) && System.nanoTime() < deadline) {
+                            pause.await(20, TimeUnit.MILLISECONDS) // a bounded poll of the log, which only the service writes
+                        }
+                        val warned = serviceLines()
+                        assertEquals(1, warned.size, "the service's WARN lines: $warned")
+                        assertTrue("cannot connect to Redis" in warned.single() && "CONFIG SET maxclients" in warned.single(), warned.single())
+                        assertEquals(1, heartbeatLines().size, "the heartbeat's WARN lines: ${heartbeatLines()}")
+                        admin.configSet("maxclients", "10000")
+                    }
+                    val roomMade = System.nanoTime()
+                    val published = (7..11).toList()
+                    published.forEach { events.publish(it) }
+                    val arrived = (1..published.size).map { doubled.take(Duration.ofSeconds(10)).orElseThrow() }
+                    val recovered = Duration.ofNanos(System.nanoTime() - roomMade)
+                    assertEquals(published.map { 2 * it }, arrived, "lost, duplicated or reordered after the cut-off")
+                    assertTrue(doubled.take(Duration.ofMillis(300)).isEmpty, "a value arrived twice")
+                    assertTrue(recovered < Duration.ofSeconds(5), "recovered after $recovered")
+                }
             }
         }
     }
