@@ -5,10 +5,13 @@ import java.util.List;
 import java.util.Locale;
 
 /**
- * Measures the machine's core-to-core round trip and the synchronous Prime-sources row in
- * alternating windows of one JVM, to tell whether the row's slow mode follows the machine's slow
- * speed (both slow in the same windows) or has a cause of its own (the row slow while the round
- * trip is fast). The JMH runs measure the two minutes apart, so they cannot tell.
+ * Measures the machine's core-to-core round trip and a Prime row in alternating windows of one
+ * JVM, to tell whether the row's slow mode follows the machine's slow speed (both slow in the same
+ * windows) or has a cause of its own (the row slow while the round trip is fast). The JMH runs
+ * measure them minutes apart, so they cannot tell. The row is the synchronous Prime-sources row
+ * ({@code row}, {@link SyncSourceBenchmark}) or the asynchronous hand-off ({@code handoff}, {@link
+ * AsyncHandOffBenchmark#primeSource}, time per value of batches of {@value
+ * AsyncHandOffBenchmark#BATCH}).
  *
  * <p>Each window runs one of the two alone: the round trip's echo thread is started for its window
  * and stopped (joined) before the row's, and the row's service thread parks within 200 µs of the
@@ -16,25 +19,38 @@ import java.util.Locale;
  * two-by-two count of slow and fast windows.
  *
  * <pre>{@code
- * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.SpeedPairingProbe [payload] [windows] [windowMillis] [warmUpSeconds]
+ * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.SpeedPairingProbe [payload] [windows] [windowMillis] [warmUpSeconds] [row|handoff]
  * }</pre>
  *
- * <p>Defaults: 100 B, 200 windows of each, 100 ms per window, after 5 s of warm-up (windows of both, not printed).
+ * <p>Defaults: 100 B, 200 windows of each, 100 ms per window, after 5 s of warm-up (windows of
+ * both, not printed), the synchronous row.
  */
 public final class SpeedPairingProbe {
   /** A round trip slower than this counts as the machine's slow speed (the two groups: ~120, ~440 ns). */
   private static final double SLOW_ROUND_TRIP_NANOS = 280;
 
   /** A row transmission slower than this counts as the row's slow mode (groups: ~300, ~1,200 ns). */
-  private static final double SLOW_ROW_NANOS = 700;
+  static final double SLOW_ROW_NANOS = 700;
+
+  /** A hand-off slower than this per value counts as its slow mode (fork means: 25–45, 60–100 ns). */
+  static final double SLOW_HANDOFF_NANOS = 52;
 
   private SpeedPairingProbe() {}
+
+  /** A Prime row measured in windows. */
+  private interface Row extends AutoCloseable {
+    /** The mean time of one value over a window of about {@code nanos}. */
+    double window(long nanos);
+
+    @Override
+    void close();
+  }
 
   /**
    * Runs the probe.
    *
-   * @param args payload bytes, windows of each, milliseconds per window, seconds of warm-up (all
-   *     optional)
+   * @param args payload bytes, windows of each, milliseconds per window, seconds of warm-up, and
+   *     {@code row} or {@code handoff} (all optional)
    * @throws InterruptedException if interrupted while stopping the echo thread
    */
   public static void main(String[] args) throws InterruptedException {
@@ -42,35 +58,102 @@ public final class SpeedPairingProbe {
     int windows = args.length > 1 ? Integer.parseInt(args[1]) : 200;
     long windowNanos = (args.length > 2 ? Long.parseLong(args[2]) : 100) * 1_000_000L;
     long warmUpNanos = (args.length > 3 ? Long.parseLong(args[3]) : 5) * 1_000_000_000L;
-    if (payload < 0 || windows < 1 || windowNanos < 1_000_000L || warmUpNanos < 0) {
+    String which = args.length > 4 ? args[4] : "row";
+    if (payload < 0 || windows < 1 || windowNanos < 1_000_000L || warmUpNanos < 0
+        || !(which.equals("row") || which.equals("handoff"))) {
       throw new IllegalArgumentException(
-          "give payload >= 0, windows >= 1, windowMillis >= 1 and warmUpSeconds >= 0, e.g. 100 200 100 5");
+          "give payload >= 0, windows >= 1, windowMillis >= 1, warmUpSeconds >= 0 and row or handoff,"
+              + " e.g. 100 200 100 5 row");
     }
     Shape shape = new Shape();
     shape.length = 4;
     shape.payload = payload;
     shape.scenario = "monomorphic";
-    SyncChainBenchmark.Input input = new SyncChainBenchmark.Input();
-    input.build(shape);
-    SyncSourceBenchmark.Collected row = new SyncSourceBenchmark.Collected();
-    row.build(shape);
-    try {
+    double slow = which.equals("row") ? SLOW_ROW_NANOS : SLOW_HANDOFF_NANOS;
+    try (Row row = which.equals("row") ? synchronousRow(shape) : handOff(shape)) {
       long warmUpEnd = System.nanoTime() + warmUpNanos;
       while (System.nanoTime() - warmUpEnd < 0) {
         roundTripWindow(windowNanos);
-        rowWindow(row, input, windowNanos);
+        row.window(windowNanos);
       }
       List<double[]> pairs = new ArrayList<>();
       for (int i = 0; i < windows; i++) {
         double roundTrip = roundTripWindow(windowNanos);
-        double transmission = rowWindow(row, input, windowNanos);
-        pairs.add(new double[] {roundTrip, transmission});
-        System.out.printf(Locale.ROOT, "window %d: round trip %.0f ns, row %.0f ns%n", i, roundTrip, transmission);
+        double value = row.window(windowNanos);
+        pairs.add(new double[] {roundTrip, value});
+        System.out.printf(
+            Locale.ROOT, "window %d: round trip %.0f ns, %s %.0f ns%n", i, roundTrip, which, value);
       }
-      System.out.println(summary(pairs));
-    } finally {
-      row.close();
+      System.out.println(summary(pairs, which, slow));
     }
+  }
+
+  /** The synchronous Prime-sources row: one value there and its output back. */
+  private static Row synchronousRow(Shape shape) {
+    SyncChainBenchmark.Input input = new SyncChainBenchmark.Input();
+    input.build(shape);
+    SyncSourceBenchmark.Collected collected = new SyncSourceBenchmark.Collected();
+    collected.build(shape);
+    SyncSourceBenchmark transmissions = new SyncSourceBenchmark();
+    return new Row() {
+      private long sink;
+
+      @Override
+      public double window(long nanos) {
+        long start = System.nanoTime();
+        long count = 0;
+        long now;
+        do {
+          for (int i = 0; i < 64; i++) {
+            sink += transmissions.primeSource(input, collected);
+          }
+          count += 64;
+          now = System.nanoTime();
+        } while (now - start < nanos);
+        return (double) (now - start) / count;
+      }
+
+      @Override
+      public void close() {
+        collected.close();
+        if (sink == 42) {
+          System.out.print(""); // keeps the outputs alive
+        }
+      }
+    };
+  }
+
+  /** The asynchronous hand-off: batches published to a source, the linked chain on its thread. */
+  private static Row handOff(Shape shape) {
+    AsyncHandOffBenchmark.Batch batch = new AsyncHandOffBenchmark.Batch();
+    batch.build(shape);
+    AsyncHandOffBenchmark.PrimeSource source = new AsyncHandOffBenchmark.PrimeSource();
+    source.build(shape);
+    AsyncHandOffBenchmark batches = new AsyncHandOffBenchmark();
+    return new Row() {
+      private long sink;
+
+      @Override
+      public double window(long nanos) {
+        long start = System.nanoTime();
+        long count = 0;
+        long now;
+        do {
+          sink += batches.primeSource(batch, source);
+          count += AsyncHandOffBenchmark.BATCH;
+          now = System.nanoTime();
+        } while (now - start < nanos);
+        return (double) (now - start) / count;
+      }
+
+      @Override
+      public void close() {
+        source.close();
+        if (sink == 42) {
+          System.out.print(""); // keeps the outputs alive
+        }
+      }
+    };
   }
 
   /** The mean round trip over one window, with an echo thread of its own. */
@@ -98,48 +181,33 @@ public final class SpeedPairingProbe {
     }
   }
 
-  /** The mean transmission of the synchronous row over one window. */
-  private static double rowWindow(
-      SyncSourceBenchmark.Collected row, SyncChainBenchmark.Input input, long windowNanos) {
-    SyncSourceBenchmark transmissions = new SyncSourceBenchmark();
-    long start = System.nanoTime();
-    long count = 0;
-    long sink = 0;
-    long now;
-    do {
-      for (int i = 0; i < 64; i++) {
-        sink += transmissions.primeSource(input, row);
-      }
-      count += 64;
-      now = System.nanoTime();
-    } while (now - start < windowNanos);
-    if (sink == 42) {
-      System.out.print(""); // keeps the outputs alive
-    }
-    return (double) (now - start) / count;
-  }
-
   /**
    * How many windows paired each speed of the round trip with each mode of the row.
    *
-   * @param pairs per window, the mean round trip and the mean row transmission, in ns
+   * @param pairs per window, the mean round trip and the row's mean time per value, in ns
+   * @param row the row's name
+   * @param slowRowNanos above this the row counts as slow
    * @return one line of counts
    */
-  static String summary(List<double[]> pairs) {
+  static String summary(List<double[]> pairs, String row, double slowRowNanos) {
     int[][] counts = new int[2][2];
     for (double[] pair : pairs) {
-      counts[pair[0] > SLOW_ROUND_TRIP_NANOS ? 1 : 0][pair[1] > SLOW_ROW_NANOS ? 1 : 0]++;
+      counts[pair[0] > SLOW_ROUND_TRIP_NANOS ? 1 : 0][pair[1] > slowRowNanos ? 1 : 0]++;
     }
     return String.format(
         Locale.ROOT,
-        "%d windows; round trip fast (<= %.0f ns): row fast %d, row slow (> %.0f ns) %d;"
-            + " round trip slow: row fast %d, row slow %d",
+        "%d windows; round trip fast (<= %.0f ns): %s fast %d, %s slow (> %.0f ns) %d;"
+            + " round trip slow: %s fast %d, %s slow %d",
         pairs.size(),
         SLOW_ROUND_TRIP_NANOS,
+        row,
         counts[0][0],
-        SLOW_ROW_NANOS,
+        row,
+        slowRowNanos,
         counts[0][1],
+        row,
         counts[1][0],
+        row,
         counts[1][1]);
   }
 }

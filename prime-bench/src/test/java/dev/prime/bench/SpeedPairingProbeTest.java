@@ -9,6 +9,8 @@ import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.params.ParameterizedTest;
+import org.junit.jupiter.params.provider.ValueSource;
 
 class SpeedPairingProbeTest {
 
@@ -24,28 +26,32 @@ class SpeedPairingProbeTest {
     assertEquals(
         "5 windows; round trip fast (<= 280 ns): row fast 2, row slow (> 700 ns) 1;"
             + " round trip slow: row fast 1, row slow 1",
-        SpeedPairingProbe.summary(pairs));
+        SpeedPairingProbe.summary(pairs, "row", SpeedPairingProbe.SLOW_ROW_NANOS));
   }
 
-  @Test
-  void measuresBothInWindowsOfOneJvm() throws InterruptedException {
+  @ParameterizedTest
+  @ValueSource(strings = {"row", "handoff"})
+  void measuresBothInWindowsOfOneJvm(String row) throws InterruptedException {
     PrintStream out = System.out;
     ByteArrayOutputStream printed = new ByteArrayOutputStream();
     System.setOut(new PrintStream(printed, true, StandardCharsets.UTF_8));
     try {
-      SpeedPairingProbe.main(new String[] {"100", "3", "1", "0"});
+      SpeedPairingProbe.main(new String[] {"100", "3", "1", "0", row});
     } finally {
       System.setOut(out);
     }
     String text = printed.toString(StandardCharsets.UTF_8);
-    assertEquals(3, text.lines().filter(line -> line.matches("window \\d: round trip \\d+ ns, row \\d+ ns")).count(), text);
-    assertTrue(text.contains("3 windows; round trip fast"), text);
+    String window = "window \\d: round trip \\d+ ns, " + row + " \\d+ ns";
+    assertEquals(3, text.lines().filter(line -> line.matches(window)).count(), text);
+    assertTrue(text.contains("3 windows; round trip fast (<= 280 ns): " + row + " fast"), text);
   }
 
   @Test
-  void refusesAWindowShorterThanAMillisecond() {
+  void refusesAWindowShorterThanAMillisecondOrAnUnknownRow() {
     IllegalArgumentException e =
         assertThrows(IllegalArgumentException.class, () -> SpeedPairingProbe.main(new String[] {"100", "3", "0"}));
     assertTrue(e.getMessage().contains("windowMillis >= 1"), e.getMessage());
+    e = assertThrows(IllegalArgumentException.class, () -> SpeedPairingProbe.main(new String[] {"100", "3", "1", "0", "sync"}));
+    assertTrue(e.getMessage().contains("row or handoff"), e.getMessage());
   }
 }
