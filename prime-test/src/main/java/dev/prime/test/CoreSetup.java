@@ -49,7 +49,8 @@ public interface CoreSetup {
    * <p>The default is {@code OptimusCore.builder().config(config).redis(redisUrl).build()}.
    *
    * @param config the invocation's settings, named by the extension
-   * @param redisUrl the Redis shared by the test class
+   * @param redisUrl the Redis shared by the test class; on {@link Media#OPTIMUS_SLOW_LINK} the
+   *     URL of the class's slow link in front of it (the Redis's URL with the proxy's address)
    * @return a new core, not started
    */
   default PrimeCore optimus(CoreConfig config, String redisUrl) {

@@ -30,7 +30,7 @@ import org.junit.jupiter.api.extension.ExtendWith;
  * <ul>
  *   <li>The method runs once per media in {@link #media()}, in that order; each run is reported
  *       under the media's {@linkplain Media#displayName() name} ({@code Liberty}, {@code Radiant},
- *       {@code Optimus}).
+ *       {@code Optimus}, {@code Optimus, slow link}).
  *   <li>Parameters of type {@link dev.prime.PrimeCore} (of the test method and of its
  *       {@code @BeforeEach} and {@code @AfterEach} methods) receive the run's core, the same
  *       instance within one run; a parameter of type {@link Media} receives the run's media. A
@@ -48,6 +48,11 @@ import org.junit.jupiter.api.extension.ExtendWith;
  *       for the first Optimus run of the class and stopped when the class is done, or the Redis
  *       named by the JUnit configuration parameter {@code prime.test.redis} (a {@code redis://}
  *       URL; then nothing is started).
+ *   <li>{@link Media#OPTIMUS_SLOW_LINK}, run only when named ({@code @PrimeTest(media = {OPTIMUS,
+ *       OPTIMUS_SLOW_LINK})}), is Optimus with that Redis behind a proxy that delays every byte
+ *       each way by the JUnit configuration parameter {@code prime.test.slowLink.delay} ({@code
+ *       2ms}, {@code 0.5ms}, ...; {@code 1ms} if unset): a slow network link, one per test class,
+ *       closed with the class.
  *   <li>A media whose module is not on the test class path fails its run with a message naming
  *       the dependency to add.
  * </ul>
@@ -60,8 +65,9 @@ import org.junit.jupiter.api.extension.ExtendWith;
 public @interface PrimeTest {
 
   /**
-   * {@return the media to run on, in order; all three by default} Each needs its module on the
-   * test class path.
+   * {@return the media to run on, in order; by default {@code LIBERTY}, {@code RADIANT} and {@code
+   * OPTIMUS}} {@link Media#OPTIMUS_SLOW_LINK} runs only when named here. Each needs its module on
+   * the test class path.
    */
   Media[] media() default {Media.LIBERTY, Media.RADIANT, Media.OPTIMUS};
 

@@ -20,7 +20,7 @@ public final class MediaCores {
    * @param media the media
    * @param config the settings, already named
    * @param setup makes the Optimus core
-   * @param redisUrl the Redis for Optimus, asked for only on Optimus
+   * @param redisUrl the Redis for Optimus (on the slow link, its proxy), asked for only on Optimus
    * @return a new core, not started
    * @throws ExtensionConfigurationException if the media's module is not on the class path
    */
@@ -31,7 +31,7 @@ public final class MediaCores {
       return switch (media) {
         case LIBERTY -> LibertyCores.create(config);
         case RADIANT -> RadiantCores.create(config);
-        case OPTIMUS -> setup.optimus(config, redisUrl.get());
+        case OPTIMUS, OPTIMUS_SLOW_LINK -> setup.optimus(config, redisUrl.get());
       };
     } catch (NoClassDefFoundError e) {
       throw new ExtensionConfigurationException(
@@ -62,7 +62,7 @@ public final class MediaCores {
    * @param core the run's core, closed
    */
   static void deleteKeys(Media media, PrimeCore core) {
-    if (media == Media.OPTIMUS) {
+    if (media == Media.OPTIMUS || media == Media.OPTIMUS_SLOW_LINK) {
       OptimusCores.deleteKeys(core);
     }
   }

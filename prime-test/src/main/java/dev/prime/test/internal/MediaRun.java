@@ -7,6 +7,7 @@ import dev.prime.test.Media;
 import java.lang.reflect.Executable;
 import java.lang.reflect.Method;
 import java.lang.reflect.Parameter;
+import java.time.Duration;
 import java.util.List;
 import java.util.Locale;
 import java.util.concurrent.ThreadLocalRandom;
@@ -147,7 +148,7 @@ final class MediaRun implements TestTemplateInvocationContext {
       CoreConfig asked = builder.build();
       CoreConfig config = asked.toBuilder().name(runName(asked.name())).build();
       PrimeCore made =
-          MediaCores.create(media, config, runSetup, () -> sharedRedis(context).url());
+          MediaCores.create(media, config, runSetup, () -> redisUrl(media, context));
       if (made == null || !config.name().equals(made.name())) {
         if (made != null) {
           made.close();
@@ -163,8 +164,8 @@ final class MediaRun implements TestTemplateInvocationContext {
 
     /** {@code <base>-<media>-<n>-<jvm>}, cut to the longest core name. */
     private String runName(String asked) {
-      String suffix =
-          "-" + media.name().toLowerCase(Locale.ROOT) + "-" + CORES.incrementAndGet() + "-" + JVM;
+      String suffix = "-" + media.name().toLowerCase(Locale.ROOT).replace('_', '-') + "-"
+          + CORES.incrementAndGet() + "-" + JVM;
       String base = asked == null ? "test" : asked;
       if (base.length() + suffix.length() > MAX_NAME) {
         base = base.substring(0, MAX_NAME - suffix.length());
@@ -173,19 +174,39 @@ final class MediaRun implements TestTemplateInvocationContext {
     }
   }
 
+  /**
+   * The Redis URL of an Optimus run: the test class's Redis, or on {@link Media#OPTIMUS_SLOW_LINK}
+   * the class's slow link in front of it, opened for its first such run.
+   */
+  private static String redisUrl(Media media, ExtensionContext context) {
+    if (media != Media.OPTIMUS_SLOW_LINK) {
+      return sharedRedis(context).url();
+    }
+    Duration delay =
+        SlowLink.parseDelay(context.getConfigurationParameter(SlowLink.DELAY_PARAMETER).orElse(null));
+    String redis = sharedRedis(context).url();
+    return classStore(context)
+        .getOrComputeIfAbsent(SlowLink.class, key -> SlowLink.open(redis, delay), SlowLink.class)
+        .url();
+  }
+
   /** The Redis of the test class that holds this run, started for its first Optimus run. */
   private static SharedRedis sharedRedis(ExtensionContext context) {
-    ExtensionContext owner = context;
-    while (owner.getTestMethod().isPresent() && owner.getParent().isPresent()) {
-      owner = owner.getParent().get();
-    }
     String configured = context.getConfigurationParameter(PrimeTestExtension.REDIS_PARAMETER).orElse(null);
-    return owner
-        .getStore(PrimeTestExtension.NAMESPACE)
+    return classStore(context)
         .getOrComputeIfAbsent(
             SharedRedis.class,
             key -> configured != null ? new SharedRedis(configured, null) : MediaCores.startEmbeddedRedis(),
             SharedRedis.class);
+  }
+
+  /** The store of the test class that holds this run: JUnit closes its values after the class. */
+  private static ExtensionContext.Store classStore(ExtensionContext context) {
+    ExtensionContext owner = context;
+    while (owner.getTestMethod().isPresent() && owner.getParent().isPresent()) {
+      owner = owner.getParent().get();
+    }
+    return owner.getStore(PrimeTestExtension.NAMESPACE);
   }
 
   private static String describe(Executable executable) {

@@ -22,7 +22,7 @@ import org.junit.platform.commons.support.AnnotationSupport;
  */
 public final class PrimeTestExtension implements TestTemplateInvocationContextProvider {
 
-  /** Where the extension keeps the test class's Redis. */
+  /** Where the extension keeps the test class's Redis and slow link. */
   static final ExtensionContext.Namespace NAMESPACE =
       ExtensionContext.Namespace.create(PrimeTestExtension.class);
 
@@ -46,8 +46,8 @@ public final class PrimeTestExtension implements TestTemplateInvocationContextPr
     if (media.length == 0) {
       throw new ExtensionConfigurationException(
           "@PrimeTest(media = {}) on " + method.getName() + "() names no media, so the test would"
-              + " never run: name at least one (LIBERTY, RADIANT, OPTIMUS) or leave media out for"
-              + " all three");
+              + " never run: name at least one (LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK) or leave"
+              + " media out for LIBERTY, RADIANT and OPTIMUS");
     }
     Supplier<CoreSetup> setup = setupMaker(test.setup(), method);
     return Arrays.stream(media).map(m -> new MediaRun(m, setup));
