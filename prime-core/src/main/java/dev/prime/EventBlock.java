@@ -2,6 +2,7 @@ package dev.prime;
 
 import java.util.Objects;
 import java.util.concurrent.CopyOnWriteArrayList;
+import java.util.concurrent.atomic.AtomicBoolean;
 import java.util.function.Consumer;
 
 /**
@@ -54,6 +55,13 @@ public final class EventBlock<T> {
   public Subscription subscribe(Consumer<? super T> subscriber) {
     Objects.requireNonNull(subscriber, "subscriber must not be null");
     subscribers.add(subscriber);
-    return () -> subscribers.remove(subscriber);
+    // removes one entry once, however often it is closed: the same consumer may be subscribed
+    // more than once, and closing one subscription twice must not end another
+    AtomicBoolean open = new AtomicBoolean(true);
+    return () -> {
+      if (open.compareAndSet(true, false)) {
+        subscribers.remove(subscriber);
+      }
+    };
   }
 }
