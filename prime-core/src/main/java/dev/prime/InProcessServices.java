@@ -89,8 +89,8 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   public Source<?> service(TopologyNode node, NodeLogic logic, Source<?> input, Object chain) {
     String name = node.name();
     Source in = input;
-    if (node instanceof TopologyNode.SourceLink) {
-      return link(name, in, (Supplier) chain);
+    if (node instanceof TopologyNode.SourceLink link) {
+      return link(name, takerOf(link), in, (Supplier) chain);
     }
     if (node instanceof TopologyNode.Filter) {
       return filter(name, in, ((NodeLogic.Condition) logic).condition());
@@ -106,12 +106,35 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   }
 
   /**
+   * The service that takes the values of a source link, as the user named it and as {@link
+   * PrimeCore#serviceNames()} lists it: the linked chain, or the first of chains linked before
+   * (on Optimus the service whose input that is), so that a {@link QueueFullException} names the
+   * same service on every media.
+   */
+  private String takerOf(TopologyNode.SourceLink link) {
+    String chain = link.chain();
+    try {
+      TopologyNode node = core.topologyRecorder().node(chain);
+      while (node instanceof TopologyNode.Link linked) {
+        chain = linked.first();
+        node = core.topologyRecorder().node(chain);
+      }
+    } catch (IllegalArgumentException notRecorded) {
+      // not a chain of this core's diagram: its own name
+    }
+    return chain;
+  }
+
+  /**
    * A service running the chain's block on every value of {@code input}; its non-null outputs.
    * The block is made only once the service's input is open, so a link whose input fails has
    * done nothing to the chain.
+   *
+   * @param taker the service named by a {@link QueueFullException} when its input is full
    */
-  private <I, O> Source<O> link(String name, Source<I> input, Supplier<Block<I, O>> chain) {
-    Reader<I> values = serviceInput(name, input);
+  private <I, O> Source<O> link(
+      String name, String taker, Source<I> input, Supplier<Block<I, O>> chain) {
+    Reader<I> values = serviceInput(taker, input);
     MemorySource<O> out;
     Block<I, O> block;
     try {

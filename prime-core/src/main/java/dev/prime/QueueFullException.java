@@ -31,7 +31,11 @@ public class QueueFullException extends PrimeException {
     this.capacity = capacity;
   }
 
-  /** {@return the service whose input is full, as the user named it} */
+  /**
+   * {@return the service whose input is full, as the user named it and {@link
+   * PrimeCore#serviceNames()} lists it: for a chain linked to a source, the chain's name (of chains
+   * linked before, the first's), not the name of the source it makes}
+   */
   public String serviceName() {
     return serviceName;
   }

@@ -287,6 +287,62 @@ public interface AwkwardConformance extends ConformanceBase {
   }
 
   /**
+   * {@link CoreConfig.Builder#publishTimeout}: "zero (fail at once)". With a publish timeout of
+   * zero, a publish that finds a service's input full waits for no room: it throws {@link
+   * QueueFullException} within a second (the stuck service would hold it for the kit's whole
+   * patience), naming the service as {@link PrimeCore#serviceNames()} does (of two chains linked
+   * before they are linked to the source, the first, whose input is full), and publishes
+   * nothing: the chains then process exactly the values that fitted, and a publish once there is
+   * room goes through.
+   */
+  @Test
+  default void aPublishTimeoutOfZeroRefusesAPublishToAFullInputAtOnce()
+      throws InterruptedException {
+    int capacity = 2;
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch sentinelDone = new CountDownLatch(1);
+    List<Integer> processed = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config = CoreConfig.builder().publishTimeout(Duration.ZERO).build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events)
+          .then(
+              stuckChain(core, "held", inside, release)
+                  .then(
+                      core.chain(
+                          "after-held",
+                          (Integer x) -> {
+                            processed.add(x);
+                            if (x == -1) {
+                              sentinelDone.countDown();
+                            }
+                            return x;
+                          })));
+      core.start();
+      try {
+        fillStuckInput(events, inside, capacity);
+        long began = System.nanoTime();
+        QueueFullException refused =
+            assertThrows(QueueFullException.class, () -> events.publish(99));
+        Duration took = Duration.ofNanos(System.nanoTime() - began);
+        assertTrue(took.compareTo(Duration.ofSeconds(1)) < 0, "refused at once, took " + took);
+        assertEquals(
+            "held", refused.serviceName(), "the chain whose input is full: " + refused.getMessage());
+      } finally {
+        release.countDown();
+      }
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (processed.size() < capacity + 1 && System.nanoTime() < deadline) {
+        sentinelDone.await(1, TimeUnit.MILLISECONDS); // a bounded pause until room came
+      }
+      events.publish(-1); // a sentinel, once the input has room
+      assertTrue(sentinelDone.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertEquals(List.of(0, 1, 2, -1), processed, "the refused 99 reached nobody");
+    }
+  }
+
+  /**
    * A service that publishes into its own input waits for itself when that input is full: the
    * publish fails with {@link QueueFullException} after the publish timeout (never a hang), the
    * failure goes to the error handler, and the service goes on with the values that fitted.
