@@ -97,6 +97,120 @@ public interface SourceConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.Block}: "A core calls one block from one thread at a time ... when the block
+   * backs exactly one service", and values leave a service in the order they entered it. Four
+   * threads publish at once to one source: the blocks of two chains linked before they are linked
+   * to it (one service on a media that fuses chains, two on one that keeps a service per chain), a
+   * filter's predicate and a listener each run one value at a time, never two at once, and each
+   * gets every value, those of each publisher in the order that publisher published them; the
+   * chains' outputs leave in that order too.
+   */
+  @Test
+  default void aServiceRunsItsBlockOnOneValueAtATimeWhateverThePublishers() throws Exception {
+    int publishers = 4;
+    int each = 100;
+    List<String> roles = List.of("first", "second", "filter", "listen");
+    Map<String, java.util.concurrent.atomic.AtomicInteger> inside = new ConcurrentHashMap<>();
+    Map<String, java.util.concurrent.atomic.AtomicInteger> most = new ConcurrentHashMap<>();
+    Map<String, List<Integer>> seen = new ConcurrentHashMap<>();
+    for (String role : roles) {
+      inside.put(role, new java.util.concurrent.atomic.AtomicInteger());
+      most.put(role, new java.util.concurrent.atomic.AtomicInteger());
+      seen.put(role, new CopyOnWriteArrayList<>());
+    }
+    CountDownLatch allHeard = new CountDownLatch(publishers * each);
+    ExecutorService pool = Executors.newFixedThreadPool(publishers);
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("crowd", events);
+      Reader<Integer> out =
+          source
+              .then(
+                  core.chain("first", (Integer x) -> oneAtATime(inside, most, seen, "first", x))
+                      .then(
+                          core.chain(
+                              "second", (Integer x) -> oneAtATime(inside, most, seen, "second", x))))
+              .reader();
+      Reader<Integer> passed =
+          source.filter(x -> oneAtATime(inside, most, seen, "filter", x) >= 0).reader();
+      source.listen(
+          x -> {
+            oneAtATime(inside, most, seen, "listen", x);
+            allHeard.countDown();
+          });
+      core.start();
+      CountDownLatch go = new CountDownLatch(1);
+      List<Future<?>> publishing = new ArrayList<>();
+      for (int p = 0; p < publishers; p++) {
+        int base = p * 1_000;
+        publishing.add(
+            pool.submit(
+                () -> {
+                  go.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                  for (int i = 0; i < each; i++) {
+                    events.publish(base + i);
+                  }
+                  return null;
+                }));
+      }
+      go.countDown();
+      for (Future<?> publisher : publishing) {
+        publisher.get(patience().toMillis(), TimeUnit.MILLISECONDS);
+      }
+      List<Integer> outputs = takeOrFail(out, publishers * each);
+      takeOrFail(passed, publishers * each);
+      assertTrue(
+          allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the listener heard all");
+      for (String role : roles) {
+        assertEquals(1, most.get(role).get(), role + " ran on two values at once");
+      }
+      for (String role : roles) {
+        assertInPublishersOrder(role, seen.get(role), publishers, each);
+      }
+      assertInPublishersOrder("the chains' outputs", outputs, publishers, each);
+    } finally {
+      pool.shutdownNow();
+    }
+  }
+
+  /**
+   * Runs {@code role} on {@code value}: notes how many calls of it are under way, the most ever,
+   * and the value, giving other threads a chance to come in meanwhile; returns {@code value}.
+   */
+  private static int oneAtATime(
+      Map<String, java.util.concurrent.atomic.AtomicInteger> inside,
+      Map<String, java.util.concurrent.atomic.AtomicInteger> most,
+      Map<String, List<Integer>> seen,
+      String role,
+      int value) {
+    int now = inside.get(role).incrementAndGet();
+    most.get(role).accumulateAndGet(now, Math::max);
+    seen.get(role).add(value);
+    for (int i = 0; i < 3; i++) {
+      Thread.yield(); // widens the window in which a second call would overlap
+    }
+    inside.get(role).decrementAndGet();
+    return value;
+  }
+
+  /**
+   * Asserts that {@code values} are the values {@code 1000 * p + i} ({@code i} below {@code
+   * each}) of {@code publishers} publishers, each once, and each publisher's in its order.
+   */
+  private static void assertInPublishersOrder(
+      String what, List<Integer> values, int publishers, int each) {
+    for (int p = 0; p < publishers; p++) {
+      int base = p * 1_000;
+      List<Integer> ofPublisher = values.stream().filter(v -> v / 1_000 == base / 1_000).toList();
+      assertEquals(
+          IntStream.range(base, base + each).boxed().toList(),
+          ofPublisher,
+          what + ": the values of publisher " + p + " in its order");
+    }
+    assertEquals(publishers * each, values.size(), what + ": every value once");
+  }
+
   /** Records the thread that ran {@code role} and passes {@code value} on. */
   private static <T> T ranOn(Map<String, String> threads, String role, T value) {
     threads.put(role, Thread.currentThread().getName());
