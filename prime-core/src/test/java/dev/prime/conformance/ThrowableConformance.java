@@ -205,6 +205,74 @@ public interface ThrowableConformance extends ConformanceBase {
     assertNoThreadsLeft(core);
   }
 
+  /**
+   * {@link dev.prime.ErrorHandler}: "A {@link VirtualMachineError} the handler throws ends the
+   * service, as one its block throws." A block throws an ordinary exception and the error handler
+   * then throws an {@link OutOfMemoryError}: the core logs the ERROR line {@code service '<name>'
+   * stops: <the error>} for that service (named after its chain, as in the test of an error its
+   * block throws), which processes nothing more, while the core's other
+   * service of the same source goes on with every value, and {@code close()} still stops it and
+   * leaves no thread.
+   */
+  @Test
+  default void aVirtualMachineErrorTheErrorHandlerThrowsEndsThatServiceLikeOneOfItsBlock()
+      throws InterruptedException {
+    OutOfMemoryError oom = new OutOfMemoryError("thrown by the error handler on purpose");
+    CountDownLatch handled = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  handled.countDown();
+                  throw oom;
+                })
+            .build();
+    List<Integer> doomedSaw = new CopyOnWriteArrayList<>();
+    PrimeCore core = newCore(config);
+    List<String> stops = new ArrayList<>();
+    try (CapturedStderr err = new CapturedStderr()) {
+      try (core) {
+        EventBlock<Integer> events = new EventBlock<>();
+        dev.prime.Source<Integer> source = core.source("handled-input", events);
+        source.then(
+            core.chain(
+                "doomed",
+                (Integer x) -> {
+                  doomedSaw.add(x);
+                  if (x == 1) {
+                    throw new IllegalStateException("the block of 'doomed' fails on 1");
+                  }
+                  return x;
+                }));
+        Reader<Integer> bystander =
+            source.then(core.chain("bystander", (Integer x) -> x * 10)).reader();
+        core.start();
+        events.publish(1);
+        assertTrue(
+            handled.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the handler was called");
+        long deadline = System.nanoTime() + patience().toNanos();
+        CountDownLatch never = new CountDownLatch(1);
+        while (stops.isEmpty() && System.nanoTime() < deadline) {
+          never.await(10, TimeUnit.MILLISECONDS); // a bounded pause while the line is written
+          for (String line : err.lines()) {
+            if (line.contains("ERROR")
+                && line.contains("doomed' stops")
+                && line.contains(oom.getMessage())) {
+              stops.add(line);
+            }
+          }
+        }
+        assertEquals(1, stops.size(), "one ERROR line: the service stopped: " + err.lines());
+        for (int i = 2; i <= 4; i++) {
+          events.publish(i);
+        }
+        assertEquals(List.of(10, 20, 30, 40), takeOrFail(bystander, 4), "the other service went on");
+        assertEquals(List.of(1), doomedSaw, "the ended service processed nothing more");
+      }
+    }
+    assertNoThreadsLeft(core);
+  }
+
   /** Overflows the stack. */
   private static int recurseForever(int depth) {
     return recurseForever(depth - 1) + 1;
