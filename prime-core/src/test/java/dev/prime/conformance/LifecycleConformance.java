@@ -607,6 +607,50 @@ public interface LifecycleConformance extends ConformanceBase {
   }
 
   /**
+   * {@link PrimeCore#close()}: a {@code close()} that finds another under way waits for it, but
+   * "an interrupt ends its wait and stays set". While the first close is held for its shutdown
+   * timeout of 10 s by a block that ignores interrupts, a second {@code close()} on an interrupted
+   * thread returns within a second, throwing nothing, with the thread's interrupt flag still set.
+   */
+  @Test
+  default void anInterruptEndsTheWaitOfASecondCloseAndStaysSet() throws InterruptedException {
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    PrimeCore core =
+        newCore(CoreConfig.builder().shutdownTimeout(Duration.ofSeconds(10)).build());
+    Thread first = null;
+    try {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source(events).then(deafChain(core, "holding", inside, release));
+      core.start();
+      events.publish(1);
+      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      first = new Thread(core::close, "kit-first-close");
+      first.setDaemon(true);
+      first.start();
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (!core.isClosed() && System.nanoTime() < deadline) {
+        first.join(1); // a bounded pause until the first close() began
+      }
+      assertTrue(core.isClosed(), "the first close() began");
+      Thread.currentThread().interrupt();
+      long began = System.nanoTime();
+      core.close();
+      Duration took = Duration.ofNanos(System.nanoTime() - began);
+      assertTrue(Thread.interrupted(), "the interrupt flag stays set");
+      assertTrue(took.compareTo(Duration.ofSeconds(1)) < 0, "the interrupt ended the wait: " + took);
+      assertTrue(first.isAlive(), "the first close() is still under way");
+    } finally {
+      Thread.interrupted();
+      release.countDown();
+      if (first != null) {
+        first.join(patience().toMillis());
+      }
+    }
+    awaitNoThreadsLeft(core);
+  }
+
+  /**
    * A {@code close()} called by a block on a service's thread while another {@code close()} is
    * under way returns at once ({@link PrimeCore#close()}): the close under way is waiting for that
    * very thread, so waiting for it in turn would hold both up; the first close then returns well
