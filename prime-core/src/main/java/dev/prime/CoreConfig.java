@@ -169,8 +169,9 @@ public final class CoreConfig {
     private Builder() {}
 
     /**
-     * @param name letters, digits, '.', '_' or '-'; {@code null} for a generated name
+     * @param name 1 to 64 letters, digits, '.', '_' or '-'; {@code null} for a generated name
      * @return this builder
+     * @throws IllegalArgumentException if {@code name} is not {@code null} and not such a name
      */
     public Builder name(String name) {
       if (name != null && !name.matches("[A-Za-z0-9._-]{1,64}")) {
@@ -193,6 +194,7 @@ public final class CoreConfig {
      *
      * @param values how many values each source keeps, at least 1
      * @return this builder
+     * @throws IllegalArgumentException if {@code values} is less than 1
      */
     public Builder sourceRetention(int values) {
       if (values < 1) {
@@ -210,6 +212,7 @@ public final class CoreConfig {
      *
      * @param handler receives the failures of asynchronous services
      * @return this builder
+     * @throws NullPointerException if {@code handler} is {@code null}
      */
     public Builder errorHandler(ErrorHandler handler) {
       this.errorHandler = Objects.requireNonNull(handler, "errorHandler must not be null");
@@ -219,6 +222,8 @@ public final class CoreConfig {
     /**
      * @param timeout how long {@code close()} waits for services to stop; positive
      * @return this builder
+     * @throws IllegalArgumentException if {@code timeout} is zero or negative
+     * @throws NullPointerException if {@code timeout} is {@code null}
      */
     public Builder shutdownTimeout(Duration timeout) {
       Objects.requireNonNull(timeout, "shutdownTimeout must not be null");
@@ -248,6 +253,8 @@ public final class CoreConfig {
      *
      * @param timeout how long a publish waits for room; zero (fail at once) or positive
      * @return this builder
+     * @throws IllegalArgumentException if {@code timeout} is negative
+     * @throws NullPointerException if {@code timeout} is {@code null}
      */
     public Builder publishTimeout(Duration timeout) {
       Objects.requireNonNull(timeout, "publishTimeout must not be null");
@@ -290,6 +297,7 @@ public final class CoreConfig {
      *
      * @param clock the clock
      * @return this builder
+     * @throws NullPointerException if {@code clock} is {@code null}
      */
     public Builder clock(PrimeClock clock) {
       this.clock = Objects.requireNonNull(clock, "clock must not be null");

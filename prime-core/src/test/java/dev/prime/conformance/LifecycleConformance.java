@@ -279,12 +279,52 @@ public interface LifecycleConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link CoreConfig.Builder}: each setting is checked where it is set, with a message naming
+   * what is wrong: a name of 1 to 64 letters, digits, '.', '_' or '-', a source retention of at
+   * least 1, a positive shutdown timeout, a zero or positive publish timeout, and no {@code null}
+   * error handler, timeout or clock. A core takes the longest name of every allowed character
+   * and runs under it.
+   */
   @Test
-  default void configurationIsValidated() {
-    assertThrows(IllegalArgumentException.class, () -> CoreConfig.builder().sourceRetention(0));
-    assertThrows(NullPointerException.class, () -> CoreConfig.builder().errorHandler(null));
-    try (PrimeCore core = newCore(CoreConfig.builder().name("named-core").build())) {
-      assertEquals("named-core", core.name());
+  default void configurationIsValidated() throws InterruptedException {
+    CoreConfig.Builder builder = CoreConfig.builder();
+    for (String bad : List.of("", "has space", "slash/ed", "colon:", "x".repeat(65))) {
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> builder.name(bad), "'" + bad + "'");
+      assertTrue(
+          e.getMessage().contains("'" + bad + "'") && e.getMessage().contains("1 to 64"),
+          e.getMessage());
+    }
+    assertThrows(IllegalArgumentException.class, () -> builder.sourceRetention(0));
+    for (Duration notPositive : List.of(Duration.ZERO, Duration.ofNanos(-1))) {
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> builder.shutdownTimeout(notPositive));
+      assertTrue(e.getMessage().contains("shutdownTimeout must be positive"), e.getMessage());
+    }
+    IllegalArgumentException negative =
+        assertThrows(
+            IllegalArgumentException.class, () -> builder.publishTimeout(Duration.ofNanos(-1)));
+    assertTrue(negative.getMessage().contains("publishTimeout"), negative.getMessage());
+    List<org.junit.jupiter.api.function.Executable> nulls =
+        List.of(
+            () -> builder.errorHandler(null),
+            () -> builder.shutdownTimeout(null),
+            () -> builder.publishTimeout(null),
+            () -> builder.clock(null));
+    for (org.junit.jupiter.api.function.Executable call : nulls) {
+      NullPointerException e = assertThrows(NullPointerException.class, call);
+      assertTrue(e.getMessage().contains("must not be null"), e.getMessage());
+    }
+    String unique = String.format("%08x", System.nanoTime() & 0xffffffffL);
+    String longest = "Az09._-".repeat(8) + unique; // 64 characters, unique to this run
+    try (PrimeCore core = newCore(builder.name(longest).build())) {
+      assertEquals(longest, core.name());
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out = core.source(events).then(core.chain((Integer x) -> x + 1)).reader();
+      core.start();
+      events.publish(1);
+      assertEquals(2, takeOrFail(out));
     }
   }
 
