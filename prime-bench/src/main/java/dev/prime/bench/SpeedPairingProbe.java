@@ -3,6 +3,7 @@ package dev.prime.bench;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Locale;
+import java.util.function.LongSupplier;
 
 /**
  * Measures the machine's core-to-core round trip and a Prime row in alternating windows of one
@@ -37,13 +38,47 @@ public final class SpeedPairingProbe {
 
   private SpeedPairingProbe() {}
 
-  /** A Prime row measured in windows. */
-  private interface Row extends AutoCloseable {
+  /**
+   * A Prime row measured in windows: {@code step} moves {@code valuesPerStep} values through it,
+   * and the clock is read every {@code stepsPerClockRead} steps (a read costs tens of ns, a
+   * synchronous transmission a few hundred).
+   */
+  private static final class Row implements AutoCloseable {
+    private final LongSupplier step;
+    private final int valuesPerStep;
+    private final int stepsPerClockRead;
+    private final Runnable close;
+    private long sink;
+
+    Row(LongSupplier step, int valuesPerStep, int stepsPerClockRead, Runnable close) {
+      this.step = step;
+      this.valuesPerStep = valuesPerStep;
+      this.stepsPerClockRead = stepsPerClockRead;
+      this.close = close;
+    }
+
     /** The mean time of one value over a window of about {@code nanos}. */
-    double window(long nanos);
+    double window(long nanos) {
+      long start = System.nanoTime();
+      long values = 0;
+      long now;
+      do {
+        for (int i = 0; i < stepsPerClockRead; i++) {
+          sink += step.getAsLong();
+        }
+        values += (long) stepsPerClockRead * valuesPerStep;
+        now = System.nanoTime();
+      } while (now - start < nanos);
+      return (double) (now - start) / values;
+    }
 
     @Override
-    void close();
+    public void close() {
+      close.run();
+      if (sink == 42) {
+        System.out.print(""); // keeps the outputs alive
+      }
+    }
   }
 
   /**
@@ -95,32 +130,7 @@ public final class SpeedPairingProbe {
     SyncSourceBenchmark.Collected collected = new SyncSourceBenchmark.Collected();
     collected.build(shape);
     SyncSourceBenchmark transmissions = new SyncSourceBenchmark();
-    return new Row() {
-      private long sink;
-
-      @Override
-      public double window(long nanos) {
-        long start = System.nanoTime();
-        long count = 0;
-        long now;
-        do {
-          for (int i = 0; i < 64; i++) {
-            sink += transmissions.primeSource(input, collected);
-          }
-          count += 64;
-          now = System.nanoTime();
-        } while (now - start < nanos);
-        return (double) (now - start) / count;
-      }
-
-      @Override
-      public void close() {
-        collected.close();
-        if (sink == 42) {
-          System.out.print(""); // keeps the outputs alive
-        }
-      }
-    };
+    return new Row(() -> transmissions.primeSource(input, collected), 1, 64, collected::close);
   }
 
   /** The asynchronous hand-off: batches published to a source, the linked chain on its thread. */
@@ -130,30 +140,8 @@ public final class SpeedPairingProbe {
     AsyncHandOffBenchmark.PrimeSource source = new AsyncHandOffBenchmark.PrimeSource();
     source.build(shape);
     AsyncHandOffBenchmark batches = new AsyncHandOffBenchmark();
-    return new Row() {
-      private long sink;
-
-      @Override
-      public double window(long nanos) {
-        long start = System.nanoTime();
-        long count = 0;
-        long now;
-        do {
-          sink += batches.primeSource(batch, source);
-          count += AsyncHandOffBenchmark.BATCH;
-          now = System.nanoTime();
-        } while (now - start < nanos);
-        return (double) (now - start) / count;
-      }
-
-      @Override
-      public void close() {
-        source.close();
-        if (sink == 42) {
-          System.out.print(""); // keeps the outputs alive
-        }
-      }
-    };
+    return new Row(
+        () -> batches.primeSource(batch, source), AsyncHandOffBenchmark.BATCH, 1, source::close);
   }
 
   /** The mean round trip over one window, with an echo thread of its own. */

@@ -509,32 +509,9 @@ class PrimeTestExtensionTest {
       throw new AssertionError("fails on purpose");
     }
 
-    /** A source, a chain with a dead letter and a reader: keys that stay after close. */
     private static void publishAndRead(PrimeCore core) throws InterruptedException {
-      EventBlock<Integer> numbers = new EventBlock<>();
-      Reader<Integer> out =
-          core.source("numbers", numbers)
-              .then(core.chain("not-two", (Integer x) -> {
-                if (x == 2) {
-                  throw new IllegalArgumentException("two");
-                }
-                return x;
-              }))
-              .reader();
-      core.start();
-      numbers.publish(1);
-      numbers.publish(2);
-      numbers.publish(3);
-      assertEquals(1, out.take(Duration.ofSeconds(20)).orElseThrow());
-      assertEquals(3, out.take(Duration.ofSeconds(20)).orElseThrow());
-      LOG.add(core.name() + " " + keysOf(core.name()).size());
+      LOG.add(KeyLeavingRun.run(core, url));
       CORES.add(core);
-    }
-
-    static List<String> keysOf(String topology) {
-      try (Jedis jedis = new Jedis(URI.create(url))) {
-        return List.copyOf(jedis.keys("prime:{" + topology + "}:*"));
-      }
     }
   }
 
@@ -557,7 +534,7 @@ class PrimeTestExtensionTest {
         assertTrue(during >= 5, "the run had keys in Redis: " + line);
       }
       for (PrimeCore core : CORES) {
-        assertEquals(List.of(), UsesRedis.keysOf(core.name()), "keys of " + core.name() + " after its run");
+        assertEquals(List.of(), KeyLeavingRun.keysOf(UsesRedis.url, core.name()), "keys of " + core.name() + " after its run");
       }
       assertEquals(Set.of("someone-elses-key"), jedis.keys("*"), "only the key that was not a run's is left");
     }

@@ -408,31 +408,9 @@ class SlowLinkMediaTest {
       throw new AssertionError("fails on purpose");
     }
 
-    /** A source, a chain with a dead letter and a reader: keys that stay after close. */
     private static void publishAndRead(PrimeCore core) throws InterruptedException {
-      EventBlock<Integer> numbers = new EventBlock<>();
-      Reader<Integer> out =
-          core.source("numbers", numbers)
-              .then(core.chain("not-two", (Integer x) -> {
-                if (x == 2) {
-                  throw new IllegalArgumentException("two");
-                }
-                return x;
-              }))
-              .reader();
-      core.start();
-      numbers.publish(1);
-      numbers.publish(2);
-      numbers.publish(3);
-      ReaderAssert.assertThat(out).within(Duration.ofSeconds(20)).emits(1, 3);
-      LOG.add(core.name() + " " + keysOf(core.name()).size());
+      LOG.add(KeyLeavingRun.run(core, url));
       CORES.add(core);
-    }
-
-    static List<String> keysOf(String topology) {
-      try (Jedis jedis = new Jedis(URI.create(url))) {
-        return List.copyOf(jedis.keys("prime:{" + topology + "}:*"));
-      }
     }
   }
 
@@ -458,7 +436,7 @@ class SlowLinkMediaTest {
         OptimusCore optimus = (OptimusCore) core;
         assertNotEquals(redis.getPort(), port(optimus), "the core reaches Redis through the link");
         assertEquals(
-            List.of(), UsesTheUsersRedis.keysOf(core.name()), "keys of " + core.name() + " after its run");
+            List.of(), KeyLeavingRun.keysOf(UsesTheUsersRedis.url, core.name()), "keys of " + core.name() + " after its run");
       }
       assertEquals(Set.of("someone-elses-key"), jedis.keys("*"), "only the key that was not a run's is left");
       assertTrue(redis.isRunning(), "a Redis the extension did not start is not stopped");
