@@ -21,6 +21,9 @@ import java.util.concurrent.locks.LockSupport
  *   (every attempt fails at once, where a frozen one waits for its timeout).
  * - [replyDelayNanos]: holds every chunk of a reply back that long: a slow network, for the
  *   awkward (slow-Redis) variant of the conformance kit.
+ * - [switchTo]: points new connections at another Redis and closes every open one: the primary
+ *   endpoint of a managed service or of a Sentinel set-up after a failover (its name now resolves
+ *   to the promoted replica, and the connections to the old master are gone).
  *
  * Two daemon threads per connection pump the bytes; [close] closes every socket, which ends them.
  * In this module's test-jar, so other modules' tests can run on a slow Redis too.
@@ -29,7 +32,7 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
     /** How long each chunk of a reply is held back from now on (see the class note). */
     @Volatile var replyDelayNanos: Long = replyDelayNanos
 
-    private val targetUri = URI(target)
+    @Volatile private var targetUri = URI(target)
     private val server = ServerSocket(0, 50, InetAddress.getLoopbackAddress())
     private val sockets: MutableSet<Socket> = ConcurrentHashMap.newKeySet()
     private val lock = Object()
@@ -40,6 +43,9 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
 
     /** How many connections were cut after forwarding a marked write. */
     val cuts = AtomicInteger()
+
+    /** How many connections the Redis behind the proxy refused (it was down): each was closed at once. */
+    val refusedConnects = AtomicInteger()
 
     val url: String get() = "redis://127.0.0.1:${server.localPort}"
 
@@ -59,9 +65,11 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
                 sockets += client
                 daemon("fault-proxy-connect") {
                     awaitThaw()
+                    val target = targetUri
                     val upstream = try {
-                        Socket(targetUri.host, targetUri.port).apply { tcpNoDelay = true }
+                        Socket(target.host, target.port).apply { tcpNoDelay = true }
                     } catch (_: IOException) {
+                        refusedConnects.incrementAndGet()
                         client.close()
                         return@daemon
                     }
@@ -88,6 +96,19 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
     /** Connects new connections to Redis again, after [refuse]. */
     fun restore() {
         refusing = false
+    }
+
+    /**
+     * Connects every new connection to the Redis at [target] (a `redis://host:port` URL) from now
+     * on, and closes every open connection, as the primary endpoint of a failed-over Redis does.
+     *
+     * @throws IllegalArgumentException if [target] has no host or port
+     */
+    fun switchTo(target: String) {
+        val uri = URI(target)
+        require(uri.host != null && uri.port > 0) { "give the Redis to switch to as redis://host:port, was '$target'" }
+        targetUri = uri
+        sockets.forEach { it.close() }
     }
 
     /** Stops forwarding; connections stay open and silent until [thaw]. */
