@@ -11,6 +11,7 @@ import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.params.ParameterizedTest
 import org.junit.jupiter.params.provider.CsvSource
+import org.junit.jupiter.params.provider.ValueSource
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisDataException
@@ -121,12 +122,15 @@ class MisconfiguredRedisTest {
      * its `maxclients`, after the lost connection's WARN; a
      * publish meanwhile fails at once saying so; once Redis has room again the service and the
      * publisher reconnect by themselves, and the values published then all arrive, in order, once.
+     * On a plain Redis and through the kit's slow link.
      */
-    @Test
-    fun aRunningCoreCutOffAtMaxclientsSaysSoAndRecoversOnceThereIsRoom() {
+    @ParameterizedTest
+    @ValueSource(booleans = [false, true])
+    fun aRunningCoreCutOffAtMaxclientsSaysSoAndRecoversOnceThereIsRoom(slow: Boolean) {
         EmbeddedRedis.start().use { redis ->
             CapturedStderr().use { err ->
-                core("misconf-cutoff", redis.uri, Duration.ofSeconds(1)).use { core ->
+                val url = if (slow) FaultProxy.slowLinkTo(redis.uri) else redis.uri
+                core("misconf-cutoff", url, Duration.ofSeconds(1)).use { core ->
                     val events = EventBlock<Int>()
                     val doubled = core.source("numbers", events).then(core.chain("twice") { x: Int -> 2 * x }).reader()
                     core.start()
