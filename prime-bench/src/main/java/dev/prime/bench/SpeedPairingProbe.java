@@ -89,16 +89,13 @@ public final class SpeedPairingProbe {
    * @throws InterruptedException if interrupted while stopping the echo thread
    */
   public static void main(String[] args) throws InterruptedException {
-    int payload = args.length > 0 ? Integer.parseInt(args[0]) : 100;
-    int windows = args.length > 1 ? Integer.parseInt(args[1]) : 200;
-    long windowNanos = (args.length > 2 ? Long.parseLong(args[2]) : 100) * 1_000_000L;
-    long warmUpNanos = (args.length > 3 ? Long.parseLong(args[3]) : 5) * 1_000_000_000L;
+    int payload = (int) argument(args, 0, 100, 0, 1 << 20);
+    int windows = (int) argument(args, 1, 200, 1, 100_000);
+    long windowNanos = argument(args, 2, 100, 1, 60_000) * 1_000_000L;
+    long warmUpNanos = argument(args, 3, 5, 0, 3_600) * 1_000_000_000L;
     String which = args.length > 4 ? args[4] : "row";
-    if (payload < 0 || windows < 1 || windowNanos < 1_000_000L || warmUpNanos < 0
-        || !(which.equals("row") || which.equals("handoff"))) {
-      throw new IllegalArgumentException(
-          "give payload >= 0, windows >= 1, windowMillis >= 1, warmUpSeconds >= 0 and row or handoff,"
-              + " e.g. 100 200 100 5 row");
+    if (!(which.equals("row") || which.equals("handoff"))) {
+      throw new IllegalArgumentException("the fifth argument is '" + which + "': " + USAGE);
     }
     Shape shape = new Shape();
     shape.length = 4;
@@ -121,6 +118,27 @@ public final class SpeedPairingProbe {
       }
       System.out.println(summary(pairs, which, slow));
     }
+  }
+
+  private static final String USAGE =
+      "give payload (0 to 1048576 bytes), windows (1 to 100000), windowMillis (1 to 60000),"
+          + " warmUpSeconds (0 to 3600) and row or handoff, e.g. 100 200 100 5 row";
+
+  /** Argument {@code index} as a whole number from {@code min} to {@code max}, or {@code absent}. */
+  private static long argument(String[] args, int index, long absent, long min, long max) {
+    if (args.length <= index) {
+      return absent;
+    }
+    try {
+      long value = Long.parseLong(args[index].trim());
+      if (value >= min && value <= max) {
+        return value;
+      }
+    } catch (NumberFormatException e) {
+      // refused below, with what to give
+    }
+    throw new IllegalArgumentException(
+        "argument " + (index + 1) + " is '" + args[index] + "': " + USAGE);
   }
 
   /** The synchronous Prime-sources row: one value there and its output back. */

@@ -47,10 +47,14 @@ class SpeedPairingProbeTest {
   }
 
   @Test
-  void refusesAWindowShorterThanAMillisecondOrAnUnknownRow() {
+  void refusesAWindowShorterThanAMillisecondANonNumberOrAnUnknownRow() {
     IllegalArgumentException e =
         assertThrows(IllegalArgumentException.class, () -> SpeedPairingProbe.main(new String[] {"100", "3", "0"}));
-    assertTrue(e.getMessage().contains("windowMillis >= 1"), e.getMessage());
+    assertTrue(
+        e.getMessage().contains("argument 3 is '0'") && e.getMessage().contains("windowMillis (1 to 60000)"),
+        e.getMessage());
+    e = assertThrows(IllegalArgumentException.class, () -> SpeedPairingProbe.main(new String[] {"100", "ten"}));
+    assertTrue(e.getMessage().contains("argument 2 is 'ten'"), e.getMessage());
     e = assertThrows(IllegalArgumentException.class, () -> SpeedPairingProbe.main(new String[] {"100", "3", "1", "0", "sync"}));
     assertTrue(e.getMessage().contains("row or handoff"), e.getMessage());
   }
