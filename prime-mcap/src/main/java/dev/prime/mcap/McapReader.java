@@ -21,6 +21,7 @@ import java.util.List;
 import java.util.Map;
 import java.util.Optional;
 import java.util.Set;
+import java.util.SortedMap;
 import java.util.Spliterator;
 import java.util.Spliterators;
 import java.util.TreeMap;
@@ -136,12 +137,32 @@ public final class McapReader implements Closeable {
    * exist. Open each with {@link #open}.
    *
    * @param first the path the writer was opened with
-   * @return the existing files in order (empty if {@code first} does not exist)
+   * @return the existing files in order (empty if no file of the recording exists)
+   * @throws IllegalStateException if a file of the recording is missing while a later one exists
+   *     (it was moved or deleted): reading on would leave out part of the recording
+   *     without a word, so the message names the missing file
+   * @throws UncheckedIOException if the folder could not be listed to look for later files
    */
   public static List<Path> recordingFiles(Path first) {
     List<Path> files = new ArrayList<>();
-    for (int index = 0; java.nio.file.Files.exists(McapWriter.rotatedPath(first, index)); index++) {
+    int index = 0;
+    while (Files.exists(McapWriter.rotatedPath(first, index))) {
       files.add(McapWriter.rotatedPath(first, index));
+      index++;
+    }
+    int later;
+    try {
+      SortedMap<Integer, Path> rotated = McapWriter.rotatedFilesIn(first);
+      later = rotated.isEmpty() ? -1 : rotated.lastKey();
+    } catch (IOException e) {
+      throw new UncheckedIOException("could not list the folder of " + first + " for the files of its recording", e);
+    }
+    if (later > index) {
+      throw new IllegalStateException(
+          "file " + McapWriter.rotatedPath(first, index) + " of the recording is missing, yet "
+              + McapWriter.rotatedPath(first, later) + " exists: a file of the recording was"
+              + " moved or deleted; put it back, or open the files there are one by one with"
+              + " McapReader.open");
     }
     return files;
   }

@@ -6,6 +6,7 @@ import java.io.IOException;
 import java.io.InterruptedIOException;
 import java.io.UncheckedIOException;
 import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
 import java.nio.file.Path;
 import java.util.ArrayList;
 import java.util.HashMap;
@@ -13,6 +14,7 @@ import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Objects;
+import java.util.SortedMap;
 import java.util.TreeMap;
 import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.BlockingQueue;
@@ -23,6 +25,7 @@ import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicLong;
 import java.util.concurrent.atomic.LongAdder;
+import java.util.stream.Stream;
 
 /**
  * Writes MCAP files (mcap.dev): one channel per topic, JSON messages, a JSON Schema per value
@@ -130,6 +133,9 @@ public final class McapWriter implements Closeable {
     this.options = options;
     this.opener = opener;
     openFile(path);
+    for (Path earlier : rotatedFilesIn(path).values()) {
+      Files.deleteIfExists(earlier); // an earlier recording's: not to be read as this one's
+    }
     if (options.isSynchronous()) {
       queue = null;
       thread = null;
@@ -150,9 +156,10 @@ public final class McapWriter implements Closeable {
   /**
    * Opens a writer with {@link McapWriterOptions#defaults()}.
    *
-   * @param path the (first) file; created or overwritten
+   * @param path the (first) file; created or overwritten, and the rotated files of an earlier
+   *     recording at this path deleted (see {@link #open(Path, McapWriterOptions)})
    * @return the writer
-   * @throws IOException if the file cannot be created
+   * @throws IOException if the file cannot be created, or an earlier recording's file deleted
    */
   public static McapWriter open(Path path) throws IOException {
     return open(path, McapWriterOptions.defaults());
@@ -161,10 +168,12 @@ public final class McapWriter implements Closeable {
   /**
    * Opens a writer.
    *
-   * @param path the (first) file; created or overwritten
+   * @param path the (first) file; created or overwritten. The rotated files of an earlier
+   *     recording at this path ({@link #rotatedPath}{@code (path, n)}, n from 1) are deleted, so
+   *     that {@link McapReader#recordingFiles} lists this recording's files only
    * @param options chunk size, rotation, queue
    * @return the writer
-   * @throws IOException if the file cannot be created
+   * @throws IOException if the file cannot be created, or an earlier recording's file deleted
    */
   public static McapWriter open(Path path, McapWriterOptions options) throws IOException {
     return open(path, options, OutputOpener.FILES);
@@ -191,10 +200,58 @@ public final class McapWriter implements Closeable {
       return first;
     }
     String name = first.getFileName().toString();
+    int dot = extensionAt(name);
+    return first.resolveSibling(
+        String.format("%s-%04d%s", name.substring(0, dot), index, name.substring(dot)));
+  }
+
+  /**
+   * The rotated files of a recording at {@code first} found in its folder, by index (1 and up),
+   * whoever wrote them: this writer, or an earlier one at the same path.
+   */
+  static SortedMap<Integer, Path> rotatedFilesIn(Path first) throws IOException {
+    SortedMap<Integer, Path> found = new TreeMap<>();
+    Path folder = first.toAbsolutePath().getParent();
+    if (folder == null || !Files.isDirectory(folder)) {
+      return found;
+    }
+    try (Stream<Path> siblings = Files.list(folder)) {
+      for (Path sibling : (Iterable<Path>) siblings::iterator) {
+        int index = rotationIndex(first, sibling);
+        if (index > 0) {
+          found.put(index, rotatedPath(first, index));
+        }
+      }
+    }
+    return found;
+  }
+
+  /**
+   * The rotation index {@code file} has as a file of {@code first}'s recording, as {@link
+   * #rotatedPath} names them (1 and up); -1 if its name is not one of them.
+   */
+  private static int rotationIndex(Path first, Path file) {
+    String name = first.getFileName().toString();
+    String stem = name.substring(0, extensionAt(name)) + "-";
+    String extension = name.substring(extensionAt(name));
+    String other = file.getFileName().toString();
+    if (!other.startsWith(stem)
+        || !other.endsWith(extension)
+        || other.length() < stem.length() + 4 + extension.length()) {
+      return -1;
+    }
+    String digits = other.substring(stem.length(), other.length() - extension.length());
+    if (digits.length() > 9 || !digits.chars().allMatch(c -> c >= '0' && c <= '9')) {
+      return -1;
+    }
+    int index = Integer.parseInt(digits);
+    return index > 0 && file.getFileName().equals(rotatedPath(first, index).getFileName()) ? index : -1;
+  }
+
+  /** Where a file name's extension starts: at its last dot, if not the first character; else its end. */
+  private static int extensionAt(String name) {
     int dot = name.lastIndexOf('.');
-    String stem = dot > 0 ? name.substring(0, dot) : name;
-    String extension = dot > 0 ? name.substring(dot) : "";
-    return first.resolveSibling(String.format("%s-%04d%s", stem, index, extension));
+    return dot > 0 ? dot : name.length();
   }
 
   /**

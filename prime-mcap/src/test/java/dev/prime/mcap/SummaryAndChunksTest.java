@@ -159,6 +159,67 @@ class SummaryAndChunksTest {
   }
 
   @Test
+  void aRecordingWithAMissingMiddleFileIsRefusedNamingIt() throws IOException {
+    Path file = dir.resolve("gap.run.mcap");
+    List<Path> files = recordReadings(file, 600);
+    assertTrue(files.size() >= 4, "rotated into " + files);
+    Files.createFile(dir.resolve("gap.run-notes.mcap")); // not a file of the recording
+    Files.createFile(dir.resolve("gap.run-0001.mcap.bak"));
+    assertEquals(files, McapReader.recordingFiles(file), "other files of the folder are no part of it");
+
+    Files.delete(files.get(1));
+    IllegalStateException gap = assertThrows(IllegalStateException.class, () -> McapReader.recordingFiles(file));
+    assertEquals(
+        "file " + files.get(1) + " of the recording is missing, yet " + files.get(files.size() - 1)
+            + " exists: a file of the recording was moved or deleted; put it back, or open the"
+            + " files there are one by one with McapReader.open",
+        gap.getMessage());
+    Files.delete(file);
+    assertThrows(IllegalStateException.class, () -> McapReader.recordingFiles(file), "the first missing");
+    for (Path part : files.subList(2, files.size())) {
+      Files.delete(part);
+    }
+    assertEquals(List.of(), McapReader.recordingFiles(file), "no file of the recording: none");
+  }
+
+  @Test
+  void aNewRecordingAtAPathDeletesTheRotatedFilesOfAnEarlierOne() throws IOException {
+    Path file = dir.resolve("again.mcap");
+    List<Path> earlier = recordReadings(file, 600);
+    assertTrue(earlier.size() >= 4, "rotated into " + earlier);
+    Path unrelated = Files.createFile(dir.resolve("again-notes.mcap"));
+
+    List<Path> later = recordReadings(file, 100);
+    assertTrue(later.size() < earlier.size(), later + " against " + earlier);
+    assertEquals(later, McapReader.recordingFiles(file), "the later recording's files only");
+    for (Path stale : earlier.subList(later.size(), earlier.size())) {
+      assertTrue(Files.notExists(stale), stale + " of the earlier recording is deleted");
+    }
+    assertTrue(Files.exists(unrelated), "a file not named as a rotated file stays");
+    long count = 0;
+    for (Path part : later) {
+      try (McapReader reader = McapReader.open(part)) {
+        count += reader.messageCount("readings");
+      }
+    }
+    assertEquals(100, count, "the later recording's messages, none of the earlier one's");
+  }
+
+  /** Writes {@code count} readings to a recording rotated every 4 KiB; its files. */
+  private static List<Path> recordReadings(Path file, int count) throws IOException {
+    McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().chunkSize(1024).rotateAtSize(4096));
+    try {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      for (int i = 0; i < count; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i, i)));
+      }
+    } finally {
+      writer.close();
+    }
+    return writer.files();
+  }
+
+  @Test
   void rotationBySizeWritesSelfContainedNumberedFiles() throws IOException {
     Path file = dir.resolve("run.mcap");
     int total = 3000;
