@@ -130,7 +130,9 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
    * The block is made only once the service's input is open, so a link whose input fails has
    * done nothing to the chain.
    *
-   * @param taker the service named by a {@link QueueFullException} when its input is full
+   * @param taker the service as {@link PrimeCore#serviceNames()} lists it: the name a {@link
+   *     QueueFullException} of its full input, the error handler (for a failure not of a chain)
+   *     and the ERROR line of a {@link VirtualMachineError} that ends it give
    */
   private <I, O> Source<O> link(
       String name, String taker, Source<I> input, Supplier<Block<I, O>> chain) {
@@ -144,15 +146,20 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
       values.close();
       throw e;
     }
-    run(
+    threads.add(
         name,
-        values,
-        value -> {
-          O output = block.process(value);
-          if (output != null) {
-            out.publish(output);
-          }
-        });
+        taker,
+        new SourceService<I>(
+            taker,
+            values,
+            value -> {
+              O output = block.process(value);
+              if (output != null) {
+                out.publish(output);
+              }
+            },
+            core.config().errorHandler(),
+            core::isClosed));
     return out;
   }
 

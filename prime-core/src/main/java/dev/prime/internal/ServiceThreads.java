@@ -64,13 +64,27 @@ public final class ServiceThreads {
    *     the core closed while the service was being declared
    */
   public synchronized void add(String service, Runnable body) {
+    add(service, service, body);
+  }
+
+  /**
+   * Adds a service whose thread is named after {@code service} but which logs as {@code shownAs}:
+   * an in-memory link of a source runs, on a thread of its own, the service {@link
+   * dev.prime.PrimeCore#serviceNames()} lists under its chain's name.
+   *
+   * @param service unique service name, for the thread
+   * @param shownAs the name its ERROR line gives when a {@link VirtualMachineError} ends it
+   * @param body the service loop; must return when interrupted
+   * @throws RuntimeException the constructor's {@code stoppedError} if the services are stopped
+   */
+  public synchronized void add(String service, String shownAs, Runnable body) {
     if (stopped) {
       throw stoppedError.get();
     }
     if (threads.containsKey(service)) {
       throw new IllegalArgumentException("service '" + service + "' already exists");
     }
-    Thread thread = new Thread(logFatal(service, body), prefix + service);
+    Thread thread = new Thread(logFatal(shownAs, body), prefix + service);
     thread.setDaemon(true);
     threads.put(service, thread);
     if (started) {

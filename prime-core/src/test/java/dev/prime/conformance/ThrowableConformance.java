@@ -150,8 +150,8 @@ public interface ThrowableConformance extends ConformanceBase {
 
   /**
    * A {@link VirtualMachineError} a block throws in an asynchronous service ends that service only,
-   * and not silently: the core logs an ERROR line {@code service '<name>' stops: <the error>}
-   * (the JVM itself is in trouble, so the error handler does not get it). The core's other
+   * and not silently: the core logs an ERROR line {@code service '<name>' stops: <the error>},
+   * naming the service as {@link PrimeCore#serviceNames()} lists it, the chain (the JVM itself is in trouble, so the error handler does not get it). The core's other
    * services of the same source go on with every value, and {@code close()} still stops them and
    * leaves no thread (architecture, <i>Errors</i>).
    */
@@ -192,8 +192,9 @@ public interface ThrowableConformance extends ConformanceBase {
           for (String line : err.lines()) {
             if (line.contains("ERROR")
                 && line.contains("stops")
-                && (line.contains("fatal'") && line.contains(oom.getMessage())
-                    || line.contains("overflow'") && line.contains("StackOverflowError"))) {
+                && (line.contains("service 'fatal' stops") && line.contains(oom.getMessage())
+                    || line.contains("service 'overflow' stops")
+                        && line.contains("StackOverflowError"))) {
               stops.add(line);
             }
           }
@@ -256,7 +257,7 @@ public interface ThrowableConformance extends ConformanceBase {
           never.await(10, TimeUnit.MILLISECONDS); // a bounded pause while the line is written
           for (String line : err.lines()) {
             if (line.contains("ERROR")
-                && line.contains("doomed' stops")
+                && line.contains("service 'doomed' stops")
                 && line.contains(oom.getMessage())) {
               stops.add(line);
             }
