@@ -28,8 +28,12 @@ import java.util.concurrent.atomic.AtomicBoolean
  * ([takeEntries]), which Redis serves for about half the script's cost.
  *
  * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
- * deadline (connecting and every socket wait are bounded by it) with
- * [RedisUnavailableException]. A timed take whose blocking wait was answered too late (past
+ * deadline (connecting and every socket wait are bounded by it, but each reply gets at least
+ * [TIMED_ANSWER_MS], a slow link's round trip) with [RedisUnavailableException]. A timed take
+ * starts no round trip past its deadline, and asks Redis to end its blocking wait the take's last
+ * round trip before the deadline, so that over a slow link the reply comes by it (or, when less
+ * than a round trip is left, waits the rest here and returns empty: nothing published from then
+ * on could come back in time). A timed take whose blocking wait was answered too late (past
  * the deadline plus [RedisConnections.BLOCKING_DEADLINE_GRACE_MS]: a loaded machine, or a connection that
  * froze during the wait) returns empty, as for any value that did not come in time: Redis
  * answered the take's step, and the wait's own reply was due only at the deadline; the dropped
@@ -141,22 +145,36 @@ internal class OptimusReader<T>(
         val started = System.nanoTime()
         // how long Redis may be unreachable before this read gives up (null: never)
         val redisDeadline = if (wait) deadline else started + NO_WAIT_BOUND_MS * 1_000_000
+        // a timed take gives each reply at least TIMED_ANSWER_MS (a slow link's round trip) and starts none past its deadline
+        val timed = wait && deadline != null
+        val answerMillis = if (timed) TIMED_ANSWER_MS else 0L
+        var roundTrips = 0
+        var failed: Exception? = null // the last failure, if no round trip succeeded since
         var failures = 0
         while (true) {
             checkUsable()
             // a value already taken stays buffered for the next take
             if (wait && Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
             deliver()?.let { return it as T }
+            if (timed && roundTrips > 0 && deadline!! - System.nanoTime() <= 0) {
+                if (failed != null) throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, failed)
+                return null
+            }
             try {
+                roundTrips++
                 if (recovering) {
-                    recover(redisDeadline)
+                    recover(redisDeadline, answerMillis)
+                    failed = null
                     continue
                 }
-                val taken = session.once(redisDeadline, 0) {
+                val stepStarted = System.nanoTime()
+                val taken = session.once(redisDeadline, 0, answerMillis) {
                     // frames of many values: a plain pipelined take; many small entries: the script's, up to a batch of values
                     if (framed) takeEntries(it, processing, list, delivered, FRAMES_PER_TAKE)
                     else StepBatch(processing, list, null).run(it, ack = delivered, take = StageService.BATCH)
                 }
+                val roundTrip = System.nanoTime() - stepStarted
+                failed = null
                 delivered = 0
                 if (taken.isNotEmpty()) {
                     framed = taken.sumOf(Frame::count) >= FRAMED_VALUES * taken.size
@@ -166,8 +184,16 @@ internal class OptimusReader<T>(
                 if (!wait) return null
                 if (deadline != null && deadline - System.nanoTime() <= 0) return null
                 if (Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
+                // Redis's reply comes about a round trip after its wait ends: end the wait that much before the deadline
+                val serverDeadline = deadline?.let { it - roundTrip }
+                if (deadline != null && serverDeadline!! - System.nanoTime() <= 0) {
+                    // a value published from now on could not come back by the deadline
+                    core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()))
+                    checkUsable()
+                    return null
+                }
                 val moved = try {
-                    InterruptibleWait(session).run { session.blockingMove(deadline, list, processing) }
+                    InterruptibleWait(session).run { session.blockingMove(deadline, list, processing, serverDeadline, answerMillis) }
                 } catch (_: ClosedByInterruptException) {
                     // the wait was cut off: a value Redis moved meanwhile is in the processing list
                     recovering = true
@@ -190,6 +216,7 @@ internal class OptimusReader<T>(
                 failIfClosed(" while it waited")
                 if (core.connections.isClosed) throw CoreClosedException(core.name()).apply { initCause(e) }
                 if (!RedisConnections.isTransient(e)) throw e
+                failed = e
                 recovering = true
                 failures++
                 val left = redisDeadline?.let { it - System.nanoTime() }
@@ -242,8 +269,8 @@ internal class OptimusReader<T>(
     }
 
     /** After a lost connection: the processing list is the truth; skip what was handed out. */
-    private fun recover(deadline: Long?) {
-        val entries = session.once(deadline, 0) { it.lrange(processing, 0, -1) }
+    private fun recover(deadline: Long?, answerMillis: Long) {
+        val entries = session.once(deadline, 0, answerMillis) { it.lrange(processing, 0, -1) }
         buffer.clear()
         delivered = 0
         for (raw in entries) {
@@ -263,6 +290,12 @@ internal class OptimusReader<T>(
         /** The most [poll], [drain] and [missed] wait for Redis to answer. */
         const val NO_WAIT_BOUND_MS = 500L
         const val CLOSE_BOUND_MS = 2000L
+
+        /**
+         * The least time a timed take gives each reply of Redis, however close its deadline: a
+         * slow link's round trip (the Reader contract's "plus about a second").
+         */
+        const val TIMED_ANSWER_MS = 1000L
 
         /** Entries whose values average at least this many are taken by [takeEntries], [FRAMES_PER_TAKE] at a time. */
         const val FRAMED_VALUES = 64

@@ -182,16 +182,24 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * enough replicas confirmed it; if they do not in time, it fails like a broken connection
      * ([ReplicaAcksMissing]: its effects are on the master, perhaps not on a replica).
      */
-    fun <T> once(deadline: Long?, serverWaitMillis: Long, op: (Jedis) -> T): T = attempt(deadline, serverWaitMillis, true, op)
+    fun <T> once(deadline: Long?, serverWaitMillis: Long, op: (Jedis) -> T): T = attempt(deadline, serverWaitMillis, 0, true, op)
+
+    /**
+     * Like [once], but every socket wait lasts at least [leastAnswerMillis] (still at most the
+     * usual timeouts), however close [deadline] is: a reply that a slow link brings after the
+     * deadline is received instead of taken for a connection that does not answer.
+     */
+    fun <T> once(deadline: Long?, serverWaitMillis: Long, leastAnswerMillis: Long, op: (Jedis) -> T): T =
+        attempt(deadline, serverWaitMillis, leastAnswerMillis, true, op)
 
     /**
      * Runs [op], which only reads, once, like [once] with the usual timeouts, but never waits for
      * [RedisConnections.replicaAcks]: a read stores nothing a replica could lack.
      */
-    fun <T> readOnce(op: (Jedis) -> T): T = attempt(null, 0, false, op)
+    fun <T> readOnce(op: (Jedis) -> T): T = attempt(null, 0, 0, false, op)
 
-    private fun <T> attempt(deadline: Long?, serverWaitMillis: Long, confirmed: Boolean, op: (Jedis) -> T): T {
-        val limit = socketLimit(deadline, serverWaitMillis)
+    private fun <T> attempt(deadline: Long?, serverWaitMillis: Long, leastAnswerMillis: Long, confirmed: Boolean, op: (Jedis) -> T): T {
+        val limit = socketLimit(deadline, serverWaitMillis, leastAnswerMillis)
         val current = jedis ?: connections.open(Duration.ofMillis(limit.toLong())).also {
             jedis = it
             socketMillis = limit
@@ -221,11 +229,19 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * `BLMOVE from to LEFT RIGHT`, waiting at most [RedisConnections.POLL_SECONDS] and never past
      * [deadline]; the moved value, or `null` if none came. One attempt, like [once]. If its reply
      * does not come by [deadline] plus [RedisConnections.BLOCKING_DEADLINE_GRACE_MS], it throws
-     * [LateReply] (the connection is dropped: Redis may still have moved a value).
+     * [LateReply] (the connection is dropped: Redis may still have moved a value). [serverDeadline]
+     * (at most [deadline]) ends Redis's wait sooner, so that its reply, a round trip later, comes
+     * by [deadline]; [leastAnswerMillis] as for [once].
      */
-    fun blockingMove(deadline: Long?, from: ByteArray, to: ByteArray): ByteArray? {
-        val waitMillis = waitMillis(deadline)
-        return once(deadline, waitMillis) { jedis ->
+    fun blockingMove(
+        deadline: Long?,
+        from: ByteArray,
+        to: ByteArray,
+        serverDeadline: Long? = deadline,
+        leastAnswerMillis: Long = 0,
+    ): ByteArray? {
+        val waitMillis = waitMillis(serverDeadline)
+        return once(deadline, waitMillis, leastAnswerMillis) { jedis ->
             try {
                 // sent as a plain command so that the socket timeout set above applies (Jedis gives
                 // its blocking commands a fixed timeout of their own)
@@ -263,7 +279,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         return deadline?.let { ceilMillis(it - System.nanoTime()).coerceIn(MIN_WAIT_MS, pollMillis) } ?: pollMillis
     }
 
-    private fun socketLimit(deadline: Long?, serverWaitMillis: Long): Int {
+    private fun socketLimit(deadline: Long?, serverWaitMillis: Long, leastAnswerMillis: Long): Int {
         val usual = if (serverWaitMillis > 0) {
             serverWaitMillis + RedisConnections.BLOCKING_SOCKET_TIMEOUT.toMillis() - (RedisConnections.POLL_SECONDS * 1000).toLong()
         } else {
@@ -272,7 +288,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         if (deadline == null) return usual.toInt()
         val grace = if (serverWaitMillis > 0) RedisConnections.BLOCKING_DEADLINE_GRACE_MS else RedisConnections.DEADLINE_GRACE_MS
         val left = ceilMillis(deadline - System.nanoTime()).coerceAtLeast(0) + grace
-        return minOf(usual, left.coerceAtLeast(serverWaitMillis + grace)).toInt()
+        return minOf(usual, maxOf(left, serverWaitMillis + grace, leastAnswerMillis)).toInt()
     }
 
     private fun drop(current: Jedis) {
