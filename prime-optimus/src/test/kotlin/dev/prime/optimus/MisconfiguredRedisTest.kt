@@ -174,6 +174,97 @@ class MisconfiguredRedisTest {
         }
     }
 
+    /**
+     * A planned switchover under a running core: its master, in sync with a replica, pauses
+     * writes, the replica is promoted and the master made its replica (`REPLICAOF host port`), so
+     * it keeps its data and answers writes with `READONLY`. The core waits that out as an outage:
+     * a publish meanwhile waits, the core logs the read-only replica WARN once, and once the
+     * URL's Redis takes writes again (`REPLICAOF NO ONE`) the publish returns and every value
+     * published before, during and after comes out once, in order, with no Redis reset. On a plain
+     * Redis and through the kit's slow link.
+     */
+    @ParameterizedTest
+    @ValueSource(booleans = [false, true])
+    fun aMasterDemotedUnderARunningCoreIsWaitedOutAndLosesNothing(slow: Boolean) {
+        // the replica's first sync at once, not after the default 5 s of a diskless sync
+        EmbeddedRedis.builder().arguments("--repl-diskless-sync-delay", "0").start().use { redis ->
+            EmbeddedRedis.builder().arguments("--replicaof", "127.0.0.1", redis.port.toString()).start().use { replica ->
+                Jedis(URI(redis.uri)).use { master -> Jedis(URI(replica.uri)).use { awaitInSync(master, it) } }
+                CapturedStderr().use { err ->
+                    val url = if (slow) FaultProxy.slowLinkTo(redis.uri) else redis.uri
+                    core("misconf-demoted-running", url, Duration.ofSeconds(20)).use { core ->
+                        val events = EventBlock<Int>()
+                        val doubled = core.source("numbers", events).then(core.chain("twice") { x: Int -> 2 * x }).reader()
+                        core.start()
+                        val before = (1..5).toList()
+                        before.forEach { events.publish(it) }
+                        assertEquals(before.map { 2 * it }, before.map { doubled.take(Duration.ofSeconds(10)).orElseThrow() })
+                        val warnings = {
+                            err.lines().filter { " WARN " in it && "read-only replica" in it && "misconf-demoted-running" in it }
+                        }
+                        val during = listOf(6, 7)
+                        var paused = 0L
+                        var warned = 0L
+                        val publishing = Jedis(URI(redis.uri)).use { master ->
+                            Jedis(URI(replica.uri)).use { promoted ->
+                                // a switchover: writes paused until the replica has them all, the replica promoted, the master demoted
+                                paused = System.nanoTime()
+                                master.sendCommand(Protocol.Command.CLIENT, "PAUSE", "10000", "WRITE")
+                                awaitInSync(master, promoted)
+                                promoted.replicaofNoOne()
+                                master.replicaof("127.0.0.1", replica.port)
+                                master.sendCommand(Protocol.Command.CLIENT, "UNPAUSE")
+                                val publishing = CompletableFuture.runAsync { during.forEach { events.publish(it) } }
+                                awaitLines(warnings)
+                                warned = System.nanoTime()
+                                assertTrue(!publishing.isDone, "a publish to the demoted master should wait, it ended: $publishing")
+                                master.replicaofNoOne() // the URL's Redis takes writes again
+                                publishing
+                            }
+                        }
+                        publishing.get(20, TimeUnit.SECONDS)
+                        val published = System.nanoTime()
+                        println(
+                            "[demotion${if (slow) ", slow link" else ""}] read-only WARN ${(warned - paused) / 1_000_000} ms " +
+                                "after the pause; the publish waiting then returned ${(published - warned) / 1_000_000} ms after REPLICAOF NO ONE",
+                        )
+                        val after = (8..12).toList()
+                        after.forEach { events.publish(it) }
+                        val arrived = (1..during.size + after.size).map { doubled.take(Duration.ofSeconds(20)).orElseThrow() }
+                        assertEquals((during + after).map { 2 * it }, arrived, "lost, duplicated or reordered around the demotion")
+                        assertTrue(doubled.take(Duration.ofMillis(300)).isEmpty, "a value arrived twice")
+                        assertEquals(0L, core.redisResets(), "the demoted master kept its data")
+                        val lines = warnings()
+                        assertEquals(1, lines.size, "read-only replica WARN lines: $lines")
+                        assertTrue("give the URL of the master" in lines.single(), lines.single())
+                    }
+                }
+            }
+        }
+    }
+
+    /** Until [replica] has every write of [master] (bounded: 10 s). */
+    private fun awaitInSync(master: Jedis, replica: Jedis) {
+        val pause = CountDownLatch(1)
+        val deadline = System.nanoTime() + Duration.ofSeconds(10).toNanos()
+        fun field(info: String, name: String) = info.lines().firstOrNull { it.startsWith("$name:") }?.substringAfter(':')?.trim()
+        while (System.nanoTime() < deadline) {
+            val offset = field(master.info("replication"), "master_repl_offset")
+            val replicaInfo = replica.info("replication")
+            if (field(replicaInfo, "master_link_status") == "up" && field(replicaInfo, "slave_repl_offset") == offset) return
+            pause.await(20, TimeUnit.MILLISECONDS) // a bounded poll of a state only Redis shows
+        }
+        throw AssertionError("the replica did not catch up with its master within 10 s: ${replica.info("replication")}")
+    }
+
+    /** Until [lines] gives a line (bounded: 10 s); a bounded poll of the log, which the core writes. */
+    private fun awaitLines(lines: () -> List<String>) {
+        val pause = CountDownLatch(1)
+        val deadline = System.nanoTime() + Duration.ofSeconds(10).toNanos()
+        while (lines().isEmpty() && System.nanoTime() < deadline) pause.await(20, TimeUnit.MILLISECONDS)
+        assertTrue(lines().isNotEmpty(), "no such log line within 10 s")
+    }
+
     /** [core]'s `start()` throws a [type] within 2 s. */
     private fun <T : Throwable> startFailsAtOnce(core: OptimusCore, type: Class<T>): T {
         val started = System.nanoTime()
