@@ -103,7 +103,12 @@ class OptimusSoakTest {
         const val CYCLES = 100
         const val OWN_CYCLES = 10
 
-        /** Heap growth allowed over a run; see the figures measured in the commit that set it. */
+        /**
+         * Heap growth allowed over a run. Measured: 100 cycles on one Redis end 45 KiB above where
+         * they began, 10 on Redises of their own 20 KiB below, the fan-out and the line 2 MiB below;
+         * a closed core of a cycle kept reachable holds about 470 KiB (the recent ids of its
+         * services and reader, 96 KiB each).
+         */
         const val HEAP_BOUND = 512L shl 10
     }
 }
