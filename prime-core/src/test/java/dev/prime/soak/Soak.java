@@ -8,6 +8,7 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.List;
@@ -67,12 +68,20 @@ public final class Soak {
     }
   }
 
-  /** Opens a core of {@code cores}, runs {@link #cycle} on it, {@code times} times. */
-  public static void cycles(Supplier<? extends PrimeCore> cores, int times, int values)
-      throws InterruptedException {
+  /**
+   * Opens a core of {@code cores}, runs {@link #cycle} on it, {@code times} times.
+   *
+   * @return a weak reference to each core, for {@link Footprint#assertCollected}
+   */
+  public static List<WeakReference<PrimeCore>> cycles(
+      Supplier<? extends PrimeCore> cores, int times, int values) throws InterruptedException {
+    List<WeakReference<PrimeCore>> closed = new ArrayList<>();
     for (int i = 0; i < times; i++) {
-      cycle(cores.get(), values);
+      PrimeCore core = cores.get();
+      closed.add(new WeakReference<>(core));
+      cycle(core, values);
     }
+    return closed;
   }
 
   /**

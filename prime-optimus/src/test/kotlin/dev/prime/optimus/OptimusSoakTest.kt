@@ -1,12 +1,14 @@
 package dev.prime.optimus
 
 import dev.prime.CoreConfig
+import dev.prime.PrimeCore
 import dev.prime.soak.Footprint
 import dev.prime.soak.Soak
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
+import java.lang.ref.WeakReference
 import java.net.URI
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
@@ -50,15 +52,19 @@ class OptimusSoakTest {
         val clientsBefore = clients(jedis)
         val keysBefore = jedis.dbSize()
         val names = ArrayList<String>()
+        val closed = ArrayList<WeakReference<PrimeCore>>()
         repeat(CYCLES) {
             val core = named()
+            closed += WeakReference(core)
             Soak.cycle(core, 20)
             assertTrue(core.deleteKeys() > 0, "the cycle's keys, deleted")
             names += core.name()
         }
         Footprint.take().assertNothingLeftSince(before, CYCLES, HEAP_BOUND)
-        assertEquals(clientsBefore, clientsSettledTo(jedis, clientsBefore), "Redis's connected clients")
-        assertEquals(keysBefore, jedis.dbSize(), "keys on the Redis")
+        Footprint.assertCollected(closed)
+        // at most as many as before: what earlier tests left (a lease's key, a closing connection) may end meanwhile
+        assertTrue(clientsSettledTo(jedis, clientsBefore) <= clientsBefore, "Redis's connected clients, before: $clientsBefore")
+        assertTrue(jedis.dbSize() <= keysBefore, "keys on the Redis, before: $keysBefore")
         assertEquals(listOf<String>(), names.flatMap { TestRedis.keysOf(jedis, it) }, "keys of the cycles' cores")
     }
 
@@ -66,9 +72,10 @@ class OptimusSoakTest {
     fun openingAndClosingManyCoresOnEmbeddedRedisesOfTheirOwnLeavesNothingBehind() {
         Soak.cycle(OptimusCore(), 20)
         val before = Footprint.take()
-        repeat(OWN_CYCLES) { Soak.cycle(OptimusCore(), 20) }
-        // the same child processes: each core's redis-server (and its watchdog) ended with close()
+        val closed = Soak.cycles({ OptimusCore() }, OWN_CYCLES, 20)
+        // no new child process: each core's redis-server (and its watchdog) ended with close()
         Footprint.take().assertNothingLeftSince(before, OWN_CYCLES, HEAP_BOUND)
+        Footprint.assertCollected(closed)
     }
 
     /** Runs [run] on a new core, then deletes its keys: what it returned, and the core's name. */
@@ -95,7 +102,7 @@ class OptimusSoakTest {
         assertTrue(fan.during <= fan.primeThreads + 2L, "connections of the fan-out: ${fan.during}")
         assertTrue(line.during <= line.primeThreads + 2L, "connections of the line: ${line.during}")
         Footprint.take().assertNothingLeftSince(before, 2, HEAP_BOUND)
-        assertEquals(clientsBefore, clientsSettledTo(jedis, clientsBefore), "Redis's connected clients")
+        assertTrue(clientsSettledTo(jedis, clientsBefore) <= clientsBefore, "Redis's connected clients, before: $clientsBefore")
         assertEquals(listOf<String>(), TestRedis.keysOf(jedis, fanName) + TestRedis.keysOf(jedis, lineName))
     }
 
@@ -105,10 +112,10 @@ class OptimusSoakTest {
 
         /**
          * Heap growth allowed over a run. Measured: 100 cycles on one Redis end 45 KiB above where
-         * they began, 10 on Redises of their own 20 KiB below, the fan-out and the line 2 MiB below;
-         * a closed core of a cycle kept reachable holds about 470 KiB (the recent ids of its
-         * services and reader, 96 KiB each).
+         * they began, 10 on Redises of their own 20 KiB below, the fan-out and the line 2 MiB below.
+         * A closed core of a cycle kept reachable holds about 470 KiB (the recent ids of its
+         * services and reader, 96 KiB each), which [Footprint.assertCollected] and this bound catch.
          */
-        const val HEAP_BOUND = 512L shl 10
+        const val HEAP_BOUND = 2L shl 20
     }
 }
