@@ -8,6 +8,7 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import dev.prime.conformance.ConformanceBase;
 import java.lang.ref.WeakReference;
 import java.time.Duration;
 import java.util.ArrayList;
@@ -16,6 +17,7 @@ import java.util.Optional;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
+import java.util.function.Consumer;
 import java.util.function.LongSupplier;
 import java.util.function.Supplier;
 
@@ -108,16 +110,7 @@ public final class Soak {
     CountDownLatch all = new CountDownLatch(chains * values);
     AtomicInteger disorder = new AtomicInteger();
     for (int c = 0; c < chains; c++) {
-      int[] next = {0};
-      source
-          .then(core.chain("fan-" + c, (Integer x) -> x))
-          .listen(
-              x -> {
-                if (x != next[0]++) {
-                  disorder.incrementAndGet();
-                }
-                all.countDown();
-              });
+      source.then(core.chain("fan-" + c, (Integer x) -> x)).listen(inOrder(0, all, disorder));
     }
     return run(core, events, values, all, disorder, chains, during);
   }
@@ -141,17 +134,22 @@ public final class Soak {
     }
     CountDownLatch all = new CountDownLatch(values);
     AtomicInteger disorder = new AtomicInteger();
-    int[] next = {chains};
-    source
-        .then(line)
-        .listen(
-            x -> {
-              if (x != next[0]++) {
-                disorder.incrementAndGet();
-              }
-              all.countDown();
-            });
+    source.then(line).listen(inOrder(chains, all, disorder));
     return run(core, events, values, all, disorder, chains, during);
+  }
+
+  /**
+   * A listener expecting {@code first}, {@code first + 1}, ...: counts each value down on {@code
+   * all}, and one that is not the next expected on {@code disorder}.
+   */
+  private static Consumer<Integer> inOrder(int first, CountDownLatch all, AtomicInteger disorder) {
+    int[] next = {first};
+    return x -> {
+      if (x != next[0]++) {
+        disorder.incrementAndGet();
+      }
+      all.countDown();
+    };
   }
 
   private static Timing run(
@@ -180,7 +178,7 @@ public final class Soak {
           "every value reached every listener: " + all.getCount() + " missing");
       deliverMs = (System.nanoTime() - publishing) / 1_000_000;
       assertEquals(0, disorder.get(), "values out of order or duplicated");
-      threads = threadsOf(core).size();
+      threads = ConformanceBase.threadsOf(core).size();
       reading = during.getAsLong();
     } catch (Throwable t) {
       core.close();
@@ -190,17 +188,5 @@ public final class Soak {
     core.close();
     long closeMs = (System.nanoTime() - closing) / 1_000_000;
     return new Timing(chains, startMs, deliverMs, closeMs, threads, reading);
-  }
-
-  /** Live threads whose name says they belong to {@code core}. */
-  public static List<String> threadsOf(PrimeCore core) {
-    String prefix = "prime-" + core.name() + "-";
-    List<String> names = new ArrayList<>();
-    for (Thread thread : Thread.getAllStackTraces().keySet()) {
-      if (thread.isAlive() && thread.getName().startsWith(prefix)) {
-        names.add(thread.getName());
-      }
-    }
-    return names;
   }
 }
