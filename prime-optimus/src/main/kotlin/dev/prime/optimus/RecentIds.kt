@@ -8,15 +8,21 @@ package dev.prime.optimus
  * Design note. Every value a service or reader handles is looked up and added, so the set holds
  * primitive longs (open addressing with linear probing in a table at most half full, deletion by
  * shifting the following entries back) instead of boxing each id into a `HashSet<Long>`. Slot
- * value 0 means empty; the id 0 itself is kept in a flag.
+ * value 0 means empty; the id 0 itself is kept in a flag. The ring and the table start small and
+ * double as ids come (the ring's entries are in order until it first wraps, at [capacity]), so a
+ * service or reader that handles few values holds about 1.5 KiB, not the 96 KiB of a full set of
+ * 4096.
  */
 internal class RecentIds(private val capacity: Int = 4096) {
-    private val ring = LongArray(capacity)
+    private var ring = LongArray(minOf(capacity, INITIAL))
     private var next = 0
     private var size = 0
-    private val table = LongArray(Integer.highestOneBit(maxOf(2, capacity) * 4 - 1))
-    private val mask = table.size - 1
+    private var table = LongArray(tableSizeFor(ring.size))
+    private var mask = table.size - 1
     private var hasZero = false
+
+    /** How many ids the set has room for now, before it grows: 64 at first, at most [capacity]. */
+    val room: Int get() = ring.size
 
     operator fun contains(id: Long): Boolean {
         if (id == 0L) return hasZero
@@ -30,10 +36,25 @@ internal class RecentIds(private val capacity: Int = 4096) {
     }
 
     fun add(id: Long) {
+        if (size == ring.size && size < capacity) grow()
         if (!insert(id)) return
         if (size == capacity) remove(ring[next]) else size++
         ring[next] = id
-        next = (next + 1) % capacity
+        next = (next + 1) % ring.size
+    }
+
+    /**
+     * Doubles the ring (at most to [capacity]) and the table, before the ring first wraps: its
+     * entries are in the order they came, so they keep it; the table is filled again from them.
+     */
+    private fun grow() {
+        ring = ring.copyOf(minOf(capacity, ring.size * 2))
+        next = size
+        table = LongArray(tableSizeFor(ring.size))
+        mask = table.size - 1
+        for (i in 0 until size) {
+            if (ring[i] != 0L) insert(ring[i])
+        }
     }
 
     /** Adds [id] to the table; false if it was there. */
@@ -76,6 +97,14 @@ internal class RecentIds(private val capacity: Int = 4096) {
             probe = (probe + 1) and mask
         }
         table[gap] = 0L
+    }
+
+    private companion object {
+        /** The ids a new set has room for before it first grows. */
+        const val INITIAL = 64
+
+        /** A table for [ids] ids: a power of two, at most half full. */
+        fun tableSizeFor(ids: Int): Int = Integer.highestOneBit(maxOf(2, ids) * 4 - 1)
     }
 
     private fun slotOf(id: Long): Int {

@@ -91,7 +91,7 @@ class OptimusSoakTest {
         named().also { Soak.fanOut(it, 10, 100) { 0 } }.deleteKeys()
         val before = Footprint.take()
         val clientsBefore = clients(jedis)
-        // a closed core kept reachable holds its services' recent ids (96 KiB a service)
+        // a closed core kept reachable holds its services' recent ids (3 KiB a service that took 100 values)
         val (fan, fanName) = runAndDeleteKeys { Soak.fanOut(it, 200, 100) { clients(jedis) - clientsBefore } }
         val (line, lineName) = runAndDeleteKeys { Soak.line(it, 100, 1000) { clients(jedis) - clientsBefore } }
         println("Optimus: $fan, $line")
@@ -113,8 +113,8 @@ class OptimusSoakTest {
         /**
          * Heap growth allowed over a run. Measured: 100 cycles on one Redis end 45 KiB above where
          * they began, 10 on Redises of their own 20 KiB below, the fan-out and the line 2 MiB below.
-         * A closed core of a cycle kept reachable holds about 470 KiB (the recent ids of its
-         * services and reader, 96 KiB each), which [Footprint.assertCollected] and this bound catch.
+         * A closed core of a cycle kept reachable (with the recent ids of its services and reader,
+         * 1.5 KiB each after 20 values) is caught by [Footprint.assertCollected].
          */
         const val HEAP_BOUND = 2L shl 20
     }

@@ -10,14 +10,14 @@ class RecentIdsTest {
     @Test
     fun remembersExactlyTheLastIdsAcrossEvictionsAndCollisions() {
         val random = Random(42)
-        for (capacity in listOf(1, 3, 16, 4096)) {
+        for (capacity in listOf(1, 3, 16, 64, 65, 100, 1000, 4096)) {
             val recent = RecentIds(capacity)
             val model = ArrayDeque<Long>()
             val members = HashSet<Long>()
             // few distinct ids (many repeats and probe collisions), the id 0 included, and ids far apart
             val pool = LongArray(capacity * 3 + 2) { if (it == 0) 0L else random.nextLong() } +
                 LongArray(capacity + 1) { it.toLong() shl 40 }
-            repeat(20_000) { step ->
+            repeat(if (capacity > 64) 40_000 else 20_000) { step ->
                 val id = pool[random.nextInt(pool.size)]
                 assertEquals(id in members, id in recent, "capacity $capacity, step $step, id $id before adding")
                 if (members.add(id)) {
@@ -28,5 +28,21 @@ class RecentIdsTest {
                 if (step % 997 == 0) for (other in pool) assertEquals(other in members, other in recent, "capacity $capacity, step $step, id $other")
             }
         }
+    }
+
+    @Test
+    fun startsSmallAndGrowsToItsCapacityAsIdsCome() {
+        val recent = RecentIds(4096)
+        assertEquals(64, recent.room, "a new set: room for 64 ids (1.5 KiB with its table), not 4096 (96 KiB)")
+        repeat(64) { recent.add(it + 1L) }
+        assertEquals(64, recent.room, "full, it has not grown yet")
+        recent.add(65)
+        assertEquals(128, recent.room, "the 65th id doubles it")
+        repeat(100) { recent.add(7) } // an id it holds adds nothing
+        assertEquals(128, recent.room)
+        for (id in 66L..10_000L) recent.add(id)
+        assertEquals(4096, recent.room, "it grows no further than its capacity")
+        assertEquals((1L..10_000L).map { it > 10_000 - 4096 }, (1L..10_000L).map { it in recent }, "the last 4096 ids, across every doubling")
+        assertEquals(3, RecentIds(3).room, "a capacity under 64 is the room from the start")
     }
 }
