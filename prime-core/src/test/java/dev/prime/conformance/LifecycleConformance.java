@@ -439,11 +439,7 @@ public interface LifecycleConformance extends ConformanceBase {
     PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
     CapturedStderr err = new CapturedStderr();
     try {
-      EventBlock<Integer> events = new EventBlock<>();
-      core.source(events).then(deafChain(core, "deaf", inside, release));
-      core.start();
-      events.publish(1);
-      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      holdADeafBlock(core, new EventBlock<>(), "deaf", inside, release);
       long began = System.nanoTime();
       core.close();
       Duration took = Duration.ofNanos(System.nanoTime() - began);
@@ -608,11 +604,7 @@ public interface LifecycleConformance extends ConformanceBase {
     CountDownLatch firstReturned = new CountDownLatch(1);
     PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdown).build());
     try {
-      EventBlock<Integer> events = new EventBlock<>();
-      core.source(events).then(deafChain(core, "holding", inside, release));
-      core.start();
-      events.publish(1);
-      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      holdADeafBlock(core, new EventBlock<>(), "holding", inside, release);
       long firstBegan = System.nanoTime();
       Thread first =
           new Thread(
@@ -660,11 +652,7 @@ public interface LifecycleConformance extends ConformanceBase {
         newCore(CoreConfig.builder().shutdownTimeout(Duration.ofSeconds(10)).build());
     Thread first = null;
     try {
-      EventBlock<Integer> events = new EventBlock<>();
-      core.source(events).then(deafChain(core, "holding", inside, release));
-      core.start();
-      events.publish(1);
-      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      holdADeafBlock(core, new EventBlock<>(), "holding", inside, release);
       first = new Thread(core::close, "kit-first-close");
       first.setDaemon(true);
       first.start();
@@ -762,11 +750,8 @@ public interface LifecycleConformance extends ConformanceBase {
     try {
       EventBlock<Integer> events = new EventBlock<>();
       Reader<Integer> out = core.source(events).then(core.chain((Integer x) -> x + 1)).reader();
-      core.source(events).then(deafChain(core, "holding", inside, release));
-      core.start();
-      events.publish(1);
+      holdADeafBlock(core, events, "holding", inside, release);
       assertEquals(2, takeOrFail(out), "the publish went through");
-      assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS));
       first = closer(core, "kit-longest-first-close", failures);
       long deadline = System.nanoTime() + patience().toNanos();
       while (!core.isClosed() && first.isAlive() && System.nanoTime() < deadline) {
@@ -866,9 +851,25 @@ public interface LifecycleConformance extends ConformanceBase {
   }
 
   /**
-   * A chain whose block counts {@code inside} down, then ignores interrupts until {@code release}
-   * opens (or the kit's patience runs out): it holds a {@code close()} up to its shutdown timeout.
+   * Links to a source of {@code events}, on {@code core} (not started), a chain whose block counts
+   * {@code inside} down, then ignores interrupts until {@code release} opens (or the kit's patience
+   * runs out); starts the core, publishes 1 and returns once the block holds it: a {@code
+   * close()} now waits up to its shutdown timeout.
    */
+  private void holdADeafBlock(
+      PrimeCore core,
+      EventBlock<Integer> events,
+      String name,
+      CountDownLatch inside,
+      CountDownLatch release)
+      throws InterruptedException {
+    core.source(events).then(deafChain(core, name, inside, release));
+    core.start();
+    events.publish(1);
+    assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the block holds a value");
+  }
+
+  /** The chain of {@link #holdADeafBlock}. */
   private Chain<Integer, Integer> deafChain(
       PrimeCore core, String name, CountDownLatch inside, CountDownLatch release) {
     return core.chain(

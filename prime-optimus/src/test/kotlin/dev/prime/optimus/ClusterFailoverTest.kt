@@ -1,7 +1,6 @@
 package dev.prime.optimus
 
 import dev.prime.CoreConfig
-import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
@@ -38,16 +37,7 @@ class ClusterFailoverTest {
             val config = CoreConfig.builder().name(name).sourceRetention(200_000).build()
             OptimusCore.builder().config(config).redis(cluster.url).replicaAcks(1)
                 .publishTimeout(Duration.ofSeconds(PATIENCE_S)).build().use { core ->
-                    val numbers = EventBlock<Int>()
-                    val source = core.source("numbers", numbers)
-                    // a block slower than the publisher: values queue in Redis, in flight at the kill
-                    val doubled = source.then(
-                        core.chain("double") { x: Int ->
-                            Thread.sleep(SERVICE_MILLIS)
-                            x * 2
-                        },
-                    )
-                    val reader = doubled.reader()
+                    val (source, reader) = slowDoubling(core, SERVICE_MILLIS)
                     core.start()
 
                     val accepted = ConcurrentHashMap<Int, Long>() // value -> when its publish returned

@@ -1,7 +1,6 @@
 package dev.prime.optimus
 
 import dev.prime.CoreConfig
-import dev.prime.EventBlock
 import dev.prime.conformance.CapturedStderr
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
@@ -59,16 +58,7 @@ class SingleEndpointFailoverTest {
         val config = CoreConfig.builder().name(name).sourceRetention(100_000).build()
         OptimusCore.builder().config(config).redis(endpoint.url).replicaAcks(1)
             .publishTimeout(Duration.ofSeconds(PUBLISH_TIMEOUT_S)).build().use { core ->
-                val numbers = EventBlock<Int>()
-                val source = core.source("numbers", numbers)
-                // a block slower than the publisher: values wait in the service's input at the kill
-                val doubled = source.then(
-                    core.chain("double") { x: Int ->
-                        Thread.sleep(SERVICE_MILLIS)
-                        x * 2
-                    },
-                )
-                val reader = doubled.reader()
+                val (source, reader) = slowDoubling(core, SERVICE_MILLIS)
                 core.start()
 
                 val accepted = ConcurrentHashMap<Int, Long>() // value -> when its publish returned

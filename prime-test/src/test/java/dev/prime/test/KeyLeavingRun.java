@@ -1,6 +1,7 @@
 package dev.prime.test;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
@@ -43,6 +44,20 @@ final class KeyLeavingRun {
     assertEquals(1, out.take(Duration.ofSeconds(20)).orElseThrow());
     assertEquals(3, out.take(Duration.ofSeconds(20)).orElseThrow());
     return core.name() + " " + keysOf(url, core.name()).size();
+  }
+
+  /**
+   * Asserts that each run of {@code log} (lines {@link #run} returned) had keys in the Redis at
+   * {@code url} while it ran, at least 5, and that none of {@code cores}' keys is left there.
+   */
+  static void assertEveryRunHadKeysAndLeftNone(List<String> log, List<PrimeCore> cores, String url) {
+    for (String line : log) {
+      int during = Integer.parseInt(line.substring(line.indexOf(' ') + 1));
+      assertTrue(during >= 5, "the run had keys in the Redis at " + url + ": " + line);
+    }
+    for (PrimeCore core : cores) {
+      assertEquals(List.of(), keysOf(url, core.name()), "keys of " + core.name() + " after its run");
+    }
   }
 
   /** {@return the keys of {@code topology} in the Redis at {@code url}} */

@@ -529,13 +529,7 @@ class PrimeTestExtensionTest {
 
       results.testEvents().assertStatistics(s -> s.succeeded(1).failed(1));
       assertEquals(2, LOG.size(), LOG.toString());
-      for (String line : LOG) {
-        int during = Integer.parseInt(line.substring(line.indexOf(' ') + 1));
-        assertTrue(during >= 5, "the run had keys in Redis: " + line);
-      }
-      for (PrimeCore core : CORES) {
-        assertEquals(List.of(), KeyLeavingRun.keysOf(UsesRedis.url, core.name()), "keys of " + core.name() + " after its run");
-      }
+      KeyLeavingRun.assertEveryRunHadKeysAndLeftNone(LOG, CORES, redis.getUri());
       assertEquals(Set.of("someone-elses-key"), jedis.keys("*"), "only the key that was not a run's is left");
     }
   }
