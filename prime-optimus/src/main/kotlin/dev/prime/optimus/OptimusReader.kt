@@ -7,6 +7,7 @@ import org.slf4j.LoggerFactory
 import java.nio.channels.ClosedByInterruptException
 import java.time.Duration
 import java.util.Optional
+import java.util.concurrent.CountDownLatch
 import java.util.concurrent.atomic.AtomicBoolean
 
 /**
@@ -18,7 +19,8 @@ import java.util.concurrent.atomic.AtomicBoolean
  * reader receiving it loses nothing: after reconnecting the reader reads its processing list
  * again and skips, by id, what it had already handed out. All reads synchronise on the reader
  * (the [Reader] contract allows concurrent calls); a blocked [take] is woken by closing the
- * core or the reader, which close its connection, and by an interrupt, which aborts the
+ * core or the reader, which close its connection and end its pause between round trips (a backoff
+ * while Redis is unreachable, a deadline's last moment), and by an interrupt, which aborts the
  * connection of its blocking wait at once ([InterruptibleWait]). A value taken from Redis but not
  * handed out when an interrupt ends a take stays for the next one (buffered, or read back from
  * the processing list after the aborted connection).
@@ -61,6 +63,7 @@ internal class OptimusReader<T>(
     private val recent = RecentIds()
     private val backoff = Backoff()
     private val closed = AtomicBoolean()
+    private val closing = CountDownLatch(1) // ends a take's pause (a backoff, a deadline's last moment) at close()
 
     @Throws(InterruptedException::class)
     override fun take(): T = synchronized(this) { next(wait = true, deadline = null)!! }
@@ -97,6 +100,7 @@ internal class OptimusReader<T>(
 
     override fun close() {
         if (!closed.compareAndSet(false, true)) return
+        closing.countDown() // wakes a take pausing between round trips
         session.abort() // wakes a read blocked on it
         core.forgetReader(list)
         if (core.connections.isClosed) return // the core's close removed its readers
@@ -188,7 +192,7 @@ internal class OptimusReader<T>(
                 val serverDeadline = deadline?.let { it - roundTrip }
                 if (deadline != null && serverDeadline!! - System.nanoTime() <= 0) {
                     // a value published from now on could not come back by the deadline
-                    core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()))
+                    core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()), closing)
                     checkUsable()
                     return null
                 }
@@ -224,7 +228,7 @@ internal class OptimusReader<T>(
                 if ((left != null && left <= 0) || (!wait && failures > 1)) {
                     throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, e)
                 }
-                if (wait) core.connections.pauseInterruptibly(backoff.next().let { if (left == null) it else minOf(it, ceilMillis(left)) })
+                if (wait) core.connections.pauseInterruptibly(backoff.next().let { if (left == null) it else minOf(it, ceilMillis(left)) }, closing)
             }
         }
     }

@@ -34,6 +34,8 @@ internal class RedisConnections(
 ) {
     private val open: MutableSet<Jedis> = ConcurrentHashMap.newKeySet()
     private val closedLatch = CountDownLatch(1)
+    // the latches of waits that also end on their owner's close (pauseInterruptibly(millis, wake)); closeAll opens them
+    private val wakes: MutableSet<CountDownLatch> = ConcurrentHashMap.newKeySet()
     private val readOnlyWarned = AtomicBoolean()
 
     @Volatile
@@ -108,9 +110,25 @@ internal class RedisConnections(
         closedLatch.await(millis, TimeUnit.MILLISECONDS)
     }
 
+    /**
+     * Like [pauseInterruptibly], but also ends when [wake] is counted down (a reader's own close).
+     * Closing the core counts down every [wake] waited on at that moment, and a wake registered
+     * after it sees [isClosed], so neither close is missed.
+     */
+    @Throws(InterruptedException::class)
+    fun pauseInterruptibly(millis: Long, wake: CountDownLatch) {
+        wakes += wake
+        try {
+            if (!isClosed) wake.await(millis, TimeUnit.MILLISECONDS)
+        } finally {
+            wakes -= wake
+        }
+    }
+
     fun closeAll() {
         isClosed = true
         closedLatch.countDown()
+        wakes.forEach(CountDownLatch::countDown)
         for (jedis in open.toList()) release(jedis)
         endpoint.close()
     }
