@@ -105,10 +105,14 @@ internal class Liveness(
         }
     }
 
-    /** Records that this instance owns [list], a reader list in [readerSet] or (if `null`) a reply list. */
-    fun own(session: RedisSession, list: ByteArray, readerSet: ByteArray?) {
+    /**
+     * Records that this instance owns [list], a reader list in [readerSet] or (if `null`) a reply
+     * list; while Redis is unreachable it retries until [deadline] (`null`: for as long as it
+     * takes), then throws [RedisUnavailableException] naming [what].
+     */
+    fun own(session: RedisSession, list: ByteArray, readerSet: ByteArray?, deadline: Long? = null, what: String = "") {
         begin()
-        session.retrying { jedis ->
+        session.retryingUntil(deadline, what) { jedis ->
             val pipeline = jedis.pipelined()
             pipeline.hset(lists, list, readerSet ?: EMPTY)
             val count = pipeline.incr(declared)

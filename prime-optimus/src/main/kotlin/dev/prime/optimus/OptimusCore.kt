@@ -635,11 +635,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         liveness.disown(pipeline, list)
     }
 
-    internal fun borrowSlot(): CallerSlot = idleSlots.poll() ?: newSlot()
+    /**
+     * An idle caller slot, or a new one, whose reply list is recorded by [deadline] (a call's; a
+     * [System.nanoTime], `null`: no limit), else [RedisUnavailableException] naming the call to
+     * [chainName].
+     */
+    internal fun borrowSlot(deadline: Long?, chainName: String): CallerSlot = idleSlots.poll() ?: newSlot(deadline, chainName)
 
-    private fun newSlot(): CallerSlot {
+    private fun newSlot(deadline: Long?, chainName: String): CallerSlot {
         val reply = replyKey(slotNumbers.incrementAndGet())
-        withSession("record a reply list") { liveness.own(it, reply, null) }
+        withSession("record a reply list") { liveness.own(it, reply, null, deadline, "the call to service '$chainName'") }
         return CallerSlot(this, reply).also { allSlots += it }
     }
 
@@ -1152,8 +1157,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         /**
          * How long a synchronous call waits for its reply (default 60 s); `Duration.ZERO` waits
          * as long as it takes. The bound holds while Redis is unreachable too (within about a
-         * second): the call then fails with [RedisUnavailableException], or with a
-         * [dev.prime.PrimeException] saying the service did not reply.
+         * second), and over a slow link for a timeout of at least three round trips: the call
+         * then fails with [RedisUnavailableException] if Redis could not be reached, or with a
+         * [dev.prime.PrimeException] saying the service did not reply if Redis answered.
          */
         public fun callTimeout(timeout: Duration): Builder = apply {
             require(!timeout.isNegative) { "call timeout must not be negative, was $timeout" }

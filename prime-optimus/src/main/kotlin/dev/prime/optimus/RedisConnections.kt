@@ -277,10 +277,21 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
      * the wait after the push, on this connection. One attempt, like [once]; a command Redis
      * refused throws its error. Without [wait] only the push (`null`): with
      * [RedisConnections.replicaAcks] the push is confirmed by the replicas before the wait.
+     * Redis's wait ends [earlierNanos] before [deadline] (as `serverDeadline` does for
+     * [blockingMove]); each socket wait lasts at least [answerMillis] past Redis's wait (see [once]).
      */
-    fun pushAndWait(deadline: Long?, input: ByteArray, request: ByteArray, reply: ByteArray, wait: Boolean = true): ByteArray? {
-        val waitMillis = if (wait) waitMillis(deadline) else 0
-        return once(deadline, waitMillis) { jedis ->
+    fun pushAndWait(
+        deadline: Long?,
+        input: ByteArray,
+        request: ByteArray,
+        reply: ByteArray,
+        wait: Boolean = true,
+        earlierNanos: Long = 0,
+        answerMillis: Long = 0,
+    ): ByteArray? {
+        // a primitive, not a second deadline: this is on every call's path
+        val waitMillis = if (!wait) 0 else if (deadline == null) POLL_MILLIS else waitUntil(deadline - earlierNanos, System.nanoTime())
+        return once(deadline, waitMillis, waitMillis + answerMillis) { jedis ->
             val connection = jedis.connection
             // arguments Jedis does not copy: the request is written as it is
             connection.sendCommand(commandOf(Protocol.Command.DEL, reply))
@@ -292,10 +303,13 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
         }
     }
 
-    private fun waitMillis(deadline: Long?): Long {
-        val pollMillis = (RedisConnections.POLL_SECONDS * 1000).toLong()
-        return deadline?.let { ceilMillis(it - System.nanoTime()).coerceIn(MIN_WAIT_MS, pollMillis) } ?: pollMillis
-    }
+    /**
+     * How long a blocking command sent at [now] (a [System.nanoTime]) asks Redis to wait, ending
+     * by [deadline]: 10 ms to [RedisConnections.POLL_SECONDS].
+     */
+    fun waitMillis(deadline: Long?, now: Long = System.nanoTime()): Long = if (deadline == null) POLL_MILLIS else waitUntil(deadline, now)
+
+    private fun waitUntil(deadline: Long, now: Long): Long = ceilMillis(deadline - now).coerceIn(MIN_WAIT_MS, POLL_MILLIS)
 
     private fun socketLimit(deadline: Long?, serverWaitMillis: Long, leastAnswerMillis: Long): Int {
         val usual = if (serverWaitMillis > 0) {
@@ -344,9 +358,18 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
     fun <T> retryingUntil(deadline: Long?, what: String, op: (Jedis) -> T): T =
         retryUntil(deadline, what) { once(deadline, 0, op) }
 
-    /** [blockingMove], retried like [retryingUntil]. */
-    fun blockingMoveUntil(deadline: Long?, what: String, from: ByteArray, to: ByteArray): ByteArray? =
-        retryUntil(deadline, what) { blockingMove(deadline, from, to) }
+    /**
+     * [blockingMove], retried like [retryingUntil]; a [LateReply] is not retried but thrown (the
+     * wait's deadline passed: nothing came in time, which is the waiter's to report).
+     */
+    fun blockingMoveUntil(
+        deadline: Long?,
+        what: String,
+        from: ByteArray,
+        to: ByteArray,
+        serverDeadline: Long? = deadline,
+        leastAnswerMillis: Long = 0,
+    ): ByteArray? = retryUntil(deadline, what) { blockingMove(deadline, from, to, serverDeadline, leastAnswerMillis) }
 
     private inline fun <T> retryUntil(deadline: Long?, what: String, attempt: () -> T): T {
         val started = System.nanoTime()
@@ -357,6 +380,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 return attempt()
             } catch (e: Exception) {
                 if (connections.isClosed) throw CoreClosedException(connections.coreName).apply { initCause(e) }
+                if (e is LateReply) throw e // only a blocking wait past its deadline throws it: nothing came in time
                 if (!RedisConnections.isTransient(e)) throw e
                 val wait = (backoff ?: Backoff().also { backoff = it }).next()
                 if (deadline == null) {
@@ -377,6 +401,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
 
     companion object {
         private const val MIN_WAIT_MS = 10L
+        private val POLL_MILLIS = (RedisConnections.POLL_SECONDS * 1000).toLong()
 
         private val POLL_SECONDS_ARGUMENT = RedisConnections.POLL_SECONDS.toString().toByteArray()
 

@@ -22,10 +22,12 @@ internal class RemoteCall<I, O>(
         core.checkOpen()
         core.checkStarted("calling chain '$chainName'")
         val payload = core.encode(value)
-        val slot = core.borrowSlot()
+        // the deadline counts from here: a thread's first call records its reply list within it too
+        val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }
+        val slot = core.borrowSlot(deadline, chainName)
         try {
             @Suppress("UNCHECKED_CAST")
-            return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName) } as O
+            return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline) } as O
         } finally {
             core.returnSlot(slot)
         }
@@ -54,22 +56,44 @@ internal class RemoteCall<I, O>(
  * wait that outlasts the poll slice, a late reply of an earlier call, or a retry waits again.
  * With `replicaAcks` the push is confirmed by the replicas first, then the wait is sent.
  *
- * With a call timeout every Redis operation of the call, connecting included, ends by the
- * deadline ([RedisSession.retryingUntil]): the call fails with [RedisUnavailableException] if
- * Redis could not be reached, or with the timeout [PrimeException] if the service did not reply.
+ * With a call timeout every Redis operation of the call, recording a new slot's reply list and
+ * connecting included, ends by the deadline ([RedisSession.retryingUntil]): the call fails with
+ * [RedisUnavailableException] if Redis could not be reached, or with the timeout [PrimeException]
+ * if the service did not reply. Over a slow link (as the reader's timed take does): each reply of
+ * Redis gets at least [ANSWER_MS] after Redis's own wait, so a reply a slow link brings late is
+ * received, not taken for a dead connection (and the connection stays open); the slot measures
+ * its round trip from each wait Redis ended empty and asks Redis to end the next wait that long
+ * before the deadline, so the reply comes by it; a wait whose reply could not come back by the
+ * deadline is not sent: the request is taken back then, and the call waits out its timeout. A
+ * call whose reply comes fast costs no more than before: no round trip, no allocation.
  */
 internal class CallerSlot(private val core: OptimusCore, private val replyKey: ByteArray) : AutoCloseable {
     private val session = RedisSession(core.connections)
 
-    fun call(input: ByteArray, payload: ByteArray?, chainName: String): Any? {
+    /**
+     * The last round trip this slot measured to Redis (nanoseconds; 0: none yet), from a wait that
+     * Redis ended without a reply: a wait asks Redis to end that much before the call's deadline.
+     */
+    private var roundTrip = 0L
+
+    /** Calls the service of [chainName] with [payload]; gives up at [deadline] (a [System.nanoTime]; `null`: never). */
+    fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?): Any? {
         val id = core.ids.next()
         val request = Envelope.request(id, replyKey, payload)
-        val timeout = core.callTimeout
-        val deadline = timeout?.let { System.nanoTime() + boundedNanos(it) }
         val what = "the call to service '$chainName'"
         var pending = try {
             val wait = core.connections.replicaAcks == null // else the push is confirmed before the wait
-            InterruptibleWait(session).run { session.pushAndWait(deadline, input, request, replyKey, wait) }
+            if (deadline == null) {
+                InterruptibleWait(session).run { session.pushAndWait(null, input, request, replyKey, wait) }
+            } else {
+                // Redis ends the wait a round trip before the deadline, so its reply comes by it; each reply gets a second
+                val sent = System.nanoTime()
+                val reply = InterruptibleWait(session).run {
+                    session.pushAndWait(deadline, input, request, replyKey, wait, roundTrip, ANSWER_MS)
+                }
+                if (reply == null && wait) measured(sent, deadline - roundTrip)
+                reply
+            }
         } catch (_: ClosedByInterruptException) {
             Thread.currentThread().interrupt() // the check in the loop below withdraws the request
             null
@@ -87,24 +111,56 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
                 session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call
             }
             if (Thread.currentThread().isInterrupted) {
-                withdraw(input, request)
+                withdraw(input, request, null)
                 throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
             }
             if (deadline != null && deadline - System.nanoTime() <= 0) {
-                withdraw(input, request)
-                throw PrimeException(
-                    "service '$chainName' did not reply within $timeout; is a process that hosts it " +
-                        "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
-                )
+                withdraw(input, request, null)
+                throw noReply(chainName)
+            }
+            // no round trip starts that could not come back by the deadline: Redis's wait ends a round trip before it
+            val serverDeadline = deadline?.let { it - roundTrip }
+            if (deadline != null && serverDeadline!! - System.nanoTime() <= 0) {
+                // a reply pushed from now on could not reach this caller by the deadline: take the request
+                // back now (its answer comes about at the deadline), then wait out the timeout
+                withdraw(input, request, deadline)
+                try {
+                    core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()))
+                } catch (_: InterruptedException) {
+                    Thread.currentThread().interrupt()
+                    throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
+                }
+                core.connections.ensureOpen()
+                throw noReply(chainName)
             }
             pending = try {
-                InterruptibleWait(session).run { session.blockingMoveUntil(deadline, what, replyKey, replyKey) }
+                val sent = System.nanoTime()
+                val least = if (serverDeadline == null) 0 else session.waitMillis(serverDeadline) + ANSWER_MS
+                InterruptibleWait(session).run {
+                    session.blockingMoveUntil(deadline, what, replyKey, replyKey, serverDeadline, least)
+                }.also { if (it == null && serverDeadline != null) measured(sent, serverDeadline) }
             } catch (_: ClosedByInterruptException) {
                 Thread.currentThread().interrupt() // the flag is set; say so should a wait have cleared it
                 null // the check above withdraws the request and ends the call
+            } catch (_: LateReply) {
+                null // no reply by the deadline (a loaded machine, or a link that froze): the check above ends the call
             }
         }
     }
+
+    /**
+     * A wait sent at [sent], asked to end by [serverDeadline], came back empty: the rest of the
+     * time it took, past Redis's wait, was the round trip.
+     */
+    private fun measured(sent: Long, serverDeadline: Long) {
+        val waitMillis = session.waitMillis(serverDeadline, sent)
+        roundTrip = (System.nanoTime() - sent - waitMillis * 1_000_000).coerceAtLeast(0)
+    }
+
+    private fun noReply(chainName: String) = PrimeException(
+        "service '$chainName' did not reply within ${core.callTimeout}; is a process that hosts it " +
+            "running and connected to the same Redis? (OptimusCore.Builder.callTimeout sets the limit)",
+    )
 
     private fun answer(envelope: Envelope, id: Long): Any? = when (envelope.kind) {
         Envelope.Kind.REPLY_OK -> envelope.payload()?.let(core.codec::decode)
@@ -115,12 +171,17 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
 
     /**
      * Takes back the request of a call that gave up, if no service took it yet (every copy a
-     * retry pushed), so an abandoned request is neither run nor answered later. One quick
-     * attempt: if Redis does not answer at once, the request stays and its late reply is skipped.
+     * retry pushed), so an abandoned request is neither run nor answered later. One attempt: if
+     * Redis does not answer by [deadline] (with at least [ANSWER_MS] for its reply), or, past
+     * the deadline (`null`), at once, the request stays and its late reply is skipped.
      */
-    private fun withdraw(input: ByteArray, request: ByteArray) {
+    private fun withdraw(input: ByteArray, request: ByteArray, deadline: Long?) {
         try {
-            session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { it.lrem(input, 0, request) }
+            if (deadline == null) {
+                session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { it.lrem(input, 0, request) }
+            } else {
+                session.once(deadline, 0, ANSWER_MS) { it.lrem(input, 0, request) }
+            }
         } catch (_: RuntimeException) {
             // best effort: Redis is unreachable, or the core closed
         }
@@ -130,6 +191,13 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
 
     private companion object {
         const val WITHDRAW_BOUND_NANOS = 200_000_000L
+
+        /**
+         * The least time a call with a timeout gives each reply of Redis after Redis's own wait,
+         * however close its deadline: a slow link's round trip (the "within about a second" of
+         * `callTimeout`).
+         */
+        const val ANSWER_MS = 1000L
     }
 }
 

@@ -18,8 +18,8 @@ import java.util.concurrent.TimeUnit
 /**
  * Every call with a timeout honours it within timeout + 1 s while Redis is unreachable, killed
  * or behind a frozen network, and gives up with `RedisUnavailableException` (the README's
- * promise for a call, `take(timeout)`, `poll()` and `drain()`); `poll()` and `drain()` do not
- * wait for a reconnect.
+ * promise for a call, a core's first call included, `take(timeout)`, `poll()` and `drain()`);
+ * `poll()` and `drain()` do not wait for a reconnect.
  */
 class OutageTimeoutTest {
 
@@ -34,6 +34,29 @@ class OutageTimeoutTest {
     fun callsAndReadsEndInTimeWhileTheNetworkIsFrozen() {
         FaultProxy(TestRedis.url).use { proxy ->
             outage(proxy.url, cut = { proxy.freeze() }, mend = { proxy.thaw() })
+        }
+    }
+
+    /**
+     * A core's first call (and a thread's, when no idle caller's reply list is left) records its
+     * reply list before it pushes: that too ends by the call's deadline.
+     */
+    @Test
+    fun aFirstCallEndsInTimeWhileTheNetworkIsFrozen() {
+        FaultProxy(TestRedis.url).use { proxy ->
+            val config = CoreConfig.builder().name("outage-first-${System.nanoTime()}").build()
+            OptimusCore.builder().config(config).redis(proxy.url).callTimeout(CALL_TIMEOUT).build().use { core ->
+                val call = core.chain("first") { x: Int -> x }.toBlock()
+                core.start()
+                proxy.freeze()
+                try {
+                    val took = timed("a first process", CALL_TIMEOUT) { call.process(1) }
+                    println("during the outage: a first process ${took.toMillis()} ms")
+                } finally {
+                    proxy.thaw()
+                }
+                assertEquals(2, call.process(2), "works again after the outage")
+            }
         }
     }
 
