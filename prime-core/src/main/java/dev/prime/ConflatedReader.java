@@ -1,6 +1,7 @@
 package dev.prime;
 
 import java.time.Duration;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.Optional;
 
@@ -38,7 +39,9 @@ final class ConflatedReader<T> implements Reader<T> {
 
   @Override
   public List<T> drain() {
-    return poll().map(List::of).orElse(List.of());
+    List<T> newest = new ArrayList<>(1); // a new list the caller may change, as Reader promises
+    poll().ifPresent(newest::add);
+    return newest;
   }
 
   @Override

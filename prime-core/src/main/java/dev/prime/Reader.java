@@ -66,7 +66,7 @@ public interface Reader<T> extends AutoCloseable {
   /**
    * Returns every value available now, oldest first, possibly none; never blocks.
    *
-   * @return a new list
+   * @return a new list, which the caller may change (the reader keeps no reference to it)
    * @throws CoreClosedException if the core is closed
    * @throws IllegalStateException if this reader is closed
    */

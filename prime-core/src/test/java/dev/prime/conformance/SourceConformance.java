@@ -767,4 +767,43 @@ public interface SourceConformance extends ConformanceBase {
       publisher.shutdownNow();
     }
   }
+
+  /**
+   * {@link Reader#drain()}: "a new list", oldest first, which the caller may change: each call
+   * returns a list of its own, also when it is empty, and changing it changes nothing the reader
+   * returns later. The same for a conflated reader ({@link Source#conflatedReader()}), whose drain
+   * holds at most the newest value.
+   */
+  @Test
+  default void drainReturnsANewListThatTheCallerMayChange() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("drained", events);
+      Reader<Integer> plain = source.reader();
+      Reader<Integer> conflated = source.conflatedReader();
+      core.start();
+      for (Reader<Integer> reader : List.of(plain, conflated)) {
+        List<Integer> first = reader.drain();
+        List<Integer> second = reader.drain();
+        assertTrue(first != second, reader + ": two drains return two lists");
+        first.add(99);
+        assertEquals(List.of(99), first, reader + ": the caller may change an empty drain");
+        assertEquals(List.of(), second, reader + ": the other list did not change");
+        assertEquals(List.of(), reader.drain(), reader + ": nor did the reader");
+      }
+      events.publish(1);
+      events.publish(2);
+      List<Integer> all = plain.drain();
+      List<Integer> newest = conflated.drain();
+      assertEquals(List.of(1, 2), all, "oldest first");
+      assertEquals(List.of(2), newest, "the conflated reader's newest");
+      all.clear();
+      all.add(7);
+      newest.set(0, 8);
+      newest.add(9);
+      events.publish(3);
+      assertEquals(List.of(3), plain.drain(), "the plain reader goes on where it was");
+      assertEquals(List.of(3), conflated.drain(), "the conflated reader goes on where it was");
+    }
+  }
 }
