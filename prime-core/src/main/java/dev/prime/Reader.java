@@ -35,9 +35,10 @@ public interface Reader<T> extends AutoCloseable {
    * Returns the next value, waiting until one is published.
    *
    * @return the next value, never {@code null}
-   * @throws InterruptedException if the thread is interrupted while waiting (within about a
-   *     second on a media that waits on the network); a value not yet handed out stays for the
-   *     next call
+   * @throws InterruptedException if the thread is interrupted before or while waiting (within
+   *     about a second on a media that waits on the network); a value not yet handed out stays for
+   *     the next call. A take that finds a value available does not wait: it returns the value and
+   *     leaves the interrupt flag set
    * @throws CoreClosedException if the core is closed
    * @throws IllegalStateException if this reader is closed
    */
@@ -48,7 +49,8 @@ public interface Reader<T> extends AutoCloseable {
    *
    * @param timeout how long to wait; zero or negative means do not wait
    * @return the next value, or empty if none was published in time
-   * @throws InterruptedException if the thread is interrupted while waiting
+   * @throws InterruptedException if the thread is interrupted before or while waiting; as with
+   *     {@link #take()}, a value available at once is returned whatever the interrupt flag
    * @throws CoreClosedException if the core is closed
    * @throws IllegalStateException if this reader is closed
    */

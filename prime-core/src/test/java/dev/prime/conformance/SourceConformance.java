@@ -806,4 +806,56 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(List.of(3), conflated.drain(), "the conflated reader goes on where it was");
     }
   }
+
+  /**
+   * {@link Reader#take()}: "InterruptedException if the thread is interrupted before or while
+   * waiting": a take that finds a value available does not wait, so it returns the value though
+   * its thread's interrupt flag is set, and the flag stays set; only with nothing to read does a
+   * take with the flag set end with {@link InterruptedException}. On a reader of an event source
+   * and of a service's output alike; the values come each once and in order.
+   */
+  @Test
+  default void aTakeThatFindsAValueReturnsItThoughItsThreadIsInterrupted()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> direct = core.source("flagged", events);
+      Source<Integer> served = direct.then(core.chain("flagged-copy", (Integer x) -> x));
+      List<Reader<Integer>> readers = List.of(direct.reader(), served.reader());
+      Reader<Integer> pacer = served.reader();
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 2, 3), takeOrFail(pacer, 3), "the service published all three");
+      for (Reader<Integer> reader : readers) {
+        List<Object> taken = new ArrayList<>();
+        boolean flagAfterValues;
+        Throwable onEmpty = null;
+        Thread.currentThread().interrupt();
+        try {
+          taken.add(reader.take());
+          taken.add(reader.take(patience()).orElse(null));
+          taken.add(reader.take(Duration.ZERO).orElse(null));
+          flagAfterValues = Thread.currentThread().isInterrupted();
+          try {
+            reader.take(patience());
+          } catch (InterruptedException e) {
+            onEmpty = e;
+          }
+        } catch (InterruptedException e) {
+          taken.add(e);
+          flagAfterValues = false;
+        } finally {
+          Thread.interrupted(); // the test's thread goes on uninterrupted
+        }
+        assertEquals(
+            List.<Object>of(1, 2, 3), taken, reader + ": the values there, despite the flag");
+        assertTrue(flagAfterValues, reader + ": the interrupt flag stays set");
+        assertTrue(
+            onEmpty instanceof InterruptedException,
+            reader + ": with nothing to read, the take ends with InterruptedException: " + onEmpty);
+      }
+    }
+  }
 }

@@ -157,8 +157,10 @@ internal class OptimusReader<T>(
         var failures = 0
         while (true) {
             checkUsable()
-            // a value already taken stays buffered for the next take
-            if (wait && Thread.interrupted()) throw InterruptedException("interrupted while waiting for a value of an Optimus source")
+            // a value already taken, or one Redis holds for this reader, is handed out whatever the
+            // interrupt flag (the Reader contract: only a take that waits ends with
+            // InterruptedException); the flag is checked before each wait, the blocking move's and
+            // every pause's, and a value buffered when it ends a take stays for the next one
             deliver()?.let { return it as T }
             if (timed && roundTrips > 0 && deadline!! - System.nanoTime() <= 0) {
                 if (failed != null) throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, failed)
