@@ -47,7 +47,8 @@ public interface Reader<T> extends AutoCloseable {
   /**
    * Returns the next value, waiting at most {@code timeout} for one.
    *
-   * @param timeout how long to wait; zero or negative means do not wait
+   * @param timeout how long to wait; zero or negative means do not wait: the next value if one is
+   *     available now, else empty
    * @return the next value, or empty if none was published in time
    * @throws InterruptedException if the thread is interrupted before or while waiting; as with
    *     {@link #take()}, a value available at once is returned whatever the interrupt flag

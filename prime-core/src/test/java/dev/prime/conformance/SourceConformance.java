@@ -858,4 +858,158 @@ public interface SourceConformance extends ConformanceBase {
       }
     }
   }
+
+  /**
+   * {@link Reader#take(Duration)}: "zero or negative means do not wait", which is not "return
+   * empty": a take with a zero or negative timeout (down to the most negative a {@link Duration}
+   * holds) returns the next value when one is there, each once and in order, and empty only when
+   * none is; on a reader of an event source and of a service's output alike.
+   */
+  @Test
+  default void aTakeThatDoesNotWaitStillReturnsTheValueThatIsThere()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> direct = core.source("at-hand", events);
+      Source<Integer> served = direct.then(core.chain("at-hand-copy", (Integer x) -> x));
+      List<Reader<Integer>> readers = List.of(direct.reader(), served.reader());
+      Reader<Integer> pacer = served.reader();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 2, 3, 4), takeOrFail(pacer, 4), "the service published all four");
+      for (Reader<Integer> reader : readers) {
+        assertEquals(Optional.of(1), reader.take(Duration.ZERO), reader + ": zero");
+        assertEquals(Optional.of(2), reader.take(Duration.ofMillis(-5)), reader + ": negative");
+        assertEquals(
+            Optional.of(3),
+            reader.take(Duration.ofSeconds(Long.MIN_VALUE)),
+            reader + ": the most negative");
+        assertEquals(Optional.of(4), reader.take(Duration.ZERO), reader + ": zero again");
+        assertEquals(Optional.empty(), reader.take(Duration.ZERO), reader + ": nothing left");
+      }
+    }
+  }
+
+  /**
+   * {@link Source#conflatedReader()}: "Skipped values are not counted in {@link Reader#missed()},
+   * which counts only what the source's retention dropped", and its {@link Reader#take()} "waits
+   * for a value newer than the last one it returned and returns the newest published by then".
+   * With a retention of 3, a conflated reader that five values passed returns the fifth and
+   * counts two missed (the two the retention dropped, not the two it skipped); it then has
+   * nothing newer, and a take waits for the next value; six more values make it miss three more.
+   */
+  @Test
+  default void aConflatedReaderCountsOnlyWhatRetentionDroppedAndWaitsForANewerValue()
+      throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().sourceRetention(3).build())) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("heading", events);
+      Reader<Integer> latest = source.conflatedReader();
+      core.start();
+      for (int i = 1; i <= 5; i++) {
+        events.publish(i);
+      }
+      assertEquals(5, latest.take(), "the newest");
+      assertEquals(2, latest.missed(), "what the retention dropped, not what conflation skipped");
+      assertEquals(Optional.empty(), latest.take(Duration.ofMillis(50)), "nothing newer than 5");
+      assertEquals(Optional.empty(), latest.poll(), "nothing newer than 5");
+      CountDownLatch waiting = new CountDownLatch(1);
+      CompletableFuture<Integer> taken =
+          CompletableFuture.supplyAsync(
+              () -> {
+                waiting.countDown();
+                try {
+                  return latest.take();
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                  throw new IllegalStateException(e);
+                }
+              });
+      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      events.publish(6);
+      assertEquals(6, taken.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+      for (int i = 7; i <= 12; i++) {
+        events.publish(i);
+      }
+      assertEquals(Optional.of(12), latest.poll(), "the newest");
+      assertEquals(5, latest.missed(), "7, 8 and 9 fell out of the retention: 2 + 3");
+    }
+  }
+
+  /**
+   * {@link Reader}: "concurrent calls are safe but each value goes to exactly one of the
+   * callers", whichever calls they make. Four threads read one reader at once, one with timed
+   * takes, one with takes that do not wait, one with polls and one with drains, while the test
+   * publishes: every value reaches exactly one of them, and each gets its values in publication
+   * order. On a reader of an event source and of a service's output.
+   */
+  @Test
+  default void concurrentTakePollAndDrainCallersOfOneReaderShareEachValueOnce()
+      throws Exception {
+    int total = 400;
+    List<String> modes = List.of("take", "take-now", "poll", "drain");
+    ExecutorService pool = Executors.newFixedThreadPool(modes.size() * 2);
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> direct = core.source("crowded", events);
+      Source<Integer> served = direct.then(core.chain("crowded-copy", (Integer x) -> x));
+      List<Reader<Integer>> readers = List.of(direct.reader(), served.reader());
+      core.start();
+      long deadline = System.nanoTime() + patience().toNanos();
+      List<java.util.concurrent.atomic.AtomicInteger> counts = new ArrayList<>();
+      List<List<Future<List<Integer>>>> callers = new ArrayList<>();
+      for (Reader<Integer> reader : readers) {
+        java.util.concurrent.atomic.AtomicInteger count =
+            new java.util.concurrent.atomic.AtomicInteger();
+        counts.add(count);
+        List<Future<List<Integer>>> ofReader = new ArrayList<>();
+        for (String mode : modes) {
+          ofReader.add(
+              pool.submit(
+                  () -> {
+                    List<Integer> mine = new ArrayList<>();
+                    while (count.get() < total && System.nanoTime() - deadline < 0) {
+                      List<Integer> got =
+                          switch (mode) {
+                            case "take" -> reader.take(Duration.ofMillis(5)).stream().toList();
+                            case "take-now" -> reader.take(Duration.ZERO).stream().toList();
+                            case "poll" -> reader.poll().stream().toList();
+                            default -> reader.drain();
+                          };
+                      mine.addAll(got);
+                      count.addAndGet(got.size());
+                      if (got.isEmpty() && !mode.equals("take")) {
+                        Thread.yield();
+                      }
+                    }
+                    return mine;
+                  }));
+        }
+        callers.add(ofReader);
+      }
+      for (int i = 0; i < total; i++) {
+        events.publish(i);
+      }
+      for (int r = 0; r < readers.size(); r++) {
+        List<Integer> all = new ArrayList<>();
+        for (int m = 0; m < modes.size(); m++) {
+          List<Integer> mine =
+              callers.get(r).get(m).get(patience().toMillis() * 2, TimeUnit.MILLISECONDS);
+          String who = "reader " + r + ", the " + modes.get(m) + " caller";
+          assertEquals(mine.stream().sorted().toList(), mine, who + ": in publication order");
+          all.addAll(mine);
+        }
+        all.sort(null);
+        assertEquals(
+            IntStream.range(0, total).boxed().toList(),
+            all,
+            "reader " + r + ": every value to exactly one caller");
+        assertEquals(Optional.empty(), readers.get(r).poll(), "reader " + r + ": nothing more");
+      }
+    } finally {
+      pool.shutdownNow();
+    }
+  }
 }
