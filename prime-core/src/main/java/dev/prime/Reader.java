@@ -13,8 +13,9 @@ import java.util.Optional;
  * by {@link #missed()}.
  *
  * <p>A reader is meant for one consuming thread; concurrent calls are safe but each value goes to
- * exactly one of the callers. When the core is closed, blocked and later calls throw
- * {@link CoreClosedException}.
+ * exactly one of the callers; {@link #poll()} and {@link #drain()} never wait for a value, also
+ * while another thread waits in {@link #take()} of the same reader. When the core is closed,
+ * blocked and later calls throw {@link CoreClosedException}.
  *
  * <p>A reader is a resource: {@link #close()} it when done, so the source stops keeping values
  * for it (a reader nobody reads falls behind and holds up to the retention of values). After

@@ -9,6 +9,8 @@ import java.time.Duration
 import java.util.Optional
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.atomic.AtomicBoolean
+import java.util.concurrent.locks.LockSupport
+import java.util.concurrent.locks.ReentrantLock
 
 /**
  * A reader of an [OptimusSource]: its own Redis list, which the source fills and trims to the
@@ -17,8 +19,10 @@ import java.util.concurrent.atomic.AtomicBoolean
  * Design note. A taken value is first moved to the reader's processing list and removed from it
  * only with the next operation, so a connection lost between Redis sending a value and this
  * reader receiving it loses nothing: after reconnecting the reader reads its processing list
- * again and skips, by id, what it had already handed out. All reads synchronise on the reader
- * (the [Reader] contract allows concurrent calls); a blocked [take] is woken by closing the
+ * again and skips, by id, what it had already handed out. All reads take turns on the reader's
+ * lock (the [Reader] contract allows concurrent calls), except that a [poll] or [drain] that finds
+ * a take of another thread waiting for a value returns empty at once, and one that finds it
+ * waiting for Redis throws [RedisUnavailableException] at once; a blocked [take] is woken by closing the
  * core or the reader, which close its connection and end its pause between round trips (a backoff
  * while Redis is unreachable, a deadline's last moment), and by an interrupt, which aborts the
  * connection of its blocking wait at once ([InterruptibleWait]). A value taken from Redis but not
@@ -64,26 +68,32 @@ internal class OptimusReader<T>(
     private val backoff = Backoff()
     private val closed = AtomicBoolean()
     private val closing = CountDownLatch(1) // ends a take's pause (a backoff, a deadline's last moment) at close()
+    private val turn = ReentrantLock() // one call of this reader at a time: the buffer and the session are the turn's
+    // set while a take holds the turn and waits for a value to be published, or for Redis to come back
+    @Volatile private var takeWaits: Wait? = null
+    @Volatile private var lastFailure: Exception? = null // why Redis was unreachable, while takeWaits is Wait.REDIS
+
+    private enum class Wait { VALUE, REDIS }
 
     @Throws(InterruptedException::class)
-    override fun take(): T = synchronized(this) { next(wait = true, deadline = null)!! }
+    override fun take(): T = inTurn { next(wait = true, deadline = null)!! }
 
     @Throws(InterruptedException::class)
     override fun take(timeout: Duration?): Optional<T> {
         java.util.Objects.requireNonNull(timeout, "timeout must not be null")
         val nanos = if (timeout!!.isNegative) 0 else boundedNanos(timeout)
-        return synchronized(this) {
+        return inTurn {
             if (nanos == 0L) present(next(wait = false, deadline = null))
             else present(next(wait = true, deadline = System.nanoTime() + nanos))
         }
     }
 
-    override fun poll(): Optional<T> = synchronized(this) { present(next(wait = false, deadline = null)) }
+    override fun poll(): Optional<T> = inTurnUnlessATakeWaits({ present(null) }) { present(next(wait = false, deadline = null)) }
 
     @Suppress("UNCHECKED_CAST")
     private fun present(value: T?): Optional<T> = Optional.ofNullable(value) as Optional<T>
 
-    override fun drain(): List<T> = synchronized(this) {
+    override fun drain(): List<T> = inTurnUnlessATakeWaits({ ArrayList<T>() }) {
         val values = ArrayList<T>()
         while (true) {
             values += next(wait = false, deadline = null) ?: break
@@ -91,7 +101,7 @@ internal class OptimusReader<T>(
         values
     }
 
-    override fun missed(): Long = synchronized(this) {
+    override fun missed(): Long = inTurn {
         checkUsable()
         session.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, "reading the missed count of a reader") {
             it.get(missedKey)
@@ -120,6 +130,55 @@ internal class OptimusReader<T>(
                 core.name(),
                 e.toString(),
             )
+        }
+    }
+
+    private inline fun <R> inTurn(action: () -> R): R {
+        turn.lock()
+        try {
+            return action()
+        } finally {
+            turn.unlock()
+        }
+    }
+
+    /**
+     * For [poll] and [drain], which never wait for a value nor for a reconnect (the Reader
+     * contract, also for a reader shared by threads): [action] in this reader's turn, after any
+     * other call's round trip; but while a take of another thread holds the turn to wait for a
+     * value, [none] at once (the take waits because there was none; a value published now goes
+     * to it), and while it waits for Redis to come back, [RedisUnavailableException] at once.
+     */
+    private inline fun <R> inTurnUnlessATakeWaits(none: () -> R, action: () -> R): R {
+        val started = System.nanoTime()
+        while (!turn.tryLock()) {
+            when (takeWaits) {
+                Wait.VALUE -> {
+                    checkUsable()
+                    return none()
+                }
+                Wait.REDIS -> {
+                    checkUsable()
+                    val why = lastFailure ?: IllegalStateException("Redis did not answer a take of this reader")
+                    throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, why)
+                }
+                null -> LockSupport.parkNanos(TURN_LOOK_NANOS) // another call's round trip: look again soon
+            }
+        }
+        try {
+            return action()
+        } finally {
+            turn.unlock()
+        }
+    }
+
+    /** Runs [pause] (a wait of a take that holds the turn), telling [poll] and [drain] what it waits for. */
+    private inline fun <R> waitingFor(what: Wait, pause: () -> R): R {
+        takeWaits = what
+        try {
+            return pause()
+        } finally {
+            takeWaits = null
         }
     }
 
@@ -194,12 +253,14 @@ internal class OptimusReader<T>(
                 val serverDeadline = deadline?.let { it - roundTrip }
                 if (deadline != null && serverDeadline!! - System.nanoTime() <= 0) {
                     // a value published from now on could not come back by the deadline
-                    core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()), closing)
+                    waitingFor(Wait.VALUE) { core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()), closing) }
                     checkUsable()
                     return null
                 }
                 val moved = try {
-                    InterruptibleWait(session).run { session.blockingMove(deadline, list, processing, serverDeadline, answerMillis) }
+                    waitingFor(Wait.VALUE) {
+                        InterruptibleWait(session).run { session.blockingMove(deadline, list, processing, serverDeadline, answerMillis) }
+                    }
                 } catch (_: ClosedByInterruptException) {
                     // the wait was cut off: a value Redis moved meanwhile is in the processing list
                     recovering = true
@@ -230,7 +291,12 @@ internal class OptimusReader<T>(
                 if ((left != null && left <= 0) || (!wait && failures > 1)) {
                     throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, e)
                 }
-                if (wait) core.connections.pauseInterruptibly(backoff.next().let { if (left == null) it else minOf(it, ceilMillis(left)) }, closing)
+                if (wait) {
+                    lastFailure = e
+                    waitingFor(Wait.REDIS) {
+                        core.connections.pauseInterruptibly(backoff.next().let { if (left == null) it else minOf(it, ceilMillis(left)) }, closing)
+                    }
+                }
             }
         }
     }
@@ -296,6 +362,9 @@ internal class OptimusReader<T>(
         /** The most [poll], [drain] and [missed] wait for Redis to answer. */
         const val NO_WAIT_BOUND_MS = 500L
         const val CLOSE_BOUND_MS = 2000L
+
+        /** How long a [poll] or [drain] parks between looks at a turn another call holds for a round trip. */
+        const val TURN_LOOK_NANOS = 20_000L
 
         /**
          * The least time a timed take gives each reply of Redis, however close its deadline: a

@@ -60,7 +60,11 @@ class OutageTimeoutTest {
         }
     }
 
-    /** README: "`take()` waits for Redis to come back" (with its data: an append-only file). */
+    /**
+     * README: "`take()` waits for Redis to come back" (with its data: an append-only file); and
+     * the Reader contract: `poll()` and `drain()` never wait for a reconnect, also while another
+     * thread's take of the same reader waits out the outage: they fail at once.
+     */
     @Test
     fun anUntimedTakeWaitsThroughAnOutageAndGetsTheValuePublishedAfterIt(@TempDir dir: Path) {
         EmbeddedRedis.builder().appendOnlyDir(dir).start().use { redis ->
@@ -75,6 +79,8 @@ class OutageTimeoutTest {
                 val taken = CompletableFuture.supplyAsync { reader.take() }
                 // while Redis is down the take neither returns nor gives up (longer than poll()'s bound and a few retries)
                 assertThrows(java.util.concurrent.TimeoutException::class.java) { taken.get(OUTAGE_MS, TimeUnit.MILLISECONDS) }
+                timed("poll while a take of the reader waits out the outage", Duration.ZERO) { reader.poll() }
+                timed("drain while a take of the reader waits out the outage", Duration.ZERO) { reader.drain() }
                 redis.restart()
                 events.publish(2)
                 assertEquals(2, taken.get(PATIENCE.toSeconds(), TimeUnit.SECONDS), "the take returns the value published after the outage")
