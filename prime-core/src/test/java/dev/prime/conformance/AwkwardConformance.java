@@ -211,8 +211,8 @@ public interface AwkwardConformance extends ConformanceBase {
    * A stuck service holds its publishers up, and after the publish timeout refuses them with
    * {@link QueueFullException}: within the timeout and a second, and the refused value is
    * published to nobody (neither the service nor a plain reader ever sees it). Its message names
-   * the source and the service, says that nothing was published and how to fix it (among the
-   * fixes, a longer {@code publishTimeout}).
+   * the source, the service and its capacity ({@link QueueFullException}), says that nothing was
+   * published and how to fix it (among the fixes, a longer {@code publishTimeout}).
    */
   @Test
   default void stuckServiceMakesAPublishFailWithQueueFullWithinThePublishTimeout()
@@ -268,12 +268,13 @@ public interface AwkwardConformance extends ConformanceBase {
             List.of(
                 "'" + source.name() + "'",
                 "'" + refused.serviceName() + "'",
+                " " + capacity + " ",
                 "nothing was published",
                 "publishTimeout")) {
           assertTrue(
               refused.getMessage().contains(said),
-              "names the source and the service, says nothing was published and how to wait"
-                  + " longer (" + said + "): " + refused.getMessage());
+              "names the source, the service and its capacity, says nothing was published and"
+                  + " how to wait longer (" + said + "): " + refused.getMessage());
         }
         List<Integer> seen = watcher.drain(); // a plain reader may have missed the oldest
         assertEquals(capacity, seen.get(seen.size() - 1), "the newest value a reader sees: " + seen);

@@ -234,9 +234,11 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
-   * {@link Reader#take()}: "a value not yet handed out stays for the next call". A take and a
-   * timed take interrupted while they wait, on a reader of an event source and on one of a
-   * service's output, take nothing with them: the values published afterwards all reach the next
+   * {@link Reader#take()}: "InterruptedException if the thread is interrupted ... while waiting
+   * (within about a second on a media that waits on the network); a value not yet handed out
+   * stays for the next call". A take and a timed take interrupted while they wait, on a reader of
+   * an event source and on one of a service's output, end within 3 s (about a second on a busy
+   * machine) and take nothing with them: the values published afterwards all reach the next
    * takes, in order (a media whose wait goes on in the background after the interrupt would lose
    * the first of them).
    */
@@ -254,12 +256,17 @@ public interface InterruptConformance extends ConformanceBase {
         callers.add(new Caller("take-timeout", () -> reader.take(Duration.ofHours(1))));
       }
       Caller.awaitBlocked(callers);
+      long interrupted = System.nanoTime();
       for (Caller caller : callers) {
         caller.thread.interrupt();
       }
       for (Caller caller : callers) {
         assertInstanceOf(InterruptedException.class, caller.awaitFailure(patience()));
       }
+      Duration took = Duration.ofNanos(System.nanoTime() - interrupted);
+      assertTrue(
+          took.compareTo(Duration.ofSeconds(3)) < 0,
+          "the interrupted takes ended within about a second (3 s on a busy machine): " + took);
       for (int i = 1; i <= 3; i++) {
         events.publish(i);
       }

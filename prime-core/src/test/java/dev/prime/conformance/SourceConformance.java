@@ -417,12 +417,6 @@ public interface SourceConformance extends ConformanceBase {
   }
 
   /**
-   * {@link Reader}: "concurrent calls are safe but each value goes to exactly one of the
-   * callers", and a reader reads in publication order. Four threads taking from one reader, of an
-   * event source and of a service's output, share the values: none is taken twice, none is lost,
-   * and each thread gets its values in publication order.
-   */
-  /**
    * {@link Source#flatMap}: "all values that {@code block} makes of each value of this one, in
    * order". The values made of one value leave in the iterable's order, all before any made of
    * the next value; an empty iterable drops its value; and nothing else comes.
@@ -445,6 +439,12 @@ public interface SourceConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link Reader}: "concurrent calls are safe but each value goes to exactly one of the
+   * callers", and a reader reads in publication order. Four threads taking from one reader, of an
+   * event source and of a service's output, share the values: none is taken twice, none is lost,
+   * and each thread gets its values in publication order.
+   */
   @Test
   default void concurrentTakersOfOneReaderGetEachValueOnceAndInOrder() throws Exception {
     int takers = 4;
@@ -1047,6 +1047,27 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(List.of(1), taken, "the value published afterwards went to the take");
     } finally {
       pool.shutdownNow();
+    }
+  }
+
+  /**
+   * {@link CoreConfig#DEFAULT_SOURCE_RETENTION}: a core of the default configuration keeps 1024
+   * values of each source for a reader that has not read them: a reader that 1030 values passed
+   * reads the last 1024, in order, and counts 6 missed.
+   */
+  @Test
+  default void aDefaultCoreRetains1024ValuesForAReader() throws InterruptedException {
+    int published = CoreConfig.DEFAULT_SOURCE_RETENTION + 6;
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> idle = core.source("retained", events).reader();
+      core.start();
+      for (int i = 0; i < published; i++) {
+        events.publish(i);
+      }
+      assertEquals(1024, CoreConfig.defaults().sourceRetention());
+      assertEquals(IntStream.range(6, published).boxed().toList(), idle.drain());
+      assertEquals(6, idle.missed());
     }
   }
 }

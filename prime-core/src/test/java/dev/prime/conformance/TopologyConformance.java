@@ -196,4 +196,26 @@ public interface TopologyConformance extends ConformanceBase {
       assertEquals(8, takeOrFail(reader), "the filter and the linked chain ran under their names");
     }
   }
+
+  /**
+   * {@link Source#conflatedReader()}: "a new reader, recorded in the topology like {@link
+   * Source#reader()}": a plain reader and a conflated one of one source are its readers 1 and 2,
+   * and a reader of the conflated reader's source made afterwards is number 3.
+   */
+  @Test
+  default void aConflatedReaderIsRecordedInTheTopologyLikeAReader() {
+    try (PrimeCore core = newCore()) {
+      Source<Integer> pose = core.source("pose", new EventBlock<Integer>());
+      pose.reader();
+      pose.conflatedReader();
+      pose.reader();
+      assertEquals(
+          List.of(
+              new EventSource("pose"),
+              new ReaderNode("pose", 1),
+              new ReaderNode("pose", 2),
+              new ReaderNode("pose", 3)),
+          core.topology().nodes());
+    }
+  }
 }
