@@ -9,6 +9,7 @@ import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.PrimeException;
 import dev.prime.Reader;
 import dev.prime.Source;
 import java.time.Duration;
@@ -35,6 +36,32 @@ import org.junit.jupiter.api.function.Executable;
 
 /** Sources and readers: broadcast, retention, late readers and the take/poll/drain contract. */
 public interface SourceConformance extends ConformanceBase {
+
+  /**
+   * For a media whose sources live outside this process (Optimus: in Redis): a new, not yet
+   * started core of the media built from {@code config}, whose sources {@link Outage#cut()} makes
+   * unreachable (the connections stay open and silent) until {@link Outage#mend()}. {@code null},
+   * the default, for a media whose sources are in this process: the kit then skips the outage
+   * tests.
+   */
+  default Outage newCoreWithAnOutage(CoreConfig config) {
+    return null;
+  }
+
+  /** A core whose sources can be cut off; {@link #close()} mends the cut and closes the core. */
+  interface Outage extends AutoCloseable {
+    /** {@return the core} */
+    PrimeCore core();
+
+    /** Makes the core's sources unreachable. */
+    void cut();
+
+    /** Makes them reachable again. */
+    void mend();
+
+    @Override
+    void close();
+  }
 
   /**
    * On the in-memory media every chain linked to a source, every filter, flat-map and listener
@@ -1068,6 +1095,61 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(1024, CoreConfig.defaults().sourceRetention());
       assertEquals(IntStream.range(6, published).boxed().toList(), idle.drain());
       assertEquals(6, idle.missed());
+    }
+  }
+
+  /**
+   * {@link Reader}, for "a source that lives outside this process" and "may be unreachable for a
+   * while": "{@link Reader#take()} then waits for it to come back; {@link Reader#take(Duration)}
+   * waits at most its timeout (plus about a second for a connection that does not answer) and
+   * then throws the media's {@link PrimeException} ... if the source could not be reached; {@link
+   * Reader#poll()} and {@link Reader#drain()} never wait for a reconnect: they throw that
+   * exception at once". With the source cut off, a take(500 ms) fails with a PrimeException (not
+   * {@link CoreClosedException}) within 3.5 s (its timeout, about a second, and 2 s for a busy
+   * machine), a poll and a drain each within 3 s, while a take() goes on waiting; once the source
+   * is reachable again that take gets the value published then. Skipped on a media whose sources
+   * are in this process ({@link #newCoreWithAnOutage} returns {@code null}).
+   */
+  @Test
+  default void whileItsSourceIsUnreachableAReaderWaitsOrFailsAsItsCallSays() throws Exception {
+    Outage outage = newCoreWithAnOutage(CoreConfig.defaults());
+    Assumptions.assumeTrue(outage != null, "the media's sources live in this process");
+    try (outage) {
+      PrimeCore core = outage.core();
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> far = core.source("far", events);
+      Reader<Integer> reader = far.reader();
+      Reader<Integer> patient = far.reader();
+      core.start();
+      events.publish(1);
+      assertEquals(1, takeOrFail(reader));
+      assertEquals(1, takeOrFail(patient));
+      outage.cut();
+      List<Integer> waitedFor = new CopyOnWriteArrayList<>();
+      InterruptConformance.Caller untimed =
+          new InterruptConformance.Caller("take-through-outage", () -> waitedFor.add(patient.take()));
+      List<Executable> calls =
+          List.of(() -> reader.take(Duration.ofMillis(500)), reader::poll, reader::drain);
+      List<Duration> bounds =
+          List.of(Duration.ofMillis(3_500), Duration.ofSeconds(3), Duration.ofSeconds(3));
+      List<String> names = List.of("take(500 ms)", "poll()", "drain()");
+      for (int i = 0; i < calls.size(); i++) {
+        long began = System.nanoTime();
+        PrimeException failed = assertThrows(PrimeException.class, calls.get(i), names.get(i));
+        Duration took = Duration.ofNanos(System.nanoTime() - began);
+        assertTrue(
+            !(failed instanceof CoreClosedException),
+            names.get(i) + " fails with the media's exception for an unreachable source: " + failed);
+        assertTrue(
+            took.compareTo(bounds.get(i)) <= 0,
+            names.get(i) + " gave up after " + took + ", more than " + bounds.get(i));
+      }
+      assertEquals(1, untimed.ended.getCount(), "take() waits through the outage: " + untimed.thrown);
+      outage.mend();
+      events.publish(2);
+      assertEquals(null, untimed.awaitFailure(patience()), "the take ended without a failure");
+      assertEquals(List.of(2), waitedFor, "the take got the value published after the outage");
+      assertEquals(2, takeOrFail(reader), "the other reader reads on");
     }
   }
 }

@@ -3,6 +3,7 @@ package dev.prime.optimus
 import dev.prime.CoreConfig
 import dev.prime.PrimeCore
 import dev.prime.conformance.MediaConformance
+import dev.prime.conformance.SourceConformance
 
 /** The whole conformance kit on Optimus, every core a namespace of one embedded Redis. */
 class OptimusConformanceTest : MediaConformance {
@@ -30,4 +31,23 @@ class OptimusConformanceTest : MediaConformance {
 
     /** A topology lives in Redis: a later core of the same name carries on. */
     override fun topologyOutlivesItsCores(): Boolean = true
+
+    /** Sources live in Redis: the core talks to it through a proxy that can freeze. */
+    override fun newCoreWithAnOutage(config: CoreConfig): SourceConformance.Outage {
+        val proxy = FaultProxy(TestRedis.url)
+        val core = OptimusCore.builder().config(config).redis(proxy.url).build()
+        return object : SourceConformance.Outage {
+            override fun core(): PrimeCore = core
+            override fun cut() = proxy.freeze()
+            override fun mend() = proxy.thaw()
+            override fun close() {
+                proxy.thaw()
+                try {
+                    core.close()
+                } finally {
+                    proxy.close()
+                }
+            }
+        }
+    }
 }
