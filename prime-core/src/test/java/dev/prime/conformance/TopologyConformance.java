@@ -218,4 +218,23 @@ public interface TopologyConformance extends ConformanceBase {
           core.topology().nodes());
     }
   }
+
+  /**
+   * {@link PrimeCore#source(EventBlock)}: "Creates a source named {@code source-N}", a name
+   * unique within its core ({@link Source#name()}): unnamed sources are {@code source-1}, {@code
+   * source-2}, ..., skipping a name the program gave a source of its own, and a chain linked to one
+   * makes a source named {@code source>chain} ({@link PrimeCore#link}).
+   */
+  @Test
+  default void anUnnamedSourceIsNamedSourceNAndItsLinkSourceGreaterChain() {
+    try (PrimeCore core = newCore()) {
+      Source<Integer> first = core.source(new EventBlock<Integer>());
+      Source<Integer> mine = core.source("source-2", new EventBlock<Integer>());
+      Source<Integer> third = core.source(new EventBlock<Integer>());
+      Source<Integer> linked = core.link(first, core.chain("half", (Integer x) -> x / 2));
+      assertEquals(
+          List.of("source-1", "source-2", "source-3", "source-1>half"),
+          List.of(first.name(), mine.name(), third.name(), linked.name()));
+    }
+  }
 }
