@@ -20,6 +20,8 @@ import java.util.List;
 import java.util.Set;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
+import java.util.Map;
+import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
@@ -341,6 +343,56 @@ public interface ErrorConformance extends ConformanceBase {
       assertEquals(4, takeOrFail(halves), "the service went on after the wrong value");
       assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS));
       assertEquals(List.of(Arrays.asList("halve", "eight", ClassCastException.class)), reports);
+    }
+  }
+
+  /**
+   * {@link dev.prime.ErrorHandler}: "Called on the service's thread": the handler runs on the
+   * thread the failing logic ran on, for a chain linked to a source and for a listener, not on a
+   * thread of its own or the publisher's.
+   */
+  @Test
+  default void theErrorHandlerIsCalledOnTheThreadOfTheServiceThatFailed()
+      throws InterruptedException {
+    Map<String, Thread> failedOn = new ConcurrentHashMap<>();
+    Map<String, Thread> handledOn = new ConcurrentHashMap<>();
+    CountDownLatch handled = new CountDownLatch(2);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  handledOn.put(error.getMessage(), Thread.currentThread());
+                  handled.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("numbers", events);
+      core.link(
+          source,
+          core.chain(
+              "fails",
+              (Integer x) -> {
+                failedOn.put("chain", Thread.currentThread());
+                throw new Boom("chain");
+              }));
+      source.listen(
+          x -> {
+            failedOn.put("listener", Thread.currentThread());
+            throw new Boom("listener");
+          });
+      core.start();
+      events.publish(1);
+      assertTrue(
+          handled.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "both failures reached the handler: " + handledOn.keySet());
+      for (String service : List.of("chain", "listener")) {
+        assertSame(
+            failedOn.get(service),
+            handledOn.get(service),
+            "the " + service + "'s failure was handled on its service's thread "
+                + failedOn.get(service) + ", not on " + handledOn.get(service));
+      }
     }
   }
 }
