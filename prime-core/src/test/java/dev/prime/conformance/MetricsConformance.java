@@ -606,4 +606,55 @@ public interface MetricsConformance extends ConformanceBase {
     assertEquals(
         n, full + counted, "the lines count every failure:\n" + String.join("\n", mentions));
   }
+
+  /**
+   * {@link dev.prime.ProcessingListener}: "Called on the thread that processed the value, right
+   * after it (before a chain's output goes on)". The block leaves the value it processed in a
+   * thread-local; the listener, told on the same thread right after, finds each value there, in
+   * order; and by the time the reader has the output of the i-th value, the listener was told of
+   * it.
+   */
+  @Test
+  default void aProcessingListenerIsToldOnTheProcessingThreadBeforeTheOutputGoesOn()
+      throws Exception {
+    int n = 20;
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    ThreadLocal<Integer> processedHere = new ThreadLocal<>();
+    List<Integer> told = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(failures)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> doubled =
+          core.source("numbers", events)
+              .then(
+                  core.chain(
+                      "noted",
+                      (Integer x) -> {
+                        processedHere.set(x);
+                        return x * 2;
+                      }))
+              .reader();
+      core.metrics()
+          .onProcessed(
+              "noted",
+              (nanos, failed) -> {
+                told.add(processedHere.get());
+                processedHere.remove();
+              });
+      core.start();
+      for (int i = 1; i <= n; i++) {
+        events.publish(i);
+      }
+      for (int i = 1; i <= n; i++) {
+        assertEquals(2 * i, takeOrFail(doubled));
+        int toldNow = told.size();
+        assertTrue(toldNow >= i, "output " + i + " went on before the listener was told: " + told);
+      }
+      List<Integer> expected = new ArrayList<>();
+      for (int i = 1; i <= n; i++) {
+        expected.add(i);
+      }
+      assertEquals(expected, told, "told on the thread that processed each value, right after it");
+    }
+    assertEquals(List.of(), failures);
+  }
 }
