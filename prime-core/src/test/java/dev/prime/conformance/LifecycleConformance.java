@@ -3,6 +3,7 @@ package dev.prime.conformance;
 import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertNotEquals;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
@@ -886,5 +887,49 @@ public interface LifecycleConformance extends ConformanceBase {
           }
           return x;
         });
+  }
+
+  /**
+   * {@link CoreConfig#name()}: "the core's name, used in thread names and log lines, or {@code
+   * null} for a generated one ({@code liberty-1}, ...)". A core given a name has it; two cores
+   * given none get distinct names {@code <media>-N} of the same media; and the thread a service
+   * runs its block on carries the core's name.
+   */
+  @Test
+  default void aCoreHasTheNameItsConfigGivesOrAGeneratedOneAndItsServiceThreadsCarryIt()
+      throws InterruptedException {
+    String given = "kit-named-" + Long.toString(System.nanoTime(), 36);
+    try (PrimeCore named = newCore(CoreConfig.builder().name(given).build());
+        PrimeCore first = newCore();
+        PrimeCore second = newCore()) {
+      assertEquals(given, named.name());
+      for (PrimeCore core : List.of(first, second)) {
+        assertTrue(core.name().matches("[a-z]+-[0-9]+"), "a generated name <media>-N: " + core.name());
+      }
+      assertNotEquals(first.name(), second.name());
+      assertEquals(
+          first.name().substring(0, first.name().lastIndexOf('-')),
+          second.name().substring(0, second.name().lastIndexOf('-')),
+          "one media, one prefix");
+      for (PrimeCore core : List.of(named, first)) {
+        AtomicReference<String> ranOn = new AtomicReference<>();
+        EventBlock<Integer> events = new EventBlock<>();
+        Reader<Integer> out =
+            core.link(
+                    core.source(events),
+                    core.chain(
+                        (Integer x) -> {
+                          ranOn.set(Thread.currentThread().getName());
+                          return x;
+                        }))
+                .reader();
+        core.start();
+        events.publish(1);
+        assertEquals(1, takeOrFail(out));
+        assertTrue(
+            ranOn.get().contains(core.name()),
+            "the service's thread carries the core's name '" + core.name() + "': " + ranOn.get());
+      }
+    }
   }
 }
