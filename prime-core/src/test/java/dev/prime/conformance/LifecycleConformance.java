@@ -932,4 +932,38 @@ public interface LifecycleConformance extends ConformanceBase {
       }
     }
   }
+
+  /**
+   * {@link CoreClosedException}: "A core, or one of its chains, sources or readers, was used after
+   * {@link PrimeCore#close()}". Whichever of them is used, the exception names the closed core, so
+   * a program with several cores can tell which one it used too late.
+   */
+  @Test
+  default void everyCoreClosedExceptionNamesTheClosedCore() throws InterruptedException {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Chain<Integer, Integer> unused = core.chain(x -> x);
+    Source<Integer> source = core.source(events);
+    Reader<Integer> reader = source.reader();
+    core.start();
+    core.close();
+    List<org.junit.jupiter.api.function.Executable> uses =
+        List.of(
+            core::start,
+            () -> core.chain(x -> x),
+            () -> core.source(new EventBlock<Integer>()),
+            () -> core.whenRunning("late", () -> {}, () -> {}),
+            unused::toBlock,
+            source::reader,
+            reader::take,
+            reader::poll,
+            reader::drain,
+            () -> reader.take(Duration.ofMillis(10)));
+    for (org.junit.jupiter.api.function.Executable use : uses) {
+      CoreClosedException e = assertThrows(CoreClosedException.class, use);
+      assertTrue(
+          e.getMessage() != null && e.getMessage().contains("'" + core.name() + "'"),
+          "names the closed core '" + core.name() + "': " + e.getMessage());
+    }
+  }
 }
