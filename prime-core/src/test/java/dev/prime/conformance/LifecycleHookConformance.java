@@ -171,4 +171,46 @@ public interface LifecycleHookConformance extends ConformanceBase {
     assertEquals("close", failures.get(0)[1]);
     assertSame(boom, failures.get(0)[2]);
   }
+
+  /**
+   * {@link PrimeCore#whenRunning}: "{@code onStart} runs when the core starts, after its
+   * services". A hook's {@code onStart} publishes to a source linked to a chain and waits (at most
+   * the kit's patience) for the chain to process the value: that can happen only if the service
+   * already runs. (A real hook must return quickly; this one returns as soon as the service has
+   * the value.)
+   */
+  @Test
+  default void aHooksOnStartRunsAfterTheCoresServicesStarted() throws InterruptedException {
+    CountDownLatch processed = new CountDownLatch(1);
+    AtomicReference<Boolean> servedDuringOnStart = new AtomicReference<>();
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.link(
+          core.source("fed", events),
+          core.chain(
+              "served",
+              (Integer x) -> {
+                processed.countDown();
+                return x;
+              }));
+      core.whenRunning(
+          "feeder",
+          () -> {
+            events.publish(7);
+            try {
+              servedDuringOnStart.set(
+                  processed.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+            } catch (InterruptedException e) {
+              Thread.currentThread().interrupt();
+              servedDuringOnStart.set(false);
+            }
+          },
+          () -> {});
+      core.start();
+      assertEquals(
+          Boolean.TRUE,
+          servedDuringOnStart.get(),
+          "the service processed the value onStart published while onStart ran");
+    }
+  }
 }
