@@ -89,6 +89,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private final LifecycleHooks hooks = new LifecycleHooks(this);
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
+  private volatile boolean started; // start() was called (and accepted), closed or not
   private volatile Thread closingThread; // the thread of the first close(), set under lifecycle
   private final CountDownLatch closed = new CountDownLatch(1); // the first close() has finished
   private final long creationOrder = CREATED.incrementAndGet();
@@ -124,9 +125,12 @@ public abstract class PrimeCore implements AutoCloseable {
     return config;
   }
 
-  /** {@return whether {@link #start()} was called} */
+  /**
+   * {@return whether {@link #start()} was called (and accepted); stays true after {@link
+   * #close()}, and false for a core closed without being started}
+   */
   public final boolean isStarted() {
-    return state != State.NEW;
+    return started;
   }
 
   /** {@return whether {@link #close()} was called} */
@@ -977,6 +981,7 @@ public abstract class PrimeCore implements AutoCloseable {
             "core '" + name + "' is already started; call start() once per core");
       }
       state = State.STARTED;
+      started = true;
     }
     onStart();
     combinators.started();

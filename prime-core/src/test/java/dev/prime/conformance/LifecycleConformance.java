@@ -96,11 +96,14 @@ public interface LifecycleConformance extends ConformanceBase {
   default void closeWithoutStartAndCloseTwice() {
     PrimeCore core = newCore();
     core.link(core.source(new EventBlock<Integer>()), core.chain(x -> x));
+    assertFalse(core.isClosed());
     core.close();
     core.close();
     assertTrue(core.isClosed());
+    assertFalse(core.isStarted(), "isStarted() is whether start() was called; it was not");
     assertNoThreadsLeft(core);
     assertThrows(CoreClosedException.class, core::start);
+    assertFalse(core.isStarted(), "a refused start() does not start the core");
   }
 
   @Test

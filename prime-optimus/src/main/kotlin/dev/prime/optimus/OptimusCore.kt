@@ -578,7 +578,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /** Fails at once if [start] was not called: before it, no service of this process runs. */
     internal fun checkStarted(what: String) {
-        check(isStarted) {
+        check(isStarted || isClosed) { // a closed core fails where its use does: CoreClosedException
             "$what of core '${name()}' before start(): start() was not called; declare the topology, then call " +
                 "core.start(), then call chains and read sources"
         }
