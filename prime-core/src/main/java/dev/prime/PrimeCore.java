@@ -309,8 +309,10 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
-   * A chain that runs {@code body} on each element of a list. Consumes {@code body}, which may
-   * take a supertype of the elements and return a subtype of the output elements.
+   * A chain that runs {@code body} on each element of a list, in order, and returns the list of
+   * its outputs. Consumes {@code body}, which may take a supertype of the elements and return a
+   * subtype of the output elements. A {@code null} list fails the call with an exception whose
+   * message (or a cause's) says "for-each input list must not be null"; the body is not run.
    *
    * @param body the chain for one element
    * @param <I> element type of the input

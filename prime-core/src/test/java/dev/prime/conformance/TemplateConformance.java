@@ -1,6 +1,7 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTimeoutPreemptively;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
@@ -53,6 +54,32 @@ public interface TemplateConformance extends ConformanceBase {
       Block<List<Integer>, List<Integer>> block = chain.toBlock();
       assertEquals(List.of(1, 4, 9), block.process(List.of(1, 2, 3)));
       assertEquals(List.of(), block.process(List.of()));
+    }
+  }
+
+  /**
+   * {@link PrimeCore#forEach}: a {@code null} list is refused with an exception that says so
+   * (somewhere in its chain of causes, as a media may wrap the block's failure), and the body is
+   * not run.
+   */
+  @Test
+  default void forEachRefusesANullListClearly() {
+    try (PrimeCore core = newCore()) {
+      java.util.concurrent.atomic.AtomicInteger runs = new java.util.concurrent.atomic.AtomicInteger();
+      Chain<List<Integer>, List<Integer>> chain =
+          core.forEach(core.chain(x -> { runs.incrementAndGet(); return x; }));
+      core.start();
+      Block<List<Integer>, List<Integer>> block = chain.toBlock();
+      RuntimeException e = assertThrows(RuntimeException.class, () -> block.process(null));
+      StringBuilder messages = new StringBuilder();
+      for (Throwable t = e; t != null; t = t.getCause()) {
+        messages.append(t.getMessage()).append(" | ");
+      }
+      assertTrue(
+          messages.toString().contains("for-each input list must not be null"),
+          "names the null list: " + messages);
+      assertEquals(0, runs.get(), "the body is not run for a null list");
+      assertEquals(List.of(2), block.process(List.of(2)), "the chain goes on");
     }
   }
 
