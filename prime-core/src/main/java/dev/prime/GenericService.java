@@ -29,7 +29,8 @@ import java.time.Duration;
  *       core busy. {@code shutdown} runs once, after the last {@code work}, if and only if
  *       {@code initialize} returned normally.
  *   <li><b>Failures.</b> Anything {@code initialize}, {@code work} or {@code shutdown} throws
- *       (but a {@link VirtualMachineError}, which ends the service) goes to the core's {@link
+ *       (but a {@link VirtualMachineError}, which ends the service: it is not reported, and no
+ *       step runs after it but {@code shutdown}, at once) goes to the core's {@link
  *       ErrorHandler} with the service's name, the {@link Step} that failed as the input and the
  *       throwable itself (as for every service, a {@link ChainFailedException} from a chain the
  *       step called is reported under that chain's name, with its block's own throwable). The

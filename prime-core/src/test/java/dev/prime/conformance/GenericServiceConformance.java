@@ -190,6 +190,54 @@ public interface GenericServiceConformance extends ConformanceBase {
     assertEquals(1, driver.shutdowns.get());
   }
 
+  /**
+   * {@link GenericService}, "Failures": a {@link VirtualMachineError} a {@code work} throws is not
+   * a failure of the step but "ends the service": it is not reported to the error handler, no
+   * {@code work} runs after it, and, {@code initialize} having succeeded, {@code shutdown} runs
+   * once at once (not only at {@code close()}). The core's other services go on, and {@code
+   * close()} still leaves no thread.
+   */
+  @Test
+  default void aVirtualMachineErrorInWorkEndsTheServiceWithoutAReport() throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    OutOfMemoryError oom = new OutOfMemoryError("thrown by the work of 'doomed' on purpose");
+    AtomicInteger works = new AtomicInteger();
+    AtomicInteger shutdowns = new AtomicInteger();
+    CountDownLatch shutDown = new CountDownLatch(1);
+    CountDownLatch neverOpened = new CountDownLatch(1);
+    GenericService doomed =
+        new GenericService() {
+          @Override
+          public void work() throws Exception {
+            if (works.incrementAndGet() == 1) {
+              throw oom;
+            }
+            neverOpened.await(); // a second work would wait here until close interrupts it
+          }
+
+          @Override
+          public void shutdown() {
+            shutdowns.incrementAndGet();
+            shutDown.countDown();
+          }
+        };
+    Recording other = new Recording(3);
+    PrimeCore core = newCore(recordingFailures(failures));
+    try (core) {
+      core.service("doomed", doomed);
+      core.service("other", other);
+      core.start();
+      assertTrue(
+          await(shutDown),
+          "the service ended, and shut down, right after the error; works: " + works.get());
+      assertEquals(1, works.get(), "no work runs after a VirtualMachineError");
+      assertTrue(await(other.worked), "the other service goes on: " + other.works.get());
+    }
+    assertEquals(List.of(), failures, "a VirtualMachineError does not go to the error handler");
+    assertEquals(1, shutdowns.get(), "shutdown ran once");
+    assertNoThreadsLeft(core);
+  }
+
   @Test
   default void aChainThatFailsInAWorkStepIsReportedLikeInAnyService() throws InterruptedException {
     List<Failure> failures = new CopyOnWriteArrayList<>();
