@@ -144,9 +144,10 @@ public interface InterruptConformance extends ConformanceBase {
   default void aCallerWaitingForAnIsolatedChainHonoursInterruption() throws InterruptedException {
     CountDownLatch entered = new CountDownLatch(1);
     CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch ranForTheWaiter = new CountDownLatch(1);
     try (PrimeCore core = newCore()) {
       Isolated<Integer, Integer> isolated =
-          holdingIsolate(core, entered, release);
+          holdingIsolate(core, entered, release, ranForTheWaiter);
       Block<Integer, Integer> holder = isolated.newUser().toBlock();
       Block<Integer, Integer> waiter = isolated.newUser().toBlock();
       core.start();
@@ -161,6 +162,11 @@ public interface InterruptConformance extends ConformanceBase {
         release.countDown();
       }
       holding.awaitFailure(patience());
+      assertEquals(3, holder.process(3), "the isolated chain goes on");
+      // IsolateBlock: "the block is not run for it" (a bounded wait for a run that must not come)
+      assertFalse(
+          ranForTheWaiter.await(500, TimeUnit.MILLISECONDS),
+          "the isolated block is not run for a waiter that was interrupted");
     }
   }
 
@@ -564,9 +570,18 @@ public interface InterruptConformance extends ConformanceBase {
    */
   private Isolated<Integer, Integer> holdingIsolate(
       PrimeCore core, CountDownLatch entered, CountDownLatch release) {
+    return holdingIsolate(core, entered, release, new CountDownLatch(1));
+  }
+
+  /** Like the isolate above; given 2, it also counts {@code ranFor2} down. */
+  private Isolated<Integer, Integer> holdingIsolate(
+      PrimeCore core, CountDownLatch entered, CountDownLatch release, CountDownLatch ranFor2) {
     return core.isolate(
         core.chain(
             (Integer x) -> {
+              if (x == 2) {
+                ranFor2.countDown();
+              }
               if (x == 1) {
                 entered.countDown();
                 try {
