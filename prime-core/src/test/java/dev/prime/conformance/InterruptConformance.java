@@ -202,7 +202,7 @@ public interface InterruptConformance extends ConformanceBase {
       }
       core.close();
       Throwable failure = waiting.awaitFailure(patience());
-      assertInstanceOf(PrimeException.class, failure, "the waiter ends with an exception");
+      assertInstanceOf(CoreClosedException.class, failure, "the waiter ends with CoreClosedException");
       release.countDown();
       holding.awaitFailure(patience());
     } finally {
