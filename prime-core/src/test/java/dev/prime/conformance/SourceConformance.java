@@ -301,19 +301,7 @@ public interface SourceConformance extends ConformanceBase {
       EventBlock<Integer> events = new EventBlock<>();
       Reader<Integer> reader = core.source(events).reader();
       core.start();
-      CountDownLatch waiting = new CountDownLatch(1);
-      CompletableFuture<Integer> taken =
-          CompletableFuture.supplyAsync(
-              () -> {
-                waiting.countDown();
-                try {
-                  return reader.take();
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                  throw new IllegalStateException(e);
-                }
-              });
-      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      CompletableFuture<Integer> taken = takeOnAnotherThread(reader);
       assertTrue(!taken.isDone(), "take() returned before any value was published");
       events.publish(7);
       assertEquals(7, taken.get(patience().toMillis(), TimeUnit.MILLISECONDS));
@@ -605,19 +593,7 @@ public interface SourceConformance extends ConformanceBase {
       core.start();
       events.publish(1);
       assertEquals(1, takeOrFail(closing));
-      CountDownLatch waiting = new CountDownLatch(1);
-      CompletableFuture<Integer> blocked =
-          CompletableFuture.supplyAsync(
-              () -> {
-                waiting.countDown();
-                try {
-                  return closing.take();
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                  throw new IllegalStateException("interrupted", e);
-                }
-              });
-      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      CompletableFuture<Integer> blocked = takeOnAnotherThread(closing);
       long started = System.nanoTime();
       closing.close();
       closing.close(); // idempotent
@@ -942,19 +918,7 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(2, latest.missed(), "what the retention dropped, not what conflation skipped");
       assertEquals(Optional.empty(), latest.take(Duration.ofMillis(50)), "nothing newer than 5");
       assertEquals(Optional.empty(), latest.poll(), "nothing newer than 5");
-      CountDownLatch waiting = new CountDownLatch(1);
-      CompletableFuture<Integer> taken =
-          CompletableFuture.supplyAsync(
-              () -> {
-                waiting.countDown();
-                try {
-                  return latest.take();
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                  throw new IllegalStateException(e);
-                }
-              });
-      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      CompletableFuture<Integer> taken = takeOnAnotherThread(latest);
       events.publish(6);
       assertEquals(6, taken.get(patience().toMillis(), TimeUnit.MILLISECONDS));
       for (int i = 7; i <= 12; i++) {
@@ -1151,5 +1115,28 @@ public interface SourceConformance extends ConformanceBase {
       assertEquals(List.of(2), waitedFor, "the take got the value published after the outage");
       assertEquals(2, takeOrFail(reader), "the other reader reads on");
     }
+  }
+
+  /**
+   * Starts {@code reader.take()} on another thread and returns once that thread is about to call
+   * it (at most the kit's patience); an interrupt fails the future.
+   */
+  private <T> CompletableFuture<T> takeOnAnotherThread(Reader<T> reader) throws InterruptedException {
+    CountDownLatch calling = new CountDownLatch(1);
+    CompletableFuture<T> taken =
+        CompletableFuture.supplyAsync(
+            () -> {
+              calling.countDown();
+              try {
+                return reader.take();
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+                throw new IllegalStateException("interrupted", e);
+              }
+            });
+    assertTrue(
+        calling.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+        "the taking thread did not start");
+    return taken;
   }
 }

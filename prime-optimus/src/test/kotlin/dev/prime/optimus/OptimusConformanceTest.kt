@@ -33,21 +33,5 @@ class OptimusConformanceTest : MediaConformance {
     override fun topologyOutlivesItsCores(): Boolean = true
 
     /** Sources live in Redis: the core talks to it through a proxy that can freeze. */
-    override fun newCoreWithAnOutage(config: CoreConfig): SourceConformance.Outage {
-        val proxy = FaultProxy(TestRedis.url)
-        val core = OptimusCore.builder().config(config).redis(proxy.url).build()
-        return object : SourceConformance.Outage {
-            override fun core(): PrimeCore = core
-            override fun cut() = proxy.freeze()
-            override fun mend() = proxy.thaw()
-            override fun close() {
-                proxy.thaw()
-                try {
-                    core.close()
-                } finally {
-                    proxy.close()
-                }
-            }
-        }
-    }
+    override fun newCoreWithAnOutage(config: CoreConfig): SourceConformance.Outage = OutageCore(config, FaultProxy(TestRedis.url))
 }
