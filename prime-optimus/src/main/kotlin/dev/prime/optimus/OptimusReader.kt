@@ -8,8 +8,8 @@ import java.nio.channels.ClosedByInterruptException
 import java.time.Duration
 import java.util.Optional
 import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicBoolean
-import java.util.concurrent.locks.LockSupport
 import java.util.concurrent.locks.ReentrantLock
 
 /**
@@ -35,7 +35,7 @@ import java.util.concurrent.locks.ReentrantLock
  *
  * While Redis is unreachable: [take] waits for it; [take] with a timeout gives up at its
  * deadline (connecting and every socket wait are bounded by it, but each reply gets at least
- * [TIMED_ANSWER_MS], a slow link's round trip) with [RedisUnavailableException]. A timed take
+ * [RedisConnections.LEAST_ANSWER_MS], a slow link's round trip) with [RedisUnavailableException]. A timed take
  * starts no round trip past its deadline, and asks Redis to end its blocking wait the take's last
  * round trip before the deadline, so that over a slow link the reply comes by it (or, when less
  * than a round trip is left, waits the rest here and returns empty: nothing published from then
@@ -74,6 +74,9 @@ internal class OptimusReader<T>(
     @Volatile private var lastFailure: Exception? = null // why Redis was unreachable, while takeWaits is Wait.REDIS
 
     private enum class Wait { VALUE, REDIS }
+
+    /** Whether a call of this reader has the turn now (for tests). */
+    internal val isTurnHeld: Boolean get() = turn.isLocked
 
     @Throws(InterruptedException::class)
     override fun take(): T = inTurn { next(wait = true, deadline = null)!! }
@@ -151,24 +154,46 @@ internal class OptimusReader<T>(
      */
     private inline fun <R> inTurnUnlessATakeWaits(none: () -> R, action: () -> R): R {
         val started = System.nanoTime()
-        while (!turn.tryLock()) {
-            when (takeWaits) {
-                Wait.VALUE -> {
-                    checkUsable()
-                    return none()
-                }
-                Wait.REDIS -> {
-                    checkUsable()
-                    val why = lastFailure ?: IllegalStateException("Redis did not answer a take of this reader")
-                    throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, why)
-                }
-                null -> LockSupport.parkNanos(TURN_LOOK_NANOS) // another call's round trip: look again soon
+        when (takeTurnUnlessATakeWaits()) {
+            Wait.VALUE -> {
+                checkUsable()
+                return none()
             }
+            Wait.REDIS -> {
+                checkUsable()
+                val why = lastFailure ?: IllegalStateException("Redis did not answer a take of this reader")
+                throw RedisSession.unavailable("reading a value of an Optimus source of core '${core.name()}'", started, why)
+            }
+            null -> {}
         }
         try {
             return action()
         } finally {
             turn.unlock()
+        }
+    }
+
+    /**
+     * Takes the turn (`null`), or returns what the take of another thread that holds it waits for
+     * (the turn not taken). While another call does a round trip it waits in the lock's queue, so
+     * it has the turn as soon as that call ends, and looks again every [TURN_LOOK_NANOS] in case a
+     * take starts to wait. [poll] and [drain] throw no [InterruptedException]: an interrupt is
+     * kept for the caller (set again on return), not waited on.
+     */
+    private fun takeTurnUnlessATakeWaits(): Wait? {
+        if (turn.tryLock()) return null
+        var interrupted = false
+        try {
+            while (true) {
+                takeWaits?.let { return it }
+                try {
+                    if (turn.tryLock(TURN_LOOK_NANOS, TimeUnit.NANOSECONDS)) return null
+                } catch (_: InterruptedException) {
+                    interrupted = true
+                }
+            }
+        } finally {
+            if (interrupted) Thread.currentThread().interrupt()
         }
     }
 
@@ -208,9 +233,9 @@ internal class OptimusReader<T>(
         val started = System.nanoTime()
         // how long Redis may be unreachable before this read gives up (null: never)
         val redisDeadline = if (wait) deadline else started + NO_WAIT_BOUND_MS * 1_000_000
-        // a timed take gives each reply at least TIMED_ANSWER_MS (a slow link's round trip) and starts none past its deadline
+        // a timed take gives each reply at least LEAST_ANSWER_MS (a slow link's round trip) and starts none past its deadline
         val timed = wait && deadline != null
-        val answerMillis = if (timed) TIMED_ANSWER_MS else 0L
+        val answerMillis = if (timed) RedisConnections.LEAST_ANSWER_MS else 0L
         var roundTrips = 0
         var failed: Exception? = null // the last failure, if no round trip succeeded since
         var failures = 0
@@ -363,14 +388,8 @@ internal class OptimusReader<T>(
         const val NO_WAIT_BOUND_MS = 500L
         const val CLOSE_BOUND_MS = 2000L
 
-        /** How long a [poll] or [drain] parks between looks at a turn another call holds for a round trip. */
-        const val TURN_LOOK_NANOS = 20_000L
-
-        /**
-         * The least time a timed take gives each reply of Redis, however close its deadline: a
-         * slow link's round trip (the Reader contract's "plus about a second").
-         */
-        const val TIMED_ANSWER_MS = 1000L
+        /** How long a [poll] or [drain] waits for a turn another call holds before it looks again at what that call waits for. */
+        const val TURN_LOOK_NANOS = 1_000_000L
 
         /** Entries whose values average at least this many are taken by [takeEntries], [FRAMES_PER_TAKE] at a time. */
         const val FRAMED_VALUES = 64

@@ -147,6 +147,13 @@ internal class RedisConnections(
         const val DEADLINE_GRACE_MS = 250L
 
         /**
+         * The least time a timed take or a call with a timeout gives each reply of Redis (after
+         * Redis's own wait, if it waits), however close its deadline: a slow link's round trip, the
+         * "plus about a second" of the Reader contract and of `callTimeout`.
+         */
+        const val LEAST_ANSWER_MS = 1000L
+
+        /**
          * [DEADLINE_GRACE_MS] for a blocking command asked to wait until the deadline: Redis ends
          * such a wait only on a tick of its event loop (every 100 ms at its default `hz` 10), so
          * its reply comes up to that much after the deadline on an idle machine (measured: 71 ms

@@ -60,7 +60,7 @@ internal class RemoteCall<I, O>(
  * connecting included, ends by the deadline ([RedisSession.retryingUntil]): the call fails with
  * [RedisUnavailableException] if Redis could not be reached, or with the timeout [PrimeException]
  * if the service did not reply. Over a slow link (as the reader's timed take does): each reply of
- * Redis gets at least [ANSWER_MS] after Redis's own wait, so a reply a slow link brings late is
+ * Redis gets at least [RedisConnections.LEAST_ANSWER_MS] after Redis's own wait, so a reply a slow link brings late is
  * received, not taken for a dead connection (and the connection stays open); the slot measures
  * its round trip from each wait Redis ended empty and asks Redis to end the next wait that long
  * before the deadline, so the reply comes by it; a wait whose reply could not come back by the
@@ -89,7 +89,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
                 // Redis ends the wait a round trip before the deadline, so its reply comes by it; each reply gets a second
                 val sent = System.nanoTime()
                 val reply = InterruptibleWait(session).run {
-                    session.pushAndWait(deadline, input, request, replyKey, wait, roundTrip, ANSWER_MS)
+                    session.pushAndWait(deadline, input, request, replyKey, wait, roundTrip, RedisConnections.LEAST_ANSWER_MS)
                 }
                 if (reply == null && wait) measured(sent, deadline - roundTrip)
                 reply
@@ -135,7 +135,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
             }
             pending = try {
                 val sent = System.nanoTime()
-                val least = if (serverDeadline == null) 0 else session.waitMillis(serverDeadline) + ANSWER_MS
+                val least = if (serverDeadline == null) 0 else session.waitMillis(serverDeadline) + RedisConnections.LEAST_ANSWER_MS
                 InterruptibleWait(session).run {
                     session.blockingMoveUntil(deadline, what, replyKey, replyKey, serverDeadline, least)
                 }.also { if (it == null && serverDeadline != null) measured(sent, serverDeadline) }
@@ -172,7 +172,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
     /**
      * Takes back the request of a call that gave up, if no service took it yet (every copy a
      * retry pushed), so an abandoned request is neither run nor answered later. One attempt: if
-     * Redis does not answer by [deadline] (with at least [ANSWER_MS] for its reply), or, past
+     * Redis does not answer by [deadline] (with at least [RedisConnections.LEAST_ANSWER_MS] for its reply), or, past
      * the deadline (`null`), at once, the request stays and its late reply is skipped.
      */
     private fun withdraw(input: ByteArray, request: ByteArray, deadline: Long?) {
@@ -180,7 +180,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
             if (deadline == null) {
                 session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { it.lrem(input, 0, request) }
             } else {
-                session.once(deadline, 0, ANSWER_MS) { it.lrem(input, 0, request) }
+                session.once(deadline, 0, RedisConnections.LEAST_ANSWER_MS) { it.lrem(input, 0, request) }
             }
         } catch (_: RuntimeException) {
             // best effort: Redis is unreachable, or the core closed
@@ -191,13 +191,6 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
 
     private companion object {
         const val WITHDRAW_BOUND_NANOS = 200_000_000L
-
-        /**
-         * The least time a call with a timeout gives each reply of Redis after Redis's own wait,
-         * however close its deadline: a slow link's round trip (the "within about a second" of
-         * `callTimeout`).
-         */
-        const val ANSWER_MS = 1000L
     }
 }
 
