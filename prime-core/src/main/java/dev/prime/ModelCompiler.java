@@ -184,7 +184,8 @@ final class ModelCompiler<F> {
   /**
    * Compiles the shared block of {@link PrimeCore#isolate}, consuming {@code chain}: the chain's
    * block behind a fair lock that never runs it for two callers at once, and ends a waiting
-   * caller's wait when the core closes. Its users are chain nodes of their own ({@link
+   * caller's wait when the core closes, or when the caller of the call it runs for gave up
+   * ({@link PrimeCore#callerGaveUp}). Its users are chain nodes of their own ({@link
    * NodeLogic.Shared}).
    *
    * @param node the shared chain's node, just taken ({@link TopologyRecorder#isolate})
@@ -192,7 +193,7 @@ final class ModelCompiler<F> {
   <I, O> Isolated<I, O> isolate(String node, Chain<I, O> chain) {
     Part<F> part = part(chain, node, core.topologyRecorder());
     @SuppressWarnings("unchecked")
-    Block<I, O> shared = new IsolateBlock<>((Block<I, O>) part.block(), core::ensureOpen);
+    Block<I, O> shared = new IsolateBlock<>((Block<I, O>) part.block(), core::ensureOpen, core::callerGaveUp);
     part.claim();
     return new IsolatedChain<>(core, node, chain.name(), shared);
   }

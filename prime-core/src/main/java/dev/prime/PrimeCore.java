@@ -950,6 +950,21 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
+   * Whether the caller of the call this thread runs a block for has given up on it (it was
+   * interrupted, or its timeout passed). Called on a service's thread while a block waits for an
+   * {@linkplain #isolate isolated chain}, about every 50 ms, and once when its turn comes after a
+   * wait: a call its caller gave up is then not run. A media whose blocks run on the caller's own
+   * thread needs nothing here (an interrupt of that thread ends the wait); a media that runs
+   * calls on service threads overrides this. Must not throw; when it cannot tell, it answers
+   * false.
+   *
+   * @return false by default
+   */
+  protected boolean callerGaveUp() {
+    return false;
+  }
+
+  /**
    * Records a reader the program opened on one of this core's sources of the media's own ({@link
    * SourceCompiler}) in the {@linkplain #topology() topology} (the core records the readers of
    * its in-memory sources itself).

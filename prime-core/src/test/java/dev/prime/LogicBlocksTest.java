@@ -220,6 +220,71 @@ class LogicBlocksTest {
   }
 
   @Test
+  void aCallWhoseCallerGaveUpIsNotRunAndAFreeLockAsksNothing() throws InterruptedException {
+    java.util.concurrent.CountDownLatch inside = new java.util.concurrent.CountDownLatch(1);
+    java.util.concurrent.CountDownLatch release = new java.util.concurrent.CountDownLatch(1);
+    java.util.concurrent.atomic.AtomicBoolean gaveUp = new java.util.concurrent.atomic.AtomicBoolean();
+    AtomicInteger asked = new AtomicInteger();
+    List<Integer> ran = java.util.Collections.synchronizedList(new ArrayList<>());
+    Block<Integer, Integer> isolated =
+        new IsolateBlock<>(
+            x -> {
+              ran.add(x);
+              if (x == 1) {
+                inside.countDown();
+                try {
+                  release.await(20, java.util.concurrent.TimeUnit.SECONDS);
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              }
+              return x;
+            },
+            () -> {},
+            () -> {
+              asked.incrementAndGet();
+              return gaveUp.get();
+            });
+    assertEquals(0, isolated.process(0));
+    assertEquals(0, asked.get(), "a call that found the lock free is not asked about its caller");
+    Thread holder = new Thread(() -> isolated.process(1));
+    holder.start();
+    java.util.concurrent.atomic.AtomicReference<Throwable> waiterFailure =
+        new java.util.concurrent.atomic.AtomicReference<>();
+    java.util.concurrent.CountDownLatch waiterEnded = new java.util.concurrent.CountDownLatch(1);
+    try {
+      assertTrue(inside.await(20, java.util.concurrent.TimeUnit.SECONDS));
+      Thread waiter =
+          new Thread(
+              () -> {
+                try {
+                  isolated.process(2);
+                } catch (Throwable t) {
+                  waiterFailure.set(t);
+                } finally {
+                  waiterEnded.countDown();
+                }
+              });
+      waiter.start();
+      long deadline = System.nanoTime() + java.util.concurrent.TimeUnit.SECONDS.toNanos(20);
+      while (asked.get() == 0 && System.nanoTime() < deadline) {
+        Thread.onSpinWait(); // until the waiter asked once while waiting (bounded)
+      }
+      assertTrue(asked.get() > 0, "a waiting call asks about its caller while it waits");
+      gaveUp.set(true);
+      assertTrue(
+          waiterEnded.await(5, java.util.concurrent.TimeUnit.SECONDS),
+          "a call whose caller gave up stops waiting while the lock is still held");
+      assertTrue(waiterFailure.get() instanceof PrimeException, String.valueOf(waiterFailure.get()));
+      assertTrue(waiterFailure.get().getMessage().contains("gave up"), waiterFailure.get().getMessage());
+    } finally {
+      release.countDown();
+      holder.join(20_000);
+    }
+    assertEquals(List.of(0, 1), ran, "the block did not run for the call whose caller gave up");
+  }
+
+  @Test
   void repeatValues() {
     assertEquals(Repeat.again(1), Repeat.again(1));
     assertEquals(Repeat.stop("x"), Repeat.stop("x"));

@@ -155,6 +155,7 @@ public interface InterruptConformance extends ConformanceBase {
       try {
         assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
         Caller waiting = new Caller("waiter", () -> waiter.process(2));
+        awaitItsTurn(waiting);
         waiting.thread.interrupt();
         assertInstanceOf(PrimeException.class, waiting.awaitFailure(patience()));
         assertTrue(waiting.interruptedAtEnd, "the waiter's interrupt flag stays set");
@@ -185,21 +186,7 @@ public interface InterruptConformance extends ConformanceBase {
       Caller holding = new Caller("holder", () -> holder.process(1));
       assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
       Caller waiting = new Caller("waiter", () -> waiter.process(2));
-      if (blocksRunOnTheCallersThread()) {
-        long deadline = System.nanoTime() + patience().toNanos();
-        while (waiting.ended.getCount() > 0
-            && waiting.thread.getState() != Thread.State.WAITING
-            && waiting.thread.getState() != Thread.State.TIMED_WAITING
-            && System.nanoTime() < deadline) {
-          Thread.onSpinWait(); // until the waiter blocks (bounded by the kit's patience)
-        }
-      } else {
-        // The isolated block runs on a service thread this test cannot see (the caller's thread
-        // waits for the reply): give the call half a second to reach it, while it must not end.
-        assertFalse(
-            waiting.ended.await(500, TimeUnit.MILLISECONDS),
-            "the waiter waits while the holder holds the isolated chain");
-      }
+      awaitItsTurn(waiting);
       core.close();
       Throwable failure = waiting.awaitFailure(patience());
       assertInstanceOf(CoreClosedException.class, failure, "the waiter ends with CoreClosedException");
@@ -568,6 +555,29 @@ public interface InterruptConformance extends ConformanceBase {
    * An isolated identity chain whose block, given 1, counts {@code entered} down and then holds
    * the chain until {@code release} (at most the kit's patience).
    */
+  /**
+   * Waits until {@code waiting}, a call of an isolated chain that another caller holds, waits for
+   * its turn: on a media whose blocks run on the caller's thread, until that thread blocks (bounded
+   * by the kit's patience); on another (the isolated block runs on a service thread this test
+   * cannot see, and the caller's thread waits for the reply), half a second, in which the call
+   * reaches the service that waits for the isolated chain, and must not end.
+   */
+  private void awaitItsTurn(Caller waiting) throws InterruptedException {
+    if (blocksRunOnTheCallersThread()) {
+      long deadline = System.nanoTime() + patience().toNanos();
+      while (waiting.ended.getCount() > 0
+          && waiting.thread.getState() != Thread.State.WAITING
+          && waiting.thread.getState() != Thread.State.TIMED_WAITING
+          && System.nanoTime() < deadline) {
+        Thread.onSpinWait(); // until the waiter blocks (bounded by the kit's patience)
+      }
+    } else {
+      assertFalse(
+          waiting.ended.await(500, TimeUnit.MILLISECONDS),
+          "the waiter waits while the holder holds the isolated chain");
+    }
+  }
+
   private Isolated<Integer, Integer> holdingIsolate(
       PrimeCore core, CountDownLatch entered, CountDownLatch release) {
     return holdingIsolate(core, entered, release, new CountDownLatch(1));

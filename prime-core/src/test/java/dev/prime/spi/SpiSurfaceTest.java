@@ -37,6 +37,7 @@ class SpiSurfaceTest {
                 "recordReader",
                 "runGenericService",
                 "isHostedHere",
+                "callerGaveUp",
                 "isOwnThread",
                 "startDetails",
                 "onStart",

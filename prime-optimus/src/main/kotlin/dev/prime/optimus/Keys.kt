@@ -69,6 +69,9 @@ internal class Keys(topology: String) {
     /** The list a synchronous caller receives its replies on. */
     fun reply(id: String): ByteArray = key("reply:$id")
 
+    /** The mark of a call whose caller gave up after a service took its request ([AbandonedCalls]). */
+    fun abandonedCall(id: Long): ByteArray = key("call:$id:abandoned")
+
     /** What every reply list's key starts with; a request naming another key is refused. */
     val replyPrefix: ByteArray = key("reply:")
 

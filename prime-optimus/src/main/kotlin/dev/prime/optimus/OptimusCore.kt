@@ -439,6 +439,29 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     override fun isHostedHere(service: String): Boolean = isHosted(service) && service !in notRunning
 
+    /** The request each service thread runs a block for now (see [runningRequest], [callerGaveUp]). */
+    private val runningRequests = ThreadLocal.withInitial { RunningRequest() }
+
+    /** The current thread's record of the request it runs a block for; a service sets it around each request. */
+    internal fun runningRequest(): RunningRequest = runningRequests.get()
+
+    /**
+     * Whether the caller of the request this service thread runs a block for gave up after the
+     * service took it: its mark ([AbandonedCalls]) is in Redis. False on a thread that runs no
+     * request (a value, a caller's own thread), and when Redis cannot tell now.
+     */
+    override fun callerGaveUp(): Boolean {
+        val running = runningRequests.get()
+        if (!running.active) return false
+        return try {
+            withSession("checking whether a caller gave up") { session ->
+                session.readOnce { it.exists(keys.abandonedCall(running.id)) }
+            }
+        } catch (_: RuntimeException) {
+            false // Redis is unreachable or the core closed: the wait's other checks decide
+        }
+    }
+
     /** The start line names the Redis, its password redacted ([redisUrl]). */
     override fun startDetails(): String = " with Redis $redisUrl"
 

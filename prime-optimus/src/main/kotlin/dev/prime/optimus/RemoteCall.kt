@@ -111,11 +111,11 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
                 session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call
             }
             if (Thread.currentThread().isInterrupted) {
-                withdraw(input, request, null)
+                withdraw(input, request, id, null)
                 throw PrimeException("interrupted while waiting for the reply of service '$chainName'")
             }
             if (deadline != null && deadline - System.nanoTime() <= 0) {
-                withdraw(input, request, null)
+                withdraw(input, request, id, null)
                 throw noReply(chainName)
             }
             // no round trip starts that could not come back by the deadline: Redis's wait ends a round trip before it
@@ -123,7 +123,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
             if (deadline != null && serverDeadline!! - System.nanoTime() <= 0) {
                 // a reply pushed from now on could not reach this caller by the deadline: take the request
                 // back now (its answer comes about at the deadline), then wait out the timeout
-                withdraw(input, request, deadline)
+                withdraw(input, request, id, deadline)
                 try {
                     core.connections.pauseInterruptibly(ceilMillis(deadline - System.nanoTime()))
                 } catch (_: InterruptedException) {
@@ -171,16 +171,20 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
 
     /**
      * Takes back the request of a call that gave up, if no service took it yet (every copy a
-     * retry pushed), so an abandoned request is neither run nor answered later. One attempt: if
-     * Redis does not answer by [deadline] (with at least [RedisConnections.LEAST_ANSWER_MS] for its reply), or, past
-     * the deadline (`null`), at once, the request stays and its late reply is skipped.
+     * retry pushed), so an abandoned request is neither run nor answered later; if a service took
+     * it, marks it abandoned, so a block that waits for an isolated chain with it does not run it
+     * ([AbandonedCalls]). One attempt: if Redis does not answer by [deadline] (with at least
+     * [RedisConnections.LEAST_ANSWER_MS] for its reply), or, past the deadline (`null`), at once,
+     * the request stays and its late reply is skipped.
      */
-    private fun withdraw(input: ByteArray, request: ByteArray, deadline: Long?) {
+    private fun withdraw(input: ByteArray, request: ByteArray, id: Long, deadline: Long?) {
+        val keys = listOf(input, core.keys.abandonedCall(id))
+        val args = listOf(request, AbandonedCalls.MARK_MILLIS.toString().toByteArray(Charsets.UTF_8))
         try {
             if (deadline == null) {
-                session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { it.lrem(input, 0, request) }
+                session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { AbandonedCalls.WITHDRAW.run(it, keys, args) }
             } else {
-                session.once(deadline, 0, RedisConnections.LEAST_ANSWER_MS) { it.lrem(input, 0, request) }
+                session.once(deadline, 0, RedisConnections.LEAST_ANSWER_MS) { AbandonedCalls.WITHDRAW.run(it, keys, args) }
             }
         } catch (_: RuntimeException) {
             // best effort: Redis is unreachable, or the core closed

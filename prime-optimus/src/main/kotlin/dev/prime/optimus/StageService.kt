@@ -534,9 +534,16 @@ internal class StageService(
     /** Handles a request into [step]; returns its one result (also put in [step]). */
     private fun handleRequest(envelope: Envelope, value: Any?, step: StepBatch): RequestOutput {
         val replyTo = envelope.replyTo!!
+        val running = core.runningRequest()
         try {
             var result: Any? = null
-            logic.process(value) { result = it }
+            running.id = envelope.id
+            running.active = true
+            try {
+                logic.process(value) { result = it }
+            } finally {
+                running.active = false
+            }
             val payload = core.encode(result)
             return if (next != null) {
                 Envelope.request(envelope.id, replyTo, payload).let { step.next(it); RequestOutput(next, it, isReply = false) }
