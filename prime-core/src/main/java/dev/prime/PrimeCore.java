@@ -447,6 +447,13 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * Shares one chain between several users without ever running it concurrently. Consumes it.
    *
+   * <p>On every media, calls through the users run one at a time in the order they reached the
+   * shared chain (first come, first served), so no caller starves. A call waiting for its turn
+   * ends, and is not run, when its caller is interrupted (a {@link PrimeException}, the flag kept
+   * set) or gives up another way (a call timeout on a media that has one), and with {@link
+   * CoreClosedException} when the core closes; the calls behind it keep their order. A call that
+   * already runs is not stopped.
+   *
    * @param chain the shared chain
    * @param <I> input type
    * @param <O> output type

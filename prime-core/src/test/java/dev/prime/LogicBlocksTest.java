@@ -284,6 +284,87 @@ class LogicBlocksTest {
     assertEquals(List.of(0, 1), ran, "the block did not run for the call whose caller gave up");
   }
 
+  /**
+   * A waiter whose turn comes while it is deciding to give up passes the turn on: the caller
+   * behind it runs (without the hand-off it would wait for ever).
+   */
+  @Test
+  void aWaiterThatGivesUpAsItsTurnComesPassesTheTurnOn() throws InterruptedException {
+    java.util.concurrent.CountDownLatch release = new java.util.concurrent.CountDownLatch(1);
+    java.util.concurrent.CountDownLatch inside = new java.util.concurrent.CountDownLatch(1);
+    java.util.concurrent.CountDownLatch deciding = new java.util.concurrent.CountDownLatch(1);
+    java.util.concurrent.CountDownLatch thirdEnded = new java.util.concurrent.CountDownLatch(1);
+    List<Integer> ran = java.util.Collections.synchronizedList(new ArrayList<>());
+    Thread[] holder = new Thread[1];
+    Thread[] second = new Thread[1];
+    Block<Integer, Integer> isolated =
+        new IsolateBlock<>(
+            x -> {
+              ran.add(x);
+              if (x == 0) {
+                inside.countDown();
+                try {
+                  release.await(20, java.util.concurrent.TimeUnit.SECONDS);
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              }
+              return x;
+            },
+            () -> {},
+            () -> {
+              if (Thread.currentThread() != second[0]) {
+                return false;
+              }
+              deciding.countDown();
+              try {
+                holder[0].join(20_000); // the holder's turn has ended: the second caller's has come
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+              }
+              return true;
+            });
+    holder[0] = new Thread(() -> isolated.process(0));
+    holder[0].start();
+    assertTrue(inside.await(20, java.util.concurrent.TimeUnit.SECONDS));
+    java.util.concurrent.atomic.AtomicReference<Throwable> secondFailure =
+        new java.util.concurrent.atomic.AtomicReference<>();
+    second[0] =
+        new Thread(
+            () -> {
+              try {
+                isolated.process(1);
+              } catch (Throwable t) {
+                secondFailure.set(t);
+              }
+            });
+    second[0].start();
+    Thread third = null;
+    try {
+      assertTrue(deciding.await(20, java.util.concurrent.TimeUnit.SECONDS));
+      third =
+          new Thread(
+              () -> {
+                isolated.process(2);
+                thirdEnded.countDown();
+              });
+      third.start();
+      long deadline = System.nanoTime() + java.util.concurrent.TimeUnit.SECONDS.toNanos(20);
+      while (third.getState() != Thread.State.TIMED_WAITING && System.nanoTime() < deadline) {
+        Thread.onSpinWait(); // until the third caller waits for its turn (bounded)
+      }
+    } finally {
+      release.countDown();
+    }
+    assertTrue(
+        thirdEnded.await(5, java.util.concurrent.TimeUnit.SECONDS),
+        "the caller behind one that gave up as its turn came got the turn");
+    second[0].join(20_000);
+    third.join(20_000);
+    assertTrue(secondFailure.get() instanceof PrimeException, String.valueOf(secondFailure.get()));
+    assertEquals(List.of(0, 2), ran);
+  }
+
   @Test
   void repeatValues() {
     assertEquals(Repeat.again(1), Repeat.again(1));

@@ -171,6 +171,72 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * IsolateBlock: calls run "in the order they came (first come, first served), so no caller
+   * starves", and a waiter that gives up does not change the order of those behind it. Three
+   * users come one after another while a fourth holds the chain (each given time to reach it),
+   * the second is interrupted, and the holder holds on a further 300 ms, longer than the wait's
+   * 50 ms slices.
+   */
+  @Test
+  default void callersWaitingForAnIsolatedChainGetItInTheOrderTheyCame()
+      throws InterruptedException {
+    CountDownLatch entered = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    List<Integer> ran = new java.util.concurrent.CopyOnWriteArrayList<>();
+    try (PrimeCore core = newCore()) {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  (Integer x) -> {
+                    ran.add(x);
+                    if (x == 0) {
+                      entered.countDown();
+                      try {
+                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                      } catch (InterruptedException e) {
+                        Thread.currentThread().interrupt();
+                      }
+                    }
+                    return x;
+                  }));
+      Block<Integer, Integer> holder = isolated.newUser().toBlock();
+      List<Block<Integer, Integer>> users = new ArrayList<>();
+      for (int i = 0; i < 4; i++) {
+        users.add(isolated.newUser().toBlock());
+      }
+      core.start();
+      Caller holding = new Caller("holder", () -> holder.process(0));
+      List<Caller> waiting = new ArrayList<>();
+      try {
+        assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        for (int i = 1; i <= 4; i++) {
+          int value = i;
+          Caller caller = new Caller("waiter-" + i, () -> users.get(value - 1).process(value));
+          awaitItsTurn(caller);
+          // 25 ms apart, so that waits taken in 50 ms slices would not keep the callers' order
+          assertFalse(caller.ended.await(25, TimeUnit.MILLISECONDS), "waiter " + i + " waits");
+          waiting.add(caller);
+        }
+        waiting.get(1).thread.interrupt();
+        assertInstanceOf(PrimeException.class, waiting.get(1).awaitFailure(patience()));
+        assertFalse(
+            waiting.get(0).ended.await(300, TimeUnit.MILLISECONDS),
+            "the first waiter waits while the holder holds the isolated chain");
+      } finally {
+        release.countDown();
+      }
+      assertEquals(null, holding.awaitFailure(patience()));
+      for (int i : new int[] {0, 2, 3}) {
+        assertEquals(null, waiting.get(i).awaitFailure(patience()), "waiter " + (i + 1));
+      }
+      assertEquals(
+          List.of(0, 1, 3, 4),
+          ran,
+          "the waiting callers ran in the order they came, without the one interrupted");
+    }
+  }
+
   @Test
   default void aCallerWaitingForAnIsolatedChainEndsWhenTheCoreCloses()
       throws InterruptedException {
