@@ -4,6 +4,7 @@ import java.util.HashSet;
 import java.util.Objects;
 import java.util.Set;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicLong;
 import java.util.function.BooleanSupplier;
 
 /**
@@ -20,14 +21,20 @@ import java.util.function.BooleanSupplier;
  * turn comes after a wait (never when the block was free), a yes ends the wait with a {@link
  * PrimeException}, and the block is not run for that call either.
  *
- * <p>Design note: a ticket queue under one monitor. A caller takes the next ticket and waits on
- * the monitor, in slices of {@value #CHECK_MILLIS} ms for the checks, until the ticket being
- * served is its own; finishing serves the next ticket and wakes the waiters. A waiter that gives
- * up leaves its ticket in {@link #abandoned}, skipped when its turn comes (or serves the next one
- * itself, if its turn had just come). A waiter keeps its place while it runs a check, which a
- * lock taken with timed attempts would not (a timed-out attempt rejoins the queue at its tail).
- * The checks run outside the monitor and at most once per slice, however often waiters are woken.
- * Memory: two counters and the set of abandoned tickets still queued.
+ * <p>Design note: a ticket queue. A caller takes the next ticket (one atomic increment) and
+ * runs at once if its ticket is the one being served ({@link #serving}); finishing serves the
+ * next ticket with one volatile write. Only then, if a caller waits or gave up, does it enter the
+ * monitor {@link #turns} to skip the tickets of callers that gave up ({@link #abandoned}) and to
+ * wake the waiters: so a call that found the block free costs an atomic increment and two
+ * volatile writes, and no call into the VM. A waiter waits on the monitor, in slices of {@value
+ * #CHECK_MILLIS} ms for the checks, and keeps its place while it checks (a lock taken with timed
+ * attempts would not: a timed-out attempt rejoins the queue at its tail). Races: a finisher
+ * writes {@code serving}, then reads {@link #waiting} and {@link #abandonedCount}; a waiter or a
+ * caller giving up writes those, then reads {@code serving} (all volatile), so at least one of
+ * the two sees the other: no wake-up and no turn is lost. {@code serving} is written only by the
+ * caller whose turn it is, or, under the monitor, by whoever skips an abandoned ticket (whose
+ * turn nobody owns). The checks run outside the monitor, at most once per slice. Memory: three
+ * counters and the set of abandoned tickets still queued.
  *
  * @param <I> input type
  * @param <O> output type
@@ -39,18 +46,25 @@ final class IsolateBlock<I, O> implements Block<I, O> {
   private final Block<I, O> block;
   private final Runnable whileWaiting;
   private final BooleanSupplier callerGaveUp;
-
-  /** Guards the three fields below; waiting callers wait on it. */
-  private final Object turns = new Object();
+  private final long checkNanos;
 
   /** The ticket the next caller takes. */
-  private long nextTicket;
+  private final AtomicLong nextTicket = new AtomicLong();
 
   /** The ticket whose caller may run the block now (it may not have seen it yet). */
-  private long serving;
+  private volatile long serving;
+
+  /** Waiting callers wait on it; guards {@link #abandoned} and the writes of the counts below. */
+  private final Object turns = new Object();
 
   /** Tickets of callers that gave up before their turn, skipped when it comes. */
   private final Set<Long> abandoned = new HashSet<>();
+
+  /** The size of {@link #abandoned}, readable without the monitor (written under it). */
+  private volatile int abandonedCount;
+
+  /** How many callers wait on {@link #turns} (written under it). */
+  private volatile int waiting;
 
   /**
    * A shared block whose waiting callers stop only when interrupted.
@@ -69,19 +83,27 @@ final class IsolateBlock<I, O> implements Block<I, O> {
    *     waiting and once after a wait (true: the block is not run for it)
    */
   IsolateBlock(Block<I, O> block, Runnable whileWaiting, BooleanSupplier callerGaveUp) {
+    this(block, whileWaiting, callerGaveUp, TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS));
+  }
+
+  /**
+   * Like the one above, with another interval between a waiter's checks (the stress tests use 0:
+   * a waiter checks each time it looks at the turn, so a give-up meets every other step).
+   *
+   * @param checkNanos how long a waiter waits between its checks
+   */
+  IsolateBlock(
+      Block<I, O> block, Runnable whileWaiting, BooleanSupplier callerGaveUp, long checkNanos) {
     this.block = Objects.requireNonNull(block, "isolated block must not be null");
     this.whileWaiting = Objects.requireNonNull(whileWaiting, "whileWaiting must not be null");
     this.callerGaveUp = Objects.requireNonNull(callerGaveUp, "callerGaveUp must not be null");
+    this.checkNanos = checkNanos;
   }
 
   @Override
   public O process(I input) {
-    long ticket;
-    boolean waits;
-    synchronized (turns) {
-      ticket = nextTicket++;
-      waits = ticket != serving;
-    }
+    long ticket = nextTicket.getAndIncrement();
+    boolean waits = serving != ticket;
     if (waits) {
       awaitTurn(ticket);
     }
@@ -91,32 +113,34 @@ final class IsolateBlock<I, O> implements Block<I, O> {
       }
       return block.process(input);
     } finally {
-      synchronized (turns) {
-        serveNext();
-      }
+      passTurn(ticket);
     }
   }
 
   /** Waits until {@code ticket} is served; a caller that stops waiting gives its ticket up. */
   private void awaitTurn(long ticket) {
-    long nextCheck = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
+    long nextCheck = System.nanoTime() + checkNanos;
     try {
       while (true) {
         synchronized (turns) {
+          waiting++;
+          try {
+            long left;
+            while (serving != ticket && (left = nextCheck - System.nanoTime()) > 0) {
+              TimeUnit.NANOSECONDS.timedWait(turns, left);
+            }
+          } finally {
+            waiting--;
+          }
           if (serving == ticket) {
             return;
-          }
-          long left = nextCheck - System.nanoTime();
-          if (left > 0) {
-            TimeUnit.NANOSECONDS.timedWait(turns, left);
-            continue;
           }
         }
         whileWaiting.run();
         if (callerGaveUp.getAsBoolean()) {
           throw gaveUp();
         }
-        nextCheck = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
+        nextCheck = System.nanoTime() + checkNanos;
       }
     } catch (InterruptedException e) {
       giveUp(ticket);
@@ -128,23 +152,39 @@ final class IsolateBlock<I, O> implements Block<I, O> {
     }
   }
 
-  private void giveUp(long ticket) {
-    synchronized (turns) {
-      if (serving == ticket) {
-        serveNext(); // the turn came as this caller stopped waiting: pass it on
-      } else {
-        abandoned.add(ticket);
+  /** Ends the turn of {@code ticket}, whose caller ran the block or stopped at its turn. */
+  private void passTurn(long ticket) {
+    serving = ticket + 1;
+    if (waiting > 0 || abandonedCount > 0) {
+      synchronized (turns) {
+        skipAbandonedAndWake();
       }
     }
   }
 
-  /** Serves the next ticket whose caller still waits, and wakes the waiters. Under {@link #turns}. */
-  private void serveNext() {
-    serving++;
-    while (!abandoned.isEmpty() && abandoned.remove(serving)) {
-      serving++;
+  /** Leaves the ticket of a caller that stopped waiting, to be skipped (at once if it is served). */
+  private void giveUp(long ticket) {
+    synchronized (turns) {
+      abandoned.add(ticket);
+      abandonedCount++;
+      skipAbandonedAndWake(); // the turn may have come as this caller stopped waiting
     }
-    turns.notifyAll();
+  }
+
+  /** Under {@link #turns}: serves the next ticket whose caller still waits, and wakes the waiters. */
+  private void skipAbandonedAndWake() {
+    long served = serving;
+    long next = served;
+    while (abandonedCount > 0 && abandoned.remove(next)) {
+      abandonedCount--;
+      next++;
+    }
+    if (next != served) {
+      serving = next; // the skipped turns had no owner: nobody else writes serving now
+    }
+    if (waiting > 0) {
+      turns.notifyAll();
+    }
   }
 
   private static PrimeException gaveUp() {

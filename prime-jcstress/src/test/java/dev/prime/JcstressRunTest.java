@@ -22,12 +22,15 @@ import org.junit.jupiter.api.Test;
  * run, proves that such a failure is reported.
  */
 class JcstressRunTest {
-  /** The tests over Prime's classes: every {@code dev.prime.MemorySource*Stress} class. */
-  static final String SUITE = "^dev\\.prime\\.MemorySource.*Stress$";
+  /**
+   * The tests over Prime's classes: every {@code dev.prime.MemorySource*Stress} and {@code
+   * dev.prime.Isolate*Stress} class.
+   */
+  static final String SUITE = "^dev\\.prime\\.(MemorySource|Isolate).*Stress$";
 
   private static final String TOY_NAME = "dev.prime.selfcheck.UnlockedClaimToy";
 
-  private static final int SUITE_SIZE = 19;
+  private static final int SUITE_SIZE = 21;
 
   private static SortedSet<String> suite;
   private static Map<String, JcstressRun.Verdict> verdicts;
@@ -64,7 +67,7 @@ class JcstressRunTest {
   }
 
   @Test
-  void memorySourceKeepsItsPromisesUnderEveryInterleaving() {
+  void theSuiteKeepsItsPromisesUnderEveryInterleaving() {
     assertEquals(SUITE_SIZE, suite.size(), "the suite's filter selects: " + suite);
     Map<String, JcstressRun.Verdict> ours = new TreeMap<>(verdicts);
     ours.remove(TOY_NAME);
