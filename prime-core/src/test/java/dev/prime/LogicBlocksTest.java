@@ -228,18 +228,7 @@ class LogicBlocksTest {
     List<Integer> ran = java.util.Collections.synchronizedList(new ArrayList<>());
     Block<Integer, Integer> isolated =
         new IsolateBlock<>(
-            x -> {
-              ran.add(x);
-              if (x == 1) {
-                inside.countDown();
-                try {
-                  release.await(20, java.util.concurrent.TimeUnit.SECONDS);
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                }
-              }
-              return x;
-            },
+            holdingAt(1, ran, inside, release),
             () -> {},
             () -> {
               asked.incrementAndGet();
@@ -299,18 +288,7 @@ class LogicBlocksTest {
     Thread[] second = new Thread[1];
     Block<Integer, Integer> isolated =
         new IsolateBlock<>(
-            x -> {
-              ran.add(x);
-              if (x == 0) {
-                inside.countDown();
-                try {
-                  release.await(20, java.util.concurrent.TimeUnit.SECONDS);
-                } catch (InterruptedException e) {
-                  Thread.currentThread().interrupt();
-                }
-              }
-              return x;
-            },
+            holdingAt(0, ran, inside, release),
             () -> {},
             () -> {
               if (Thread.currentThread() != second[0]) {
@@ -363,6 +341,29 @@ class LogicBlocksTest {
     third.join(20_000);
     assertTrue(secondFailure.get() instanceof PrimeException, String.valueOf(secondFailure.get()));
     assertEquals(List.of(0, 2), ran);
+  }
+
+  /**
+   * A block that records each input in {@code ran} and, given {@code held}, counts {@code inside}
+   * down and holds until {@code release} (at most 20 s).
+   */
+  private static Block<Integer, Integer> holdingAt(
+      int held,
+      List<Integer> ran,
+      java.util.concurrent.CountDownLatch inside,
+      java.util.concurrent.CountDownLatch release) {
+    return x -> {
+      ran.add(x);
+      if (x == held) {
+        inside.countDown();
+        try {
+          release.await(20, java.util.concurrent.TimeUnit.SECONDS);
+        } catch (InterruptedException e) {
+          Thread.currentThread().interrupt();
+        }
+      }
+      return x;
+    };
   }
 
   @Test

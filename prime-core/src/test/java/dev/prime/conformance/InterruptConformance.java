@@ -185,21 +185,7 @@ public interface InterruptConformance extends ConformanceBase {
     CountDownLatch release = new CountDownLatch(1);
     List<Integer> ran = new java.util.concurrent.CopyOnWriteArrayList<>();
     try (PrimeCore core = newCore()) {
-      Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.chain(
-                  (Integer x) -> {
-                    ran.add(x);
-                    if (x == 0) {
-                      entered.countDown();
-                      try {
-                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
-                      } catch (InterruptedException e) {
-                        Thread.currentThread().interrupt();
-                      }
-                    }
-                    return x;
-                  }));
+      Isolated<Integer, Integer> isolated = holdingIsolate(core, 0, entered, release, ran::add);
       Block<Integer, Integer> holder = isolated.newUser().toBlock();
       List<Block<Integer, Integer>> users = new ArrayList<>();
       for (int i = 0; i < 4; i++) {
@@ -652,13 +638,33 @@ public interface InterruptConformance extends ConformanceBase {
   /** Like the isolate above; given 2, it also counts {@code ranFor2} down. */
   private Isolated<Integer, Integer> holdingIsolate(
       PrimeCore core, CountDownLatch entered, CountDownLatch release, CountDownLatch ranFor2) {
+    return holdingIsolate(
+        core,
+        1,
+        entered,
+        release,
+        x -> {
+          if (x == 2) {
+            ranFor2.countDown();
+          }
+        });
+  }
+
+  /**
+   * An isolated chain that tells {@code ran} of each input and, given {@code held}, counts {@code
+   * entered} down and holds until {@code release} (bounded by the kit's patience).
+   */
+  private Isolated<Integer, Integer> holdingIsolate(
+      PrimeCore core,
+      int held,
+      CountDownLatch entered,
+      CountDownLatch release,
+      java.util.function.IntConsumer ran) {
     return core.isolate(
         core.chain(
             (Integer x) -> {
-              if (x == 2) {
-                ranFor2.countDown();
-              }
-              if (x == 1) {
+              ran.accept(x);
+              if (x == held) {
                 entered.countDown();
                 try {
                   release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
