@@ -77,7 +77,8 @@ public interface Reader<T> extends AutoCloseable {
   List<T> drain();
 
   /**
-   * How many values this reader lost because it fell behind the source's retention.
+   * How many values this reader lost because it fell behind the source's retention. Never waits
+   * for a value, also while another thread waits in {@link #take()} of this reader.
    *
    * @return the count since the reader was made
    * @throws CoreClosedException if the core is closed (read the count before closing it)

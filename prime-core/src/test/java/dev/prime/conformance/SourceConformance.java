@@ -1006,9 +1006,10 @@ public interface SourceConformance extends ConformanceBase {
 
   /**
    * {@link Reader#poll()} and {@link Reader#drain()} "never wait for a value, also while another
-   * thread waits in {@link Reader#take()} of the same reader": with a take
-   * waiting for a value, a poll and a drain of the same reader return empty at once (within 5 s,
-   * far below the kit's patience), and the value published afterwards goes to the take.
+   * thread waits in {@link Reader#take()} of the same reader", nor does {@link Reader#missed()}:
+   * with a take waiting for a value, a poll, a drain and a missed count of the same reader return
+   * at once (within 5 s, far below the kit's patience), and the value published afterwards goes
+   * to the take.
    */
   @Test
   default void pollAndDrainDoNotWaitForATakeOfTheSameReader() throws Exception {
@@ -1022,17 +1023,18 @@ public interface SourceConformance extends ConformanceBase {
           new InterruptConformance.Caller("take", () -> taken.add(reader.take()));
       InterruptConformance.Caller.awaitBlocked(List.of(take));
       long began = System.nanoTime();
-      Future<List<Object>> others = pool.submit(() -> List.of(reader.poll(), reader.drain()));
+      Future<List<Object>> others =
+          pool.submit(() -> List.of(reader.poll(), reader.drain(), reader.missed()));
       List<Object> polledAndDrained;
       try {
         polledAndDrained = others.get(5, TimeUnit.SECONDS);
       } catch (java.util.concurrent.TimeoutException e) {
         events.publish(-1); // lets the take, and then the poll and the drain, end
         throw new AssertionError(
-            "a poll and a drain waited more than 5 s for a take of the same reader", e);
+            "a poll, a drain or missed() waited more than 5 s for a take of the same reader", e);
       }
       Duration took = Duration.ofNanos(System.nanoTime() - began);
-      assertEquals(List.of(Optional.empty(), List.of()), polledAndDrained, "took " + took);
+      assertEquals(List.of(Optional.empty(), List.of(), 0L), polledAndDrained, "took " + took);
       events.publish(1);
       assertEquals(null, take.awaitFailure(patience()), "the take ended without a failure");
       assertEquals(List.of(1), taken, "the value published afterwards went to the take");

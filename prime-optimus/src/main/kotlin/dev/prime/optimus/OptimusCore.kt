@@ -1036,7 +1036,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /** Runs [action] on a pooled session; an ACL refusal becomes a [dev.prime.PrimeException] saying what to grant. */
-    private fun <T> withSession(what: String = "a Redis command", action: (RedisSession) -> T): T {
+    internal fun <T> withSession(what: String = "a Redis command", action: (RedisSession) -> T): T {
         val session = publishers.poll() ?: RedisSession(connections)
         try {
             return action(session)

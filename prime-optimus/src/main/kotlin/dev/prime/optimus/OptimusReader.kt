@@ -104,10 +104,15 @@ internal class OptimusReader<T>(
         values
     }
 
-    override fun missed(): Long = inTurn {
+    /**
+     * Read on a pooled session, not in this reader's turn: a take of another thread may hold the
+     * turn for as long as it waits for a value, and the count is Redis's, kept by the scripts.
+     */
+    override fun missed(): Long {
         checkUsable()
-        session.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, "reading the missed count of a reader") {
-            it.get(missedKey)
+        val what = "reading the missed count of a reader"
+        return core.withSession(what) { pooled ->
+            pooled.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, what) { it.get(missedKey) }
         }?.let { String(it).toLong() } ?: 0L
     }
 
