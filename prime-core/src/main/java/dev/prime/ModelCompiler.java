@@ -183,7 +183,8 @@ final class ModelCompiler<F> {
 
   /**
    * Compiles the shared block of {@link PrimeCore#isolate}, consuming {@code chain}: the chain's
-   * block behind a fair lock that never runs it for two callers at once, and ends a waiting
+   * block behind a first-come-first-served queue that never runs it for two callers at once
+   * ({@link IsolateBlock}), and ends a waiting
    * caller's wait when the core closes, or when the caller of the call it runs for gave up
    * ({@link PrimeCore#callerGaveUp}). Its users are chain nodes of their own ({@link
    * NodeLogic.Shared}).

@@ -11,7 +11,9 @@ package dev.prime.optimus
  * thread that runs the request looks for the mark ([OptimusCore.callerGaveUp]) only while the
  * block waits for its turn and once when the turn comes after a wait, never on a call's fast
  * path. A mark expires after [MARK_MILLIS]; marks are made only for requests a service holds,
- * at most one per waiting service thread and give-up, so they stay few.
+ * at most one per waiting service thread and give-up, so they stay few. The script is sent as
+ * text ([Script.runText]), so a withdrawal is one round trip, within its bound, even on a Redis
+ * that does not know the script yet.
  */
 internal object AbandonedCalls {
     /** How long a mark lives: longer than any sensible wait for an isolated chain. */

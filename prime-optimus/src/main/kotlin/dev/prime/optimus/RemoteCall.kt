@@ -182,9 +182,9 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
         val args = listOf(request, AbandonedCalls.MARK_MILLIS.toString().toByteArray(Charsets.UTF_8))
         try {
             if (deadline == null) {
-                session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { AbandonedCalls.WITHDRAW.run(it, keys, args) }
+                session.once(System.nanoTime() + WITHDRAW_BOUND_NANOS, 0) { AbandonedCalls.WITHDRAW.runText(it, keys, args) }
             } else {
-                session.once(deadline, 0, RedisConnections.LEAST_ANSWER_MS) { AbandonedCalls.WITHDRAW.run(it, keys, args) }
+                session.once(deadline, 0, RedisConnections.LEAST_ANSWER_MS) { AbandonedCalls.WITHDRAW.runText(it, keys, args) }
             }
         } catch (_: RuntimeException) {
             // best effort: Redis is unreachable, or the core closed

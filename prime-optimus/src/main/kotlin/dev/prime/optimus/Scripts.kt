@@ -76,6 +76,12 @@ internal class Script(text: String) {
         jedis.eval(source, keys, args)
     }
 
+    /**
+     * Runs the script as EVAL, sending its text: one round trip even when the server does not
+     * know it yet, for a rare script that must finish within a tight bound.
+     */
+    fun runText(jedis: Jedis, keys: List<ByteArray>, args: List<ByteArray>): Any? = jedis.eval(source, keys, args)
+
     /** Queues the script in [pipeline] (as EVAL: a pipeline cannot fall back). */
     fun queue(pipeline: Pipeline, keys: List<ByteArray>, args: List<ByteArray>) {
         pipeline.eval(source, keys, args)
