@@ -49,6 +49,43 @@ class QueueLimitTest {
             }
     }
 
+    /**
+     * architecture.md: on Optimus a service's queue outlives the process that hosts it, so a full
+     * queue of a service whose host has stopped holds a publish of another process up until a
+     * host takes values again (or the publish timeout passes).
+     */
+    @Test
+    fun aFullQueueOfAStoppedHostHoldsAPublishUpUntilAHostTakesValuesAgain() {
+        val topology = CoreConfig.builder().name("queue-outlives-${UUID.randomUUID().toString().take(8)}").build()
+        val seen = CopyOnWriteArrayList<Int>()
+        val taken = java.util.concurrent.Semaphore(0)
+        fun declare(core: OptimusCore): dev.prime.Source<Int> = core.source("numbers", EventBlock<Int>()).also {
+            it.then(core.chain("kept") { x: Int -> seen += x; taken.release(); x })
+        }
+        OptimusCore.builder().config(topology).redis(TestRedis.url).build().use { host ->
+            declare(host)
+            host.start() // registers the service's queue, then stops with its core
+        }
+        OptimusCore.builder().config(topology).redis(TestRedis.url).hosts(emptyList()).queueLimit("kept", 3)
+            .publishTimeout(Duration.ofSeconds(1)).build().use { publisher ->
+                val numbers = declare(publisher)
+                publisher.start()
+                publisher.publishAll(numbers, listOf(1, 2, 3))
+                val full = assertThrows(QueueFullException::class.java) { publisher.publishAll(numbers, listOf(4)) }
+                assertEquals("kept", full.service)
+                assertEquals(emptyList<Int>(), seen, "no host ran the service meanwhile")
+                OptimusCore.builder().config(topology).redis(TestRedis.url).build().use { again ->
+                    declare(again)
+                    again.start()
+                    assertTrue(taken.tryAcquire(3, PATIENCE.seconds, TimeUnit.SECONDS), "the host that came back took what was queued")
+                    assertEquals(listOf(1, 2, 3), seen.toList())
+                    publisher.publishAll(numbers, listOf(4))
+                    assertTrue(taken.tryAcquire(1, PATIENCE.seconds, TimeUnit.SECONDS), "and the value published then")
+                }
+            }
+        assertEquals(listOf(1, 2, 3, 4), seen.toList())
+    }
+
     @Test
     fun anInterruptedPublisherWaitingForRoomStopsAtOnceSaysSoAndPublishesNothing() {
         OptimusCore.builder().redis(TestRedis.url).hosts(emptyList()).queueLimit("stuck", 2)
