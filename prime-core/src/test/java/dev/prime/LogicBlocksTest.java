@@ -192,19 +192,8 @@ class LogicBlocksTest {
   void anInterruptedCallerDoesNotWaitForAnIsolatedBlock() throws InterruptedException {
     java.util.concurrent.CountDownLatch inside = new java.util.concurrent.CountDownLatch(1);
     java.util.concurrent.CountDownLatch release = new java.util.concurrent.CountDownLatch(1);
-    AtomicInteger runs = new AtomicInteger();
-    Block<Integer, Integer> isolated =
-        new IsolateBlock<>(
-            x -> {
-              runs.incrementAndGet();
-              inside.countDown();
-              try {
-                release.await(20, java.util.concurrent.TimeUnit.SECONDS);
-              } catch (InterruptedException e) {
-                Thread.currentThread().interrupt();
-              }
-              return x;
-            });
+    List<Integer> ran = java.util.Collections.synchronizedList(new ArrayList<>());
+    Block<Integer, Integer> isolated = new IsolateBlock<>(holdingAt(1, ran, inside, release));
     Thread holder = new Thread(() -> isolated.process(1));
     holder.start();
     try {
@@ -212,7 +201,7 @@ class LogicBlocksTest {
       Thread.currentThread().interrupt();
       assertThrows(PrimeException.class, () -> isolated.process(2));
       assertTrue(Thread.interrupted(), "the interrupt flag stays set");
-      assertEquals(1, runs.get(), "the block did not run for the interrupted caller");
+      assertEquals(List.of(1), ran, "the block did not run for the interrupted caller");
     } finally {
       release.countDown();
       holder.join(20_000);
