@@ -294,6 +294,38 @@ public interface TemplateConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.RepeaterBlock#next}: "never {@code null}". A repeater block that returns
+   * {@code null} fails the call with a {@link NullPointerException} that says what to return
+   * instead (not an NPE from deep inside the loop, and not a conclusion of {@code null}), and
+   * the repeater chain keeps working for the next call.
+   */
+  @Test
+  default void aRepeaterBlockThatReturnsNullFailsTheCallClearlyAndTheChainGoesOn() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, String> chain =
+          core.repeater(
+              core.chain(x -> x + 1),
+              (Integer in, Integer out, List<Void> none) ->
+                  in < 0 ? null : out >= 3 ? Repeat.stop("done:" + out) : Repeat.again(out));
+      core.start();
+      Block<Integer, String> block = chain.toBlock();
+      RuntimeException failed = assertThrows(RuntimeException.class, () -> block.process(-5));
+      Throwable npe = failed;
+      StringBuilder causes = new StringBuilder();
+      while (npe != null && !(npe instanceof NullPointerException)) {
+        causes.append(npe).append(" <- ");
+        npe = npe.getCause() == npe ? null : npe.getCause();
+      }
+      assertTrue(npe != null, "a NullPointerException ends the call, not: " + causes);
+      assertTrue(
+          String.valueOf(npe.getMessage()).contains("returned null")
+              && npe.getMessage().contains("Repeat.stop"),
+          "the exception says what the repeater block should return: " + npe.getMessage());
+      assertEquals("done:3", block.process(0), "the repeater chain keeps working");
+    }
+  }
+
   @Test
   default void repeaterWithSourceSeesCollectedValues() {
     try (PrimeCore core = newCore()) {
