@@ -430,6 +430,90 @@ public interface GenericServiceConformance extends ConformanceBase {
   }
 
   /**
+   * {@link GenericService#backoff(int)}: "The wait ends at once when the service stops". Two
+   * services wait out a back-off of an hour when the core closes, one after a failed {@code
+   * initialize}, one after a failed {@code work}: close returns promptly (far under its shutdown
+   * timeout), no step runs again, the one that initialized is shut down once and the other is
+   * not.
+   */
+  @Test
+  default void closeEndsABackOffAtOnce() throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    CountDownLatch bothFailed = new CountDownLatch(2);
+    AtomicInteger initializeTries = new AtomicInteger();
+    AtomicInteger initializeShutdowns = new AtomicInteger();
+    GenericService neverInitialized =
+        new GenericService() {
+          @Override
+          public void initialize() {
+            initializeTries.incrementAndGet();
+            throw new IllegalStateException("no device yet");
+          }
+
+          @Override
+          public void work() {
+            throw new AssertionError("work before initialize succeeded");
+          }
+
+          @Override
+          public void shutdown() {
+            initializeShutdowns.incrementAndGet();
+          }
+
+          @Override
+          public Duration backoff(int failures) {
+            return Duration.ofHours(1);
+          }
+        };
+    Recording failingWork =
+        new Recording(1) {
+          @Override
+          void step(int n) {
+            throw new IllegalStateException("unplugged");
+          }
+
+          @Override
+          public Duration backoff(int failures) {
+            return Duration.ofHours(1);
+          }
+        };
+    Duration shutdownTimeout = Duration.ofSeconds(30);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  failures.add(new Failure(service, input, error));
+                  bothFailed.countDown();
+                })
+            .shutdownTimeout(shutdownTimeout)
+            .build();
+    PrimeCore core = newCore(config);
+    long took;
+    try {
+      core.service("backing-off-initialize", neverInitialized);
+      core.service("backing-off-work", failingWork);
+      core.start();
+      assertTrue(await(bothFailed), "both services failed once; failures: " + failures);
+    } finally {
+      long started = System.nanoTime();
+      core.close();
+      took = System.nanoTime() - started;
+    }
+    assertTrue(
+        took < shutdownTimeout.toNanos() / 3,
+        "close ended the back-offs at once: it returned in "
+            + TimeUnit.NANOSECONDS.toMillis(took)
+            + " ms, not within a third of the shutdown timeout of "
+            + shutdownTimeout);
+    assertEquals(1, initializeTries.get(), "initialize was not tried again after close");
+    assertEquals(0, initializeShutdowns.get(), "a service never initialized is not shut down");
+    assertEquals(1, failingWork.works.get(), "no work after close");
+    assertEquals(1, failingWork.shutdowns.get(), "the initialized service was shut down once");
+    assertEquals(2, failures.size(), "only the two failures were reported: " + failures);
+    assertNoThreadsLeft(core);
+  }
+
+  /**
    * A generic service that closes its own core (it saw a stop command), next to another service,
    * with a shutdown timeout far above the kit's patience: a close that waited for its own thread
    * would take that long, and one cut short would complain about threads still running.
