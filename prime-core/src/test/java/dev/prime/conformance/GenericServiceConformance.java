@@ -3,6 +3,7 @@ package dev.prime.conformance;
 import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertNotSame;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
@@ -511,6 +512,55 @@ public interface GenericServiceConformance extends ConformanceBase {
     assertEquals(1, failingWork.shutdowns.get(), "the initialized service was shut down once");
     assertEquals(2, failures.size(), "only the two failures were reported: " + failures);
     assertNoThreadsLeft(core);
+  }
+
+  /**
+   * {@link dev.prime.GenericServiceLoop}: "an interrupt alone (a stray one from user code) is a
+   * failure of the step it ended, reported and followed by the next step". A work step interrupts
+   * its own thread and returns; the next one's wait ends with an {@link InterruptedException},
+   * which is reported under the service's name as a failed {@code WORK}, and the work goes on.
+   */
+  @Test
+  default void aStrayInterruptIsAFailureOfTheStepItEndedAndTheServiceGoesOn()
+      throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    CountDownLatch wentOn = new CountDownLatch(1);
+    Recording driver =
+        new Recording(1) {
+          @Override
+          void step(int n) throws Exception {
+            if (n == 1) {
+              Thread.currentThread().interrupt(); // a stray interrupt from user code
+            } else if (n == 2) {
+              Thread.sleep(10_000); // ends at once: the flag is set
+            } else {
+              wentOn.countDown();
+              Thread.sleep(1);
+            }
+          }
+
+          @Override
+          public Duration backoff(int failures) {
+            return Duration.ofMillis(1);
+          }
+        };
+    String name = "stray-interrupt";
+    try (PrimeCore core = newCore(recordingFailures(failures))) {
+      core.service(name, driver);
+      core.start();
+      assertTrue(
+          await(wentOn),
+          "the service went on after a stray interrupt; works: "
+              + driver.works.get()
+              + ", failures: "
+              + failures);
+    }
+    assertEquals(1, failures.size(), "one failure: " + failures);
+    Failure failure = failures.get(0);
+    assertEquals(name, failure.service());
+    assertEquals(GenericService.Step.WORK, failure.input());
+    assertInstanceOf(InterruptedException.class, failure.error());
+    assertEquals(1, driver.shutdowns.get(), "shut down once, at close");
   }
 
   /**
