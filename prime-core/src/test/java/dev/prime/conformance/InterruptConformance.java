@@ -23,6 +23,7 @@ import java.util.ArrayList;
 import java.util.List;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
 
@@ -116,6 +117,47 @@ public interface InterruptConformance extends ConformanceBase {
     }
     assertInstanceOf(PrimeException.class, caller.awaitFailure(patience()), "the loop ended");
     assertNoThreadsLeft(core);
+  }
+
+  /**
+   * architecture.md (waits): "after {@code close()} a repeater stops within one round", with a
+   * {@link CoreClosedException} (the core's open check between rounds). A repeater that never
+   * says stop runs when the core closes: its caller gets a {@code CoreClosedException}, and at
+   * most one round starts after {@code close()} returned (the one whose check passed just
+   * before).
+   */
+  @Test
+  default void closeEndsARepeaterWithCoreClosedExceptionWithinOneRound()
+      throws InterruptedException {
+    CountDownLatch looping = new CountDownLatch(100);
+    AtomicInteger rounds = new AtomicInteger();
+    PrimeCore core = newCore();
+    Caller caller;
+    int atClose;
+    try {
+      Chain<Integer, Integer> forever =
+          core.repeater(
+              core.chain(
+                  "counted-round",
+                  x -> {
+                    rounds.incrementAndGet();
+                    looping.countDown();
+                    return x + 1;
+                  }),
+              (Integer in, Integer out, List<Void> none) -> Repeat.again(out));
+      core.start();
+      Block<Integer, Integer> block = forever.toBlock();
+      caller = new Caller("closed-repeater", () -> block.process(0));
+      assertTrue(looping.await(patience().toMillis(), TimeUnit.MILLISECONDS), "it loops");
+    } finally {
+      core.close();
+      atClose = rounds.get();
+    }
+    Throwable failure = caller.awaitFailure(patience());
+    assertInstanceOf(CoreClosedException.class, failure, "the loop ended with: " + failure);
+    assertNoThreadsLeft(core);
+    int after = rounds.get() - atClose;
+    assertTrue(after <= 1, after + " rounds started after close() returned, not at most one");
   }
 
   @Test
