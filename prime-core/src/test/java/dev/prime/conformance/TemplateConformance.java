@@ -326,6 +326,28 @@ public interface TemplateConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link PrimeCore#repeater(Chain, dev.prime.RepeaterBlock)}: the repeater block's "{@code
+   * collected} list is always empty" for a repeater without a source (an empty list, not {@code
+   * null}), every round.
+   */
+  @Test
+  default void aRepeaterWithoutASourceSeesAnEmptyCollectedListEveryRound() {
+    try (PrimeCore core = newCore()) {
+      List<String> seen = new CopyOnWriteArrayList<>();
+      Chain<Integer, Integer> chain =
+          core.repeater(
+              core.chain(x -> x + 1),
+              (Integer in, Integer out, List<Void> none) -> {
+                seen.add(String.valueOf(none));
+                return out >= 3 ? Repeat.stop(out) : Repeat.again(out);
+              });
+      core.start();
+      assertEquals(3, chain.toBlock().process(0));
+      assertEquals(List.of("[]", "[]", "[]"), seen, "each of the three rounds saw an empty list");
+    }
+  }
+
   @Test
   default void repeaterWithSourceSeesCollectedValues() {
     try (PrimeCore core = newCore()) {
