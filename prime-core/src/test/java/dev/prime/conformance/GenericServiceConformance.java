@@ -564,6 +564,78 @@ public interface GenericServiceConformance extends ConformanceBase {
   }
 
   /**
+   * architecture.md (generic services): "A {@code work()} stuck in uninterruptible I/O cannot be
+   * stopped and is reported as abandoned when the timeout passes", and {@link GenericService}:
+   * {@code shutdown} runs after the last {@code work}. A work step deaf to interrupts does not
+   * hold {@code close()} up: it returns within a few shutdown timeouts (under 5 s here, with a
+   * timeout of 200 ms), and a WARN line naming the core says a service is still running; once the
+   * stuck step returns, no work follows, {@code shutdown} runs once and the thread ends.
+   */
+  @Test
+  default void aWorkStuckPastTheShutdownTimeoutIsReportedAndShutDownWhenItReturns()
+      throws InterruptedException {
+    Duration shutdownTimeout = Duration.ofMillis(200);
+    long holdNanos = patience().toNanos();
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch shutDown = new CountDownLatch(1);
+    AtomicInteger works = new AtomicInteger();
+    AtomicInteger shutdowns = new AtomicInteger();
+    GenericService deaf =
+        new GenericService() {
+          @Override
+          public void work() {
+            works.incrementAndGet();
+            inside.countDown();
+            long deadline = System.nanoTime() + holdNanos;
+            while (System.nanoTime() < deadline) {
+              try {
+                if (release.await(deadline - System.nanoTime(), TimeUnit.NANOSECONDS)) {
+                  return;
+                }
+              } catch (InterruptedException deafToIt) {
+                // like uninterruptible I/O: waits on until released (bounded by the patience)
+              }
+            }
+          }
+
+          @Override
+          public void shutdown() {
+            shutdowns.incrementAndGet();
+            shutDown.countDown();
+          }
+        };
+    PrimeCore core = newCore(CoreConfig.builder().shutdownTimeout(shutdownTimeout).build());
+    CapturedStderr err = new CapturedStderr();
+    long took;
+    List<String> lines;
+    try {
+      core.service("deaf-driver", deaf);
+      core.start();
+      assertTrue(await(inside), "the work step runs");
+      long began = System.nanoTime();
+      core.close();
+      took = System.nanoTime() - began;
+      lines = err.lines();
+    } finally {
+      release.countDown();
+      err.close();
+    }
+    assertTrue(
+        took < shutdownTimeout.multipliedBy(5).plusSeconds(4).toNanos(),
+        "close() waited " + TimeUnit.NANOSECONDS.toMillis(took) + " ms with a shutdown timeout of "
+            + shutdownTimeout);
+    String named = "core '" + core.name() + "'";
+    assertTrue(
+        lines.stream().anyMatch(l -> l.contains(named) && l.contains("still running")),
+        "close() said that a service of " + named + " is still running: " + lines);
+    assertTrue(await(shutDown), "shutdown ran once the stuck work returned");
+    awaitNoThreadsLeft(core);
+    assertEquals(1, works.get(), "no work after the stuck one");
+    assertEquals(1, shutdowns.get(), "shut down once");
+  }
+
+  /**
    * A generic service that closes its own core (it saw a stop command), next to another service,
    * with a shutdown timeout far above the kit's patience: a close that waited for its own thread
    * would take that long, and one cut short would complain about threads still running.
