@@ -90,6 +90,44 @@ class VirtualClockTest {
     assertTrue(failure.get() instanceof InterruptedException, String.valueOf(failure.get()));
   }
 
+  /**
+   * {@link PrimeClock#sleepNanos}: an interrupt ends the wait with {@link InterruptedException}
+   * and "the interrupt flag is cleared, as by {@link Thread#sleep(long)}"; the same for {@link
+   * PrimeClock#sleepUntil}, on the system clock and on a virtual clock.
+   */
+  @Test
+  void anInterruptedSleepClearsTheFlagOnEveryClock() throws Exception {
+    for (PrimeClock clock : List.of(PrimeClock.system(), new VirtualClock())) {
+      for (String how : List.of("sleepNanos", "sleepUntil")) {
+        CountDownLatch woke = new CountDownLatch(1);
+        AtomicReference<Throwable> failure = new AtomicReference<>();
+        AtomicReference<Boolean> flagAfter = new AtomicReference<>();
+        long tenSeconds = Duration.ofSeconds(10).toNanos();
+        Thread thread =
+            sleeper(
+                () -> {
+                  try {
+                    if (how.equals("sleepNanos")) {
+                      clock.sleepNanos(tenSeconds);
+                    } else {
+                      clock.sleepUntil(clock.nanoTime() + tenSeconds);
+                    }
+                  } finally {
+                    flagAfter.set(Thread.currentThread().isInterrupted());
+                  }
+                },
+                woke,
+                failure);
+        thread.interrupt();
+        assertTrue(woke.await(5, TimeUnit.SECONDS), clock + "." + how + " ended on the interrupt");
+        assertTrue(
+            failure.get() instanceof InterruptedException,
+            clock + "." + how + ": " + failure.get());
+        assertEquals(false, flagAfter.get(), clock + "." + how + " cleared the interrupt flag");
+      }
+    }
+  }
+
   @Test
   void zeroOrNegativeSleepsReturnAtOnceAndTimeNeverGoesBack() throws InterruptedException {
     VirtualClock clock = new VirtualClock();
