@@ -128,6 +128,22 @@ class VirtualClockTest {
     }
   }
 
+  /**
+   * {@link PrimeClock#sleepNanos}: "returns at once for zero or less", and {@link
+   * PrimeClock#sleepUntil} "returns at once if it has" reached the deadline, on the system clock
+   * (the bound, 1 s for the three calls, only tells a wait of a second from none).
+   */
+  @Test
+  void theSystemClockDoesNotSleepForZeroOrLessOrAPassedDeadline() throws InterruptedException {
+    PrimeClock clock = PrimeClock.system();
+    long began = System.nanoTime();
+    clock.sleepNanos(0);
+    clock.sleepNanos(-Duration.ofSeconds(5).toNanos());
+    clock.sleepUntil(clock.nanoTime() - Duration.ofSeconds(5).toNanos());
+    long took = System.nanoTime() - began;
+    assertTrue(took < Duration.ofSeconds(1).toNanos(), "took " + Duration.ofNanos(took));
+  }
+
   @Test
   void zeroOrNegativeSleepsReturnAtOnceAndTimeNeverGoesBack() throws InterruptedException {
     VirtualClock clock = new VirtualClock();
