@@ -368,6 +368,58 @@ public interface CombinatorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * CombinedInputs: "Failures of a step go to the error handler under the combinator's name, like
+   * any service's". A merge's publish that finds its output's service input full fails after the
+   * publish timeout: the handler gets the merge's name, the value and the {@link
+   * QueueFullException}; the refused value is published to nobody, and the merge goes on.
+   */
+  @Test
+  default void aCombinedValueThatCannotBePublishedGoesToTheErrorHandlerAndTheCombinatorGoesOn()
+      throws InterruptedException {
+    BlockingQueue<List<Object>> failures = new LinkedBlockingQueue<>();
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch laterValue = new CountDownLatch(1);
+    List<Integer> out = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(Duration.ofMillis(200))
+            .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
+            .build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, 2)) {
+      EventBlock<Integer> a = new EventBlock<>();
+      EventBlock<Integer> b = new EventBlock<>();
+      Source<Integer> merged = core.merge(core.source("a", a), core.source("b", b));
+      merged
+          .then(stuckChain(core, "stuck", inside, release))
+          .listen(
+              x -> {
+                out.add(x);
+                if (x == 4) {
+                  laterValue.countDown();
+                }
+              });
+      core.start();
+      try {
+        fillStuckInput(a, inside, 2); // 0 held by the chain, 1 and 2 fill its input
+        a.publish(3); // the merge takes it; its publish finds no room
+        List<Object> failure = failures.poll(patience().toMillis(), TimeUnit.MILLISECONDS);
+        assertTrue(failure != null, "no failure reached the error handler within " + patience());
+        assertEquals(merged.name(), failure.get(0), "the combinator's name");
+        assertEquals(3, failure.get(1), "the value it could not publish");
+        assertTrue(failure.get(2) instanceof QueueFullException, String.valueOf(failure.get(2)));
+      } finally {
+        release.countDown();
+      }
+      b.publish(4);
+      assertTrue(
+          laterValue.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "the merge goes on after a value it could not publish");
+      assertEquals(List.of(0, 1, 2, 4), out, "the refused value reached nobody");
+    }
+  }
+
   @Test
   default void conflatedReaderReturnsOnlyTheNewestValue() throws InterruptedException {
     try (PrimeCore core = newCore()) {
