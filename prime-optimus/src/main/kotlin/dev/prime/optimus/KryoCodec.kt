@@ -62,7 +62,10 @@ import dev.prime.optimus.kryo.UnregisteredTypeException
  *   reading becomes a [CodecException].
  * - **Threading.** Kryo instances are not thread-safe. Each call takes a Kryo with its buffers
  *   from a thread-safe pool and gives it back; a call that failed drops its Kryo instead, so no
- *   half-updated state is reused. Idle instances kept: at most 4 per processor (≥ 8).
+ *   half-updated state is reused. A thread mostly gets back the Kryo it used last, from a slot
+ *   of the pool no other thread touches, so threads sharing one codec do not slow each other
+ *   down. Idle instances kept: at most one per slot (4 slots per processor, 16 to 64) and 4 per
+ *   processor (≥ 8) more.
  * - **Memory.** Per pooled instance: Kryo's tables (a few KB) and an output buffer that grows to
  *   the largest value written, shrunk back after values over 64 KB. `encode` returns a copy of
  *   exactly the written bytes.
