@@ -29,6 +29,17 @@ internal class Envelope private constructor(
         if (payloadAt >= bytes.size || bytes[payloadAt] == ABSENT) null
         else bytes.copyOfRange(payloadAt + 1, bytes.size)
 
+    /**
+     * The value, decoded by [core]'s codec where it lies in the envelope's bytes (a [KryoCodec]
+     * reads it in place; another codec gets a copy of the [payload]), or `null` for a `null` value.
+     *
+     * @throws CodecException if the codec cannot decode it
+     */
+    fun value(core: OptimusCore): Any? = when {
+        payloadAt >= bytes.size || bytes[payloadAt] == ABSENT -> null
+        else -> core.decode(bytes, payloadAt + 1, bytes.size - payloadAt - 1)
+    }
+
     companion object {
         private const val MAGIC: Byte = 0x50 // 'P'
         private const val ABSENT: Byte = 0

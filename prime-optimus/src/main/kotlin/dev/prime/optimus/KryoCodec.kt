@@ -100,19 +100,22 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
      * @throws CodecException if the bytes are empty, truncated, malformed, have bytes left over,
      *   hold `null`, or name a class this codec does not allow
      */
-    override fun decode(bytes: ByteArray): Any {
-        if (bytes.isEmpty()) throw CodecException("KryoCodec cannot decode 0 bytes: there is no value")
+    override fun decode(bytes: ByteArray): Any = decode(bytes, 0, bytes.size)
+
+    /** [decode] of the [length] bytes of [bytes] from [offset], read where they lie (no copy). */
+    internal fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
+        if (length == 0) throw CodecException("KryoCodec cannot decode 0 bytes: there is no value")
         val session = sessions.obtain()
         val value = try {
-            session.decode(bytes)
+            session.decode(bytes, offset, length)
         } catch (e: RuntimeException) {
-            throw decodeFailure(bytes, e)
+            throw decodeFailure(length, e)
         } catch (e: StackOverflowError) {
-            throw decodeFailure(bytes, e)
+            throw decodeFailure(length, e)
         }
         sessions.free(session)
         return value ?: throw CodecException(
-            "KryoCodec cannot decode ${bytes.size} bytes: they hold null, which the core never encodes",
+            "KryoCodec cannot decode $length bytes: they hold null, which the core never encodes",
         )
     }
 
@@ -187,14 +190,14 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
         return "$learned. $howTo. Every process of the topology must allow the same types"
     }
 
-    private fun decodeFailure(bytes: ByteArray, e: Throwable): CodecException {
+    private fun decodeFailure(length: Int, e: Throwable): CodecException {
         val reason = when {
             e is StackOverflowError -> "the value nests too deeply"
             e.exceedsDepth() -> "the value nests deeper than ${registry.maxDepth} levels"
             else -> e.causes().filterIsInstance<RefusedBytesException>().firstOrNull()?.message
                 ?: e.message ?: e.toString()
         }
-        return CodecException("KryoCodec cannot decode ${bytes.size} bytes: $reason", e)
+        return CodecException("KryoCodec cannot decode $length bytes: $reason", e)
     }
 
     private fun Throwable.causes(): Sequence<Throwable> = generateSequence(this) { it.cause }

@@ -626,6 +626,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return bytes
     }
 
+    /**
+     * The value in [length] bytes of [bytes] from [offset]: read in place by a [KryoCodec], copied
+     * out for any other codec (whose `decode` takes a whole array).
+     *
+     * @throws CodecException if the codec cannot decode them
+     */
+    internal fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
+        val kryo = codec as? KryoCodec
+        return kryo?.decode(bytes, offset, length) ?: codec.decode(bytes.copyOfRange(offset, offset + length))
+    }
+
     /** The queue limit of [service] (`null`: not a service of this topology). */
     internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 

@@ -357,7 +357,7 @@ internal class OptimusReader<T>(
                 val envelope = Envelope.parse(raw)
                 if (envelope.id in recent) continue
                 recent.add(envelope.id)
-                val value = envelope.payload()?.let(core.codec::decode) ?: continue
+                val value = envelope.value(core) ?: continue
                 if (buffer.firstOrNull() == null && buffer.isNotEmpty()) {
                     buffer.removeFirst() // the last value of its entry: the entry is delivered with it
                     delivered++

@@ -21,6 +21,15 @@ internal class RecentIds(private val capacity: Int = 4096) {
     private var mask = table.size - 1
     private var hasZero = false
 
+    /** Forgets every id, keeping the room the set grew to (so a set cleared for every batch stops allocating). */
+    fun clear() {
+        if (size == 0 && !hasZero) return
+        table.fill(0L)
+        next = 0
+        size = 0
+        hasZero = false
+    }
+
     /** How many ids the set has room for now, before it grows: 64 at first, at most [capacity]. */
     val room: Int get() = ring.size
 

@@ -163,7 +163,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
     )
 
     private fun answer(envelope: Envelope, id: Long): Any? = when (envelope.kind) {
-        Envelope.Kind.REPLY_OK -> envelope.payload()?.let(core.codec::decode)
+        Envelope.Kind.REPLY_OK -> envelope.value(core)
         Envelope.Kind.REPLY_ERROR -> throw core.takeFailure(id)
             ?: ChainFailedException(envelope.failedChain!!, RemoteFailureException(envelope.failedChain, envelope.failure!!))
         else -> throw CodecException("unexpected ${envelope.kind} in a reply list")

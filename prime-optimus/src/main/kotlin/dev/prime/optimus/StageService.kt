@@ -90,6 +90,9 @@ internal class StageService(
      */
     private var waitBehindStep = false
     private val recent = RecentIds()
+
+    /** The ids of the step being handled, to skip a value delivered twice within it; cleared for every step. */
+    private val stepIds = RecentIds(Int.MAX_VALUE)
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
 
     /** The reply owed to a caller whose request's block threw a [VirtualMachineError] (see [loop]). */
@@ -128,9 +131,9 @@ internal class StageService(
                     // after an idle wait, the fenced peek comes first: this host may have been frozen in it
                     if (one == null) null else listOf(TakenEntry(one, one.size.toLong()))
                 } else {
-                    val batchIds = HashSet<Long>()
+                    stepIds.clear()
                     val handling = System.nanoTime()
-                    val parts = taken.map { handle(it, batchIds) }
+                    val parts = taken.map { handle(it, stepIds) }
                     val take = if (complete) seat.nextTake(parts.size, System.nanoTime() - handling) else 0
                     store(session, parts, take)?.takeIf { complete }
                 }
@@ -470,7 +473,7 @@ internal class StageService(
     }
 
     /** Handles one entry (a value, a request, or a frame of them); never throws but a [VirtualMachineError]. */
-    private fun handle(entry: TakenEntry, batchIds: MutableSet<Long>): Part {
+    private fun handle(entry: TakenEntry, batchIds: RecentIds): Part {
         val part = Part(entry, empty.part())
         val step = part.batch
         if (!entry.isWhole || entry.size > rules.maxEntryBytes) {
@@ -495,7 +498,7 @@ internal class StageService(
      * Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError].
      * Returns a request's one result, when that is all [step] got from it.
      */
-    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: MutableSet<Long>): RequestOutput? {
+    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: RecentIds): RequestOutput? {
         val raw = entry.bytes
         val envelope = try {
             Envelope.parse(raw)
@@ -504,7 +507,8 @@ internal class StageService(
             return null
         }
         // a duplicate of a value handled recently, or earlier in this batch
-        if (envelope.id in recent || !batchIds.add(envelope.id)) return null
+        if (envelope.id in recent || envelope.id in batchIds) return null
+        batchIds.add(envelope.id)
         step.ids += envelope.id
         val replyTo = envelope.replyTo
         if (replyTo != null && !startsWith(replyTo, rules.replyPrefix)) {
@@ -517,7 +521,7 @@ internal class StageService(
             return null
         }
         val value = try {
-            envelope.payload()?.let(core.codec::decode)
+            envelope.value(core)
         } catch (e: CodecException) {
             deadLetter(step, "cannot decode the value: ${e.message}", entry)
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))

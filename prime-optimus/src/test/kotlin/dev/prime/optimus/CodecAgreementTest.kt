@@ -64,4 +64,43 @@ class CodecAgreementTest {
             assertEquals(Pose(1.0, 2.0, 3.0), reader.take(java.time.Duration.ofSeconds(20)).orElseThrow(), "nothing else was published")
         }
     }
+
+    /** A codec that is not a [KryoCodec]: it records the size of every array it is asked to decode. */
+    private class Recording : OptimusCodec by KryoCodec.standard() {
+        val decoded: MutableList<Int> = java.util.Collections.synchronizedList(ArrayList())
+
+        override fun decode(bytes: ByteArray): Any {
+            decoded += bytes.size
+            return KryoCodec.standard().decode(bytes)
+        }
+    }
+
+    @Test
+    fun aCodecOfTheUsersOwnGetsExactlyTheValuesBytesOnEveryPath() {
+        val codec = Recording()
+        val sizes = setOf("ab", "abab").map { KryoCodec.standard().encode(it).size }.toSet()
+        OptimusCore.builder().config(CoreConfig.builder().name("own-codec").build()).redis(TestRedis.url).codec(codec).build().use { core ->
+            val events = dev.prime.EventBlock<String>()
+            val out = core.link(core.source("in", events), core.chain("double") { x: String -> x + x }).reader()
+            val echo = core.chain("echo") { x: String -> x }.toBlock()
+            core.start()
+            assertEquals("ab", echo.process("ab"), "a call: the service decodes the request, the caller the reply")
+            events.publish("ab")
+            assertEquals("abab", out.take(java.time.Duration.ofSeconds(20)).orElseThrow(), "a service and a reader decode the values")
+            assertEquals(sizes, codec.decoded.toSet(), "sizes of the arrays decoded: ${codec.decoded}")
+            assertTrue(codec.decoded.size >= 4, "decodes: ${codec.decoded}")
+        }
+    }
+
+    @Test
+    fun theKryoCodecDecodesAValueWhereItLiesAndOnlyThoseBytes() {
+        val codec = KryoCodec.standard()
+        val bytes = codec.encode("a value")
+        val embedded = ByteArray(5) { 7 } + bytes + ByteArray(7) { 9 }
+        assertEquals("a value", codec.decode(embedded, 5, bytes.size))
+        val short = assertThrows(CodecException::class.java) { codec.decode(embedded, 5, bytes.size - 1) }
+        assertTrue(short.message!!.startsWith("KryoCodec cannot decode ${bytes.size - 1} bytes"), short.message)
+        val long = assertThrows(CodecException::class.java) { codec.decode(embedded, 5, bytes.size + 1) }
+        assertTrue(long.message!!.contains("1 bytes are left over"), long.message)
+    }
 }

@@ -45,4 +45,19 @@ class RecentIdsTest {
         assertEquals((1L..10_000L).map { it > 10_000 - 4096 }, (1L..10_000L).map { it in recent }, "the last 4096 ids, across every doubling")
         assertEquals(3, RecentIds(3).room, "a capacity under 64 is the room from the start")
     }
+
+    @Test
+    fun aClearedSetForgetsEveryIdKeepsItsRoomAndGrowsAgainInOrder() {
+        val recent = RecentIds(Int.MAX_VALUE)
+        repeat(300) { recent.add(it.toLong()) } // the id 0 too
+        assertEquals(512, recent.room)
+        recent.clear()
+        for (id in 0L until 300L) assertEquals(false, id in recent, "id $id after clear")
+        assertEquals(512, recent.room, "a cleared set keeps the room it grew to")
+        // refilled past its room: it grows from the ids added since the clear, and only those
+        repeat(600) { recent.add(1000L + it) }
+        assertEquals(1024, recent.room)
+        for (id in 0L until 300L) assertEquals(false, id in recent, "old id $id after refilling")
+        for (id in 1000L until 1600L) assertEquals(true, id in recent, "new id $id")
+    }
 }

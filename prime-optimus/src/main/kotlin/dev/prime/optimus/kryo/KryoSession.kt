@@ -37,12 +37,13 @@ internal class KryoSession(private val kryo: Kryo) {
     fun registration(type: Class<*>): Registration = kryo.getRegistration(type)
 
     /**
-     * The value [bytes] hold, or null if they hold Kryo's null marker.
+     * The value the [length] bytes of [bytes] from [offset] hold, or null if they hold Kryo's null
+     * marker. The bytes are read where they lie.
      *
      * @throws RefusedBytesException if bytes are left over after the value
      */
-    fun decode(bytes: ByteArray): Any? {
-        input.setBuffer(bytes)
+    fun decode(bytes: ByteArray, offset: Int = 0, length: Int = bytes.size): Any? {
+        input.setBuffer(bytes, offset, length)
         try {
             val value: Any? = kryo.readClassAndObject(input)
             val left = input.limit() - input.position()
