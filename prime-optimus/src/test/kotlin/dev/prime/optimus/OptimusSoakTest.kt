@@ -114,7 +114,7 @@ class OptimusSoakTest {
          * Heap growth allowed over a run. Measured: 100 cycles on one Redis end 45 KiB above where
          * they began, 10 on Redises of their own 20 KiB below, the fan-out and the line 2 MiB below.
          * A closed core of a cycle kept reachable (with the recent ids of its services and reader,
-         * 1.5 KiB each after 20 values) is caught by [Footprint.assertCollected].
+         * 2.5 KiB each after 20 values) is caught by [Footprint.assertCollected].
          */
         const val HEAP_BOUND = 2L shl 20
     }

@@ -33,7 +33,7 @@ class RecentIdsTest {
     @Test
     fun startsSmallAndGrowsToItsCapacityAsIdsCome() {
         val recent = RecentIds(4096)
-        assertEquals(64, recent.room, "a new set: room for 64 ids (1.5 KiB with its table), not 4096 (96 KiB)")
+        assertEquals(64, recent.room, "a new set: room for 64 ids (2.5 KiB with its table), not 4096 (160 KiB)")
         repeat(64) { recent.add(it + 1L) }
         assertEquals(64, recent.room, "full, it has not grown yet")
         recent.add(65)
