@@ -26,13 +26,16 @@ import java.util.function.BooleanSupplier;
  * next ticket with one volatile write. Only then, if a caller waits or gave up, does it enter the
  * monitor {@link #turns} to skip the tickets of callers that gave up ({@link #abandoned}) and to
  * wake the waiters: so a call that found the block free costs an atomic increment and two
- * volatile writes, and no call into the VM. A waiter waits on the monitor, in slices of {@value
- * #CHECK_MILLIS} ms for the checks, and keeps its place while it checks (a lock taken with timed
- * attempts would not: a timed-out attempt rejoins the queue at its tail). Races: a finisher
- * writes {@code serving}, then reads {@link #waiting} and {@link #abandonedCount}; a waiter or a
- * caller giving up writes those, then reads {@code serving} (all volatile), so at least one of
- * the two sees the other: no wake-up and no turn is lost. {@code serving} is written only by the
- * caller whose turn it is, or, under the monitor, by whoever skips an abandoned ticket (whose
+ * volatile writes, and no call into the VM. A caller that must wait first spins for {@link
+ * #SPIN_NANOS}, looking at {@code serving}: a short block's turn passes to it without the monitor
+ * or a wake-up (a parked thread takes microseconds to wake). Then it waits on the monitor, in
+ * slices of {@value #CHECK_MILLIS} ms for the checks, and keeps its place while it checks (a lock
+ * taken with timed attempts would not: a timed-out attempt rejoins the queue at its tail). A
+ * spinning caller only reads {@code serving}, so it changes none of the races below. Races: a
+ * finisher writes {@code serving}, then reads {@link #waiting} and {@link #abandonedCount}; a
+ * waiter or a caller giving up writes those, then reads {@code serving} (all volatile), so at least
+ * one of the two sees the other: no wake-up and no turn is lost. {@code serving} is written only by
+ * the caller whose turn it is, or, under the monitor, by whoever skips an abandoned ticket (whose
  * turn nobody owns). The checks run outside the monitor, at most once per slice. Memory: three
  * counters and the set of abandoned tickets still queued.
  *
@@ -42,6 +45,12 @@ import java.util.function.BooleanSupplier;
 final class IsolateBlock<I, O> implements Block<I, O> {
   /** How often a waiting caller runs the owner's checks. */
   private static final long CHECK_MILLIS = 50;
+
+  /** How long a caller that must wait spins, looking at {@link #serving}, before the monitor. */
+  static final long SPIN_NANOS = TimeUnit.MICROSECONDS.toNanos(2);
+
+  /** Looks at {@link #serving} between two reads of the clock while spinning. */
+  private static final int SPINS_PER_CLOCK_READ = 16;
 
   private final Block<I, O> block;
   private final Runnable whileWaiting;
@@ -119,6 +128,9 @@ final class IsolateBlock<I, O> implements Block<I, O> {
 
   /** Waits until {@code ticket} is served; a caller that stops waiting gives its ticket up. */
   private void awaitTurn(long ticket) {
+    if (spinUntilServed(ticket)) {
+      return;
+    }
     long nextCheck = System.nanoTime() + checkNanos;
     try {
       while (true) {
@@ -150,6 +162,24 @@ final class IsolateBlock<I, O> implements Block<I, O> {
       giveUp(ticket);
       throw e;
     }
+  }
+
+  /**
+   * Looks at {@link #serving} for up to {@link #SPIN_NANOS}: a turn that comes that soon is taken
+   * without the monitor, and its finisher, seeing no waiter, does not enter it either. Reads only.
+   *
+   * @return whether {@code ticket} is served
+   */
+  private boolean spinUntilServed(long ticket) {
+    long deadline = System.nanoTime() + SPIN_NANOS;
+    int spins = 0;
+    while (serving != ticket) {
+      Thread.onSpinWait();
+      if (++spins % SPINS_PER_CLOCK_READ == 0 && System.nanoTime() - deadline > 0) {
+        return false;
+      }
+    }
+    return true;
   }
 
   /** Ends the turn of {@code ticket}, whose caller ran the block or stopped at its turn. */
