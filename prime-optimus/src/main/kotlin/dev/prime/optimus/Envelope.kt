@@ -51,6 +51,25 @@ internal class Envelope private constructor(
 
         fun value(id: Long, payload: ByteArray?): ByteArray = build(Kind.VALUE, id, payload) { }
 
+        /** The bytes a [valueAround] envelope leaves before its payload: the header and the "present" byte. */
+        const val VALUE_ROOM: Int = HEADER + 1
+
+        /**
+         * A value's envelope made in [encoded] itself, whose first [VALUE_ROOM] bytes were left for
+         * it and whose rest is the payload (a codec wrote it there): the same bytes as [value] of
+         * that payload, without copying it. The id is 0 until [withId] writes it.
+         */
+        fun valueAround(encoded: ByteArray): ByteArray {
+            ByteBuffer.wrap(encoded).put(MAGIC).put(Kind.VALUE.ordinal.toByte()).putLong(0L).put(PRESENT)
+            return encoded
+        }
+
+        /** Writes [id] into the value envelope [envelope] (made by [valueAround] or [value]); returns it. */
+        fun withId(envelope: ByteArray, id: Long): ByteArray {
+            ByteBuffer.wrap(envelope).putLong(2, id)
+            return envelope
+        }
+
         fun request(id: Long, replyTo: ByteArray, payload: ByteArray?): ByteArray =
             build(Kind.REQUEST, id, payload, 2 + replyTo.size) { putBytes16(it, replyTo) }
 

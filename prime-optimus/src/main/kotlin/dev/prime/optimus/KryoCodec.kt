@@ -81,10 +81,13 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
      *   does not allow (the message shows the line that allows it), nests deeper than the limit,
      *   or cannot be written for another reason
      */
-    override fun encode(value: Any): ByteArray {
+    override fun encode(value: Any): ByteArray = encode(value, 0)
+
+    /** [encode] after [room] zero bytes, for a header the caller writes there (no copy to add one). */
+    internal fun encode(value: Any, room: Int): ByteArray {
         val session = sessions.obtain()
         val bytes = try {
-            session.encode(value)
+            session.encode(value, room)
         } catch (e: RuntimeException) {
             throw encodeFailure(value, e)
         } catch (e: StackOverflowError) {

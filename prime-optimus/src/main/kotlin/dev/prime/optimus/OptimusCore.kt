@@ -275,7 +275,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val source = OptimusSource<T>(this, name)
         subscriptions += events.subscribe { value ->
             try {
-                publish(source.keys, listOf(Envelope.value(ids.next(), encode(value))))
+                publish(source.keys, listOf(Envelope.withId(valueEnvelope(value), ids.next())))
             } catch (_: CoreClosedException) {
                 // the core closed while this value was on its way: nobody can read it any more
             }
@@ -311,7 +311,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val keys = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }.keys
         val envelopes = values.map { value ->
             requireNotNull(value) { "sources carry no null values" }
-            Envelope.value(ids.next(), encode(value))
+            Envelope.withId(valueEnvelope(value), ids.next())
         }
         if (envelopes.isNotEmpty()) publish(keys, envelopes)
     }
@@ -616,14 +616,33 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     internal fun encode(value: Any?): ByteArray? {
         val bytes = value?.let(codec::encode) ?: return null
-        if (bytes.size > maxValueBytes) {
+        checkSize(value, bytes.size)
+        return bytes
+    }
+
+    /**
+     * The envelope of [value] as a value with id 0 ([Envelope.withId] writes its id), under the same
+     * size limit as [encode]. A [KryoCodec] encodes into the envelope itself; another codec's bytes
+     * are copied into one.
+     *
+     * @throws ValueTooLargeException above [Builder.maxValueBytes]
+     */
+    internal fun valueEnvelope(value: Any?): ByteArray {
+        val kryo = codec as? KryoCodec
+        if (value == null || kryo == null) return Envelope.value(0L, encode(value))
+        val encoded = kryo.encode(value, Envelope.VALUE_ROOM)
+        checkSize(value, encoded.size - Envelope.VALUE_ROOM)
+        return Envelope.valueAround(encoded)
+    }
+
+    private fun checkSize(value: Any, size: Int) {
+        if (size > maxValueBytes) {
             throw ValueTooLargeException(
-                "a ${value.javaClass.name} encodes to ${bytes.size} bytes, over this core's limit of $maxValueBytes " +
+                "a ${value.javaClass.name} encodes to $size bytes, over this core's limit of $maxValueBytes " +
                     "bytes: send a reference instead (a file or object-store key), split the value, or raise " +
                     "OptimusCore.Builder.maxValueBytes (every process of the topology should agree)",
             )
         }
-        return bytes
     }
 
     /**

@@ -574,11 +574,11 @@ internal class StageService(
         var attempts = 0
         while (true) {
             attempts++
-            val payloads = ArrayList<ByteArray?>(1)
+            val outputs = ArrayList<ByteArray>(1) // each a value's envelope, its id written below
             try {
                 // a null goes on to the next chain of a linked chain (as a null payload), as chains
                 // pass nulls between blocks on every media; the last chain publishes nothing for it
-                logic.process(value) { output -> if (output != null || next != null) payloads += core.encode(output) }
+                logic.process(value) { output -> if (output != null || next != null) outputs += core.valueEnvelope(output) }
             } catch (e: VirtualMachineError) {
                 throw e
             } catch (e: Throwable) {
@@ -588,9 +588,9 @@ internal class StageService(
                 step.dead(DeadLetter.encode("failed after $attempts attempt(s): $e", entry))
                 return
             }
-            payloads.forEachIndexed { index, payload ->
-                val id = if (payloads.size == 1) envelope.id else ValueIds.derive(envelope.id, index)
-                val forwarded = Envelope.value(id, payload)
+            outputs.forEachIndexed { index, made ->
+                val id = if (outputs.size == 1) envelope.id else ValueIds.derive(envelope.id, index)
+                val forwarded = Envelope.withId(made, id)
                 when {
                     next != null -> step.next(forwarded)
                     output != null -> step.publish(forwarded)

@@ -67,6 +67,22 @@ class ValueSizeLimitTest {
         }
     }
 
+    @Test
+    fun aValueOfExactlyTheLimitIsPublishedAndOneByteMoreIsRefused() {
+        OptimusCore.builder().redis(TestRedis.url).maxValueBytes(LIMIT).build().use { core ->
+            val events = EventBlock<ByteArray>()
+            val reader = core.source("edge", events).reader()
+            core.start()
+            val overhead = core.codec.encode(ByteArray(LIMIT)).size - LIMIT
+            val atLimit = ByteArray(LIMIT - overhead) { 3 }
+            assertEquals(LIMIT, core.codec.encode(atLimit).size, "the value encodes to exactly the limit")
+            events.publish(atLimit)
+            assertEquals(atLimit.size, reader.take(PATIENCE).orElseThrow().size)
+            val over = assertThrows(ValueTooLargeException::class.java) { events.publish(ByteArray(atLimit.size + 1)) }
+            assertTrue("${LIMIT + 1} bytes" in over.message!!, over.message)
+        }
+    }
+
     private companion object {
         const val LIMIT = 64 * 1024
         const val HUGE = 3 * 1024 * 1024

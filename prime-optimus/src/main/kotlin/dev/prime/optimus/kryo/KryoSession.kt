@@ -19,9 +19,10 @@ internal class KryoSession(private val kryo: Kryo) {
     private val output = Output(INITIAL_OUTPUT_BYTES, -1)
     private val input = BoundedInput()
 
-    /** Class id and value; a copy of exactly the written bytes. */
-    fun encode(value: Any): ByteArray {
+    /** Class id and value, after [room] zero bytes; a copy of exactly the bytes written. */
+    fun encode(value: Any, room: Int = 0): ByteArray {
         output.reset()
+        repeat(room) { output.writeByte(0) }
         kryo.writeClassAndObject(output, value)
         val bytes = output.toBytes()
         if (output.buffer.size > RETAINED_OUTPUT_BYTES) output.setBuffer(ByteArray(INITIAL_OUTPUT_BYTES), -1)
