@@ -326,6 +326,17 @@ public interface CombinatorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A config whose publishes give up after 200 ms and whose error handler adds each failure to
+   * {@code failures} as (service name, input, error).
+   */
+  private static CoreConfig shortPublishCollectingFailures(BlockingQueue<List<Object>> failures) {
+    return CoreConfig.builder()
+        .publishTimeout(Duration.ofMillis(200))
+        .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
+        .build();
+  }
+
   @Test
   default void aTickThatCannotBePublishedGoesToTheErrorHandlerAndTheTimerGoesOn()
       throws InterruptedException {
@@ -333,11 +344,7 @@ public interface CombinatorConformance extends ConformanceBase {
     CountDownLatch release = new CountDownLatch(1);
     AtomicLong failedTick = new AtomicLong(Long.MAX_VALUE);
     CountDownLatch laterTick = new CountDownLatch(1);
-    CoreConfig config =
-        CoreConfig.builder()
-            .publishTimeout(Duration.ofMillis(200))
-            .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
-            .build();
+    CoreConfig config = shortPublishCollectingFailures(failures);
     try (PrimeCore core = newCoreWithServiceInputCapacity(config, 2)) {
       core.timer("beat", Duration.ofMillis(10))
           .listen(
@@ -382,11 +389,7 @@ public interface CombinatorConformance extends ConformanceBase {
     CountDownLatch release = new CountDownLatch(1);
     CountDownLatch laterValue = new CountDownLatch(1);
     List<Integer> out = new java.util.concurrent.CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder()
-            .publishTimeout(Duration.ofMillis(200))
-            .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
-            .build();
+    CoreConfig config = shortPublishCollectingFailures(failures);
     try (PrimeCore core = newCoreWithServiceInputCapacity(config, 2)) {
       EventBlock<Integer> a = new EventBlock<>();
       EventBlock<Integer> b = new EventBlock<>();

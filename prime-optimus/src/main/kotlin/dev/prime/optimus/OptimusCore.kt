@@ -175,6 +175,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val replicaAcks: ReplicaAcks? = settings.replicaAcks
     internal val keys: Keys = Keys(name())
     internal val codec: OptimusCodec = settings.codec ?: KryoCodec.standard()
+
+    /** [codec] if it is a [KryoCodec], which encodes into an envelope and decodes in place; else `null`. */
+    private val kryoCodec: KryoCodec? = codec as? KryoCodec
     internal val declaredTypes: DeclaredTypes = DeclaredTypes()
     internal val connections: RedisConnections
     internal val ids: ValueIds = ValueIds()
@@ -628,7 +631,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * @throws ValueTooLargeException above [Builder.maxValueBytes]
      */
     internal fun valueEnvelope(value: Any?): ByteArray {
-        val kryo = codec as? KryoCodec
+        val kryo = kryoCodec
         if (value == null || kryo == null) return Envelope.value(0L, encode(value))
         val encoded = kryo.encode(value, Envelope.VALUE_ROOM)
         checkSize(value, encoded.size - Envelope.VALUE_ROOM)
@@ -652,8 +655,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * @throws CodecException if the codec cannot decode them
      */
     internal fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
-        val kryo = codec as? KryoCodec
-        return kryo?.decode(bytes, offset, length) ?: codec.decode(bytes.copyOfRange(offset, offset + length))
+        return kryoCodec?.decode(bytes, offset, length) ?: codec.decode(bytes.copyOfRange(offset, offset + length))
     }
 
     /** The queue limit of [service] (`null`: not a service of this topology). */
