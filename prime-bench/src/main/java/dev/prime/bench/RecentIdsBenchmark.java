@@ -11,6 +11,7 @@ import org.openjdk.jmh.annotations.Level;
 import org.openjdk.jmh.annotations.Measurement;
 import org.openjdk.jmh.annotations.Mode;
 import org.openjdk.jmh.annotations.OutputTimeUnit;
+import org.openjdk.jmh.annotations.Param;
 import org.openjdk.jmh.annotations.Scope;
 import org.openjdk.jmh.annotations.Setup;
 import org.openjdk.jmh.annotations.State;
@@ -18,8 +19,10 @@ import org.openjdk.jmh.annotations.Warmup;
 
 /**
  * What an Optimus service or reader pays per value to skip duplicates: a lookup of the value's id
- * among the last 4096 it handled, then adding it (the oldest id falls out). Ids come as a
- * producer's counter makes them, one after the other from a random start.
+ * among the last 4096 it handled, then adding it (the oldest id falls out). {@code consecutive}:
+ * ids come as a producer's counter makes them, one after the other from a random start (a
+ * source's values, and a service's one output per input, which keeps its input's id). {@code
+ * scattered}: every id mixed, unrelated to the one before (a service's several outputs per input).
  *
  * <p>{@code baseline}: the same with a {@code HashSet<Long>} and a queue of the ids in order,
  * what a set of boxed ids costs. {@code recentIds}: the primitive set the services and readers
@@ -36,10 +39,30 @@ public class RecentIdsBenchmark {
   /** A full set of each kind and the next id. */
   @State(Scope.Thread)
   public static class Sets {
+    /** How the ids follow each other. */
+    @Param({"consecutive", "scattered"})
+    public String ids;
+
     RecentIds recent;
     HashSet<Long> boxed;
     ArrayDeque<Long> order;
     long next;
+    private boolean scattered;
+
+    /**
+     * The next id.
+     *
+     * @return a counter's next value, mixed if the ids are scattered
+     */
+    long nextId() {
+      long id = next++;
+      if (!scattered) {
+        return id;
+      }
+      id = (id ^ (id >>> 33)) * 0xff51afd7ed558ccdL;
+      id = (id ^ (id >>> 33)) * 0xc4ceb9fe1a85ec53L;
+      return id ^ (id >>> 33);
+    }
 
     /** Fills both sets with 4096 ids. */
     @Setup(Level.Trial)
@@ -48,8 +71,9 @@ public class RecentIdsBenchmark {
       boxed = new HashSet<>();
       order = new ArrayDeque<>();
       next = new java.util.Random(42).nextLong();
+      scattered = ids.equals("scattered");
       for (int i = 0; i < CAPACITY; i++) {
-        long id = next++;
+        long id = nextId();
         recent.add(id);
         boxed.add(id);
         order.add(id);
@@ -65,7 +89,7 @@ public class RecentIdsBenchmark {
    */
   @Benchmark
   public boolean baseline(Sets sets) {
-    long id = sets.next++;
+    long id = sets.nextId();
     boolean seen = sets.boxed.contains(id);
     if (!seen && sets.boxed.add(id)) {
       sets.order.add(id);
@@ -82,7 +106,7 @@ public class RecentIdsBenchmark {
    */
   @Benchmark
   public boolean recentIds(Sets sets) {
-    long id = sets.next++;
+    long id = sets.nextId();
     boolean seen = sets.recent.contains(id);
     if (!seen) {
       sets.recent.add(id);

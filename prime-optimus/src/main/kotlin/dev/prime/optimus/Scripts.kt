@@ -1,7 +1,9 @@
 package dev.prime.optimus
 
+import redis.clients.jedis.CommandArguments
 import redis.clients.jedis.Jedis
 import redis.clients.jedis.Pipeline
+import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisNoScriptException
 import java.nio.charset.StandardCharsets.UTF_8
 import java.security.MessageDigest
@@ -71,9 +73,9 @@ internal class Script(text: String) {
 
     /** Runs the script (EVALSHA, or EVAL when the server does not know it yet, which also loads it). */
     fun run(jedis: Jedis, keys: List<ByteArray>, args: List<ByteArray>): Any? = try {
-        jedis.evalsha(sha, keys, args)
+        jedis.connection.executeCommand(command(Protocol.Command.EVALSHA, sha, keys, args))
     } catch (_: JedisNoScriptException) {
-        jedis.eval(source, keys, args)
+        jedis.connection.executeCommand(command(Protocol.Command.EVAL, source, keys, args))
     }
 
     /**
@@ -101,12 +103,19 @@ internal class Script(text: String) {
      * the script again with [run], which loads it).
      */
     fun send(connection: redis.clients.jedis.Connection, keys: List<ByteArray>, args: List<ByteArray>) {
-        val command = ArrayList<ByteArray>(2 + keys.size + args.size)
-        command += sha
-        command += keys.size.toString().toByteArray(UTF_8)
-        command += keys
-        command += args
-        connection.sendCommand(redis.clients.jedis.Protocol.Command.EVALSHA, *command.toTypedArray())
+        connection.sendCommand(command(Protocol.Command.EVALSHA, sha, keys, args))
+    }
+
+    /**
+     * `EVALSHA`/`EVAL` of [keys] and [args] with no argument copied ([SentAsIs]): Jedis's own
+     * `evalsha` copies every argument, and a step's arguments are mostly its frames. Its answer
+     * is what Jedis's `evalsha` returns (the raw reply). The lists must not change while it is sent.
+     */
+    private fun command(name: Protocol.Command, script: ByteArray, keys: List<ByteArray>, args: List<ByteArray>): CommandArguments {
+        val command = CommandArguments(name).add(SentAsIs(script)).add(SentAsIs(keys.size.toString().toByteArray(UTF_8)))
+        for (key in keys) command.add(SentAsIs(key))
+        for (arg in args) command.add(SentAsIs(arg))
+        return command
     }
 
     companion object {

@@ -4,7 +4,7 @@ import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Test
 import kotlin.random.Random
 
-/** [RecentIds] (a primitive open-addressing set) answers as a plain set of the last ids does. */
+/** [RecentIds] (a primitive open-addressing set of blocks of 64 ids) answers as a plain set of the last ids does. */
 class RecentIdsTest {
 
     @Test
@@ -31,9 +31,54 @@ class RecentIdsTest {
     }
 
     @Test
+    fun remembersExactlyTheLastIdsOfRunsAcrossBlockEdges() {
+        val random = Random(7)
+        // runs of consecutive ids (as producers number them) that cross blocks of 64, negative ids, the ends of
+        // the long range, and ids one block apart with the same low bits, mixed with scattered ones
+        val starts = longArrayOf(-130, -1, 0, 62, 1000, Long.MIN_VALUE, Long.MAX_VALUE - 70, random.nextLong(), random.nextLong())
+        for (capacity in listOf(1, 5, 64, 100, 4096)) {
+            val recent = RecentIds(capacity)
+            val model = ArrayDeque<Long>()
+            val members = HashSet<Long>()
+            val seen = HashSet<Long>()
+            repeat(30_000) { step ->
+                val id = when (random.nextInt(4)) {
+                    0 -> random.nextLong()
+                    1 -> starts[random.nextInt(starts.size)] + 64L * random.nextInt(3)
+                    else -> starts[random.nextInt(starts.size)] + random.nextInt(140)
+                }
+                seen += id
+                assertEquals(id in members, id in recent, "capacity $capacity, step $step, id $id before adding")
+                if (members.add(id)) {
+                    model.addLast(id)
+                    if (model.size > capacity) members.remove(model.removeFirst())
+                }
+                recent.add(id)
+                if (step % 4999 == 0) for (other in seen) assertEquals(other in members, other in recent, "capacity $capacity, step $step, id $other")
+            }
+        }
+    }
+
+    @Test
+    fun aRunOfIdsTakesAFewSlotsAndGivesThemBackAsItMovesOn() {
+        val recent = RecentIds(4096)
+        val start = Random(3).nextLong()
+        for (k in 0L until 4096L) recent.add(start + k)
+        assertEquals(512, recent.slots, "4096 consecutive ids: 65 blocks of 64, a quarter of 512 slots at most (8 KiB)")
+        for (k in 4096L until 200_000L) recent.add(start + k)
+        assertEquals(512, recent.slots, "blocks the window left are freed: the table does not grow")
+        for (k in 200_000L - 4200L until 200_000L) {
+            assertEquals(k >= 200_000L - 4096L, start + k in recent, "id ${start + k}: only the last 4096 are held")
+        }
+        val scattered = RecentIds(4096)
+        repeat(4096) { scattered.add(Random(it).nextLong()) }
+        assertEquals(16384, scattered.slots, "4096 scattered ids: a block each, a quarter of 16384 slots (256 KiB)")
+    }
+
+    @Test
     fun startsSmallAndGrowsToItsCapacityAsIdsCome() {
         val recent = RecentIds(4096)
-        assertEquals(64, recent.room, "a new set: room for 64 ids (2.5 KiB with its table), not 4096 (160 KiB)")
+        assertEquals(64, recent.room, "a new set: room for 64 ids (under 1 KiB with its table), not 4096")
         repeat(64) { recent.add(it + 1L) }
         assertEquals(64, recent.room, "full, it has not grown yet")
         recent.add(65)
