@@ -19,6 +19,7 @@ internal class Envelope private constructor(
     val replyTo: ByteArray?,
     private val bytes: ByteArray,
     private val payloadAt: Int,
+    private val end: Int,
     val failedChain: String?,
     val failure: String?,
 ) {
@@ -26,8 +27,8 @@ internal class Envelope private constructor(
 
     /** The codec bytes of the value, or `null` for a `null` value. */
     fun payload(): ByteArray? =
-        if (payloadAt >= bytes.size || bytes[payloadAt] == ABSENT) null
-        else bytes.copyOfRange(payloadAt + 1, bytes.size)
+        if (payloadAt >= end || bytes[payloadAt] == ABSENT) null
+        else bytes.copyOfRange(payloadAt + 1, end)
 
     /**
      * The value, decoded by [core]'s codec where it lies in the envelope's bytes (a [KryoCodec]
@@ -36,8 +37,8 @@ internal class Envelope private constructor(
      * @throws CodecException if the codec cannot decode it
      */
     fun value(core: OptimusCore): Any? = when {
-        payloadAt >= bytes.size || bytes[payloadAt] == ABSENT -> null
-        else -> core.decode(bytes, payloadAt + 1, bytes.size - payloadAt - 1)
+        payloadAt >= end || bytes[payloadAt] == ABSENT -> null
+        else -> core.decode(bytes, payloadAt + 1, end - payloadAt - 1)
     }
 
     companion object {
@@ -93,11 +94,17 @@ internal class Envelope private constructor(
         }
 
         /** Reads an envelope; bytes that are not one give a [CodecException]. */
-        fun parse(bytes: ByteArray): Envelope {
+        fun parse(bytes: ByteArray): Envelope = parse(bytes, 0, bytes.size)
+
+        /**
+         * Reads the envelope in the [length] bytes of [bytes] from [offset] (one of a frame's), where
+         * it lies: the envelope keeps [bytes] and reads its payload there.
+         */
+        fun parse(bytes: ByteArray, offset: Int, length: Int): Envelope {
             try {
-                val buffer = ByteBuffer.wrap(bytes)
-                if (bytes.size < HEADER || buffer.get() != MAGIC) {
-                    throw CodecException("not a Prime envelope (${bytes.size} bytes, wrong header)")
+                val buffer = ByteBuffer.wrap(bytes, offset, length)
+                if (length < HEADER || buffer.get() != MAGIC) {
+                    throw CodecException("not a Prime envelope ($length bytes, wrong header)")
                 }
                 val kindIndex = buffer.get().toInt()
                 val kind = Kind.entries.getOrNull(kindIndex)
@@ -116,9 +123,9 @@ internal class Envelope private constructor(
                     }
                     else -> {}
                 }
-                return Envelope(kind, id, replyTo, bytes, buffer.position(), chain, message)
+                return Envelope(kind, id, replyTo, bytes, buffer.position(), offset + length, chain, message)
             } catch (e: BufferUnderflowException) {
-                throw CodecException("truncated envelope (${bytes.size} bytes)", e)
+                throw CodecException("truncated envelope ($length bytes)", e)
             }
         }
 

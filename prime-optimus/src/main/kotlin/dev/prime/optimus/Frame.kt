@@ -76,6 +76,19 @@ internal object Frame {
      */
     fun envelopes(entry: ByteArray): List<ByteArray> {
         if (!isFrame(entry)) return listOf(entry)
+        val bounds = envelopeBounds(entry)
+        return List(bounds.size / 2) { k -> entry.copyOfRange(bounds[2 * k], bounds[2 * k] + bounds[2 * k + 1]) }
+    }
+
+    /**
+     * Where the envelopes of [entry] lie, nothing copied: the offset and the length of each, in
+     * pairs (`[0, entry.size]` for a plain envelope). The whole frame is checked before anything is
+     * returned, so a frame with a bad tail gives no envelope at all.
+     *
+     * @throws CodecException if it is a frame of another version, or its lengths do not add up
+     */
+    fun envelopeBounds(entry: ByteArray): IntArray {
+        if (!isFrame(entry)) return intArrayOf(0, entry.size)
         if (entry.size < HEADER) throw CodecException("truncated frame (${entry.size} bytes)")
         val buffer = ByteBuffer.wrap(entry)
         buffer.get()
@@ -90,15 +103,17 @@ internal object Frame {
         val count = buffer.int
         // every element takes at least its length prefix: a count that cannot fit is refused before allocating
         if (count < 0 || count.toLong() * PER_VALUE > buffer.remaining()) throw CodecException("bad frame count $count")
-        val values = ArrayList<ByteArray>(count)
-        repeat(count) {
-            if (buffer.remaining() < PER_VALUE) throw CodecException("truncated frame: ${values.size} of $count values")
+        val bounds = IntArray(2 * count)
+        for (k in 0 until count) {
+            if (buffer.remaining() < PER_VALUE) throw CodecException("truncated frame: $k of $count values")
             val length = buffer.int
             if (length < 0 || length > buffer.remaining()) throw CodecException("bad frame element length $length")
-            values += ByteArray(length).also { buffer.get(it) }
+            bounds[2 * k] = buffer.position()
+            bounds[2 * k + 1] = length
+            buffer.position(buffer.position() + length)
         }
         if (buffer.hasRemaining()) throw CodecException("${buffer.remaining()} bytes after the last value of a frame")
-        return values
+        return bounds
     }
 
     /** The number of values in [entry] (1 for a plain envelope); a bad frame counts as 1. */

@@ -480,30 +480,42 @@ internal class StageService(
             deadLetter(step, "an entry of ${entry.size} bytes, over the limit of ${rules.maxEntryBytes}", entry, prefix = true)
             return part
         }
-        val envelopes = try {
-            Frame.envelopes(entry.bytes)
+        val bounds = try {
+            Frame.envelopeBounds(entry.bytes)
         } catch (e: CodecException) {
             deadLetter(step, "undecodable frame: ${e.message}", entry)
             return part
         }
         // a frame is acknowledged as a whole: every value of it is handled in this part
-        for (raw in envelopes) {
-            val output = handleEnvelope(TakenEntry(raw, raw.size.toLong()), step, batchIds)
-            if (envelopes.size == 1) part.output = output
+        for (k in 0 until bounds.size / 2) {
+            val output = handleEnvelope(EnvelopeAt(entry, bounds[2 * k], bounds[2 * k + 1]), step, batchIds)
+            if (bounds.size == 2) part.output = output
         }
         return part
+    }
+
+    /**
+     * One envelope of a taken entry (a frame's, or the entry itself), read where it lies: its own
+     * bytes are copied out only for a dead letter ([alone]).
+     */
+    private class EnvelopeAt(private val entry: TakenEntry, val offset: Int, val length: Int) {
+        val bytes: ByteArray get() = entry.bytes
+
+        /** The envelope as an entry of its own: [entry] itself if it is all of it, else a copy. */
+        fun alone(): TakenEntry =
+            if (offset == 0 && length == entry.bytes.size) entry
+            else TakenEntry(entry.bytes.copyOfRange(offset, offset + length), length.toLong())
     }
 
     /**
      * Handles one envelope of an entry into [step]; never throws but a [VirtualMachineError].
      * Returns a request's one result, when that is all [step] got from it.
      */
-    private fun handleEnvelope(entry: TakenEntry, step: StepBatch, batchIds: RecentIds): RequestOutput? {
-        val raw = entry.bytes
+    private fun handleEnvelope(at: EnvelopeAt, step: StepBatch, batchIds: RecentIds): RequestOutput? {
         val envelope = try {
-            Envelope.parse(raw)
+            Envelope.parse(at.bytes, at.offset, at.length)
         } catch (e: CodecException) {
-            deadLetter(step, "undecodable envelope: ${e.message}", entry)
+            deadLetter(step, "undecodable envelope: ${e.message}", at.alone())
             return null
         }
         // a duplicate of a value handled recently, or earlier in this batch
@@ -516,21 +528,21 @@ internal class StageService(
                 step,
                 "refused request: its reply key ${printable(replyTo)} is outside this topology's reply namespace " +
                     "${rules.replyPrefix.toString(UTF_8)}*",
-                entry,
+                at.alone(),
             )
             return null
         }
         val value = try {
             envelope.value(core)
         } catch (e: CodecException) {
-            deadLetter(step, "cannot decode the value: ${e.message}", entry)
+            deadLetter(step, "cannot decode the value: ${e.message}", at.alone())
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
             return null
         }
         when (envelope.kind) {
             Envelope.Kind.REQUEST -> return handleRequest(envelope, value, step)
-            Envelope.Kind.VALUE -> handleValue(envelope, value, entry, step)
-            else -> deadLetter(step, "a ${envelope.kind} does not belong in a service's input", entry)
+            Envelope.Kind.VALUE -> handleValue(envelope, value, at, step)
+            else -> deadLetter(step, "a ${envelope.kind} does not belong in a service's input", at.alone())
         }
         return null
     }
@@ -570,7 +582,7 @@ internal class StageService(
         }
     }
 
-    private fun handleValue(envelope: Envelope, value: Any?, entry: TakenEntry, step: StepBatch) {
+    private fun handleValue(envelope: Envelope, value: Any?, at: EnvelopeAt, step: StepBatch) {
         var attempts = 0
         while (true) {
             attempts++
@@ -585,7 +597,7 @@ internal class StageService(
                 if (core.connections.isClosed) return
                 if (attempts <= core.retries) continue
                 core.reportFailure(name, value ?: "null", e)
-                step.dead(DeadLetter.encode("failed after $attempts attempt(s): $e", entry))
+                step.dead(DeadLetter.encode("failed after $attempts attempt(s): $e", at.alone()))
                 return
             }
             outputs.forEachIndexed { index, made ->

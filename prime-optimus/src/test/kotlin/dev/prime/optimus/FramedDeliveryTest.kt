@@ -59,6 +59,29 @@ class FramedDeliveryTest {
     }
 
     @Test
+    fun anUndecodableEnvelopeInAFrameIsDeadLetteredAloneAndTheFrameAroundItIsHandled() {
+        OptimusCore.builder().config(config()).redis(TestRedis.url).build().use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val output = core.link(numbers, core.chain("mark") { x: Int -> x + 1 }).reader()
+            core.start()
+            val garbage = byteArrayOf(0x50, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10) // 'P', an envelope kind that does not exist
+            val values = listOf(
+                Envelope.withId(core.valueEnvelope(10), 101L),
+                garbage,
+                Envelope.withId(core.valueEnvelope(20), 102L),
+                Envelope.withId(core.valueEnvelope(30), 103L),
+            )
+            val frame = Frame.pack(values, Frame.DEFAULT_BYTES, always = true).single()
+            Jedis(URI(TestRedis.url)).use { raw -> raw.rpush(core.keys.serviceInput("mark"), frame) }
+            assertEquals(listOf(11, 21, 31), List(3) { output.take(PATIENCE).orElseThrow() }, "the frame's other values, in order")
+            val dead = core.deadLetters("mark").single()
+            assertTrue(dead.reason.startsWith("undecodable envelope"), dead.reason)
+            assertEquals(garbage.toList(), dead.bytes().toList(), "the dead letter holds that envelope, not the frame")
+            assertEquals(Optional.empty<Int>(), output.poll())
+        }
+    }
+
+    @Test
     fun valuesOfMixedSizesAreSplitOverFramesAndAllArriveInOrder() {
         val sizes = listOf(1, 100, 10_000, 70_000, 300, 0, 40_000)
         val values = (0 until 300).map { i -> ByteArray(sizes[i % sizes.size]) { (i + it).toByte() } }
