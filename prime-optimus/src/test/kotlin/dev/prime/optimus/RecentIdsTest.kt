@@ -11,21 +11,11 @@ class RecentIdsTest {
     fun remembersExactlyTheLastIdsAcrossEvictionsAndCollisions() {
         val random = Random(42)
         for (capacity in listOf(1, 3, 16, 64, 65, 100, 1000, 4096)) {
-            val recent = RecentIds(capacity)
-            val model = ArrayDeque<Long>()
-            val members = HashSet<Long>()
             // few distinct ids (many repeats and probe collisions), the id 0 included, and ids far apart
             val pool = LongArray(capacity * 3 + 2) { if (it == 0) 0L else random.nextLong() } +
                 LongArray(capacity + 1) { it.toLong() shl 40 }
-            repeat(if (capacity > 64) 40_000 else 20_000) { step ->
-                val id = pool[random.nextInt(pool.size)]
-                assertEquals(id in members, id in recent, "capacity $capacity, step $step, id $id before adding")
-                if (members.add(id)) {
-                    model.addLast(id)
-                    if (model.size > capacity) members.remove(model.removeFirst())
-                }
-                recent.add(id)
-                if (step % 997 == 0) for (other in pool) assertEquals(other in members, other in recent, "capacity $capacity, step $step, id $other")
+            followsTheModel(capacity, if (capacity > 64) 40_000 else 20_000, 997, { pool.asIterable() }) {
+                pool[random.nextInt(pool.size)]
             }
         }
     }
@@ -37,24 +27,36 @@ class RecentIdsTest {
         // the long range, and ids one block apart with the same low bits, mixed with scattered ones
         val starts = longArrayOf(-130, -1, 0, 62, 1000, Long.MIN_VALUE, Long.MAX_VALUE - 70, random.nextLong(), random.nextLong())
         for (capacity in listOf(1, 5, 64, 100, 4096)) {
-            val recent = RecentIds(capacity)
-            val model = ArrayDeque<Long>()
-            val members = HashSet<Long>()
             val seen = HashSet<Long>()
-            repeat(30_000) { step ->
-                val id = when (random.nextInt(4)) {
+            followsTheModel(capacity, 30_000, 4999, { seen }) {
+                when (random.nextInt(4)) {
                     0 -> random.nextLong()
                     1 -> starts[random.nextInt(starts.size)] + 64L * random.nextInt(3)
                     else -> starts[random.nextInt(starts.size)] + random.nextInt(140)
-                }
-                seen += id
-                assertEquals(id in members, id in recent, "capacity $capacity, step $step, id $id before adding")
-                if (members.add(id)) {
-                    model.addLast(id)
-                    if (model.size > capacity) members.remove(model.removeFirst())
-                }
-                recent.add(id)
-                if (step % 4999 == 0) for (other in seen) assertEquals(other in members, other in recent, "capacity $capacity, step $step, id $other")
+                }.also { seen += it }
+            }
+        }
+    }
+
+    /**
+     * Adds [steps] ids from [next] to a set of [capacity] and to a model of it (the ids in order and
+     * a hash set of the last [capacity]), checking each id before it is added, and every id of
+     * [known] once every [checkEvery] steps.
+     */
+    private fun followsTheModel(capacity: Int, steps: Int, checkEvery: Int, known: () -> Iterable<Long>, next: () -> Long) {
+        val recent = RecentIds(capacity)
+        val model = ArrayDeque<Long>()
+        val members = HashSet<Long>()
+        repeat(steps) { step ->
+            val id = next()
+            assertEquals(id in members, id in recent, "capacity $capacity, step $step, id $id before adding")
+            if (members.add(id)) {
+                model.addLast(id)
+                if (model.size > capacity) members.remove(model.removeFirst())
+            }
+            recent.add(id)
+            if (step % checkEvery == 0) {
+                for (other in known()) assertEquals(other in members, other in recent, "capacity $capacity, step $step, id $other")
             }
         }
     }
