@@ -107,8 +107,9 @@ internal class RecentIds(private val capacity: Int = 4096) {
     private fun remove(id: Long) {
         val block = id shr BLOCK_BITS
         var slot = slotOf(block)
-        while (table[2 * slot] != block || table[2 * slot + 1] == 0L) {
-            if (table[2 * slot + 1] == 0L) return
+        while (true) {
+            if (table[2 * slot + 1] == 0L) return // not held
+            if (table[2 * slot] == block) break
             slot = (slot + 1) and mask
         }
         val ids = table[2 * slot + 1] and bitOf(id).inv()

@@ -112,7 +112,7 @@ internal class Script(text: String) {
      * is what Jedis's `evalsha` returns (the raw reply). The lists must not change while it is sent.
      */
     private fun command(name: Protocol.Command, script: ByteArray, keys: List<ByteArray>, args: List<ByteArray>): CommandArguments {
-        val command = CommandArguments(name).add(SentAsIs(script)).add(SentAsIs(keys.size.toString().toByteArray(UTF_8)))
+        val command = commandOf(name, script, keys.size.toString().toByteArray(UTF_8))
         for (key in keys) command.add(SentAsIs(key))
         for (arg in args) command.add(SentAsIs(arg))
         return command
