@@ -34,11 +34,13 @@ internal class Envelope private constructor(
      * The value, decoded by [core]'s codec where it lies in the envelope's bytes (a [KryoCodec]
      * reads it in place; another codec gets a copy of the [payload]), or `null` for a `null` value.
      *
+     * [held]: the caller's session of the codec, if it keeps one across values.
+     *
      * @throws CodecException if the codec cannot decode it
      */
-    fun value(core: OptimusCore): Any? = when {
+    fun value(core: OptimusCore, held: HeldCodecSession? = null): Any? = when {
         payloadAt >= end || bytes[payloadAt] == ABSENT -> null
-        else -> core.decode(bytes, payloadAt + 1, end - payloadAt - 1)
+        else -> core.decode(bytes, payloadAt + 1, end - payloadAt - 1, held)
     }
 
     companion object {

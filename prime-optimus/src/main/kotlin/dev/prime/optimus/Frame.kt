@@ -70,7 +70,8 @@ internal object Frame {
     }
 
     /**
-     * The envelopes of [entry]: its elements if it is a frame, else the entry itself.
+     * Copies of the envelopes of [entry]: its elements if it is a frame, else the entry itself (the
+     * services and readers read them in place, by [envelopeBounds]; this is for tools and tests).
      *
      * @throws CodecException if it is a frame of another version, or its lengths do not add up
      */

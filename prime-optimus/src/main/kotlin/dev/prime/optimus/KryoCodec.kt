@@ -3,6 +3,7 @@ package dev.prime.optimus
 import com.esotericsoftware.kryo.KryoException
 import dev.prime.optimus.kryo.AllowList
 import dev.prime.optimus.kryo.KryoRegistry
+import dev.prime.optimus.kryo.KryoSession
 import dev.prime.optimus.kryo.KryoSessionPool
 import dev.prime.optimus.kryo.RefusedBytesException
 import dev.prime.optimus.kryo.SealedHierarchy
@@ -65,7 +66,8 @@ import dev.prime.optimus.kryo.UnregisteredTypeException
  *   half-updated state is reused. A thread mostly gets back the Kryo it used last, from a slot
  *   of the pool no other thread touches, so threads sharing one codec do not slow each other
  *   down. Idle instances kept: at most one per slot (4 slots per processor, 16 to 64) and 4 per
- *   processor (≥ 8) more.
+ *   processor (≥ 8) more. An Optimus core's services and readers each keep one Kryo from the
+ *   pool for their whole life, and `publishAll` one for its batch, so they take none per value.
  * - **Memory.** Per pooled instance: Kryo's tables (a few KB) and an output buffer that grows to
  *   the largest value written, shrunk back after values over 64 KB. `encode` returns a copy of
  *   exactly the written bytes.
@@ -86,15 +88,18 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
     /** [encode] after [room] zero bytes, for a header the caller writes there (no copy to add one). */
     internal fun encode(value: Any, room: Int): ByteArray {
         val session = sessions.obtain()
-        val bytes = try {
-            session.encode(value, room)
-        } catch (e: RuntimeException) {
-            throw encodeFailure(value, e)
-        } catch (e: StackOverflowError) {
-            throw encodeFailure(value, e)
-        }
+        val bytes = encodeWith(session, value, room)
         sessions.free(session)
         return bytes
+    }
+
+    /** [encode] with [session], which a failure leaves in an unknown state: drop it then. */
+    internal fun encodeWith(session: KryoSession, value: Any, room: Int): ByteArray = try {
+        session.encode(value, room)
+    } catch (e: RuntimeException) {
+        throw encodeFailure(value, e)
+    } catch (e: StackOverflowError) {
+        throw encodeFailure(value, e)
     }
 
     /**
@@ -107,8 +112,16 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
 
     /** [decode] of the [length] bytes of [bytes] from [offset], read where they lie (no copy). */
     internal fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
-        if (length == 0) throw CodecException("KryoCodec cannot decode 0 bytes: there is no value")
+        if (length == 0) throw emptyBytes()
         val session = sessions.obtain()
+        val value = decodeWith(session, bytes, offset, length)
+        sessions.free(session)
+        return value
+    }
+
+    /** [decode] with [session], which a failure leaves in an unknown state: drop it then. */
+    internal fun decodeWith(session: KryoSession, bytes: ByteArray, offset: Int, length: Int): Any {
+        if (length == 0) throw emptyBytes()
         val value = try {
             session.decode(bytes, offset, length)
         } catch (e: RuntimeException) {
@@ -116,11 +129,21 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
         } catch (e: StackOverflowError) {
             throw decodeFailure(length, e)
         }
-        sessions.free(session)
         return value ?: throw CodecException(
             "KryoCodec cannot decode $length bytes: they hold null, which the core never encodes",
         )
     }
+
+    private fun emptyBytes() = CodecException("KryoCodec cannot decode 0 bytes: there is no value")
+
+    /** A session of this codec's pool, for one user at a time until it gives it back with [free] ([HeldCodecSession]). */
+    internal fun obtain(): KryoSession = sessions.obtain()
+
+    /** Gives back a session [obtain] gave. */
+    internal fun free(session: KryoSession) = sessions.free(session)
+
+    /** Sessions idle in the pool now (for tests). */
+    internal fun idleSessions(): Int = sessions.idle()
 
     /**
      * `"kryo-"` and 16 hex digits: a hash of [registeredTypes] and of the wire-format version.

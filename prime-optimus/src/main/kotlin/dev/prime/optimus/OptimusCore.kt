@@ -312,9 +312,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
         val keys = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }.keys
-        val envelopes = values.map { value ->
-            requireNotNull(value) { "sources carry no null values" }
-            Envelope.withId(valueEnvelope(value), ids.next())
+        val envelopes = holdCodec().use { held ->
+            values.map { value ->
+                requireNotNull(value) { "sources carry no null values" }
+                Envelope.withId(valueEnvelope(value, held), ids.next())
+            }
         }
         if (envelopes.isNotEmpty()) publish(keys, envelopes)
     }
@@ -613,27 +615,35 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * The codec's bytes of [value]: the one place every publish, call and service output is
-     * encoded, so the size limit holds on every path.
+     * encoded, so the size limit holds on every path. [held]: the caller's session of the codec, if
+     * it keeps one across values ([holdCodec]).
      *
      * @throws ValueTooLargeException above [Builder.maxValueBytes]
      */
-    internal fun encode(value: Any?): ByteArray? {
-        val bytes = value?.let(codec::encode) ?: return null
+    internal fun encode(value: Any?, held: HeldCodecSession? = null): ByteArray? {
+        if (value == null) return null
+        val bytes = held?.encode(value, 0) ?: codec.encode(value)
         checkSize(value, bytes.size)
         return bytes
     }
 
     /**
+     * A session of the core's codec for one user to keep across many values ([HeldCodecSession]),
+     * or `null` if the codec is not a [KryoCodec] (its calls then go to the codec, value by value).
+     */
+    internal fun holdCodec(): HeldCodecSession? = kryoCodec?.let(::HeldCodecSession)
+
+    /**
      * The envelope of [value] as a value with id 0 ([Envelope.withId] writes its id), under the same
-     * size limit as [encode]. A [KryoCodec] encodes into the envelope itself; another codec's bytes
-     * are copied into one.
+     * size limit as [encode]. A [KryoCodec] encodes into the envelope itself (with [held], if the
+     * caller keeps a session); another codec's bytes are copied into one.
      *
      * @throws ValueTooLargeException above [Builder.maxValueBytes]
      */
-    internal fun valueEnvelope(value: Any?): ByteArray {
+    internal fun valueEnvelope(value: Any?, held: HeldCodecSession? = null): ByteArray {
         val kryo = kryoCodec
         if (value == null || kryo == null) return Envelope.value(0L, encode(value))
-        val encoded = kryo.encode(value, Envelope.VALUE_ROOM)
+        val encoded = held?.encode(value, Envelope.VALUE_ROOM) ?: kryo.encode(value, Envelope.VALUE_ROOM)
         checkSize(value, encoded.size - Envelope.VALUE_ROOM)
         return Envelope.valueAround(encoded)
     }
@@ -650,12 +660,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * The value in [length] bytes of [bytes] from [offset]: read in place by a [KryoCodec], copied
-     * out for any other codec (whose `decode` takes a whole array).
+     * out for any other codec (whose `decode` takes a whole array). [held]: as for [encode].
      *
      * @throws CodecException if the codec cannot decode them
      */
-    internal fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
-        return kryoCodec?.decode(bytes, offset, length) ?: codec.decode(bytes.copyOfRange(offset, offset + length))
+    internal fun decode(bytes: ByteArray, offset: Int, length: Int, held: HeldCodecSession? = null): Any {
+        return held?.decode(bytes, offset, length)
+            ?: kryoCodec?.decode(bytes, offset, length)
+            ?: codec.decode(bytes.copyOfRange(offset, offset + length))
     }
 
     /** The queue limit of [service] (`null`: not a service of this topology). */

@@ -59,12 +59,13 @@ internal class OptimusReader<T>(
     private val processing = core.keys.processingOf(list)
     private val missedKey = core.keys.missedOf(list)
     private val session = RedisSession(core.connections)
-    // envelopes in the processing list, not handed out yet; null marks the end of an entry (a frame or a single value)
-    private val buffer = ArrayDeque<ByteArray?>()
+    // entries of the processing list (a frame or a single value) with envelopes not handed out yet
+    private val buffer = ArrayDeque<BufferedEntry>()
     private var delivered = 0 // entries at the head of the processing list, wholly handed out, not yet acknowledged
     private var recovering = false
     private var framed = false // whether the last entries taken were frames of many values (see takeEntries)
     private val recent = RecentIds()
+    private val held = core.holdCodec() // the turn's, as the buffer is: values decode with it, no pool operation each
     private val backoff = Backoff()
     private val closed = AtomicBoolean()
     private val closing = CountDownLatch(1) // ends a take's pause (a backoff, a deadline's last moment) at close()
@@ -120,6 +121,14 @@ internal class OptimusReader<T>(
         if (!closed.compareAndSet(false, true)) return
         closing.countDown() // wakes a take pausing between round trips
         session.abort() // wakes a read blocked on it
+        // the codec's session goes back to its pool unless a call still has the turn (then it is left to the collector)
+        if (turn.tryLock()) {
+            try {
+                held?.close()
+            } finally {
+                turn.unlock()
+            }
+        }
         core.forgetReader(list)
         if (core.connections.isClosed) return // the core's close removed its readers
         try {
@@ -331,14 +340,24 @@ internal class OptimusReader<T>(
         }
     }
 
-    /** Buffers the envelopes of [entry] (a frame's, or the entry itself), then the end-of-entry mark. */
+    /**
+     * A taken entry (a frame, or a single envelope) and where its envelopes lie in it ([Frame.envelopeBounds]):
+     * they are read in place, never copied out; [next] is the first not handed out yet.
+     */
+    private class BufferedEntry(val bytes: ByteArray, val bounds: IntArray) {
+        var next = 0
+        val isHandedOut: Boolean get() = 2 * next == bounds.size
+    }
+
+    /** Buffers [entry]; an entry it cannot read counts as handed out at once (skipped, with a warning). */
     private fun buffer(entry: ByteArray) {
-        try {
-            buffer.addAll(Frame.envelopes(entry))
+        val bounds = try {
+            Frame.envelopeBounds(entry)
         } catch (e: CodecException) {
             LOG.warn("a reader of core '{}' skipped an entry it cannot decode: {}", core.name(), e.message)
+            IntArray(0)
         }
-        buffer.add(null)
+        buffer.addLast(BufferedEntry(entry, bounds))
     }
 
     /**
@@ -347,18 +366,20 @@ internal class OptimusReader<T>(
      * a frame is acknowledged as a whole.
      */
     private fun deliver(): Any? {
-        while (buffer.isNotEmpty()) {
-            val raw = buffer.removeFirst()
-            if (raw == null) {
+        while (true) {
+            val entry = buffer.firstOrNull() ?: return null
+            if (entry.isHandedOut) {
+                buffer.removeFirst()
                 delivered++
                 continue
             }
+            val at = 2 * entry.next++
             try {
-                val envelope = Envelope.parse(raw)
+                val envelope = Envelope.parse(entry.bytes, entry.bounds[at], entry.bounds[at + 1])
                 if (envelope.id in recent) continue
                 recent.add(envelope.id)
-                val value = envelope.value(core) ?: continue
-                if (buffer.firstOrNull() == null && buffer.isNotEmpty()) {
+                val value = envelope.value(core, held) ?: continue
+                if (entry.isHandedOut) {
                     buffer.removeFirst() // the last value of its entry: the entry is delivered with it
                     delivered++
                 }
@@ -367,7 +388,6 @@ internal class OptimusReader<T>(
                 LOG.warn("a reader of core '{}' skipped a value it cannot decode: {}", core.name(), e.message)
             }
         }
-        return null
     }
 
     /** After a lost connection: the processing list is the truth; skip what was handed out. */
@@ -383,7 +403,8 @@ internal class OptimusReader<T>(
     }
 
     private fun allHandedOut(entry: ByteArray): Boolean = try {
-        Frame.envelopes(entry).all { Envelope.parse(it).id in recent }
+        val bounds = Frame.envelopeBounds(entry)
+        (0 until bounds.size / 2).all { k -> Envelope.parse(entry, bounds[2 * k], bounds[2 * k + 1]).id in recent }
     } catch (_: CodecException) {
         false
     }

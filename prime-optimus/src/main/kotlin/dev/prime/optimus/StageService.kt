@@ -104,10 +104,14 @@ internal class StageService(
     /** Where a refused transaction's request is stored at once (see [storeWatched]); connects when first used. */
     private val refusedSteps = RedisSession(core.connections)
 
+    /** The codec's session this service decodes its inputs and encodes its outputs with, for its whole run. */
+    private val held = core.holdCodec()
+
     suspend fun run() {
         try {
             RedisSession(core.connections).use { session -> loop(session) }
         } finally {
+            held?.close()
             refusedSteps.close()
             deadLetterLog.flush() // the dead letters counted since the last line
         }
@@ -533,7 +537,7 @@ internal class StageService(
             return null
         }
         val value = try {
-            envelope.value(core)
+            envelope.value(core, held)
         } catch (e: CodecException) {
             deadLetter(step, "cannot decode the value: ${e.message}", at.alone())
             if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
@@ -560,7 +564,7 @@ internal class StageService(
             } finally {
                 running.active = false
             }
-            val payload = core.encode(result)
+            val payload = core.encode(result, held)
             return if (next != null) {
                 Envelope.request(envelope.id, replyTo, payload).let { step.next(it); RequestOutput(next, it, isReply = false) }
             } else {
@@ -590,7 +594,7 @@ internal class StageService(
             try {
                 // a null goes on to the next chain of a linked chain (as a null payload), as chains
                 // pass nulls between blocks on every media; the last chain publishes nothing for it
-                logic.process(value) { output -> if (output != null || next != null) outputs += core.valueEnvelope(output) }
+                logic.process(value) { output -> if (output != null || next != null) outputs += core.valueEnvelope(output, held) }
             } catch (e: VirtualMachineError) {
                 throw e
             } catch (e: Throwable) {

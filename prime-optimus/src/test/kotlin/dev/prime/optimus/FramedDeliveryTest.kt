@@ -82,6 +82,33 @@ class FramedDeliveryTest {
     }
 
     @Test
+    fun aReaderHandsOutAFramesValuesSkippingBadAndRepeatedOnesAndAcknowledgesItOnce() {
+        OptimusCore.builder().config(config()).redis(TestRedis.url).build().use { core ->
+            val reader = core.source("numbers", EventBlock<Int>()).reader() as OptimusReader<Int>
+            core.start()
+            val garbage = byteArrayOf(0x50, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10) // 'P', an envelope kind that does not exist
+            val values = listOf(
+                Envelope.withId(core.valueEnvelope(1), 201L),
+                garbage,
+                Envelope.withId(core.valueEnvelope(2), 202L),
+                Envelope.value(203L, null), // a null value: a reader hands out none
+                Envelope.withId(core.valueEnvelope(1), 201L), // a repeated id
+                Envelope.withId(core.valueEnvelope(3), 204L),
+                Envelope.withId(core.valueEnvelope(2), 202L), // the frame ends with a repeated id
+            )
+            val frame = Frame.pack(values, Frame.DEFAULT_BYTES, always = true).single()
+            Jedis(URI(TestRedis.url)).use { raw ->
+                raw.rpush(reader.list, frame)
+                raw.rpush(reader.list, Envelope.withId(core.valueEnvelope(4), 205L)) // a single value after it
+                assertEquals(listOf(1, 2, 3, 4), List(4) { reader.take(PATIENCE).orElseThrow() }, "the good values, once each, in order")
+                assertEquals(Optional.empty<Int>(), reader.poll())
+                // the poll's step acknowledged both entries: the frame once, though its last envelope was skipped
+                assertEquals(0L, raw.llen(core.keys.processingOf(reader.list)), "entries left in the reader's processing list")
+            }
+        }
+    }
+
+    @Test
     fun valuesOfMixedSizesAreSplitOverFramesAndAllArriveInOrder() {
         val sizes = listOf(1, 100, 10_000, 70_000, 300, 0, 40_000)
         val values = (0 until 300).map { i -> ByteArray(sizes[i % sizes.size]) { (i + it).toByte() } }
