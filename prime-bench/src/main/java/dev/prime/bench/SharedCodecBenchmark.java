@@ -1,5 +1,6 @@
 package dev.prime.bench;
 
+import dev.prime.optimus.HeldCodecSession;
 import dev.prime.optimus.KryoCodec;
 import dev.prime.optimus.OptimusCodec;
 import java.util.concurrent.TimeUnit;
@@ -13,6 +14,7 @@ import org.openjdk.jmh.annotations.OutputTimeUnit;
 import org.openjdk.jmh.annotations.Scope;
 import org.openjdk.jmh.annotations.Setup;
 import org.openjdk.jmh.annotations.State;
+import org.openjdk.jmh.annotations.TearDown;
 import org.openjdk.jmh.annotations.Threads;
 import org.openjdk.jmh.annotations.Warmup;
 
@@ -23,7 +25,8 @@ import org.openjdk.jmh.annotations.Warmup;
  *
  * <p>{@code baseline}: each thread has a codec of its own, so nothing is shared between the
  * threads. {@code shared}: both threads use one codec, each taking a session from its pool and
- * giving it back on every encode and every decode.
+ * giving it back on every encode and every decode. {@code held}: both threads use one codec, each
+ * keeping one session of it for all its values, as an Optimus service and reader do.
  */
 @BenchmarkMode(Mode.AverageTime)
 @OutputTimeUnit(TimeUnit.NANOSECONDS)
@@ -60,6 +63,29 @@ public class SharedCodecBenchmark {
   @State(Scope.Benchmark)
   public static class OneCodec extends Codec {}
 
+  /** A session of the shared codec, kept by one thread for all its values. */
+  @State(Scope.Thread)
+  public static class Held {
+    /** The thread's session. */
+    public HeldCodecSession session;
+
+    /**
+     * Takes the thread's session of the shared codec.
+     *
+     * @param codec the codec both threads use
+     */
+    @Setup(Level.Trial)
+    public void hold(OneCodec codec) {
+      session = new HeldCodecSession((KryoCodec) codec.codec);
+    }
+
+    /** Gives the session back. */
+    @TearDown(Level.Trial)
+    public void giveBack() {
+      session.close();
+    }
+  }
+
   /**
    * Encode and decode with the thread's own codec.
    *
@@ -80,5 +106,18 @@ public class SharedCodecBenchmark {
   @Benchmark
   public Object shared(OneCodec codec) {
     return codec.codec.decode(codec.codec.encode(codec.value));
+  }
+
+  /**
+   * Encode and decode with a session of the shared codec that the thread keeps.
+   *
+   * @param codec the codec both threads use (for the value)
+   * @param held the thread's session
+   * @return the value read back
+   */
+  @Benchmark
+  public Object held(OneCodec codec, Held held) {
+    byte[] bytes = held.session.encode(codec.value, 0);
+    return held.session.decode(bytes, 0, bytes.length);
   }
 }

@@ -11,37 +11,43 @@ import dev.prime.optimus.kryo.KryoSession
  *
  * Design note. Not thread-safe: the user calls it from one thread at a time, with a
  * happens-before edge between two threads that take turns (a coroutine's dispatch, a reader's
- * turn lock). The session is taken from the pool at first use and held from then on; while a
- * value is encoded or decoded the holder does not hold it, so a failure, which leaves a Kryo in
- * an unknown state, drops it (the next value takes a fresh one), and a nested use (a block that
- * calls a chain from inside a service's batch) goes to the pool as any other call does. [close]
- * gives it back to the pool; a holder that is never closed leaves its session to the garbage
- * collector.
+ * turn lock). The session is taken from the pool at first use and held from then on. A value's
+ * encode or decode only reads the holder's field: a core makes its services' holders one after
+ * another, so holders used on different cores may share a cache line, and a write per value would
+ * move that line between the cores (in `SharedCodecBenchmark`, two threads whose holders wrote
+ * their field twice per value took 150–180 ns a round trip, against 74 ns for one thread). A
+ * failure, which leaves a Kryo in an unknown state, drops the session (the next value takes a
+ * fresh one). Not reentrant, and it need not be: nothing that runs inside an encode or a decode
+ * can reach its holder (a block that calls a chain runs between values, and its call goes to the
+ * pool). [close] gives the session back to the pool; a holder that is never closed leaves it to
+ * the garbage collector.
  */
 internal class HeldCodecSession(private val codec: KryoCodec) : AutoCloseable {
     private var session: KryoSession? = null
 
     /** [KryoCodec.encode] after [room] zero bytes. */
     fun encode(value: Any, room: Int): ByteArray {
-        val using = take()
-        val bytes = codec.encodeWith(using, value, room)
-        session = using
-        return bytes
+        val using = session()
+        try {
+            return codec.encodeWith(using, value, room)
+        } catch (e: Throwable) {
+            session = null
+            throw e
+        }
     }
 
     /** [KryoCodec.decode] of the [length] bytes of [bytes] from [offset], read in place. */
     fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
-        val using = take()
-        val value = codec.decodeWith(using, bytes, offset, length)
-        session = using
-        return value
+        val using = session()
+        try {
+            return codec.decodeWith(using, bytes, offset, length)
+        } catch (e: Throwable) {
+            session = null
+            throw e
+        }
     }
 
-    private fun take(): KryoSession {
-        val held = session ?: return codec.obtain()
-        session = null
-        return held
-    }
+    private fun session(): KryoSession = session ?: codec.obtain().also { session = it }
 
     /** Gives the session back to the codec's pool; a later use takes one again. */
     override fun close() {
