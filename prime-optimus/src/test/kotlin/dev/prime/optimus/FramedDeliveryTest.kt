@@ -21,6 +21,10 @@ import java.util.concurrent.TimeUnit
  */
 class FramedDeliveryTest {
 
+    private fun OptimusCore.valueWithId(value: Int, id: Long) = Envelope.withId(valueEnvelope(value), id)
+
+    private fun frameOf(envelopes: List<ByteArray>) = Frame.pack(envelopes, Frame.DEFAULT_BYTES, always = true).single()
+
     private fun config(retention: Int = 1000) =
         CoreConfig.builder().name("frames-" + UUID.randomUUID()).sourceRetention(retention).build()
 
@@ -64,19 +68,18 @@ class FramedDeliveryTest {
             val numbers = core.source("numbers", EventBlock<Int>())
             val output = core.link(numbers, core.chain("mark") { x: Int -> x + 1 }).reader()
             core.start()
-            val garbage = byteArrayOf(0x50, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10) // 'P', an envelope kind that does not exist
             val values = listOf(
-                Envelope.withId(core.valueEnvelope(10), 101L),
-                garbage,
-                Envelope.withId(core.valueEnvelope(20), 102L),
-                Envelope.withId(core.valueEnvelope(30), 103L),
+                core.valueWithId(10, 101L),
+                GARBAGE,
+                core.valueWithId(20, 102L),
+                core.valueWithId(30, 103L),
             )
-            val frame = Frame.pack(values, Frame.DEFAULT_BYTES, always = true).single()
+            val frame = frameOf(values)
             Jedis(URI(TestRedis.url)).use { raw -> raw.rpush(core.keys.serviceInput("mark"), frame) }
             assertEquals(listOf(11, 21, 31), List(3) { output.take(PATIENCE).orElseThrow() }, "the frame's other values, in order")
             val dead = core.deadLetters("mark").single()
             assertTrue(dead.reason.startsWith("undecodable envelope"), dead.reason)
-            assertEquals(garbage.toList(), dead.bytes().toList(), "the dead letter holds that envelope, not the frame")
+            assertEquals(GARBAGE.toList(), dead.bytes().toList(), "the dead letter holds that envelope, not the frame")
             assertEquals(Optional.empty<Int>(), output.poll())
         }
     }
@@ -86,20 +89,19 @@ class FramedDeliveryTest {
         OptimusCore.builder().config(config()).redis(TestRedis.url).build().use { core ->
             val reader = core.source("numbers", EventBlock<Int>()).reader() as OptimusReader<Int>
             core.start()
-            val garbage = byteArrayOf(0x50, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10) // 'P', an envelope kind that does not exist
             val values = listOf(
-                Envelope.withId(core.valueEnvelope(1), 201L),
-                garbage,
-                Envelope.withId(core.valueEnvelope(2), 202L),
+                core.valueWithId(1, 201L),
+                GARBAGE,
+                core.valueWithId(2, 202L),
                 Envelope.value(203L, null), // a null value: a reader hands out none
-                Envelope.withId(core.valueEnvelope(1), 201L), // a repeated id
-                Envelope.withId(core.valueEnvelope(3), 204L),
-                Envelope.withId(core.valueEnvelope(2), 202L), // the frame ends with a repeated id
+                core.valueWithId(1, 201L), // a repeated id
+                core.valueWithId(3, 204L),
+                core.valueWithId(2, 202L), // the frame ends with a repeated id
             )
-            val frame = Frame.pack(values, Frame.DEFAULT_BYTES, always = true).single()
+            val frame = frameOf(values)
             Jedis(URI(TestRedis.url)).use { raw ->
                 raw.rpush(reader.list, frame)
-                raw.rpush(reader.list, Envelope.withId(core.valueEnvelope(4), 205L)) // a single value after it
+                raw.rpush(reader.list, core.valueWithId(4, 205L)) // a single value after it
                 assertEquals(listOf(1, 2, 3, 4), List(4) { reader.take(PATIENCE).orElseThrow() }, "the good values, once each, in order")
                 assertEquals(Optional.empty<Int>(), reader.poll())
                 // the poll's step acknowledged both entries: the frame once, though its last envelope was skipped
@@ -247,6 +249,9 @@ class FramedDeliveryTest {
 
     private companion object {
         const val LONE = 7777
+
+        /** 'P', then an envelope kind that does not exist. */
+        val GARBAGE = byteArrayOf(0x50, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10)
         const val FRAME_BYTES = 64 * 1024
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
