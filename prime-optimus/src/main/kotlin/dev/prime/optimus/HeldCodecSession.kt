@@ -26,28 +26,21 @@ internal class HeldCodecSession(private val codec: KryoCodec) : AutoCloseable {
     private var session: KryoSession? = null
 
     /** [KryoCodec.encode] after [room] zero bytes. */
-    fun encode(value: Any, room: Int): ByteArray {
-        val using = session()
-        try {
-            return codec.encodeWith(using, value, room)
-        } catch (e: Throwable) {
-            session = null
-            throw e
-        }
-    }
+    fun encode(value: Any, room: Int): ByteArray = withSession { codec.encodeWith(it, value, room) }
 
     /** [KryoCodec.decode] of the [length] bytes of [bytes] from [offset], read in place. */
-    fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
-        val using = session()
+    fun decode(bytes: ByteArray, offset: Int, length: Int): Any = withSession { codec.decodeWith(it, bytes, offset, length) }
+
+    /** Runs [action] with the held session (taken at first use); a failure drops the session. */
+    private inline fun <R> withSession(action: (KryoSession) -> R): R {
+        val using = session ?: codec.obtain().also { session = it }
         try {
-            return codec.decodeWith(using, bytes, offset, length)
+            return action(using)
         } catch (e: Throwable) {
             session = null
             throw e
         }
     }
-
-    private fun session(): KryoSession = session ?: codec.obtain().also { session = it }
 
     /** Gives the session back to the codec's pool; a later use takes one again. */
     override fun close() {

@@ -112,7 +112,7 @@ public class KryoCodec private constructor(private val registry: KryoRegistry) :
 
     /** [decode] of the [length] bytes of [bytes] from [offset], read where they lie (no copy). */
     internal fun decode(bytes: ByteArray, offset: Int, length: Int): Any {
-        if (length == 0) throw emptyBytes()
+        if (length == 0) throw emptyBytes() // before a session is taken: a refusal here costs the pool none
         val session = sessions.obtain()
         val value = decodeWith(session, bytes, offset, length)
         sessions.free(session)
