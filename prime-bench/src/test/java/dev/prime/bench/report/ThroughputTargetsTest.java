@@ -10,6 +10,7 @@ import java.net.URISyntaxException;
 import java.nio.file.Files;
 import java.nio.file.Path;
 import java.util.List;
+import java.util.Map;
 import org.junit.jupiter.api.BeforeAll;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
@@ -87,6 +88,27 @@ class ThroughputTargetsTest {
         verdict("optimusCall ≤ 1.1× the raw Jedis echo loop, 1hop, 100 B").outcome());
     assertEquals(Outcome.NOT_MEASURED,
         verdict("optimusCall ≤ 1.1× the raw Jedis echo loop, 4hops, 100 B").outcome());
+  }
+
+  @Test
+  void callsRunInRoundsAreJudgedOnTheMeanOfAllRoundsNotTheFirst() {
+    Map<String, String> oneHop = Map.of("payload", "100", "scenario", "1hop");
+    // the first round alone would be 1.00×; all three: 130 against 100
+    List<Score> rounds = List.of(
+        call("optimusCall", oneHop, 100_000), call("rawCall", oneHop, 100_000),
+        call("rawCall", oneHop, 90_000), call("optimusCall", oneHop, 150_000),
+        call("optimusCall", oneHop, 140_000), call("rawCall", oneHop, 110_000));
+    TargetVerdict pooled = ThroughputTargets.judge(rounds).stream()
+        .filter(v -> v.target().equals("optimusCall ≤ 1.1× the raw Jedis echo loop, 1hop, 100 B"))
+        .findFirst().orElseThrow();
+    assertEquals(Outcome.NOT_MET, pooled.outcome());
+    assertEquals("130,000.0 ns (3 rounds: 100,000, 150,000, 140,000) against 100,000.0 ns"
+        + " (3 rounds: 100,000, 90,000, 110,000): 1.30×", pooled.measured());
+  }
+
+  private static Score call(String method, Map<String, String> params, double nanos) {
+    return new Score("dev.prime.bench.OptimusBenchmark." + method, params, nanos, nanos / 10,
+        false, List.of(nanos), Double.NaN);
   }
 
   @Test
