@@ -23,8 +23,9 @@ import org.openjdk.jmh.runner.options.TimeValue;
  * The command that runs the throughput targets' benchmarks and judges each target: the in-memory
  * hand-off against the Disruptor, Kotlin Channels and Reactor (5 forks of Prime and of the
  * Disruptor, so the spread across forks shows, and 5 of a bare core-to-core round trip, {@link
- * dev.prime.bench.CoreRoundTripBenchmark}, to show the machine's own), the synchronous sources row, Optimus flows and calls against raw Jedis,
- * and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
+ * dev.prime.bench.CoreRoundTripBenchmark}, to show the machine's own), the synchronous sources
+ * row, Optimus flows and calls against raw Jedis (the calls in alternated rounds, {@link
+ * #CALL_ROUNDS}), and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
  * result with its environment) and {@code targets.md} (one line per target: target, figures,
  * verdict), followed by figures reported for information and not judged: the earlier Prime row
  * {@code AsyncHandOffBenchmark.primeSourceAndReader} (two thread hand-offs, the outputs read back
@@ -321,9 +322,9 @@ public final class ThroughputTargets {
 
   /**
    * Every result of {@code method} at {@code at}, as one score: a benchmark run in rounds ({@link
-   * #CALL_ROUNDS}) has one result per round. Its value is the mean of the rounds' fork means (each
-   * round runs as long as the others), its fork means are the rounds' in run order, and its error
-   * is {@code NaN}: the rounds' means are shown instead. A single result is returned as it is, so
+   * #CALL_ROUNDS}) has one result per round. Its value is the mean of the rounds' means (each
+   * round runs as long as the others), its fork means are the rounds' means in run order, and its
+   * error is {@code NaN}: the rounds' means are shown instead. A single result is returned as it is, so
    * a run made before the rounds is judged as it was.
    *
    * @return the pooled score, or empty if the run has no result of {@code method} at {@code at}
@@ -333,7 +334,7 @@ public final class ThroughputTargets {
     if (rounds.size() <= 1) {
       return rounds.stream().findFirst();
     }
-    List<Double> means = rounds.stream().flatMap(s -> s.forkMeans().stream()).toList();
+    List<Double> means = rounds.stream().map(Score::value).toList();
     double mean = means.stream().mapToDouble(Double::doubleValue).average().orElseThrow();
     Score first = rounds.get(0);
     return Optional.of(new Score(first.benchmark(), first.params(), mean, Double.NaN,
