@@ -21,7 +21,9 @@ import org.openjdk.jmh.annotations.Warmup;
  * The machine's floor under every thread hand-off: one round trip of a number between two
  * threads that never sleep (the benchmark thread writes it, an echo thread spinning on it writes
  * it back), nothing else. No library is involved, so what moves this figure from fork to fork is
- * the machine: where the two threads' cores are, and how far apart, at that moment.
+ * the machine: where the two threads' cores are, and how far apart, at that moment. {@code
+ * roundTripWithPacket} is the same round trip doing the synchronous row's work on the row's packet
+ * ({@link PacketEcho}): the floor under {@link SyncSourceBenchmark}.
  *
  * <p>Design: the number and its echo are padded 128 bytes apart (their own cache lines,
  * which an adjacent-line prefetch does not pair), written with release and read with acquire; a
@@ -112,6 +114,7 @@ public class CoreRoundTripBenchmark {
         long value = (long) SENT.getAcquire(this);
         if (value != seen) {
           seen = value;
+          work();
           ECHOED.setRelease(this, value);
         } else if (++rounds == ROUNDS_PER_CLOCK_READ) {
           rounds = 0;
@@ -123,6 +126,9 @@ public class CoreRoundTripBenchmark {
         }
       }
     }
+
+    /** What the echo thread does between seeing a number and echoing it: nothing here. */
+    void work() {}
 
     /**
      * Sends the next number and waits for its echo.
@@ -154,6 +160,37 @@ public class CoreRoundTripBenchmark {
   }
 
   /**
+   * The floor under the synchronous row ({@link SyncSourceBenchmark}): the round trip of {@link
+   * Echo}, with the echo thread also running the row's four adders on the row's packet before it
+   * answers, and the benchmark thread reading the packet's value after the answer. As in the row,
+   * the packet is one object that both threads use in turn, and the adders change it: its cache
+   * line moves to the echo thread and back at every round trip, as the two numbers' lines do.
+   * That is the least any two threads can do to run the row's chain on one of them for the other
+   * (a library adds its queue's slots and indexes), so the row cannot be faster than this on the
+   * same machine at the same moment.
+   */
+  @State(Scope.Thread)
+  public static class PacketEcho extends Echo {
+    private final PacketBlocks.Add[] adders = ChainShapes.directAdders(4);
+    private final Packet packet = Packet.ofSize(100);
+
+    @Override
+    void work() {
+      ChainShapes.runDirect(adders, packet);
+    }
+
+    /**
+     * Sends the packet to the echo thread and waits for it to come back.
+     *
+     * @return the packet's value after the echo thread's adders
+     */
+    public long packetRoundTrip() {
+      roundTrip();
+      return packet.value;
+    }
+  }
+
+  /**
    * One round trip between the two threads.
    *
    * @param echo the number, its echo and the echo thread
@@ -162,5 +199,17 @@ public class CoreRoundTripBenchmark {
   @Benchmark
   public long roundTrip(Echo echo) {
     return echo.roundTrip();
+  }
+
+  /**
+   * One round trip between the two threads carrying the synchronous row's packet, which the echo
+   * thread runs the row's four adders on: the floor under {@link SyncSourceBenchmark}.
+   *
+   * @param echo the number, its echo, the packet and the echo thread
+   * @return the packet's value
+   */
+  @Benchmark
+  public long roundTripWithPacket(PacketEcho echo) {
+    return echo.packetRoundTrip();
   }
 }

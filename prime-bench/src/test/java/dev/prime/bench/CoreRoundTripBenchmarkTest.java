@@ -7,7 +7,10 @@ import static org.junit.jupiter.api.Assertions.assertTimeoutPreemptively;
 import java.time.Duration;
 import org.junit.jupiter.api.Test;
 
-/** The machine's round-trip baseline echoes every number once and ends its echo thread. */
+/**
+ * The machine's round-trip baseline echoes every number once and ends its echo thread; its packet
+ * variant (the synchronous row's floor) runs the row's adders once a round trip.
+ */
 class CoreRoundTripBenchmarkTest {
 
   @Test
@@ -19,6 +22,24 @@ class CoreRoundTripBenchmarkTest {
       assertTimeoutPreemptively(Duration.ofSeconds(20), () -> {
         for (long expected = 1; expected <= 10_000; expected++) {
           assertEquals(expected, benchmark.roundTrip(echo));
+        }
+      });
+    } finally {
+      echo.stop();
+    }
+    assertFalse(echo.echoing(), "the echo thread still runs after the trial's end");
+  }
+
+  @Test
+  void theSynchronousRowsFloorRunsTheFourAddersOnThePacketOnceARoundTrip() throws Exception {
+    CoreRoundTripBenchmark benchmark = new CoreRoundTripBenchmark();
+    CoreRoundTripBenchmark.PacketEcho echo = new CoreRoundTripBenchmark.PacketEcho();
+    echo.start();
+    try {
+      assertTimeoutPreemptively(Duration.ofSeconds(20), () -> {
+        // the row's adders add 1, 2, 3 and 4: 10 a round trip, seen by the sender once it is back
+        for (long round = 1; round <= 10_000; round++) {
+          assertEquals(10 * round, benchmark.roundTripWithPacket(echo), "round " + round);
         }
       });
     } finally {

@@ -24,19 +24,20 @@ import org.openjdk.jmh.runner.options.TimeValue;
  * hand-off against the Disruptor, Kotlin Channels and Reactor (5 forks of Prime and of the
  * Disruptor, so the spread across forks shows, and 5 of a bare core-to-core round trip, {@link
  * dev.prime.bench.CoreRoundTripBenchmark}, to show the machine's own), the synchronous sources
- * row, Optimus flows and calls against raw Jedis (the calls in alternated rounds, {@link
+ * row (and its floor, the round trip carrying the row's packet), Optimus flows and calls against raw Jedis (the calls in alternated rounds, {@link
  * #CALL_ROUNDS}), and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
  * result with its environment) and {@code targets.md} (one line per target: target, figures,
  * verdict), followed by figures reported for information and not judged: the earlier Prime row
  * {@code AsyncHandOffBenchmark.primeSourceAndReader} (two thread hand-offs, the outputs read back
- * with a {@code Reader}; see {@link #information}).
+ * with a {@code Reader}), the machine's spread across forks, and the synchronous row beside its
+ * floor (see {@link #information}).
  *
  * <pre>
  * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.report.ThroughputTargets run DIR
  * java -cp prime-bench/target/benchmarks.jar dev.prime.bench.report.ThroughputTargets report DIR
  * </pre>
  *
- * <p>{@code report} judges an existing {@code DIR/targets.json} again. About 13 minutes on 2 cores.
+ * <p>{@code report} judges an existing {@code DIR/targets.json} again. About 14 minutes on 2 cores.
  */
 public final class ThroughputTargets {
   /** The raw results' file name. */
@@ -114,7 +115,8 @@ public final class ThroughputTargets {
         timed("AsyncHandOffBenchmark\\.(kotlinChannel|reactorPublishOn|primeSourceAndReader)$",
             2, 3, 1000, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4"),
-        timed("CoreRoundTripBenchmark\\.roundTrip$", 5, 3, 1000, 5, 1000),
+        // the bare round trip, and the same carrying the synchronous row's packet (its floor)
+        timed("CoreRoundTripBenchmark\\.roundTrip(WithPacket)?$", 5, 3, 1000, 5, 1000),
         timed("SyncSourceBenchmark\\.primeSource$", 1, 3, 500, 5, 1000)
             .param("payload", payloads).param("scenario", "monomorphic").param("length", "4")
             .addProfiler(GCProfiler.class),
@@ -189,10 +191,12 @@ public final class ThroughputTargets {
    * primeSourceAndReader}, at each payload (two thread hand-offs per value where the judged rows
    * have one, so its time is not comparable with theirs); then the spread across forks of the
    * Disruptor and of {@link dev.prime.bench.CoreRoundTripBenchmark}, which no library's code
-   * moves: how far this machine alone moves a hand-off from fork to fork.
+   * moves: how far this machine alone moves a hand-off from fork to fork; then the synchronous
+   * row beside its floor, {@code CoreRoundTripBenchmark.roundTripWithPacket} (two bare threads
+   * running the row's adders on its packet in turn, the least any design of two threads does).
    *
    * @param scores the run's results
-   * @return Markdown: two paragraphs, each a heading line and one line per figure
+   * @return Markdown: three paragraphs, each a heading line and one line per figure
    */
   public static String information(List<Score> scores) {
     StringBuilder out = new StringBuilder(
@@ -221,6 +225,24 @@ public final class ThroughputTargets {
             .filter(s -> s.forkMeans().size() >= 2)
             .map(ThroughputTargets::forks).orElse("fewer than 2 forks in this run"))
         .append('\n');
+    out.append("\nFor information, not judged: the synchronous row beside its floor on this machine"
+        + " at this time, a round trip between two spinning threads with no library at all in"
+        + " which the echo thread runs the row's four adders on the row's packet"
+        + " (`CoreRoundTripBenchmark.roundTripWithPacket`):\n\n");
+    Optional<Score> floor = find(scores, "CoreRoundTripBenchmark.roundTripWithPacket", Map.of());
+    out.append("- the floor: ")
+        .append(floor.map(f -> figure(f) + (f.forkMeans().size() >= 2 ? "; " + forks(f) : ""))
+            .orElse("no result in this run"))
+        .append('\n');
+    for (String payload : PAYLOADS) {
+      Map<String, String> at = Map.of("payload", payload, "scenario", "monomorphic");
+      Optional<Score> row = find(scores, "SyncSourceBenchmark.primeSource", at);
+      out.append("- the synchronous row, ").append(bytesName(payload)).append(": ")
+          .append(row.map(r -> figure(r) + floor.map(f -> String.format(Locale.ROOT,
+                  ", %.2f× the floor", r.value() / f.value())).orElse(""))
+              .orElse("no result in this run"))
+          .append('\n');
+    }
     return out.toString();
   }
 

@@ -150,6 +150,31 @@ class ThroughputTargetsTest {
   }
 
   @Test
+  void theSynchronousRowIsReportedBesideItsFloorAndNeverJudgedAgainstIt() {
+    Map<String, String> at100 = Map.of("payload", "100", "scenario", "monomorphic", "length", "4");
+    Score floor = new Score("dev.prime.bench.CoreRoundTripBenchmark.roundTripWithPacket", Map.of(),
+        600, 40, false, List.of(550.0, 650.0), Double.NaN);
+    Score row = new Score("dev.prime.bench.SyncSourceBenchmark.primeSource", at100, 660, 30,
+        false, List.of(660.0), 0.0);
+    String information = ThroughputTargets.information(List.of(floor, row));
+    assertTrue(information.contains("- the floor: 600.0 ± 40.0 ns; 2 forks, ns: 550, 650; 1.18×"),
+        information);
+    assertTrue(information.contains("- the synchronous row, 100 B: 660.0 ± 30.0 ns, 1.10× the floor"),
+        information);
+    assertTrue(information.contains("- the synchronous row, 1 KB: no result in this run"), information);
+    // the bare round trip is not the floor: a run without the packet's round trip says so
+    Score bare = new Score("dev.prime.bench.CoreRoundTripBenchmark.roundTrip", Map.of(),
+        270, 10, false, List.of(270.0, 270.0), Double.NaN);
+    String withoutFloor = ThroughputTargets.information(List.of(bare, row));
+    assertTrue(withoutFloor.contains("- the floor: no result in this run"), withoutFloor);
+    assertTrue(withoutFloor.contains("- the synchronous row, 100 B: 660.0 ± 30.0 ns\n"), withoutFloor);
+    // the target stays 0.4 µs whatever the floor
+    assertEquals(Outcome.NOT_MET, ThroughputTargets.judge(List.of(floor, row)).stream()
+        .filter(v -> v.target().equals("synchronous Prime-sources row ≤ 0.4 µs, 100 B"))
+        .findFirst().orElseThrow().outcome());
+  }
+
+  @Test
   void theReportCountsWhatIsMetAndRefusesAForeignFile(@TempDir Path dir) throws IOException {
     String markdown = ThroughputTargets.render(verdicts, null);
     long met = verdicts.stream().filter(v -> v.outcome() == Outcome.MET).count();
