@@ -165,9 +165,9 @@ public class CoreRoundTripBenchmark {
    * answers, and the benchmark thread reading the packet's value after the answer. As in the row,
    * the packet is one object that both threads use in turn, and the adders change it: its cache
    * line moves to the echo thread and back at every round trip, as the two numbers' lines do.
-   * That is the least any two threads can do to run the row's chain on one of them for the other
-   * (a library adds its queue's slots and indexes), so the row cannot be faster than this on the
-   * same machine at the same moment.
+   * Nothing else moves: a library that runs the chain on its own thread adds its queues' slots
+   * and indexes to this, so the row is not to be expected faster than this figure on the same
+   * machine at the same moment.
    */
   @State(Scope.Thread)
   public static class PacketEcho extends Echo {

@@ -24,9 +24,10 @@ import org.openjdk.jmh.runner.options.TimeValue;
  * hand-off against the Disruptor, Kotlin Channels and Reactor (5 forks of Prime and of the
  * Disruptor, so the spread across forks shows, and 5 of a bare core-to-core round trip, {@link
  * dev.prime.bench.CoreRoundTripBenchmark}, to show the machine's own), the synchronous sources
- * row (and its floor, the round trip carrying the row's packet), Optimus flows and calls against raw Jedis (the calls in alternated rounds, {@link
- * #CALL_ROUNDS}), and competing consumers with 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each
- * result with its environment) and {@code targets.md} (one line per target: target, figures,
+ * row (and its floor, the round trip carrying the row's packet), Optimus flows and calls against
+ * raw Jedis (the calls in alternated rounds, {@link #CALL_ROUNDS}), and competing consumers with
+ * 1, 2 and 3 hosts. Writes {@code targets.json} (JMH's JSON, each result with its environment)
+ * and {@code targets.md} (one line per target: target, figures,
  * verdict), followed by figures reported for information and not judged: the earlier Prime row
  * {@code AsyncHandOffBenchmark.primeSourceAndReader} (two thread hand-offs, the outputs read back
  * with a {@code Reader}), the machine's spread across forks, and the synchronous row beside its
@@ -193,7 +194,7 @@ public final class ThroughputTargets {
    * Disruptor and of {@link dev.prime.bench.CoreRoundTripBenchmark}, which no library's code
    * moves: how far this machine alone moves a hand-off from fork to fork; then the synchronous
    * row beside its floor, {@code CoreRoundTripBenchmark.roundTripWithPacket} (two bare threads
-   * running the row's adders on its packet in turn, the least any design of two threads does).
+   * running the row's adders on its packet in turn, with no queue between them).
    *
    * @param scores the run's results
    * @return Markdown: three paragraphs, each a heading line and one line per figure
