@@ -1030,7 +1030,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 when (result) {
                     is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
                     is StepResult.Stale -> source.view = null
-                    is StepResult.Fenced -> throw IllegalStateException("a publish step was fenced: $result")
+                    is StepResult.Fenced, StepResult.Stray -> throw IllegalStateException("a publish step (no fence) was answered $result")
                     is StepResult.Full -> {
                         val left = deadline - System.nanoTime()
                         if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)

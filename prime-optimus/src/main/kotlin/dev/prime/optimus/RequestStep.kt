@@ -62,8 +62,9 @@ internal class RequestStep(
 
     /**
      * Stores [output], acknowledges the request (the head of the processing list) and takes up to
-     * [take] entries. Returns [StepResult.Stored] or [StepResult.Fenced], or `null` if the script
-     * refused the reply key and stored nothing (run the general step for this request).
+     * [take] entries. Returns [StepResult.Stored], [StepResult.Fenced] or (when it takes)
+     * [StepResult.Stray], or `null` if the script refused the reply key and stored nothing (run the
+     * general step for this request).
      */
     fun execute(jedis: Jedis, output: RequestOutput, take: Int): StepResult? =
         parse(Script.REQUEST_STEP.run(jedis, keys(output), args(output, take, waitBehind = false)))
@@ -258,6 +259,7 @@ internal class RequestStep(
                 SourceView.NONE,
             )
             "FENCED" -> StepResult.Fenced((items[1] as ByteArray).toString(UTF_8))
+            "STRAY" -> StepResult.Stray
             "REFUSED" -> null
             else -> throw IllegalStateException("unexpected answer of the request step script: $status")
         }

@@ -132,7 +132,9 @@ internal class Script(text: String) {
          * service), 21 what the entries pushed to the next service add to its count, then the
          * per-service queue limits and the entries. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
          * `{'FULL', key, length, limit}` or `{'FENCED', holder}` (the host lease is held by
-         * another instance, or by none: empty; nothing was written).
+         * another instance, or by none: empty; nothing was written), or, for a fenced step that
+         * takes, `{'STRAY'}` when the processing list holds more than the `ack` entries the service
+         * handled (nothing was written: see [StageService]).
          */
         val STEP = Script(
             """
@@ -149,6 +151,9 @@ internal class Script(text: String) {
             if fence ~= '' then
               local holder = redis.call('GET', hostLease)
               if holder ~= fence then return {'FENCED', holder or ''} end
+              -- a service that takes holds the whole processing list (what it acknowledges now): more is an entry
+              -- another connection moved there (an earlier host's blocking take), which the service must read first
+              if take > 0 and redis.call('LLEN', proc) ~= ack then return {'STRAY'} end
             end
             local readerAt = 13 + nReplyKeys
             local missedAt = readerAt + nReaders
@@ -423,7 +428,8 @@ internal class Script(text: String) {
          * must hold the host lease, 2 the entry to push, 3 '1' if it is a reply (checked to be in
          * the reply namespace [4] and a list, then given the expiry [5] in ms), 6 the most entries
          * to take, 7 the bytes after which to stop taking, 8 the largest entry returned whole.
-         * In order and atomically: the fence (`{'FENCED', holder}`, nothing written), the push
+         * In order and atomically: the fence (`{'FENCED', holder}`, nothing written), for a step
+         * that takes a processing list of just the request (else `{'STRAY'}`, nothing written), the push
          * (a reply key outside the namespace or holding another type: `{'REFUSED'}`, nothing
          * written, for [STEP] to dead-letter the request), the acknowledgement of the request
          * (the head of the processing list), then the take as [STEP]'s (each entry one value: a
@@ -436,6 +442,7 @@ internal class Script(text: String) {
             """
             local holder = redis.call('GET', KEYS[3])
             if holder ~= ARGV[1] then return {'FENCED', holder or ''} end
+            if tonumber(ARGV[6]) > 0 and redis.call('LLEN', KEYS[1]) ~= 1 then return {'STRAY'} end
             local target = KEYS[4]
             if ARGV[3] == '1' then
               local prefix = ARGV[4]

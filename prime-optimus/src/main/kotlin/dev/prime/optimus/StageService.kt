@@ -28,7 +28,10 @@ internal fun interface StageLogic {
  * in the step that stores its results, so a crash of the process or of Redis (with persistence)
  * loses nothing: on start and after every reconnection the service first processes what its
  * processing list holds. Values seen recently (by id) are acknowledged without processing them
- * again, which absorbs duplicates from a producer that retried a push.
+ * again, which absorbs duplicates from a producer that retried a push. A step that takes also
+ * checks that the processing list holds just the entries it acknowledges: an entry an earlier
+ * host's blocking take moved there after the host lease changed hands makes it store nothing and
+ * read the list again ([StepResult.Stray]), so that entry is handled, not acknowledged unread.
  *
  * Nothing an entry or a block does stops the service: every throwable but a
  * [VirtualMachineError] is caught on every path (a value's goes to the error handler and the
@@ -264,7 +267,7 @@ internal class StageService(
         val output = parts.singleOrNull()?.output
         val stored = try {
             if (output != null && requestStep != null) return storeRequest(session, whole, parts[0].entry.bytes, output, take)
-            runStep(session, whole, ack = parts.size, take = take)
+            runStep(session, whole, ack = parts.size, take = take) ?: return null
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
             storeOneByOne(session, parts, e)
@@ -303,6 +306,7 @@ internal class StageService(
             session.once { step.execute(it, output, take) }
         }
         waitBehindStep = result is StepResult.Stored
+        if (result is StepResult.Stray) return null.also { strayFound() }
         if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
         if (result !is StepResult.Stored) {
             runStep(session, whole, ack = 1, take = 0)
@@ -393,8 +397,12 @@ internal class StageService(
         part.batch.ids.forEach(recent::add)
     }
 
-    /** Runs [batch]; refreshes a stale view of the output's readers, and waits while the queue it feeds is full. */
-    private suspend fun runStep(session: RedisSession, batch: StepBatch, ack: Int, take: Int): StepResult.Stored {
+    /**
+     * Runs [batch]; refreshes a stale view of the output's readers, and waits while the queue it
+     * feeds is full. `null` if the step, which takes ([take] > 0), found a stray entry in the
+     * processing list and stored nothing ([strayFound]: read the list again).
+     */
+    private suspend fun runStep(session: RedisSession, batch: StepBatch, ack: Int, take: Int): StepResult.Stored? {
         var backoff: Backoff? = null
         while (true) {
             val result = session.once { jedis ->
@@ -408,6 +416,7 @@ internal class StageService(
                     return result
                 }
                 is StepResult.Stale -> output!!.view = null
+                is StepResult.Stray -> return null.also { strayFound() }
                 is StepResult.Fenced -> {
                     if (result.holder.isNotEmpty()) throw HostingLost(result.holder)
                     // nobody holds the lease (it lapsed during a pause, or Redis lost it): the heartbeat re-claims it
@@ -446,6 +455,21 @@ internal class StageService(
         } catch (_: Throwable) {
             // the caller waits for its timeout, as before
         }
+    }
+
+    /**
+     * A step found an entry in the processing list that this run did not take: an earlier host's
+     * blocking take that Redis ran after the host lease changed hands (a take written behind a step
+     * that was then fenced, or one still waiting in Redis for a host that was frozen or cut off).
+     * Nothing was stored; the service reads the list again and handles everything in it in order,
+     * the entries it had handled once more, since their results were not stored.
+     */
+    private fun strayFound() {
+        LOG.warn(
+            "service '{}' found an entry in its processing list that it did not take (a take of an earlier host that " +
+                "Redis ran after the host lease changed hands); it stored nothing and handles the list again, in order",
+            name,
+        )
     }
 
     /** A step found this service's host lease held by another instance ([holder]): the service stops, storing nothing. */

@@ -222,6 +222,15 @@ internal sealed class StepResult {
         override fun toString(): String = "Fenced[${holder.ifEmpty { "nobody" }}]"
     }
 
+    /**
+     * The service's processing list holds more than the entries it handled: another connection
+     * moved an entry there (an earlier host's blocking take that Redis ran after the host lease
+     * changed hands). Nothing was stored; the service reads the list again (see [StageService]).
+     */
+    object Stray : StepResult() {
+        override fun toString(): String = "Stray"
+    }
+
     /** The caller's view of the source's readers is out of date; nothing was stored. */
     object Stale : StepResult()
 
@@ -243,6 +252,7 @@ internal sealed class StepResult {
                     view,
                 )
                 "STALE" -> Stale
+                "STRAY" -> Stray
                 "FENCED" -> Fenced((items[1] as ByteArray).toString(UTF_8))
                 "FULL" -> Full(items[1] as ByteArray, items[2] as Long, items[3] as Long)
                 else -> throw IllegalStateException("unexpected answer of the step script: $status")

@@ -1,0 +1,143 @@
+package dev.prime.optimus
+
+import dev.prime.Block
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import redis.clients.jedis.args.ListDirection
+import java.net.URI
+import java.time.Duration
+import java.util.Optional
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.Executors
+import java.util.concurrent.Future
+import java.util.concurrent.TimeUnit
+
+/**
+ * An entry that another connection moves from a service's input into its processing list while
+ * the service works (what an earlier host's blocking take does when Redis runs it after the host
+ * lease changed hands: a take written behind a step that was then fenced, or one still waiting in
+ * Redis for a host that was frozen or cut off) is processed like any other, in its place: the
+ * service's next step sees that the list holds more than it took, stores nothing, and reads the
+ * list again. Before, the step acknowledged the head of the list in place of the entry it had
+ * handled, so the stray entry was dropped unprocessed and a handled one stayed behind.
+ */
+class StrayEntryTest {
+
+    @Test
+    fun aStrayEntryInAServicesProcessingListIsProcessedOnceAndInOrder() {
+        val name = "stray-entry-flow"
+        val keys = Keys(name)
+        val entered = CountDownLatch(1)
+        val release = CountDownLatch(1)
+        Jedis(URI(TestRedis.url)).use { jedis ->
+            OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(TestRedis.url).build().use { host ->
+                val events = EventBlock<Int>()
+                val output = host.source("numbers", events).then(
+                    host.chain("double") { x: Int ->
+                        if (x == 1) {
+                            entered.countDown()
+                            check(release.await(PATIENCE.seconds, TimeUnit.SECONDS)) { "the test did not release the block" }
+                        }
+                        2 * x
+                    },
+                ).reader()
+                host.start()
+                (1..5).forEach(events::publish)
+                assertTrue(entered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took the first value")
+                awaitLength(jedis, keys.serviceInput("double"), 4)
+                strayMove(jedis, keys.serviceInput("double"), keys.serviceProcessing("double"))
+                release.countDown()
+
+                val received = (1..5).map { i ->
+                    output.take(PATIENCE).orElseThrow { AssertionError("value $i of 5 did not arrive within $PATIENCE") }
+                }
+                assertEquals(listOf(2, 4, 6, 8, 10), received, "every value once, in order")
+                assertEquals(Optional.empty<Int>(), output.take(Duration.ofSeconds(1)), "no duplicates")
+                assertEquals(0L, jedis.llen(keys.serviceProcessing("double")), "everything acknowledged, nothing left behind")
+            }
+        }
+    }
+
+    @Test
+    fun aStrayRequestInACalledServicesProcessingListIsAnswered() {
+        val name = "stray-entry-call"
+        val keys = Keys(name)
+        val firstEntered = CountDownLatch(1)
+        val firstRelease = CountDownLatch(1)
+        val secondEntered = CountDownLatch(1)
+        val secondRelease = CountDownLatch(1)
+        val callers = Executors.newFixedThreadPool(4)
+        try {
+            Jedis(URI(TestRedis.url)).use { jedis ->
+                OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(TestRedis.url)
+                    .callTimeout(CALL_TIMEOUT).build().use { host ->
+                        val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
+                            when (x) {
+                                0 -> hold(firstEntered, firstRelease)
+                                1 -> hold(secondEntered, secondRelease)
+                            }
+                            x + 100
+                        }.toBlock()
+                        host.start()
+                        assertEquals(200, echo.process(100), "warm: the service is idle in its watched take")
+                        val calls = ArrayList<Future<Int>>()
+                        calls += callers.submit<Int> { echo.process(0) }
+                        assertTrue(firstEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 0")
+                        for (x in 1..3) {
+                            calls += callers.submit<Int> { echo.process(x) }
+                            awaitLength(jedis, keys.serviceInput("echo"), x.toLong())
+                        }
+                        // the step of request 0 takes request 1 behind it; 2 and 3 wait in the input
+                        firstRelease.countDown()
+                        assertTrue(secondEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 1")
+                        awaitLength(jedis, keys.serviceInput("echo"), 2)
+                        strayMove(jedis, keys.serviceInput("echo"), keys.serviceProcessing("echo"))
+                        secondRelease.countDown()
+
+                        val answers = calls.mapIndexed { x, call ->
+                            try {
+                                call.get(PATIENCE.seconds, TimeUnit.SECONDS)
+                            } catch (e: java.util.concurrent.ExecutionException) {
+                                throw AssertionError("request $x was not answered: ${e.cause}", e.cause)
+                            }
+                        }
+                        assertEquals(listOf(100, 101, 102, 103), answers, "every request answered")
+                        assertEquals(0L, jedis.llen(keys.serviceProcessing("echo")), "everything acknowledged, nothing left behind")
+                        assertEquals(0L, jedis.llen(keys.deadLetters("echo")), "no dead letter")
+                    }
+            }
+        } finally {
+            callers.shutdownNow()
+        }
+    }
+
+    /** Moves the input's head to the processing list's tail, as an earlier host's blocking take does. */
+    private fun strayMove(jedis: Jedis, input: ByteArray, processing: ByteArray) {
+        val moved = jedis.lmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT)
+        assertTrue(moved != null, "an entry was there to move")
+        assertEquals(2L, jedis.llen(processing), "the entry the service holds and the stray one")
+    }
+
+    /** Waits (bounded) until [list] holds [length] entries. */
+    private fun awaitLength(jedis: Jedis, list: ByteArray, length: Long) {
+        val deadline = System.nanoTime() + PATIENCE.toNanos()
+        while (jedis.llen(list) != length) {
+            check(System.nanoTime() < deadline) { "the list held ${jedis.llen(list)} entries, not $length, after $PATIENCE" }
+            Thread.onSpinWait()
+        }
+    }
+
+    private fun hold(entered: CountDownLatch, release: CountDownLatch) {
+        entered.countDown()
+        check(release.await(PATIENCE.seconds, TimeUnit.SECONDS)) { "the test did not release the block" }
+    }
+
+    private companion object {
+        val CALL_TIMEOUT: Duration = Duration.ofSeconds(5)
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
+}
