@@ -23,7 +23,10 @@ public enum class Hosting {
      * the active host closes. The new host first processes what the old one had taken and not
      * stored, then the input: values leave the service in the order they came, across failovers,
      * and none is lost or duplicated (results are stored in the step that acknowledges the input,
-     * and only while the host lease is held).
+     * and only while the host lease is held). An active host that finds its lease taken (it was
+     * frozen or cut off longer than the lease time) stops the service and stands by again; it
+     * claims the lease again only once the stopped run has ended (a block still running returns
+     * first), so one process never runs the service twice at once.
      */
     ORDERED,
 

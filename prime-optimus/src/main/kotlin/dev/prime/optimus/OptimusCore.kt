@@ -912,12 +912,22 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /**
      * Stands by for ordered service [name]: claims its host lease when the holder's lapses (first
      * after [remaining] ms) or within a third of the lease time after it is released, then runs
-     * [body]. Not hosted here ([isHostedHere]) until then.
+     * [body]. Not hosted here ([isHostedHere]) until then. With [earlier], the cancelled run of
+     * the service here, it claims nothing until that run has ended: a run still in its block or in
+     * a blocking Redis call would otherwise go on beside the new one, under the same instance id,
+     * which the fence lets through, and with the same service's state.
      */
-    private fun standBy(name: String, body: suspend () -> Unit, remaining: Long) {
+    private fun standBy(name: String, body: suspend () -> Unit, remaining: Long, earlier: Job? = null) {
         LOG.info("core '{}' stands by for service '{}': another process hosts it (Hosting.ORDERED)", name(), name)
         val third = (leaseTime.toMillis() / 3).coerceAtLeast(1)
         hostedJobs[name] = scope.launch(CoroutineName("$name standby")) {
+            if (earlier != null && !earlier.isCompleted) {
+                LOG.info(
+                    "core '{}': service '{}' stands by once its stopped run has ended (its block or a Redis call still runs)",
+                    name(), name,
+                )
+                earlier.join()
+            }
             var wait = remaining
             while (true) {
                 delay((wait + 1).coerceIn(STANDBY_MIN_WAIT_MS, third))
@@ -986,7 +996,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "was frozen or cut off from Redis longer than the lease time, and another took over). " +
             if (ordered) "It stands by to take the service over again (Hosting.ORDERED)" else
                 "Restart this process to host it again once the other stops"
-        if (ordered && !isClosed) standBy(service, { services.getValue(service).run() }, 0)
+        if (ordered && !isClosed) standBy(service, { services.getValue(service).run() }, 0, earlier = job)
         LOG.warn(message)
         reportFailure(service, holder, IllegalStateException(message))
         job?.invokeOnCompletion {
