@@ -50,8 +50,8 @@ class OrderedRerunTest {
                         host.chain("double") { x: Int ->
                             if (running.incrementAndGet() > 1) overlapped.set(true)
                             try {
-                                if (x == 1 && firstHeld.compareAndSet(false, true)) hold(oldRunEntered, oldRunRelease)
-                                if (x == 2 && secondHeld.compareAndSet(false, true)) hold(secondEntered, secondRelease)
+                                if (x == 1 && firstHeld.compareAndSet(false, true)) holdInBlock(oldRunEntered, oldRunRelease)
+                                if (x == 2 && secondHeld.compareAndSet(false, true)) holdInBlock(secondEntered, secondRelease)
                                 2 * x
                             } finally {
                                 running.decrementAndGet()
@@ -86,11 +86,6 @@ class OrderedRerunTest {
                     assertEquals(0L, jedis.llen(keys.serviceProcessing("double")), "everything acknowledged")
                 }
         }
-    }
-
-    private fun hold(entered: CountDownLatch, release: CountDownLatch) {
-        entered.countDown()
-        check(release.await(PATIENCE.seconds, TimeUnit.SECONDS)) { "the test did not release the block" }
     }
 
     private companion object {

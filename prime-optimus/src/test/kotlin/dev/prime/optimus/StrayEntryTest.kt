@@ -38,10 +38,7 @@ class StrayEntryTest {
                 val events = EventBlock<Int>()
                 val output = host.source("numbers", events).then(
                     host.chain("double") { x: Int ->
-                        if (x == 1) {
-                            entered.countDown()
-                            check(release.await(PATIENCE.seconds, TimeUnit.SECONDS)) { "the test did not release the block" }
-                        }
+                        if (x == 1) holdInBlock(entered, release)
                         2 * x
                     },
                 ).reader()
@@ -77,8 +74,8 @@ class StrayEntryTest {
                     .callTimeout(CALL_TIMEOUT).build().use { host ->
                         val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
                             when (x) {
-                                0 -> hold(firstEntered, firstRelease)
-                                1 -> hold(secondEntered, secondRelease)
+                                0 -> holdInBlock(firstEntered, firstRelease)
+                                1 -> holdInBlock(secondEntered, secondRelease)
                             }
                             x + 100
                         }.toBlock()
@@ -129,11 +126,6 @@ class StrayEntryTest {
             check(System.nanoTime() < deadline) { "the list held ${jedis.llen(list)} entries, not $length, after $PATIENCE" }
             Thread.onSpinWait()
         }
-    }
-
-    private fun hold(entered: CountDownLatch, release: CountDownLatch) {
-        entered.countDown()
-        check(release.await(PATIENCE.seconds, TimeUnit.SECONDS)) { "the test did not release the block" }
     }
 
     private companion object {
