@@ -5,6 +5,8 @@ import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import java.net.URI
 import java.time.Duration
 import java.util.concurrent.TimeUnit
 import kotlin.concurrent.thread
@@ -73,6 +75,86 @@ class FrozenHostTest {
         }
     }
 
+    /**
+     * The same freeze for a called service whose block takes 100 ms, called by four threads: the
+     * frozen host is in its block when frozen, and when it resumes, the step it writes is refused
+     * (fenced, or its transaction's WATCH broken) while the blocking take written behind it still
+     * runs and moves a request into the successor's processing list. The successor handles that
+     * request too: no call is lost (before, it was acknowledged unread and its caller timed out).
+     */
+    @Test
+    fun aFrozenCalledHostThatResumesLosesNoCall() {
+        val name = "frozen-called-host"
+        EmbeddedRedis.start().use { redis ->
+            OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(redis.uri).leaseTime(LEASE)
+                .callTimeout(CALL_TIMEOUT).hosts(TwoProcessTopology.TEST_SERVICES).build().use { core ->
+                    val square = TwoProcessTopology.declare(core, EventBlock()).square
+                    core.start()
+                    val args = arrayOf(redis.uri, name, LEASE.toMillis().toString(), "host", "0", "100")
+                    WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { frozen ->
+                        frozen.awaitLine("DECLARED")
+                        frozen.send("START")
+                        frozen.awaitLine("READY")
+                        WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { successor ->
+                            successor.awaitLine("DECLARED")
+                            val calls = CallersOf(square)
+                            try {
+                                calls.awaitAnswers(8)
+                                signal("STOP", frozen.pid)
+                                successor.send("START")
+                                successor.awaitLine("READY")
+                                calls.awaitAnswers(8)
+                                signal("CONT", frozen.pid)
+                                frozen.awaitLineContaining("stops service 'square'", LEASE.seconds + 10)
+                                calls.awaitAnswers(8)
+                            } finally {
+                                calls.stop()
+                            }
+                            println("FrozenHostTest: ${calls.answered.get()} calls answered, ${calls.failed.size} failed")
+                            assertEquals(emptyList<String>(), calls.failed.toList(), "calls lost or wrong around the freeze")
+                            Jedis(URI(redis.uri)).use { jedis ->
+                                assertEquals(0L, jedis.llen(Keys(name).serviceProcessing("square")), "nothing left behind")
+                            }
+                        }
+                    }
+                }
+        }
+    }
+
+    /** [CALLERS] threads calling [square] with numbers of their own until [stop], each call checked. */
+    private class CallersOf(private val square: dev.prime.Block<Int, Int>) {
+        val answered = java.util.concurrent.atomic.AtomicInteger()
+        val failed = java.util.concurrent.ConcurrentLinkedQueue<String>()
+        private val answers = java.util.concurrent.LinkedBlockingQueue<Int>()
+        @Volatile private var stopped = false
+        private val threads = (0 until CALLERS).map { caller ->
+            thread(name = "frozen-called-host-caller-$caller") {
+                for (k in 0 until CALLS_EACH) {
+                    if (stopped) break
+                    val x = caller * CALLS_EACH + k
+                    try {
+                        val y = square.process(x)
+                        if (y != x * x) failed += "square($x) answered $y"
+                        answered.incrementAndGet()
+                        answers += x
+                    } catch (e: Exception) {
+                        failed += "square($x): $e"
+                    }
+                }
+            }
+        }
+
+        /** Waits for [count] more answers (bounded). */
+        fun awaitAnswers(count: Int) = repeat(count) {
+            checkNotNull(answers.poll(PATIENCE.seconds, TimeUnit.SECONDS)) { "no answer within $PATIENCE; failed: $failed" }
+        }
+
+        fun stop() {
+            stopped = true
+            threads.forEach { it.join(CALL_TIMEOUT.toMillis() + PATIENCE.toMillis()) }
+        }
+    }
+
     private fun take(reader: dev.prime.Reader<Int>, count: Int): List<Int> = (0 until count).map { i ->
         reader.take(PATIENCE).orElseThrow { AssertionError("value ${i + 1} of $count did not arrive within $PATIENCE") }
     }
@@ -86,5 +168,8 @@ class FrozenHostTest {
         val LEASE: Duration = Duration.ofSeconds(1)
         val PATIENCE: Duration = Duration.ofSeconds(20)
         val QUIET: Duration = Duration.ofSeconds(3)
+        val CALL_TIMEOUT: Duration = Duration.ofSeconds(10)
+        const val CALLERS = 4
+        const val CALLS_EACH = 1000
     }
 }

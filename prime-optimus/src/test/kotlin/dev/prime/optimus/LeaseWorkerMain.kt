@@ -6,12 +6,13 @@ import java.time.Duration
 import kotlin.system.exitProcess
 
 /**
- * The worker process of the lease tests: `LeaseWorkerMain REDIS_URL CORE_NAME LEASE_MS MODE [N]`.
+ * The worker process of the lease tests: `LeaseWorkerMain REDIS_URL CORE_NAME LEASE_MS MODE [N [M]]`.
  * - `readers N`: declares a source "numbers", makes N readers of it (which read nothing) and
  *   starts, hosting nothing; prints `READY`.
- * - `host [MS]`: declares [TwoProcessTopology] hosting [TwoProcessTopology.WORKER_SERVICES] (its
- *   "double" taking MS milliseconds per value, default 0), prints `DECLARED`, waits for a line
- *   `START`, starts, and prints `READY <ms start() took>`.
+ * - `host [MS [SQUARE_MS]]`: declares [TwoProcessTopology] hosting
+ *   [TwoProcessTopology.WORKER_SERVICES] (its "double" taking MS milliseconds per value and its
+ *   "square" SQUARE_MS per call, default 0), prints `DECLARED`, waits for a line `START`, starts,
+ *   and prints `READY <ms start() took>`.
  *
  * Then it waits until its input ends or gives a line `STOP`, and prints `STOPPED`. A failing
  * `start()` prints `FAILED <message>` and exits with 1.
@@ -20,7 +21,7 @@ object LeaseWorkerMain {
     @JvmStatic
     fun main(args: Array<String>) {
         if (args.size < 4) {
-            System.err.println("usage: LeaseWorkerMain REDIS_URL CORE_NAME LEASE_MS readers N | host [MS]")
+            System.err.println("usage: LeaseWorkerMain REDIS_URL CORE_NAME LEASE_MS readers N | host [MS [SQUARE_MS]]")
             exitProcess(2)
         }
         val mode = args[3]
@@ -37,7 +38,7 @@ object LeaseWorkerMain {
                     println("READY with ${readers.size} readers")
                 }
                 "host" -> {
-                    TwoProcessTopology.declare(core, EventBlock(), args.getOrNull(4)?.toLong() ?: 0)
+                    TwoProcessTopology.declare(core, EventBlock(), args.getOrNull(4)?.toLong() ?: 0, args.getOrNull(5)?.toLong() ?: 0)
                     println("DECLARED")
                     System.out.flush()
                     if (generateSequence { readlnOrNull() }.firstOrNull { it.trim() == "START" } == null) return

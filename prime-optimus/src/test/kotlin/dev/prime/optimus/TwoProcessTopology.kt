@@ -15,8 +15,11 @@ internal object TwoProcessTopology {
 
     class Declared(val output: Source<Int>, val square: Block<Int, Int>)
 
-    /** Declares the topology; "double" takes [doubleMillis] per value (a host busy in its block, not in Redis). */
-    fun declare(core: OptimusCore, numbers: EventBlock<Int>, doubleMillis: Long = 0): Declared {
+    /**
+     * Declares the topology; "double" takes [doubleMillis] per value and "square" [squareMillis]
+     * per call (a host busy in its block, not in Redis).
+     */
+    fun declare(core: OptimusCore, numbers: EventBlock<Int>, doubleMillis: Long = 0, squareMillis: Long = 0): Declared {
         val output = core.source("numbers", numbers)
             .then(
                 core.chain("double") { x: Int ->
@@ -24,7 +27,10 @@ internal object TwoProcessTopology {
                     x * 2
                 }.then(core.chain("inc") { x: Int -> x + 1 }),
             )
-        val square = core.chain("square") { x: Int -> x * x }.toBlock()
+        val square = core.chain("square") { x: Int ->
+            if (squareMillis > 0) Thread.sleep(squareMillis)
+            x * x
+        }.toBlock()
         return Declared(output, square)
     }
 }
