@@ -133,8 +133,8 @@ internal class Script(text: String) {
          * per-service queue limits and the entries. Returns `{'OK', missed per reader, taken...}`, `{'STALE'}`,
          * `{'FULL', key, length, limit}` or `{'FENCED', holder}` (the host lease is held by
          * another instance, or by none: empty; nothing was written), or, for a fenced step that
-         * takes, `{'STRAY'}` when the processing list holds more than the `ack` entries the service
-         * handled (nothing was written: see [StageService]).
+         * takes, `{'STRAY'}` when the processing list holds other than just the `ack` entries the
+         * service handled (nothing was written: see [StageService]).
          */
         val STEP = Script(
             """

@@ -223,8 +223,8 @@ internal sealed class StepResult {
     }
 
     /**
-     * The service's processing list holds more than the entries it handled: another connection
-     * moved an entry there (an earlier host's blocking take that Redis ran after the host lease
+     * The service's processing list holds other than just the entries it handled: another
+     * connection moved an entry there (an earlier host's blocking take that Redis ran after the host lease
      * changed hands). Nothing was stored; the service reads the list again (see [StageService]).
      */
     object Stray : StepResult() {
