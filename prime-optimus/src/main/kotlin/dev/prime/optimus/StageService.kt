@@ -283,7 +283,8 @@ internal class StageService(
      * taken next, or `null` to read the processing list again: after a blocking take in vain (the fenced
      * peek then comes first, as after an idle take), or after the general step stored what the
      * request step could not (a reply key it refused: the general step dead-letters the request;
-     * a lease held by nobody: the general step waits for it).
+     * a lease held by nobody: the general step waits for it, then checks the processing list for a
+     * stray entry as the request step would have, when it takes).
      */
     private suspend fun storeRequest(
         session: RedisSession,
@@ -309,7 +310,9 @@ internal class StageService(
         if (result is StepResult.Stray) return null.also { strayFound() }
         if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
         if (result !is StepResult.Stored) {
-            runStep(session, whole, ack = 1, take = 0)
+            // a lease held by nobody was not yet checked against a stray entry: the general step takes as this one
+            // would have, so that it checks the list once the lease is back (a refused reply key passed that check)
+            runStep(session, whole, ack = 1, take = if (result is StepResult.Fenced) take else 0) ?: return null
             whole.ids.forEach(recent::add)
             return null
         }

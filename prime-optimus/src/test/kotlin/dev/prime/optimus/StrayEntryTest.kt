@@ -95,13 +95,7 @@ class StrayEntryTest {
                         strayMove(jedis, keys.serviceInput("echo"), keys.serviceProcessing("echo"))
                         secondRelease.countDown()
 
-                        val answers = calls.mapIndexed { x, call ->
-                            try {
-                                call.get(PATIENCE.seconds, TimeUnit.SECONDS)
-                            } catch (e: java.util.concurrent.ExecutionException) {
-                                throw AssertionError("request $x was not answered: ${e.cause}", e.cause)
-                            }
-                        }
+                        val answers = answersOf(calls)
                         assertEquals(listOf(100, 101, 102, 103), answers, "every request answered")
                         assertEquals(0L, jedis.llen(keys.serviceProcessing("echo")), "everything acknowledged, nothing left behind")
                         assertEquals(0L, jedis.llen(keys.deadLetters("echo")), "no dead letter")
@@ -109,6 +103,90 @@ class StrayEntryTest {
             }
         } finally {
             callers.shutdownNow()
+        }
+    }
+
+    /**
+     * Two faults at once: an earlier host's blocking take, still waiting in Redis, is served
+     * before this host's take (so the stray request is at the head of the processing list), and
+     * the host lease lapses while the service handles the request behind it. The general step
+     * that stores the request once the lease is re-claimed checks the list too: the stray request
+     * is answered (before, that step acknowledged it unread in place of the handled one).
+     */
+    @Test
+    fun aStrayRequestAtTheHeadOfTheListIsAnsweredWhenTheLeaseLapsedMeanwhile() {
+        val name = "stray-entry-lapse"
+        val keys = Keys(name)
+        val firstEntered = CountDownLatch(1)
+        val firstRelease = CountDownLatch(1)
+        val thirdEntered = CountDownLatch(1)
+        val thirdRelease = CountDownLatch(1)
+        val thirdHeld = java.util.concurrent.atomic.AtomicBoolean()
+        val callers = Executors.newFixedThreadPool(4)
+        try {
+            // a Redis of its own: the test counts the clients blocked in it
+            EmbeddedRedis.start().use { redis ->
+                Jedis(URI(redis.uri)).use { jedis ->
+                    OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(redis.uri)
+                        .leaseTime(LAPSE_LEASE).callTimeout(CALL_TIMEOUT).build().use { host ->
+                            val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
+                                if (x == 0) holdInBlock(firstEntered, firstRelease)
+                                if (x == 2 && thirdHeld.compareAndSet(false, true)) holdInBlock(thirdEntered, thirdRelease)
+                                x + 100
+                            }.toBlock()
+                            host.start()
+                            assertEquals(200, echo.process(100), "warm")
+                            val calls = ArrayList<Future<Int>>()
+                            calls += callers.submit<Int> { echo.process(0) }
+                            assertTrue(firstEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 0")
+                            // the earlier host's take, waiting in Redis ahead of the service's next one
+                            val input = keys.serviceInput("echo")
+                            val processing = keys.serviceProcessing("echo")
+                            val earlierTake = callers.submit<ByteArray?> {
+                                Jedis(URI(redis.uri)).use { it.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, 10.0) }
+                            }
+                            awaitBlocked(jedis, 2) // request 0's caller and the earlier take (the service is in its block)
+                            firstRelease.countDown()
+                            assertEquals(100, calls[0].get(PATIENCE.seconds, TimeUnit.SECONDS))
+                            awaitBlocked(jedis, 2) // the earlier take and the service's take behind it
+                            calls += callers.submit<Int> { echo.process(1) }
+                            assertTrue(earlierTake.get(PATIENCE.seconds, TimeUnit.SECONDS) != null, "the earlier take moved request 1")
+                            calls += callers.submit<Int> { echo.process(2) }
+                            assertTrue(thirdEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 2")
+                            assertEquals(2L, jedis.llen(processing), "request 1 (stray, at the head) and request 2")
+                            assertEquals(1L, jedis.del(keys.hostLease("echo")), "the lease lapses")
+                            thirdRelease.countDown()
+
+                            val answers = answersOf(calls)
+                            assertEquals(listOf(100, 101, 102), answers, "every request answered")
+                            assertEquals(0L, jedis.llen(processing), "everything acknowledged, nothing left behind")
+                        }
+                }
+            }
+        } finally {
+            callers.shutdownNow()
+        }
+    }
+
+    /** The calls' answers, in order; fails naming the first request not answered. */
+    private fun answersOf(calls: List<Future<Int>>): List<Int> = calls.mapIndexed { x, call ->
+        try {
+            call.get(PATIENCE.seconds, TimeUnit.SECONDS)
+        } catch (e: java.util.concurrent.ExecutionException) {
+            throw AssertionError("request $x was not answered: ${e.cause}", e.cause)
+        }
+    }
+
+    /** The number of clients blocked in Redis (a caller waiting for its reply, a service in its take). */
+    private fun blockedClients(jedis: Jedis): Int =
+        jedis.info("clients").lines().first { it.startsWith("blocked_clients:") }.substringAfter(':').trim().toInt()
+
+    /** Waits (bounded) until [count] clients are blocked in Redis. */
+    private fun awaitBlocked(jedis: Jedis, count: Int) {
+        val deadline = System.nanoTime() + PATIENCE.toNanos()
+        while (blockedClients(jedis) != count) {
+            check(System.nanoTime() < deadline) { "${blockedClients(jedis)} clients blocked, not $count, after $PATIENCE" }
+            Thread.onSpinWait()
         }
     }
 
@@ -130,6 +208,7 @@ class StrayEntryTest {
 
     private companion object {
         val CALL_TIMEOUT: Duration = Duration.ofSeconds(5)
+        val LAPSE_LEASE: Duration = Duration.ofSeconds(3)
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
 }
