@@ -307,7 +307,10 @@ internal class StageService(
             session.once { step.execute(it, output, take) }
         }
         waitBehindStep = result is StepResult.Stored
-        if (result is StepResult.Stray) return null.also { strayFound() }
+        if (result is StepResult.Stray) {
+            strayFound()
+            return null
+        }
         if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
         if (result !is StepResult.Stored) {
             // a lease held by nobody was not yet checked against a stray entry: the general step takes as this one
@@ -419,7 +422,10 @@ internal class StageService(
                     return result
                 }
                 is StepResult.Stale -> output!!.view = null
-                is StepResult.Stray -> return null.also { strayFound() }
+                is StepResult.Stray -> {
+                    strayFound()
+                    return null
+                }
                 is StepResult.Fenced -> {
                     if (result.holder.isNotEmpty()) throw HostingLost(result.holder)
                     // nobody holds the lease (it lapsed during a pause, or Redis lost it): the heartbeat re-claims it

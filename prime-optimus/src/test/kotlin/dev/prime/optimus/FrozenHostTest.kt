@@ -33,19 +33,15 @@ class FrozenHostTest {
                 core.start()
                 // a host busy in its block (1 ms a value) is almost always in the middle of a step when frozen
                 val args = arrayOf(redis.uri, name, LEASE.toMillis().toString(), "host", "1")
-                WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { frozen ->
-                    frozen.awaitLine("DECLARED")
-                    frozen.send("START")
-                    frozen.awaitLine("READY")
-                    WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { successor ->
-                        successor.awaitLine("DECLARED")
+                LeaseWorkerMain.declaredHost(*args).use { frozen ->
+                    LeaseWorkerMain.startHosting(frozen)
+                    LeaseWorkerMain.declaredHost(*args).use { successor ->
                         val received = ArrayList<Int>()
                         val publisher = thread(name = "frozen-host-test-publisher") { (0 until n).forEach(numbers::publish) }
                         try {
                             received += take(output, n / 10)
                             signal("STOP", frozen.pid)
-                            successor.send("START")
-                            successor.awaitLine("READY")
+                            LeaseWorkerMain.startHosting(successor)
                             received += take(output, n / 10)
                             signal("CONT", frozen.pid)
                             val stopping = frozen.awaitLineContaining("stops service 'double'", LEASE.seconds + 10)
@@ -91,18 +87,14 @@ class FrozenHostTest {
                     val square = TwoProcessTopology.declare(core, EventBlock()).square
                     core.start()
                     val args = arrayOf(redis.uri, name, LEASE.toMillis().toString(), "host", "0", "100")
-                    WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { frozen ->
-                        frozen.awaitLine("DECLARED")
-                        frozen.send("START")
-                        frozen.awaitLine("READY")
-                        WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { successor ->
-                            successor.awaitLine("DECLARED")
+                    LeaseWorkerMain.declaredHost(*args).use { frozen ->
+                        LeaseWorkerMain.startHosting(frozen)
+                        LeaseWorkerMain.declaredHost(*args).use { successor ->
                             val calls = CallersOf(square)
                             try {
                                 calls.awaitAnswers(8)
                                 signal("STOP", frozen.pid)
-                                successor.send("START")
-                                successor.awaitLine("READY")
+                                LeaseWorkerMain.startHosting(successor)
                                 calls.awaitAnswers(8)
                                 signal("CONT", frozen.pid)
                                 frozen.awaitLineContaining("stops service 'square'", LEASE.seconds + 10)

@@ -18,6 +18,24 @@ import kotlin.system.exitProcess
  * `start()` prints `FAILED <message>` and exits with 1.
  */
 object LeaseWorkerMain {
+    /** Starts a `host` worker with [args] and waits until it has declared the topology; it hosts nothing until [startHosting]. */
+    internal fun declaredHost(vararg args: String): WorkerProcess {
+        val worker = WorkerProcess.start(LeaseWorkerMain::class.java, *args)
+        try {
+            worker.awaitLine("DECLARED")
+        } catch (e: Throwable) {
+            worker.close()
+            throw e
+        }
+        return worker
+    }
+
+    /** Tells a worker of [declaredHost] to start hosting, and waits until it has; its `READY` line. */
+    internal fun startHosting(worker: WorkerProcess): String {
+        worker.send("START")
+        return worker.awaitLine("READY")
+    }
+
     @JvmStatic
     fun main(args: Array<String>) {
         if (args.size < 4) {

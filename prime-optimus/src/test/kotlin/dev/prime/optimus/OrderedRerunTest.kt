@@ -13,7 +13,6 @@ import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
 import java.util.Optional
 import java.util.concurrent.CompletableFuture
-import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicBoolean
 import java.util.concurrent.atomic.AtomicInteger
@@ -33,14 +32,10 @@ class OrderedRerunTest {
         val name = "ordered-rerun"
         val keys = Keys(name)
         val reported = CompletableFuture<Throwable>()
-        val oldRunEntered = CountDownLatch(1)
-        val oldRunRelease = CountDownLatch(1)
-        val secondEntered = CountDownLatch(1)
-        val secondRelease = CountDownLatch(1)
+        val oldRun = BlockGate()
+        val second = BlockGate()
         val running = AtomicInteger()
         val overlapped = AtomicBoolean()
-        val firstHeld = AtomicBoolean()
-        val secondHeld = AtomicBoolean()
         val config = CoreConfig.builder().name(name).errorHandler { _, _, error -> reported.complete(error) }.build()
         Jedis(URI(TestRedis.url)).use { jedis ->
             OptimusCore.builder().config(config).redis(TestRedis.url).leaseTime(LEASE)
@@ -50,8 +45,8 @@ class OrderedRerunTest {
                         host.chain("double") { x: Int ->
                             if (running.incrementAndGet() > 1) overlapped.set(true)
                             try {
-                                if (x == 1 && firstHeld.compareAndSet(false, true)) holdInBlock(oldRunEntered, oldRunRelease)
-                                if (x == 2 && secondHeld.compareAndSet(false, true)) holdInBlock(secondEntered, secondRelease)
+                                if (x == 1) oldRun.hold()
+                                if (x == 2) second.hold()
                                 2 * x
                             } finally {
                                 running.decrementAndGet()
@@ -60,7 +55,7 @@ class OrderedRerunTest {
                     ).reader()
                     host.start()
                     events.publish(1)
-                    assertTrue(oldRunEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took value 1")
+                    assertTrue(oldRun.awaitHeld(), "the service took value 1")
                     // another instance holds the lease for a while, as if this host had been frozen longer than the lease
                     val lease = keys.hostLease("double")
                     jedis.set(lease, "intruder".toByteArray(UTF_8), SetParams().px(INTRUDER_LEASE.toMillis()))
@@ -70,10 +65,10 @@ class OrderedRerunTest {
                     events.publish(3)
                     // the intruder's lease lapses: a standby that did not wait for the run still in its block would
                     // claim the lease within a third of the lease time and start a run that takes value 2 and holds it
-                    val newRunBesideTheOld = secondEntered.await(INTRUDER_LEASE.plus(LEASE).seconds + 1, TimeUnit.SECONDS)
-                    oldRunRelease.countDown()
-                    assertTrue(secondEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service runs again and takes value 2")
-                    secondRelease.countDown()
+                    val newRunBesideTheOld = second.awaitHeld(INTRUDER_LEASE.plus(LEASE).plusSeconds(1))
+                    oldRun.open()
+                    assertTrue(second.awaitHeld(), "the service runs again and takes value 2")
+                    second.open()
 
                     val received = (1..3).map { i ->
                         output.take(PATIENCE).orElseThrow { AssertionError("value $i of 3 did not arrive within $PATIENCE") }

@@ -117,19 +117,15 @@ class SingleHostTest {
                 val output = TwoProcessTopology.declare(core, numbers).output.reader()
                 core.start()
                 val args = arrayOf(redis.uri, name, LEASE.toMillis().toString(), "host")
-                WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { first ->
-                    first.awaitLine("DECLARED")
-                    first.send("START")
-                    first.awaitLine("READY")
-                    WorkerProcess.start(LeaseWorkerMain::class.java, *args).use { successor ->
-                        successor.awaitLine("DECLARED")
+                LeaseWorkerMain.declaredHost(*args).use { first ->
+                    LeaseWorkerMain.startHosting(first)
+                    LeaseWorkerMain.declaredHost(*args).use { successor ->
                         val publisher = thread(name = "single-host-test-publisher") { (0 until n).forEach(numbers::publish) }
                         try {
                             val received = takeAll(output, n / 10)
                             val killed = System.nanoTime()
                             first.kill() // mid-stream
-                            successor.send("START")
-                            val ready = successor.awaitLine("READY")
+                            val ready = LeaseWorkerMain.startHosting(successor)
                             val takeover = Duration.ofNanos(System.nanoTime() - killed)
                             println("SingleHostTest: the successor took over ${takeover.toMillis()} ms after the kill ($ready ms in start())")
                             assertTrue(takeover <= LEASE + Duration.ofSeconds(1), "took over after $takeover; successor:\n${successor.output()}")

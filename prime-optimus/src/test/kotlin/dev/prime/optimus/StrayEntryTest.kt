@@ -11,7 +11,6 @@ import redis.clients.jedis.args.ListDirection
 import java.net.URI
 import java.time.Duration
 import java.util.Optional
-import java.util.concurrent.CountDownLatch
 import java.util.concurrent.Executors
 import java.util.concurrent.Future
 import java.util.concurrent.TimeUnit
@@ -31,23 +30,22 @@ class StrayEntryTest {
     fun aStrayEntryInAServicesProcessingListIsProcessedOnceAndInOrder() {
         val name = "stray-entry-flow"
         val keys = Keys(name)
-        val entered = CountDownLatch(1)
-        val release = CountDownLatch(1)
+        val gate = BlockGate()
         Jedis(URI(TestRedis.url)).use { jedis ->
             OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(TestRedis.url).build().use { host ->
                 val events = EventBlock<Int>()
                 val output = host.source("numbers", events).then(
                     host.chain("double") { x: Int ->
-                        if (x == 1) holdInBlock(entered, release)
+                        if (x == 1) gate.hold()
                         2 * x
                     },
                 ).reader()
                 host.start()
                 (1..5).forEach(events::publish)
-                assertTrue(entered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took the first value")
+                assertTrue(gate.awaitHeld(), "the service took the first value")
                 awaitLength(jedis, keys.serviceInput("double"), 4)
                 strayMove(jedis, keys.serviceInput("double"), keys.serviceProcessing("double"))
-                release.countDown()
+                gate.open()
 
                 val received = (1..5).map { i ->
                     output.take(PATIENCE).orElseThrow { AssertionError("value $i of 5 did not arrive within $PATIENCE") }
@@ -63,10 +61,8 @@ class StrayEntryTest {
     fun aStrayRequestInACalledServicesProcessingListIsAnswered() {
         val name = "stray-entry-call"
         val keys = Keys(name)
-        val firstEntered = CountDownLatch(1)
-        val firstRelease = CountDownLatch(1)
-        val secondEntered = CountDownLatch(1)
-        val secondRelease = CountDownLatch(1)
+        val first = BlockGate()
+        val second = BlockGate()
         val callers = Executors.newFixedThreadPool(4)
         try {
             Jedis(URI(TestRedis.url)).use { jedis ->
@@ -74,8 +70,8 @@ class StrayEntryTest {
                     .callTimeout(CALL_TIMEOUT).build().use { host ->
                         val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
                             when (x) {
-                                0 -> holdInBlock(firstEntered, firstRelease)
-                                1 -> holdInBlock(secondEntered, secondRelease)
+                                0 -> first.hold()
+                                1 -> second.hold()
                             }
                             x + 100
                         }.toBlock()
@@ -83,17 +79,17 @@ class StrayEntryTest {
                         assertEquals(200, echo.process(100), "warm: the service is idle in its watched take")
                         val calls = ArrayList<Future<Int>>()
                         calls += callers.submit<Int> { echo.process(0) }
-                        assertTrue(firstEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 0")
+                        assertTrue(first.awaitHeld(), "the service took request 0")
                         for (x in 1..3) {
                             calls += callers.submit<Int> { echo.process(x) }
                             awaitLength(jedis, keys.serviceInput("echo"), x.toLong())
                         }
                         // the step of request 0 takes request 1 behind it; 2 and 3 wait in the input
-                        firstRelease.countDown()
-                        assertTrue(secondEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 1")
+                        first.open()
+                        assertTrue(second.awaitHeld(), "the service took request 1")
                         awaitLength(jedis, keys.serviceInput("echo"), 2)
                         strayMove(jedis, keys.serviceInput("echo"), keys.serviceProcessing("echo"))
-                        secondRelease.countDown()
+                        second.open()
 
                         val answers = answersOf(calls)
                         assertEquals(listOf(100, 101, 102, 103), answers, "every request answered")
@@ -117,11 +113,8 @@ class StrayEntryTest {
     fun aStrayRequestAtTheHeadOfTheListIsAnsweredWhenTheLeaseLapsedMeanwhile() {
         val name = "stray-entry-lapse"
         val keys = Keys(name)
-        val firstEntered = CountDownLatch(1)
-        val firstRelease = CountDownLatch(1)
-        val thirdEntered = CountDownLatch(1)
-        val thirdRelease = CountDownLatch(1)
-        val thirdHeld = java.util.concurrent.atomic.AtomicBoolean()
+        val first = BlockGate()
+        val third = BlockGate()
         val callers = Executors.newFixedThreadPool(4)
         try {
             // a Redis of its own: the test counts the clients blocked in it
@@ -130,15 +123,15 @@ class StrayEntryTest {
                     OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(redis.uri)
                         .leaseTime(LAPSE_LEASE).callTimeout(CALL_TIMEOUT).build().use { host ->
                             val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
-                                if (x == 0) holdInBlock(firstEntered, firstRelease)
-                                if (x == 2 && thirdHeld.compareAndSet(false, true)) holdInBlock(thirdEntered, thirdRelease)
+                                if (x == 0) first.hold()
+                                if (x == 2) third.hold()
                                 x + 100
                             }.toBlock()
                             host.start()
                             assertEquals(200, echo.process(100), "warm")
                             val calls = ArrayList<Future<Int>>()
                             calls += callers.submit<Int> { echo.process(0) }
-                            assertTrue(firstEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 0")
+                            assertTrue(first.awaitHeld(), "the service took request 0")
                             // the earlier host's take, waiting in Redis ahead of the service's next one
                             val input = keys.serviceInput("echo")
                             val processing = keys.serviceProcessing("echo")
@@ -146,16 +139,16 @@ class StrayEntryTest {
                                 Jedis(URI(redis.uri)).use { it.blmove(input, processing, ListDirection.LEFT, ListDirection.RIGHT, 10.0) }
                             }
                             awaitBlocked(jedis, 2) // request 0's caller and the earlier take (the service is in its block)
-                            firstRelease.countDown()
+                            first.open()
                             assertEquals(100, calls[0].get(PATIENCE.seconds, TimeUnit.SECONDS))
                             awaitBlocked(jedis, 2) // the earlier take and the service's take behind it
                             calls += callers.submit<Int> { echo.process(1) }
                             assertTrue(earlierTake.get(PATIENCE.seconds, TimeUnit.SECONDS) != null, "the earlier take moved request 1")
                             calls += callers.submit<Int> { echo.process(2) }
-                            assertTrue(thirdEntered.await(PATIENCE.seconds, TimeUnit.SECONDS), "the service took request 2")
+                            assertTrue(third.awaitHeld(), "the service took request 2")
                             assertEquals(2L, jedis.llen(processing), "request 1 (stray, at the head) and request 2")
                             assertEquals(1L, jedis.del(keys.hostLease("echo")), "the lease lapses")
-                            thirdRelease.countDown()
+                            third.open()
 
                             val answers = answersOf(calls)
                             assertEquals(listOf(100, 101, 102), answers, "every request answered")
