@@ -275,8 +275,8 @@ public final class CoreConfig {
      * over (the receiver does not see the change) or when its type is one the codec refuses
      * ({@link IllegalArgumentException} at the publish or the call). Meant for tests: copying costs
      * an encode and a decode per value. Chains linked together are one service on the in-memory
-     * media, so values between them are not copied. Optimus copies every value through its own
-     * codec whatever this says.
+     * media, and so are a template and its parts, so values between them are not copied. Optimus
+     * copies every value through its own codec whatever this says.
      *
      * <pre>{@code
      * new LibertyCore(CoreConfig.builder().copyValues(KryoCodec.standard()).build())

@@ -44,7 +44,8 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
   /**
    * Consumes the chain and returns its block, under the core's declaration lock. If the core
    * copies values ({@link CoreConfig#valueCopies()}) and the media does not already, the block
-   * copies each input before the chain sees it and each result before the caller does.
+   * copies each input before the chain sees it and each result before the caller does: a call
+   * crosses into the chain's service.
    */
   @Override
   public Block<I, O> toBlock() {
@@ -52,7 +53,11 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
         core,
         () -> {
           consume();
-          return partBlock();
+          Block<I, O> block = partBlock();
+          ValueCodec copies = core.config().valueCopies();
+          return copies == null || media.copiesValues()
+              ? block
+              : new CopyingBlock<>(name, block, copies);
         });
   }
 
@@ -78,14 +83,15 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
   }
 
   /**
-   * The block a generic template calls this chain through, once the template took it as a part:
-   * what {@link #toBlock()} would have given.
+   * The block a generic template calls this chain through, once the template took it as a part.
+   * It copies no values, even when the core copies them ({@link CoreConfig#valueCopies()}): a
+   * template and its parts are one chain, in one service, and values between them stay there, as
+   * they do between chains linked together (and as in a template a media fuses, such as
+   * Radiant's).
    */
   @SuppressWarnings("unchecked")
   Block<I, O> partBlock() {
-    Block<I, O> block = (Block<I, O>) media.toBlock(name, form);
-    ValueCodec copies = core.config().valueCopies();
-    return copies == null || media.copiesValues() ? block : new CopyingBlock<>(name, block, copies);
+    return (Block<I, O>) media.toBlock(name, form);
   }
 
   private void consume() {

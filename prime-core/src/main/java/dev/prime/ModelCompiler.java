@@ -348,8 +348,15 @@ final class ModelCompiler<F> {
         : block;
   }
 
-  private static <T> Block<Token, T> syncCollector(Source<T> source) {
-    return new SyncCollectorBlock<>(InProcessServices.serviceReader(source));
+  /**
+   * A sync collector's block: on a service's thread (a caller elsewhere) it also ends when that
+   * caller gave up ({@link PrimeCore#callerGaveUp}).
+   */
+  private <T> Block<Token, T> syncCollector(Source<T> source) {
+    return new SyncCollectorBlock<>(
+        InProcessServices.serviceReader(source),
+        () -> core.isOwnThread(Thread.currentThread()),
+        core::callerGaveUp);
   }
 
   private static <T> Block<Token, List<T>> asyncCollector(Source<T> source) {
@@ -360,7 +367,7 @@ final class ModelCompiler<F> {
   private Block<?, ?> repeater(NodeLogic.Repeat logic, List<Part<F>> parts) {
     Block collector = parts.size() > 1 ? parts.get(1).block() : null;
     return new RepeaterLoopBlock(
-        parts.get(0).block(), collector, logic.repeater(), core::ensureOpen);
+        parts.get(0).block(), collector, logic.repeater(), core::ensureOpen, core::callerGaveUp);
   }
 
   /** The generic block of a template, calling its parts' blocks. */

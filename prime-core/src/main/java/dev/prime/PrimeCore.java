@@ -47,7 +47,10 @@ import org.slf4j.LoggerFactory;
  *   <li>A link or template that throws consumes nothing: every chain given to it stays usable.
  *   <li>Every blocking wait (a reader's {@code take}, a sync collector, a caller waiting for an
  *       isolated chain, a repeater between rounds) ends when its thread is interrupted or the core
- *       closes. {@link #close()} may be called from a service's own thread (a listener).
+ *       closes. Where such a wait runs on a service's thread for a caller elsewhere (Optimus), it
+ *       also ends when that caller gives up (interrupted, or its timeout passed): the service goes
+ *       on to its next call, and a sync collector keeps a value that came meanwhile for its next
+ *       call. {@link #close()} may be called from a service's own thread (a listener).
  *   <li>{@link #close()} stops every service within {@link CoreConfig#shutdownTimeout()} and
  *       releases every thread and connection; a closed core throws {@link CoreClosedException}.
  * </ul>
@@ -471,6 +474,8 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * A chain that returns the next value of {@code source} on each call, waiting for one if
    * needed. Its reader is created now, so it sees the values retained now and everything later.
+   * A call that gives up while it waits (its thread interrupted, or, on Optimus, its timeout)
+   * takes no value with it: the values go to the next calls, in order.
    *
    * @param source the source
    * @param <T> value type

@@ -164,7 +164,8 @@ class LogicBlocksTest {
               if (rounds.get() == 5) {
                 throw new IllegalStateException("closed");
               }
-            });
+            },
+            () -> false);
     assertEquals("closed", assertThrows(IllegalStateException.class, () -> stoppedByOwner.process(0)).getMessage());
     assertEquals(5, rounds.get(), "the check runs between every two rounds");
 
@@ -186,6 +187,26 @@ class LogicBlocksTest {
     } finally {
       Thread.interrupted();
     }
+  }
+
+  @Test
+  void repeaterStopsWhenItsCallerGaveUpAskingAtMostEveryFiftyMilliseconds() {
+    AtomicInteger rounds = new AtomicInteger();
+    AtomicInteger asked = new AtomicInteger();
+    long started = System.nanoTime();
+    Block<Integer, Integer> abandoned =
+        new RepeaterLoopBlock<Integer, Integer, Void, Integer>(
+            x -> rounds.incrementAndGet(),
+            null,
+            (in, out, c) -> Repeat.again(out),
+            () -> {},
+            () -> asked.incrementAndGet() == 2);
+    PrimeException e = assertThrows(PrimeException.class, () -> abandoned.process(0));
+    long tookMillis = (System.nanoTime() - started) / 1_000_000;
+    assertTrue(e.getMessage().contains("gave up"), e.getMessage());
+    assertEquals(2, asked.get(), "asked until the caller gave up");
+    assertTrue(tookMillis >= 100, "asked at most once every 50 ms: two asks after " + tookMillis + " ms");
+    assertTrue(rounds.get() > 2, "rounds run between the asks: " + rounds.get());
   }
 
   @Test

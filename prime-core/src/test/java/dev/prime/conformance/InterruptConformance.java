@@ -4,6 +4,7 @@ import static dev.prime.conformance.ConformanceBase.assertNoThreadsLeft;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertInstanceOf;
+import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
@@ -23,6 +24,7 @@ import java.util.ArrayList;
 import java.util.List;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicBoolean;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
@@ -163,15 +165,22 @@ public interface InterruptConformance extends ConformanceBase {
   @Test
   default void interruptingItsCallerStopsARepeater() throws InterruptedException {
     CountDownLatch looping = new CountDownLatch(100);
+    AtomicBoolean nextCallEnded = new AtomicBoolean();
+    CountDownLatch roundAfterTheNextCall = new CountDownLatch(1);
     try (PrimeCore core = newCore()) {
+      // a non-negative input loops for ever; a negative one stops at once
       Chain<Integer, Integer> forever =
           core.repeater(
               core.chain(
                   x -> {
                     looping.countDown();
+                    if (x >= 0 && nextCallEnded.get()) {
+                      roundAfterTheNextCall.countDown();
+                    }
                     return x + 1;
                   }),
-              (Integer in, Integer out, List<Void> none) -> Repeat.again(out));
+              (Integer in, Integer out, List<Void> none) ->
+                  in < 0 ? Repeat.stop(in) : Repeat.again(out));
       core.start();
       Block<Integer, Integer> block = forever.toBlock();
       Caller caller = new Caller("repeater", () -> block.process(0));
@@ -179,6 +188,16 @@ public interface InterruptConformance extends ConformanceBase {
       caller.thread.interrupt();
       assertInstanceOf(PrimeException.class, caller.awaitFailure(patience()));
       assertTrue(caller.interruptedAtEnd, "the caller's interrupt flag stays set");
+      // the loop stopped (wherever it ran): the repeater serves the next call
+      AtomicReference<Integer> next = new AtomicReference<>();
+      Caller nextCaller = new Caller("next", () -> next.set(block.process(-1)));
+      assertNull(nextCaller.awaitFailure(patience()), "the next call of the repeater fails");
+      assertEquals(-1, next.get(), "the next call gets its own conclusion");
+      nextCallEnded.set(true);
+      // a bounded wait for a round that must not come
+      assertFalse(
+          roundAfterTheNextCall.await(300, TimeUnit.MILLISECONDS),
+          "the interrupted caller's loop runs no more rounds");
     }
   }
 
@@ -292,16 +311,35 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A sync collector's call that waits honours interruption and takes no value with it: the
+   * values published after it ended go to the next calls, in order (wherever the collector's
+   * wait ran: on Optimus a service's, which learns that its caller gave up).
+   */
   @Test
   default void aSyncCollectorWaitingForAValueHonoursInterruption() throws InterruptedException {
     try (PrimeCore core = newCore()) {
-      Chain<Token, Integer> collector = core.syncCollector(core.source(new EventBlock<Integer>()));
+      EventBlock<Integer> events = new EventBlock<>();
+      Chain<Token, Integer> collector = core.syncCollector(core.source(events));
       core.start();
       Block<Token, Integer> block = collector.toBlock();
       Caller caller = new Caller("collector", () -> block.process(Token.INSTANCE));
+      Caller.awaitBlocked(List.of(caller));
       caller.thread.interrupt();
       assertInstanceOf(PrimeException.class, caller.awaitFailure(patience()));
       assertTrue(caller.interruptedAtEnd, "the caller's interrupt flag stays set");
+      events.publish(1);
+      events.publish(2);
+      List<Integer> next = new ArrayList<>();
+      Caller nextCalls =
+          new Caller(
+              "collector-next",
+              () -> {
+                next.add(block.process(Token.INSTANCE));
+                next.add(block.process(Token.INSTANCE));
+              });
+      assertNull(nextCalls.awaitFailure(patience()), "the next calls fail");
+      assertEquals(List.of(1, 2), next, "the next calls get the values published after the interrupt");
     }
   }
 

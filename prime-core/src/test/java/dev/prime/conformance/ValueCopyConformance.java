@@ -12,6 +12,7 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import dev.prime.Tuple2;
 import java.util.ArrayList;
 import java.util.Collections;
 import java.util.List;
@@ -221,5 +222,46 @@ public interface ValueCopyConformance extends ConformanceBase {
       Block<Unshippable, Integer> block = chain.toBlock();
       assertThrows(IllegalArgumentException.class, () -> block.process(new Unshippable()));
     }
+  }
+
+  /**
+   * A template and its parts are one chain, in one service: on the in-memory media, with {@link
+   * CoreConfig.Builder#copyValues}, the parts of a union get the very same input, and a branch
+   * may return a value of a type the codec refuses, as long as the value stays in the service; with
+   * metrics on too (a metered template runs the generic template blocks on every media).
+   */
+  @Test
+  default void aTemplateCopiesNothingBetweenItsPartsOnTheInMemoryMedia() {
+    Assumptions.assumeTrue(
+        blocksRunOnTheCallersThread(), "the in-memory media: a template is one service there");
+    for (boolean metrics : new boolean[] {false, true}) {
+      CoreConfig config = CoreConfig.builder().copyValues(copyCodec()).metrics(metrics).build();
+      try (PrimeCore core = newCore(config)) {
+        List<Object> seen = Collections.synchronizedList(new ArrayList<>());
+        Block<List<Integer>, Integer> union =
+            core.union(
+                    core.chain("left", (List<Integer> list) -> seen.add(list) ? list.size() : 0),
+                    core.chain("right", (List<Integer> list) -> seen.add(list) ? list.size() : 0))
+                .then(core.chain("sum", (Tuple2<Integer, Integer> t) -> t.first() + t.second()))
+                .toBlock();
+        Block<Integer, Integer> branch =
+            core.ifThenElse(
+                    (Integer x) -> x > 0,
+                    core.chain("make", (Integer x) -> unshippable(x)),
+                    core.chain("makeNone", (Integer x) -> unshippable(0)))
+                .then(core.chain("count", (Unshippable u) -> u.count))
+                .toBlock();
+        core.start();
+        assertEquals(2, union.process(new ArrayList<>(List.of(7))), "metrics " + metrics);
+        assertSame(seen.get(0), seen.get(1), "the union's parts got the very same input, metrics " + metrics);
+        assertEquals(5, branch.process(5), "a value that stays in the service is not copied, metrics " + metrics);
+      }
+    }
+  }
+
+  private static Unshippable unshippable(int count) {
+    Unshippable made = new Unshippable();
+    made.count = count;
+    return made;
   }
 }
