@@ -11,7 +11,9 @@ import java.util.concurrent.ConcurrentHashMap
  *
  * Design note. A host lease is a key holding the id of the instance that runs the service, set
  * with `SET NX PX` semantics (in [LeaseScripts.HOST_CLAIM], which also renews a lease the instance
- * holds) and renewed by the heartbeat every third of the lease time. [claim] waits at most one
+ * holds) and renewed by the heartbeat every third of the lease time ([LeaseScripts.HOST_RENEW],
+ * which re-claims a lapsed lease only for a service without a processing list: one with a list
+ * does, as it reads the list again). [claim] waits at most one
  * lease time (plus [CLAIM_MARGIN]) for a lease held by another instance to lapse, so a restarted
  * worker takes over from a killed one; a live holder renews its lease and the claim fails
  * ([Hosting.EXCLUSIVE]). A standby of an [Hosting.ORDERED] service calls [tryClaim] instead, which
@@ -29,6 +31,8 @@ internal class HostLeases(
     private val connections: RedisConnections,
     private val instance: String,
     private val leaseTime: Duration,
+    /** Whether a service re-claims its lapsed lease itself, as it reads its processing list ([Script.PEEK]). */
+    private val reclaimsItsOwnLease: (String) -> Boolean,
 ) {
     private val held: MutableSet<String> = ConcurrentHashMap.newKeySet()
 
@@ -110,18 +114,22 @@ internal class HostLeases(
     }
 
     /**
-     * Renews every held lease (re-claiming one that is gone, after Redis lost its data or this
-     * instance was frozen); returns the services whose lease another instance holds now, with that
-     * holder. Those are no longer held.
+     * Renews every held lease; returns the services whose lease another instance holds now, with
+     * that holder. Those are no longer held. A lease that is gone (it lapsed while this instance
+     * was frozen or cut off, or Redis lost its data) is claimed again here only for a service that
+     * holds no batch (a generic service); a service with a processing list re-claims it itself,
+     * when it reads the list again ([Script.PEEK]): the batch it held may be stale (another host
+     * may have held the lease meanwhile), so only a fresh read may follow a fresh claim.
      */
     fun renew(jedis: Jedis): Map<String, String> {
         val services = held.toList()
         if (services.isEmpty()) return emptyMap()
-        val holders = claimOnce(jedis, services)
+        val reclaim = services.joinToString("") { if (reclaimsItsOwnLease(it)) "0" else "1" }.toByteArray(UTF_8)
+        val reply = LeaseScripts.HOST_RENEW.run(jedis, services.map(keys::hostLease), listOf(instanceId, leaseMillis, reclaim)) as List<*>
         val taken = LinkedHashMap<String, String>()
         services.forEachIndexed { i, service ->
-            val holder = holders[i].first
-            if (holder != instance && held.remove(service)) taken[service] = holder
+            val holder = (reply[2 * i] as ByteArray).toString(UTF_8)
+            if (holder.isNotEmpty() && holder != instance && held.remove(service)) taken[service] = holder
         }
         return taken
     }

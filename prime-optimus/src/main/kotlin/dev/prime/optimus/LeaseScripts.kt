@@ -90,6 +90,31 @@ internal object LeaseScripts {
         """,
     )
 
+    /**
+     * Renews the host leases this instance holds; a lease nobody holds is claimed again only where
+     * ARGV 3 says so (`1` at the key's place: a service that holds no batch, such as a generic
+     * service), else left free (`0`: a service re-claims it as it reads its processing list again:
+     * see [Script.PEEK]). KEYS: host leases. ARGV: instance id, lease ms, one `0` or `1` per key.
+     * Returns, per key, its holder (empty: nobody) and its remaining milliseconds.
+     */
+    val HOST_RENEW = Script(
+        """
+        local result = {}
+        for i, key in ipairs(KEYS) do
+          local holder = redis.call('GET', key)
+          if holder == ARGV[1] then
+            redis.call('PEXPIRE', key, ARGV[2])
+          elseif not holder and string.sub(ARGV[3], i, i) == '1' then
+            redis.call('SET', key, ARGV[1], 'PX', ARGV[2])
+            holder = ARGV[1]
+          end
+          result[#result + 1] = holder or ''
+          result[#result + 1] = redis.call('PTTL', key)
+        end
+        return result
+        """,
+    )
+
     /** Deletes the host leases this instance holds. KEYS: host leases. ARGV: instance id. */
     val HOST_RELEASE = Script(
         """

@@ -244,7 +244,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime)
+    private val hostLeases = HostLeases(keys, connections, instance, settings.leaseTime) { services.containsKey(it) }
     private val leaseTime: Duration = settings.leaseTime
     private val sharedHosting = SharedHosting(keys, instance, settings.leaseTime, settings.hostingModes)
     private val hostedJobs = ConcurrentHashMap<String, Job>()
@@ -811,7 +811,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /** The fence [service]'s steps check: its host lease must hold this instance's id. */
-    internal fun hostFence(service: String): HostFence = HostFence(keys.hostLease(service), instance.toByteArray(UTF_8))
+    internal fun hostFence(service: String): HostFence =
+        HostFence(keys.hostLease(service), instance.toByteArray(UTF_8), leaseTime.toMillis().toString().toByteArray(UTF_8))
 
     /**
      * Where a service with one host at a time keeps what it took: its own processing list, fenced by its host lease.

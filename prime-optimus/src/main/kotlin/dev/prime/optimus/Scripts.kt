@@ -326,13 +326,21 @@ internal class Script(text: String) {
 
         /**
          * KEYS: processing, the service's host lease. ARGV: most entries, most bytes, largest
-         * entry, the instance id that must hold the host lease. Returns `{complete (1: the whole
-         * list was returned), entries...}`, entries above the largest size as `{size, prefix}`, or
-         * `{'FENCED', holder}` as [STEP] does.
+         * entry, the instance id that must hold the host lease, the lease time in ms with which
+         * to claim the lease if nobody holds it (empty: never claim). Returns `{complete (1: the
+         * whole list was returned), entries...}`, entries above the largest size as `{size,
+         * prefix}`, or `{'FENCED', holder}` as [STEP] does. The claim is the only one of a running
+         * service's lapsed lease (the heartbeat only renews: [LeaseScripts.HOST_RENEW]), so every
+         * step after it stores a batch read after it, never one read before the lapse, when
+         * another host may have held the lease and left entries in the list.
          */
         val PEEK = Script(
             """
             local holder = redis.call('GET', KEYS[2])
+            if not holder and ARGV[5] ~= '' then
+              redis.call('SET', KEYS[2], ARGV[4], 'PX', ARGV[5])
+              holder = ARGV[4]
+            end
             if holder ~= ARGV[4] then return {'FENCED', holder or ''} end
             local count, takeBytes, maxBytes = tonumber(ARGV[1]), tonumber(ARGV[2]), tonumber(ARGV[3])
             local length = redis.call('LLEN', KEYS[1])

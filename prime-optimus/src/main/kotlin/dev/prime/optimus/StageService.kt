@@ -32,6 +32,9 @@ internal fun interface StageLogic {
  * checks that the processing list holds just the entries it acknowledges: an entry an earlier
  * host's blocking take moved there after the host lease changed hands makes it store nothing and
  * read the list again ([StepResult.Stray]), so that entry is handled, not acknowledged unread.
+ * A step that finds the host lease held by nobody stores nothing either: the batch may be stale
+ * (another host may have held the lease meanwhile), so the service reads the list again, and its
+ * read ([Script.PEEK]) is what re-claims the lease ([leaseLapsed]).
  *
  * Nothing an entry or a block does stops the service: every throwable but a
  * [VirtualMachineError] is caught on every path (a value's goes to the error handler and the
@@ -242,7 +245,8 @@ internal class StageService(
             Script.PEEK.run(
                 it,
                 listOf(processing, fence.lease),
-                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) } + fence.instance,
+                listOf(BATCH, rules.batchBytes, rules.maxEntryBytes).map { n -> n.toString().toByteArray(UTF_8) } +
+                    fence.instance + (fence.claimMillis ?: NO_CLAIM),
             )
         } as List<*>
         if (reply[0] is ByteArray) { // {'FENCED', holder}
@@ -282,9 +286,8 @@ internal class StageService(
      * this step takes ([take] > 0), waits for the next entry in the same write; returns the entries
      * taken next, or `null` to read the processing list again: after a blocking take in vain (the fenced
      * peek then comes first, as after an idle take), or after the general step stored what the
-     * request step could not (a reply key it refused: the general step dead-letters the request;
-     * a lease held by nobody: the general step waits for it, then checks the processing list for a
-     * stray entry as the request step would have, when it takes).
+     * request step could not (a reply key it refused: the general step dead-letters the request),
+     * or after a step that found the host lease held by nobody ([leaseLapsed]).
      */
     private suspend fun storeRequest(
         session: RedisSession,
@@ -311,11 +314,14 @@ internal class StageService(
             strayFound()
             return null
         }
-        if (result is StepResult.Fenced && result.holder.isNotEmpty()) throw HostingLost(result.holder)
+        if (result is StepResult.Fenced) {
+            if (result.holder.isNotEmpty()) throw HostingLost(result.holder)
+            leaseLapsed()
+            return null
+        }
         if (result !is StepResult.Stored) {
-            // a lease held by nobody was not yet checked against a stray entry: the general step takes as this one
-            // would have, so that it checks the list once the lease is back (a refused reply key passed that check)
-            runStep(session, whole, ack = 1, take = if (result is StepResult.Fenced) take else 0) ?: return null
+            // a reply key the request step refused: the general step dead-letters the request
+            runStep(session, whole, ack = 1, take = 0) ?: return null
             whole.ids.forEach(recent::add)
             return null
         }
@@ -348,15 +354,13 @@ internal class StageService(
             watched = jedis
             step.storeWatched(jedis, output, idleWaitArgument)
         } ?: return null
-        if (!stored) {
-            try {
-                runStep(refusedSteps, whole, ack = 1, take = 0)
-            } catch (e: Throwable) {
-                session.abort() // the take written behind is not read: the connection cannot be used again
-                throw e
-            }
+        val storedAlone = stored || try {
+            runStep(refusedSteps, whole, ack = 1, take = 0) != null // null: the lease lapsed, nothing stored
+        } catch (e: Throwable) {
+            session.abort() // the take written behind is not read: the connection cannot be used again
+            throw e
         }
-        whole.ids.forEach(recent::add)
+        if (storedAlone) whole.ids.forEach(recent::add)
         val moved = session.once(null, idleWaitMillis) { jedis -> if (jedis === watched) step.readTakeBehind(jedis) else null }
         return Next(if (!stored || moved == null) null else listOf(TakenEntry(moved, moved.size.toLong())))
     }
@@ -373,11 +377,12 @@ internal class StageService(
         LOG.warn("service '{}': Redis refused a step of {} entries ({}); storing them one at a time", name, parts.size, cause.message)
         for (part in parts) {
             try {
-                runStep(session, part.batch, ack = 1, take = 0)
+                // null: the lease lapsed and nothing was stored; the rest is read again from the list
+                runStep(session, part.batch, ack = 1, take = 0) ?: return
                 part.batch.ids.forEach(recent::add)
             } catch (e: JedisDataException) {
                 if (!isEntryFault(e)) throw e
-                deadLetterAlone(session, part, "Redis refused to store its results: ${e.message}")
+                if (!deadLetterAlone(session, part, "Redis refused to store its results: ${e.message}")) return
             }
         }
     }
@@ -386,27 +391,30 @@ internal class StageService(
      * Dead-letters [part]'s entry alone; if Redis refuses even that, drops it with an ERROR (never a
      * loop). The drop is a step that stores nothing and acknowledges the entry, fenced like every
      * step: a host that lost its lease or seat meanwhile removes nothing from a list it no longer owns.
+     * `false` if nothing was stored because the host lease lapsed ([leaseLapsed]).
      */
-    private suspend fun deadLetterAlone(session: RedisSession, part: Part, reason: String) {
+    private suspend fun deadLetterAlone(session: RedisSession, part: Part, reason: String): Boolean {
         val letter = empty.part()
         letter.dead(DeadLetter.encode(reason, part.entry))
         try {
-            runStep(session, letter, ack = 1, take = 0)
+            runStep(session, letter, ack = 1, take = 0) ?: return false
         } catch (e: JedisDataException) {
             if (!isEntryFault(e)) throw e
-            runStep(session, empty.part(), ack = 1, take = 0)
+            runStep(session, empty.part(), ack = 1, take = 0) ?: return false
             LOG.error(
                 "service '{}' dropped an entry: Redis refused both its results ({}) and its dead letter ({}); entry: {}",
                 name, reason, e.message, DeadLetter.describe(part.entry),
             )
         }
         part.batch.ids.forEach(recent::add)
+        return true
     }
 
     /**
      * Runs [batch]; refreshes a stale view of the output's readers, and waits while the queue it
-     * feeds is full. `null` if the step, which takes ([take] > 0), found a stray entry in the
-     * processing list and stored nothing ([strayFound]: read the list again).
+     * feeds is full. `null` if the step stored nothing and the service must read its processing
+     * list again: the step, which takes ([take] > 0), found a stray entry there ([strayFound]), or
+     * nobody held the host lease ([leaseLapsed]).
      */
     private suspend fun runStep(session: RedisSession, batch: StepBatch, ack: Int, take: Int): StepResult.Stored? {
         var backoff: Backoff? = null
@@ -428,10 +436,8 @@ internal class StageService(
                 }
                 is StepResult.Fenced -> {
                     if (result.holder.isNotEmpty()) throw HostingLost(result.holder)
-                    // nobody holds the lease (it lapsed during a pause, or Redis lost it): the heartbeat re-claims it
-                    if (backoff == null) LOG.info("service '{}' waits for its host lease to be renewed", name)
-                    delay((backoff ?: Backoff().also { backoff = it }).next())
-                    if (core.connections.isClosed) throw CoreClosedException(core.name())
+                    leaseLapsed()
+                    return null
                 }
                 is StepResult.Full -> {
                     if (backoff == null) {
@@ -479,6 +485,18 @@ internal class StageService(
                 "Redis ran after the host lease changed hands); it stored nothing and handles the list again, in order",
             name,
         )
+    }
+
+    /**
+     * A step found this service's host lease held by nobody: it lapsed (this host was frozen or
+     * cut off longer than the lease, or Redis lost it). Another host may have held it meanwhile,
+     * handled entries this service holds and left others in the processing list, so the batch is
+     * stale: nothing was stored, and the service reads the list again once it has re-claimed the
+     * lease ([Script.PEEK] claims it, unless another host did first), handling the entries it had
+     * handled once more if they are still there.
+     */
+    private fun leaseLapsed() {
+        LOG.info("service '{}' found its host lease lapsed: it stored nothing, and reads its processing list again", name)
     }
 
     /** A step found this service's host lease held by another instance ([holder]): the service stops, storing nothing. */
@@ -657,6 +675,9 @@ internal class StageService(
         private val LOG = LoggerFactory.getLogger(StageService::class.java)
         private val ONE = "1".toByteArray(UTF_8)
         private val ZERO = "0".toByteArray(UTF_8)
+
+        /** [Script.PEEK]'s lease time for a seat whose lease the service does not claim itself. */
+        private val NO_CLAIM = ByteArray(0)
 
         private fun isOutOfMemory(e: JedisDataException): Boolean =
             e.message?.let { it.startsWith("OOM") || " OOM " in it } == true

@@ -262,7 +262,13 @@ internal sealed class StepResult {
 }
 
 /** The host lease a hosted service's step checks: its key and the id of this core instance. */
-internal class HostFence(val lease: ByteArray, val instance: ByteArray)
+/**
+ * What a step of a hosted service checks: [lease] holds [instance]. [claimMillis]: for a
+ * service's own host lease, its lease time, with which the service re-claims the lease it finds
+ * free as it reads its processing list ([Script.PEEK]); `null` for a seat of an unordered
+ * service, whose lease only its heartbeat claims.
+ */
+internal class HostFence(val lease: ByteArray, val instance: ByteArray, val claimMillis: ByteArray? = null)
 
 /** The keys and retention of a source, for publishing to it, and the publisher's view of its readers. */
 internal class SourceKeys(

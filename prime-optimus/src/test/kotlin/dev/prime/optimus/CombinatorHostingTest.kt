@@ -117,6 +117,37 @@ class CombinatorHostingTest {
         }
     }
 
+    /**
+     * A combinator or timer holds no batch, so the heartbeat claims its lapsed lease again (a
+     * service with a processing list re-claims its own as it reads the list again): they go on.
+     */
+    @Test
+    fun theLapsedLeaseOfACombinatorOrTimerIsClaimedAgainByTheHeartbeat() {
+        val name = "combinator-lease-lapsed-${System.nanoTime()}"
+        val config = CoreConfig.builder().name(name).build()
+        OptimusCore.builder().config(config).redis(TestRedis.url).leaseTime(LEASE).build().use { host ->
+            val declared = declare(host)
+            host.start()
+            declared.ticks.take(PATIENCE).orElseThrow()
+            Jedis(URI(TestRedis.url)).use { jedis ->
+                val leases = listOf("combineLatest(a|b)", "tick").map { Keys(name).hostLease(it) }
+                assertEquals(2L, jedis.del(*leases.toTypedArray()), "both leases lapsed, as after a pause or a Redis that lost them")
+                val pace = java.util.concurrent.CountDownLatch(1) // never counted down: a bounded pause between looks
+                var looks = 0
+                while (leases.any { jedis.get(it) == null } && looks++ < 200) pace.await(20, TimeUnit.MILLISECONDS)
+                assertEquals(
+                    listOf(host.instanceId, host.instanceId),
+                    leases.map { jedis.get(it)?.toString(UTF_8) },
+                    "the heartbeat claimed both leases again",
+                )
+            }
+            assertEquals(setOf("combineLatest(a|b)", "tick"), host.serviceNames(), "both still run here")
+            declared.a.publish(3)
+            declared.b.publish("y")
+            assertEquals(Tuple2(3, "y"), declared.combined.take(PATIENCE).orElseThrow(), "the combinator goes on")
+        }
+    }
+
     private companion object {
         val PATIENCE: Duration = Duration.ofSeconds(20)
         val QUIET: Duration = Duration.ofMillis(500)

@@ -19,7 +19,7 @@ class HostLeaseReleaseTest {
     fun aLeaseGrantedToAStandbyButNotYetRecordedAsHeldIsReleasedByClose() {
         val keys = Keys("lease-release-standby")
         val connections = RedisConnections(RedisTarget.parse(TestRedis.url, keys), "lease-release-standby")
-        val leases = HostLeases(keys, connections, "instance-a", LEASE)
+        val leases = HostLeases(keys, connections, "instance-a", LEASE) { false }
         Jedis(URI(TestRedis.url)).use { jedis ->
             jedis.del(keys.hostLease("svc"))
             assertEquals(emptyMap<String, Long>(), leases.tryClaim(jedis, listOf("svc")), "the lease was free: claimed")
@@ -37,7 +37,7 @@ class HostLeaseReleaseTest {
     fun closeLeavesALeaseAnotherInstanceHoldsAlone() {
         val keys = Keys("lease-release-other")
         val connections = RedisConnections(RedisTarget.parse(TestRedis.url, keys), "lease-release-other")
-        val standby = HostLeases(keys, connections, "instance-b", LEASE)
+        val standby = HostLeases(keys, connections, "instance-b", LEASE) { false }
         Jedis(URI(TestRedis.url)).use { jedis ->
             jedis.set(keys.hostLease("svc"), "instance-a".toByteArray(UTF_8))
             jedis.pexpire(keys.hostLease("svc"), LEASE.toMillis())
