@@ -64,7 +64,9 @@ internal class OptimusReader<T>(
     private var delivered = 0 // entries at the head of the processing list, wholly handed out, not yet acknowledged
     private var recovering = false
     private var framed = false // whether the last entries taken were frames of many values (see takeEntries)
-    private val recent = RecentIds()
+    // as many ids as the source retains (at least the default): a registration after the reader's lease lapsed copies the
+    // whole retained log into its list again, and every value of it this reader handed out is then skipped
+    private val recent = RecentIds(maxOf(RecentIds.DEFAULT_CAPACITY, source.retention))
     private val held = core.holdCodec() // the turn's, as the buffer is: values decode with it, no pool operation each
     private val backoff = Backoff()
     private val closed = AtomicBoolean()
@@ -97,10 +99,21 @@ internal class OptimusReader<T>(
     @Suppress("UNCHECKED_CAST")
     private fun present(value: T?): Optional<T> = Optional.ofNullable(value) as Optional<T>
 
+    /**
+     * Every value available now. A failure after some values were handed out (Redis unreachable
+     * when the reader goes back to it for more) returns those values: they count as delivered
+     * already, so throwing would lose them. The failure comes again at the next read if it lasts.
+     */
     override fun drain(): List<T> = inTurnUnlessATakeWaits({ ArrayList<T>() }) {
         val values = ArrayList<T>()
         while (true) {
-            values += next(wait = false, deadline = null) ?: break
+            val value = try {
+                next(wait = false, deadline = null)
+            } catch (e: RuntimeException) {
+                if (values.isEmpty()) throw e
+                null
+            }
+            values += value ?: break
         }
         values
     }

@@ -24,7 +24,7 @@ package dev.prime.optimus
  * doubles as ids come (its entries are in order until it first wraps, at [capacity]), so a
  * service or reader that handles few values holds under 1 KiB.
  */
-internal class RecentIds(private val capacity: Int = 4096) {
+internal class RecentIds(private val capacity: Int = DEFAULT_CAPACITY) {
     private var ring = LongArray(minOf(capacity, INITIAL))
     private var next = 0
     private var size = 0
@@ -140,16 +140,19 @@ internal class RecentIds(private val capacity: Int = 4096) {
         return (mixed xor (mixed ushr 32)).toInt() and mask
     }
 
-    private companion object {
+    companion object {
+        /** How many ids a set remembers unless told otherwise. */
+        const val DEFAULT_CAPACITY = 4096
+
         /** The ids a new set has room for before its ring first grows. */
-        const val INITIAL = 64
+        private const val INITIAL = 64
 
         /** The slots of a new table: room for 4 blocks at most a quarter full. */
-        const val INITIAL_SLOTS = 16
+        private const val INITIAL_SLOTS = 16
 
         /** A block holds 64 ids: those that agree but for their low 6 bits. */
-        const val BLOCK_BITS = 6
+        private const val BLOCK_BITS = 6
 
-        fun bitOf(id: Long): Long = 1L shl (id and 63L).toInt()
+        private fun bitOf(id: Long): Long = 1L shl (id and 63L).toInt()
     }
 }
