@@ -349,14 +349,22 @@ final class ModelCompiler<F> {
   }
 
   /**
-   * A sync collector's block: on a service's thread (a caller elsewhere) it also ends when that
-   * caller gave up ({@link PrimeCore#callerGaveUp}).
+   * A sync collector's block: on a media that carries calls between processes, its wait also ends
+   * when the caller gave up ({@link PrimeCore#callerGaveUp}).
    */
   private <T> Block<Token, T> syncCollector(Source<T> source) {
-    return new SyncCollectorBlock<>(
-        InProcessServices.serviceReader(source),
-        () -> core.isOwnThread(Thread.currentThread()),
-        core::callerGaveUp);
+    Reader<T> reader = InProcessServices.serviceReader(source);
+    return callersMayBeElsewhere()
+        ? new SyncCollectorBlock<>(reader, core::callerGaveUp)
+        : new SyncCollectorBlock<>(reader);
+  }
+
+  /**
+   * Whether a block of this media may run on a service's thread for a caller in another process,
+   * who may give up meanwhile: a media that carries values between processes (and so copies them).
+   */
+  private boolean callersMayBeElsewhere() {
+    return media.copiesValues();
   }
 
   private static <T> Block<Token, List<T>> asyncCollector(Source<T> source) {
@@ -367,7 +375,11 @@ final class ModelCompiler<F> {
   private Block<?, ?> repeater(NodeLogic.Repeat logic, List<Part<F>> parts) {
     Block collector = parts.size() > 1 ? parts.get(1).block() : null;
     return new RepeaterLoopBlock(
-        parts.get(0).block(), collector, logic.repeater(), core::ensureOpen, core::callerGaveUp);
+        parts.get(0).block(),
+        collector,
+        logic.repeater(),
+        core::ensureOpen,
+        callersMayBeElsewhere() ? core::callerGaveUp : null);
   }
 
   /** The generic block of a template, calling its parts' blocks. */

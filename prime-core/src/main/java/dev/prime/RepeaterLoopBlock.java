@@ -29,7 +29,7 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
   private final Block<Token, List<E>> collector;
   private final RepeaterBlock<I, R, E, O> repeater;
   private final Runnable betweenRounds;
-  private final BooleanSupplier callerGaveUp;
+  private final BooleanSupplier callerGaveUp; // null: callers run the loop on their own threads
 
   /** How often, at most, the loop asks whether its caller gave up. */
   private static final long CHECK_MILLIS = 50;
@@ -43,7 +43,7 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
    */
   RepeaterLoopBlock(
       Block<I, R> inner, Block<Token, List<E>> collector, RepeaterBlock<I, R, E, O> repeater) {
-    this(inner, collector, repeater, () -> {}, () -> false);
+    this(inner, collector, repeater, () -> {}, null);
   }
 
   /**
@@ -52,7 +52,8 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
    * @param repeater decides after each round
    * @param betweenRounds runs before every round after the first; throws to end the loop
    * @param callerGaveUp whether the caller of the call this thread runs gave up; asked between
-   *     rounds, at most every {@value #CHECK_MILLIS} ms
+   *     rounds, at most every {@value #CHECK_MILLIS} ms; {@code null} where callers run the loop
+   *     on their own threads
    */
   RepeaterLoopBlock(
       Block<I, R> inner,
@@ -64,13 +65,13 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
     this.collector = collector;
     this.repeater = Objects.requireNonNull(repeater, "repeater block must not be null");
     this.betweenRounds = Objects.requireNonNull(betweenRounds, "betweenRounds must not be null");
-    this.callerGaveUp = Objects.requireNonNull(callerGaveUp, "callerGaveUp must not be null");
+    this.callerGaveUp = callerGaveUp;
   }
 
   @Override
   public O process(I input) {
     I round = input;
-    long nextCheck = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
+    long nextCheck = callerGaveUp == null ? 0 : System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
     while (true) {
       R output = inner.process(round);
       List<E> collected = collector == null ? List.of() : collector.process(Token.INSTANCE);
@@ -87,13 +88,16 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
         throw new PrimeException("interrupted between two rounds of a repeater");
       }
       betweenRounds.run();
-      long now = System.nanoTime();
-      if (now - nextCheck >= 0) {
-        if (callerGaveUp.getAsBoolean()) {
-          throw new PrimeException(
-              "the caller gave up (its timeout passed, or it was interrupted): the repeater stopped");
+      if (callerGaveUp != null) {
+        long now = System.nanoTime();
+        if (now - nextCheck >= 0) {
+          if (callerGaveUp.getAsBoolean()) {
+            throw new PrimeException(
+                "the caller gave up (its timeout passed, or it was interrupted): the repeater"
+                    + " stopped");
+          }
+          nextCheck = now + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
         }
-        nextCheck = now + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
       }
     }
   }

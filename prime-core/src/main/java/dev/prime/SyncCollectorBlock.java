@@ -18,9 +18,10 @@ import java.util.function.BooleanSupplier;
  * {@link PrimeException}. A value that came for a caller who gave up is kept for the next call,
  * so the values a caller receives are the source's, in order, with none taken for nobody.
  *
- * <p>Design note: a caller on its own thread takes from the reader as before, with no slices
- * and no checks. A caller on a service thread first polls (a value ready at once costs no check:
- * its caller is still waiting, but for the call's own transit), then takes in slices of {@value
+ * <p>Design note: on a media whose callers run the block on their own threads (an in-memory
+ * one), a call takes from the reader, with no slices and no checks: the synchronous source row of
+ * the benchmarks runs through here. On a media that carries calls between processes, a call
+ * first polls (a value ready at once costs no check), then takes in slices of {@value
  * #CHECK_MILLIS} ms. The values kept for the next call are in a concurrent deque, read before
  * the reader: at most one per caller that gave up as a value came.
  *
@@ -33,8 +34,7 @@ final class SyncCollectorBlock<T> implements Block<Token, T> {
   private static final Duration SLICE = Duration.ofMillis(CHECK_MILLIS);
 
   private final Reader<T> reader;
-  private final BooleanSupplier callerElsewhere;
-  private final BooleanSupplier callerGaveUp;
+  private final BooleanSupplier callerGaveUp; // null: callers run the block on their own threads
   private final Deque<T> keptForTheNextCall = new ConcurrentLinkedDeque<>();
 
   /**
@@ -43,30 +43,29 @@ final class SyncCollectorBlock<T> implements Block<Token, T> {
    * @param reader where the values come from
    */
   SyncCollectorBlock(Reader<T> reader) {
-    this(reader, () -> false, () -> false);
+    this.reader = Objects.requireNonNull(reader, "reader must not be null");
+    this.callerGaveUp = null;
   }
 
   /**
+   * A collector that may run on a service's thread for a caller elsewhere.
+   *
    * @param reader where the values come from
-   * @param callerElsewhere whether the current thread runs the call for a caller elsewhere (a
-   *     service's thread)
-   * @param callerGaveUp whether that caller gave up; asked only where {@code callerElsewhere}
+   * @param callerGaveUp whether the caller of the call the current thread runs gave up
    */
-  SyncCollectorBlock(
-      Reader<T> reader, BooleanSupplier callerElsewhere, BooleanSupplier callerGaveUp) {
+  SyncCollectorBlock(Reader<T> reader, BooleanSupplier callerGaveUp) {
     this.reader = Objects.requireNonNull(reader, "reader must not be null");
-    this.callerElsewhere = Objects.requireNonNull(callerElsewhere, "callerElsewhere must not be null");
     this.callerGaveUp = Objects.requireNonNull(callerGaveUp, "callerGaveUp must not be null");
   }
 
   @Override
   public T process(Token token) {
-    T kept = keptForTheNextCall.pollFirst();
-    if (kept != null) {
-      return kept;
-    }
     try {
-      return callerElsewhere.getAsBoolean() ? takeForACallerElsewhere() : reader.take();
+      if (callerGaveUp == null) {
+        return reader.take();
+      }
+      T kept = keptForTheNextCall.pollFirst();
+      return kept != null ? kept : takeForACallerElsewhere();
     } catch (InterruptedException e) {
       Thread.currentThread().interrupt();
       throw new PrimeException("interrupted while a sync collector waited for a value", e);
