@@ -1082,13 +1082,29 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         )
     }
 
-    /** Runs [action]; a Redis ACL refusal it meets becomes a [dev.prime.PrimeException] saying what to grant. */
+    /**
+     * Runs [action] (a call or a read); a Redis ACL refusal it meets becomes a
+     * [dev.prime.PrimeException] saying what to grant, and a Redis out of memory one saying so:
+     * what Redis refused changed nothing (a value to read stays for the next read).
+     */
     internal inline fun <T> explainingRefusals(what: String, action: () -> T): T = try {
         action()
     } catch (e: JedisDataException) {
         if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
+        if (isOutOfMemory(e)) throw outOfMemory(what, "nothing changed", e)
         throw e
     }
+
+    /** Whether Redis refused a write because its maxmemory is reached (`noeviction`). */
+    internal fun isOutOfMemory(e: JedisDataException): Boolean = e.message?.startsWith("OOM") == true
+
+    /** The exception for [what] refused by a Redis out of memory, saying [outcome]. */
+    internal fun outOfMemory(what: String, outcome: String, e: JedisDataException): dev.prime.PrimeException =
+        dev.prime.PrimeException(
+            "$what refused, $outcome: Redis is out of memory (its maxmemory is reached; free memory or raise " +
+                "maxmemory). Redis said: ${e.message}",
+            e,
+        )
 
     /** Runs [action] on a pooled session; an ACL refusal becomes a [dev.prime.PrimeException] saying what to grant. */
     internal fun <T> withSession(what: String = "a Redis command", action: (RedisSession) -> T): T {
@@ -1097,13 +1113,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             return action(session)
         } catch (e: JedisDataException) {
             if (RedisPermissions.isRefusal(e)) throw RedisPermissions.explain(e, redisUser, name(), what)
-            if (e.message?.startsWith("OOM") == true) {
-                throw dev.prime.PrimeException(
-                    "$what refused, nothing was stored: Redis is out of memory (its maxmemory is reached; free memory " +
-                        "or raise maxmemory). Redis said: ${e.message}",
-                    e,
-                )
-            }
+            if (isOutOfMemory(e)) throw outOfMemory(what, "nothing was stored", e)
             throw e
         } finally {
             publishers += session

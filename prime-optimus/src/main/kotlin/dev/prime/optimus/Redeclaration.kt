@@ -82,9 +82,29 @@ internal class Redeclaration(
             pipeline.sync()
             for ((source, list) in bound) register(jedis, source, list, true)
             for ((source, list) in readers) register(jedis, source, list, false)
+            unregisterClosed(jedis, readers)
         }
         renew(session)
         LOG.info("instance {} of topology '{}' re-declared {}", instance, coreName, what)
+    }
+
+    /**
+     * Takes back the registrations just made of readers that closed meanwhile: a reader's close
+     * forgets it first, then removes its lists, so a close that ran between the snapshot and the
+     * registrations may have removed them before they were made again, and nothing else would
+     * (every publish would fill the list, and the core's close no longer knows it).
+     */
+    private fun unregisterClosed(jedis: Jedis, registered: List<Pair<SourceKeys, ByteArray>>) {
+        val open = readers().toSet()
+        val closed = registered.filter { it !in open }
+        if (closed.isEmpty()) return
+        val pipeline = jedis.pipelined()
+        for ((source, list) in closed) {
+            pipeline.srem(source.readers, list)
+            pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
+            pipeline.hdel(keys.instanceLists(instance), list)
+        }
+        pipeline.sync()
     }
 
     override fun renew(session: RedisSession) {

@@ -68,6 +68,42 @@ class RedisOutOfMemoryTest {
         }
     }
 
+    /**
+     * A read and a call that meet a Redis out of memory fail at once with a [PrimeException] that
+     * says so, never Redis's own exception; what they met changed nothing: the value stays for the
+     * next read, and calls work again once memory is back.
+     */
+    @Test
+    fun aReadAndACallOnARedisOutOfMemoryFailWithAClearExceptionAndLoseNothing() {
+        EmbeddedRedis.start().use { redis ->
+            val config = CoreConfig.builder().name("oom-read-call").build()
+            Jedis(URI(redis.uri)).use { admin ->
+                OptimusCore.builder().config(config).redis(redis.uri).callTimeout(java.time.Duration.ofSeconds(5)).build().use { core ->
+                    val numbers = core.source("numbers", EventBlock<Int>())
+                    val reader = numbers.reader()
+                    val double = core.chain("double") { x: Int -> 2 * x }.toBlock()
+                    core.start()
+                    assertEquals(2, double.process(1), "a first call (its reply list is recorded now)")
+                    core.publishAll(numbers, listOf(0, 1))
+                    assertEquals(0, reader.take(java.time.Duration.ofSeconds(10)).orElseThrow())
+                    assertEquals(listOf(1), reader.drain(), "the rest of the frame; the next read goes to Redis with a step")
+                    core.publishAll(numbers, listOf(2))
+                    admin.configSet("maxmemory", "1")
+                    try {
+                        val read = assertThrows(PrimeException::class.java) { reader.take(java.time.Duration.ofSeconds(2)) }
+                        assertTrue("reading a source refused" in read.message!! && "out of memory" in read.message!!, read.message)
+                        val call = assertThrows(PrimeException::class.java) { double.process(2) }
+                        assertTrue("calling chain 'double' refused" in call.message!! && "out of memory" in call.message!!, call.message)
+                    } finally {
+                        admin.configSet("maxmemory", "0")
+                    }
+                    assertEquals(2, reader.take(java.time.Duration.ofSeconds(10)).orElse(null), "the value the read met stays for the next read")
+                    assertEquals(6, double.process(3), "calls work again once Redis has memory")
+                }
+            }
+        }
+    }
+
     private fun oomErrors(admin: Jedis): Long =
         Regex("errorstat_OOM:count=(\\d+)").find(admin.info("errorstats"))?.groupValues?.get(1)?.toLong() ?: 0L
 
