@@ -7,7 +7,6 @@ import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
 import java.io.PrintStream
-import java.net.URI
 import java.time.Duration
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
@@ -69,54 +68,33 @@ class ReaderClosedDuringRedeclarationTest {
      * nor a list in Redis after a few more publishes, while its core runs and after it closed.
      */
     private fun run(config: CoreConfig, closeAndRestore: (OptimusReader<*>, FaultProxy) -> Unit) {
-        val keys = Keys(config.name())
-        val lease = Duration.ofSeconds(1)
-        val pace = CountDownLatch(1) // never counted down: a bounded pause between looks
-        EmbeddedRedis.start().use { redis ->
-            FaultProxy(redis.uri).use { proxy ->
-                Jedis(URI(redis.uri)).use { raw ->
-                    OptimusCore.builder().config(config).redis(redis.uri).leaseTime(lease).hosts(emptyList()).build().use { publisher ->
-                        val numbers = publisher.source("numbers", EventBlock<Int>())
-                        publisher.start()
-                        val readerCore = OptimusCore.builder().config(config).redis(proxy.url).leaseTime(lease).hosts(emptyList()).build()
-                        val whileRunning: String
-                        val list: ByteArray
-                        val readers = keys.sourceReaders("numbers")
-                        try {
-                            val reader = readerCore.source("numbers", EventBlock<Int>()).reader() as OptimusReader<*>
-                            list = reader.list
-                            readerCore.start()
-                            publisher.publishAll(numbers, listOf(1, 2, 3))
-                            assertEquals(1, reader.take(Duration.ofSeconds(10)).orElseThrow())
+        CutOffReaderRig(config).use { rig ->
+            val reader = rig.readerCore.source("numbers", EventBlock<Int>()).reader() as OptimusReader<*>
+            val list = reader.list
+            rig.readerCore.start()
+            rig.publisher.publishAll(rig.numbers, listOf(1, 2, 3))
+            assertEquals(1, reader.take(Duration.ofSeconds(10)).orElseThrow())
 
-                            proxy.refuse() // cut off: its lease lapses, the publisher reclaims the reader
-                            var looks = 0
-                            while (raw.scard(readers) != 0L && looks++ < 1000) pace.await(10, TimeUnit.MILLISECONDS)
-                            assertEquals(0L, raw.scard(readers), "the publisher reclaimed the cut-off reader")
+            rig.cutOffUntilReclaimed()
+            closeAndRestore(reader, rig.proxy)
 
-                            closeAndRestore(reader, proxy)
+            // the re-declaration ends with RAISE of the instance's declaration count (deleted by the reclaim)
+            val declared = rig.keys.instanceDeclared(rig.readerCore.instanceId)
+            val pace = CountDownLatch(1) // never counted down: a bounded pause between looks
+            var looks = 0
+            while (!rig.raw.exists(declared) && looks++ < 2000) pace.await(10, TimeUnit.MILLISECONDS)
+            assertTrue(rig.raw.exists(declared), "the reader's process did not declare again")
 
-                            // the re-declaration ends with RAISE of the instance's declaration count (deleted by the reclaim)
-                            val declared = keys.instanceDeclared(readerCore.instanceId)
-                            looks = 0
-                            while (!raw.exists(declared) && looks++ < 2000) pace.await(10, TimeUnit.MILLISECONDS)
-                            assertTrue(raw.exists(declared), "the reader's process did not declare again")
-
-                            (4..10).forEach { publisher.publishAll(numbers, listOf(it)) }
-                            whileRunning = state(raw, readers, list)
-                        } finally {
-                            readerCore.close()
-                        }
-                        val afterCoreClose = state(raw, readers, list)
-                        val clean = "in reader set: false, list length: 0"
-                        assertTrue(
-                            whileRunning == clean && afterCoreClose == clean,
-                            "a closed reader is still registered and filled by publishes. While its core runs: $whileRunning; " +
-                                "after its core closed: $afterCoreClose",
-                        )
-                    }
-                }
-            }
+            (4..10).forEach { rig.publisher.publishAll(rig.numbers, listOf(it)) }
+            val whileRunning = state(rig.raw, rig.readers, list)
+            rig.readerCore.close()
+            val afterCoreClose = state(rig.raw, rig.readers, list)
+            val clean = "in reader set: false, list length: 0"
+            assertTrue(
+                whileRunning == clean && afterCoreClose == clean,
+                "a closed reader is still registered and filled by publishes. While its core runs: $whileRunning; " +
+                    "after its core closed: $afterCoreClose",
+            )
         }
     }
 
