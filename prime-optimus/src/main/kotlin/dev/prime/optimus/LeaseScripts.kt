@@ -38,8 +38,10 @@ internal object LeaseScripts {
      * Removes what a dead instance owned, unless its lease is back (it was only frozen and renewed
      * it). KEYS: its lease, the instance set, its lists hash, its declaration count, then per owned
      * list either 4 keys (reader list, its processing list, its missed counter, the source's reader
-     * set) or 1 (a reply list). ARGV: the instance id, then the key count of each owned list.
-     * Returns -1 if the lease is back, 1 if the instance is gone entirely, 0 if it still owns lists.
+     * set) or 1 (a reply list). ARGV: the instance id, how long a reader's missed counter is kept
+     * (ms: its process may come back and declare the reader again, which keeps the count: see
+     * [Script.REGISTER]), then the key count of each owned list. Returns -1 if the lease is back, 1
+     * if the instance is gone entirely, 0 if it still owns lists.
      */
     val RECLAIM = Script(
         """
@@ -47,11 +49,12 @@ internal object LeaseScripts {
           return -1
         end
         local k = 5
-        for a = 2, #ARGV do
+        for a = 3, #ARGV do
           local n = tonumber(ARGV[a])
           if n == 4 then
             redis.call('SREM', KEYS[k + 3], KEYS[k])
-            redis.call('DEL', KEYS[k], KEYS[k + 1], KEYS[k + 2])
+            redis.call('DEL', KEYS[k], KEYS[k + 1])
+            redis.call('PEXPIRE', KEYS[k + 2], ARGV[2])
           else
             redis.call('DEL', KEYS[k])
           end

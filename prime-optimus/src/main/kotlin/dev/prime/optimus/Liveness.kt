@@ -233,7 +233,7 @@ internal class Liveness(
             val chunk = owned.subList(start, minOf(start + RECLAIM_CHUNK, owned.size))
             val scriptKeys =
                 arrayListOf(keys.instanceLease(dead), keys.instances, keys.instanceLists(dead), keys.instanceDeclared(dead))
-            val args = arrayListOf(dead.toByteArray(UTF_8))
+            val args = arrayListOf(dead.toByteArray(UTF_8), MISSED_KEPT_MS)
             for ((list, readerSet) in chunk) {
                 if (readerSet.isNotEmpty()) {
                     scriptKeys += listOf(list, keys.processingOf(list), keys.missedOf(list), readerSet)
@@ -257,17 +257,24 @@ internal class Liveness(
         }
     }
 
-    private companion object {
-        val LOG = LoggerFactory.getLogger(Liveness::class.java)
-        val EMPTY = ByteArray(0)
-        val READER_KEYS = "4".toByteArray(UTF_8)
-        val REPLY_KEYS = "1".toByteArray(UTF_8)
+    internal companion object {
+        private val LOG = LoggerFactory.getLogger(Liveness::class.java)
+        private val EMPTY = ByteArray(0)
+        private val READER_KEYS = "4".toByteArray(UTF_8)
+        private val REPLY_KEYS = "1".toByteArray(UTF_8)
+
+        /**
+         * How long a reclaimed reader's missed counter is kept (an hour): a process cut off no
+         * longer than that declares the reader again and keeps counting from there.
+         */
+        const val MISSED_KEPT_MILLIS = 3_600_000L
+        private val MISSED_KEPT_MS = MISSED_KEPT_MILLIS.toString().toByteArray(UTF_8)
 
         /** Lists reclaimed per script call, so one call never blocks Redis long. */
-        const val RECLAIM_CHUNK = 256
+        private const val RECLAIM_CHUNK = 256
 
         /** "pid 1234 on host", for messages that name the holder of a lease. */
-        fun describeProcess(): String {
+        private fun describeProcess(): String {
             val host = System.getenv("HOSTNAME") ?: System.getenv("COMPUTERNAME") ?: "an unnamed host"
             return "pid ${ProcessHandle.current().pid()} on $host"
         }

@@ -1016,7 +1016,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private fun registerOnce(jedis: Jedis, source: SourceKeys, list: ByteArray, service: Boolean) {
         Script.REGISTER.run(
             jedis,
-            listOf(if (service) source.services else source.readers, source.log, list, if (service) keys.queuedOf(list) else list),
+            listOf(if (service) source.services else source.readers, source.log, list, if (service) keys.queuedOf(list) else keys.missedOf(list)),
             listOf((if (service) "1" else "0").toByteArray(UTF_8)),
         )
     }

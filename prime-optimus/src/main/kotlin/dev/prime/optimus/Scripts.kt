@@ -404,8 +404,10 @@ internal class Script(text: String) {
         )
 
         /**
-         * KEYS: the source's reader or service set, source log, the list, its count of queued values.
-         * ARGV: '1' for a service's input (the count is kept), '0' for a plain reader. Returns 1 if the list is new.
+         * KEYS: the source's reader or service set, source log, the list, and for a service's input
+         * its count of queued values, for a plain reader its missed counter. ARGV: '1' for a
+         * service's input (the count is kept), '0' for a plain reader (a missed counter a reclaim
+         * left with an expiry is kept: see [LeaseScripts.RECLAIM]). Returns 1 if the list is new.
          */
         val REGISTER = Script(
             """
@@ -424,6 +426,8 @@ internal class Script(text: String) {
                 elseif #entry >= 10 and string.byte(entry, 1) == 80 and string.byte(entry, 2) == 0 then values = values + 1 end
               end
               if values > 0 then redis.call('INCRBY', KEYS[4], values) end
+            else
+              redis.call('PERSIST', KEYS[4])
             end
             return 1
             """,
