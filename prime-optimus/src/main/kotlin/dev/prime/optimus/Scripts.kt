@@ -427,7 +427,9 @@ internal class Script(text: String) {
               end
               if values > 0 then redis.call('INCRBY', KEYS[4], values) end
             else
-              redis.call('PERSIST', KEYS[4])
+              -- a SET without an expiry keeps the count for good (no PERSIST: one command fewer to grant)
+              local missed = redis.call('GET', KEYS[4])
+              if missed then redis.call('SET', KEYS[4], missed) end
             end
             return 1
             """,
