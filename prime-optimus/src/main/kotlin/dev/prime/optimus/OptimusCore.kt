@@ -546,10 +546,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         cleanup?.use { jedis ->
             try {
                 val pipeline = jedis.pipelined()
-                for ((source, list) in readers) {
-                    pipeline.srem(source.readers, list)
-                    pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
-                }
+                for ((source, list) in readers) queueReaderRemoval(pipeline, keys, source, list)
                 for (slot in 1..slotNumbers.get()) pipeline.del(replyKey(slot))
                 hostLeases.releaseAll(pipeline)
                 sharedHosting.releaseAll(pipeline)

@@ -148,8 +148,7 @@ internal class OptimusReader<T>(
             RedisSession(core.connections).use { cleanup ->
                 cleanup.retryingUntil(System.nanoTime() + CLOSE_BOUND_MS * 1_000_000, "closing a reader") { jedis ->
                     val pipeline = jedis.pipelined()
-                    pipeline.srem(source.readers, list) // first: no publish writes to it after this
-                    pipeline.del(list, processing, missedKey)
+                    queueReaderRemoval(pipeline, core.keys, source, list)
                     core.disownReader(pipeline, list)
                     pipeline.sync()
                 }
@@ -437,4 +436,13 @@ internal class OptimusReader<T>(
         const val FRAMES_PER_TAKE = 2
         val LOG = LoggerFactory.getLogger(OptimusReader::class.java)
     }
+}
+
+/**
+ * Queues the removal of reader [list] of [source] from Redis: first from the source's reader set
+ * (no publish writes to it after that), then its list, processing list and missed counter.
+ */
+internal fun queueReaderRemoval(pipeline: redis.clients.jedis.Pipeline, keys: Keys, source: SourceKeys, list: ByteArray) {
+    pipeline.srem(source.readers, list)
+    pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
 }

@@ -100,8 +100,7 @@ internal class Redeclaration(
         if (closed.isEmpty()) return
         val pipeline = jedis.pipelined()
         for ((source, list) in closed) {
-            pipeline.srem(source.readers, list)
-            pipeline.del(list, keys.processingOf(list), keys.missedOf(list))
+            queueReaderRemoval(pipeline, keys, source, list)
             pipeline.hdel(keys.instanceLists(instance), list)
         }
         pipeline.sync()

@@ -44,6 +44,9 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
     /** How many connections were cut after forwarding a marked write. */
     val cuts = AtomicInteger()
 
+    /** How many new connections the proxy closed at once while it [refuse]d. */
+    val turnedAway = AtomicInteger()
+
     /** How many connections the Redis behind the proxy refused (it was down): each was closed at once. */
     val refusedConnects = AtomicInteger()
 
@@ -58,6 +61,7 @@ class FaultProxy @JvmOverloads constructor(target: String, replyDelayNanos: Long
                     return@daemon
                 }
                 if (refusing) {
+                    turnedAway.incrementAndGet()
                     client.close()
                     continue
                 }

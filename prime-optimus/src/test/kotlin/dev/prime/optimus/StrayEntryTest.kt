@@ -68,13 +68,7 @@ class StrayEntryTest {
             Jedis(URI(TestRedis.url)).use { jedis ->
                 OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(TestRedis.url)
                     .callTimeout(CALL_TIMEOUT).build().use { host ->
-                        val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
-                            when (x) {
-                                0 -> first.hold()
-                                1 -> second.hold()
-                            }
-                            x + 100
-                        }.toBlock()
+                        val echo = echo(host, mapOf(0 to first, 1 to second))
                         host.start()
                         assertEquals(200, echo.process(100), "warm: the service is idle in its watched take")
                         val calls = ArrayList<Future<Int>>()
@@ -105,9 +99,10 @@ class StrayEntryTest {
     /**
      * Two faults at once: an earlier host's blocking take, still waiting in Redis, is served
      * before this host's take (so the stray request is at the head of the processing list), and
-     * the host lease lapses while the service handles the request behind it. The general step
-     * that stores the request once the lease is re-claimed checks the list too: the stray request
-     * is answered (before, that step acknowledged it unread in place of the handled one).
+     * the host lease lapses while the service handles the request behind it. The step finds the
+     * lease held by nobody, stores nothing and reads the list again once it re-claimed the lease,
+     * stray request first: every request is answered (once, that step acknowledged the stray
+     * request unread in place of the handled one).
      */
     @Test
     fun aStrayRequestAtTheHeadOfTheListIsAnsweredWhenTheLeaseLapsedMeanwhile() {
@@ -122,11 +117,7 @@ class StrayEntryTest {
                 Jedis(URI(redis.uri)).use { jedis ->
                     OptimusCore.builder().config(CoreConfig.builder().name(name).build()).redis(redis.uri)
                         .leaseTime(LAPSE_LEASE).callTimeout(CALL_TIMEOUT).build().use { host ->
-                            val echo: Block<Int, Int> = host.chain("echo") { x: Int ->
-                                if (x == 0) first.hold()
-                                if (x == 2) third.hold()
-                                x + 100
-                            }.toBlock()
+                            val echo = echo(host, mapOf(0 to first, 2 to third))
                             host.start()
                             assertEquals(200, echo.process(100), "warm")
                             val calls = ArrayList<Future<Int>>()
@@ -160,6 +151,13 @@ class StrayEntryTest {
             callers.shutdownNow()
         }
     }
+
+    /** Service `echo` (x + 100), whose block holds at each gate's input. */
+    private fun echo(host: OptimusCore, gates: Map<Int, BlockGate>): Block<Int, Int> =
+        host.chain("echo") { x: Int ->
+            gates[x]?.hold()
+            x + 100
+        }.toBlock()
 
     /** The calls' answers, in order; fails naming the first request not answered. */
     private fun answersOf(calls: List<Future<Int>>): List<Int> = calls.mapIndexed { x, call ->
