@@ -393,12 +393,16 @@ public final class McapReader implements Closeable {
       if (opcode == Opcode.DATA_END) {
         break;
       }
-      long total = RECORD_PREFIX + length;
-      if (unfinished && (opcode == 0 || length < 0 || offset + total > size)) {
+      boolean fits = fits(offset, length, limit);
+      if (unfinished && (opcode == 0 || !fits)) {
         // the record the writer was writing when it stopped (or zeroes after it)
         cut = true;
         break;
       }
+      if (!fits) {
+        throw tooLong(offset, opcode, length, limit);
+      }
+      long total = RECORD_PREFIX + length;
       if (opcode == Opcode.CHUNK) {
         List<McapMessage> messages = loadChunk(new ChunkRef(0, offset, total, null, false), id -> true);
         Set<Integer> ids = messages.stream().map(m -> m.channel().id()).collect(Collectors.toSet());
@@ -751,9 +755,27 @@ public final class McapReader implements Closeable {
       if (opcode == Opcode.DATA_END) {
         return offset;
       }
+      if (!fits(offset, length, limit)) {
+        throw tooLong(offset, opcode, length, limit);
+      }
       offset += RECORD_PREFIX + length;
     }
     throw problem(offset, "the data section has no DataEnd record before the Footer");
+  }
+
+  /**
+   * Whether a record at {@code offset} whose prefix declares {@code length} (a uint64: 2^63 and
+   * more read as negative) ends by {@code limit}; computed without overflow, so that a corrupt
+   * length can neither move a pass over the records backwards nor leave it in place.
+   */
+  private static boolean fits(long offset, long length, long limit) {
+    return length >= 0 && length <= limit - offset - RECORD_PREFIX;
+  }
+
+  private McapFormatException tooLong(long offset, int opcode, long length, long limit) {
+    return problem(offset, Opcode.name(opcode) + " record declares a length of "
+        + Long.toUnsignedString(length) + " bytes, which runs past the end of the data section at byte "
+        + limit + ": its length is corrupt");
   }
 
   @Override

@@ -60,11 +60,15 @@ public final class RecordCursor {
     return buffer.position();
   }
 
+  /**
+   * Checks that {@code bytes} more can be read. A length read from a uint64 may be 2^63 or more,
+   * a negative long: that is past any record too, and is reported unsigned.
+   */
   private void need(long bytes, String field) {
-    if (bytes > buffer.remaining()) {
+    if (bytes < 0 || bytes > buffer.remaining()) {
       throw problem.at(fileOffset(),
-          what + ": field " + field + " needs " + bytes + " bytes but only " + buffer.remaining()
-              + " are left (the record is cut short or its length is wrong)");
+          what + ": field " + field + " needs " + Long.toUnsignedString(bytes) + " bytes but only "
+              + buffer.remaining() + " are left (the record is cut short or its length is wrong)");
     }
   }
 
