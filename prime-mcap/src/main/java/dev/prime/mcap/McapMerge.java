@@ -8,6 +8,7 @@ import java.io.PrintStream;
 import java.io.UncheckedIOException;
 import java.nio.file.Files;
 import java.nio.file.Path;
+import java.util.ArrayDeque;
 import java.util.ArrayList;
 import java.util.Arrays;
 import java.util.Collections;
@@ -321,7 +322,11 @@ public final class McapMerge {
     return new Result(output, total, counts);
   }
 
-  /** One input's next message. */
+  /**
+   * One input's next message. A reader gives an input's messages of equal log time in file
+   * order; they are gathered and taken by sequence number (equal ones in file order), so that
+   * the merge's order holds within each input as well as across them.
+   */
   private static final class Head {
     static final Comparator<Head> ORDER =
         Comparator.comparingLong((Head h) -> h.current.logTime())
@@ -330,6 +335,8 @@ public final class McapMerge {
 
     final int input;
     final Iterator<McapMessage> messages;
+    private final ArrayDeque<McapMessage> sameTime = new ArrayDeque<>();
+    private McapMessage lookahead;
     McapMessage current;
 
     Head(int input, Iterator<McapMessage> messages) {
@@ -338,10 +345,26 @@ public final class McapMerge {
     }
 
     boolean advance() {
-      if (!messages.hasNext()) {
-        return false;
+      if (sameTime.isEmpty()) {
+        McapMessage first = lookahead != null ? lookahead : messages.hasNext() ? messages.next() : null;
+        lookahead = null;
+        if (first == null) {
+          return false;
+        }
+        List<McapMessage> group = new ArrayList<>();
+        group.add(first);
+        while (messages.hasNext()) {
+          McapMessage next = messages.next();
+          if (next.logTime() != first.logTime()) {
+            lookahead = next;
+            break;
+          }
+          group.add(next);
+        }
+        group.sort(Comparator.comparingLong(McapMessage::sequence)); // stable: file order for ties
+        sameTime.addAll(group);
       }
-      current = messages.next();
+      current = sameTime.poll();
       return true;
     }
   }
