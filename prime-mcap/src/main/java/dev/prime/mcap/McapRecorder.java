@@ -139,13 +139,16 @@ public final class McapRecorder implements AutoCloseable {
 
   /**
    * Stops recording, writes what is queued, finishes the file and logs (at WARNING) what was
-   * lost, if anything. Idempotent.
+   * lost, if anything. Idempotent: a close called while another thread's is under way returns
+   * once the file is finished ({@link McapWriter#close()}), and logs nothing more.
    *
    * @throws IOException if writing failed at any point
    */
   @Override
   public void close() throws IOException {
     if (!closed.compareAndSet(false, true)) {
+      subscription.close();
+      writer.close();
       return;
     }
     subscription.close();

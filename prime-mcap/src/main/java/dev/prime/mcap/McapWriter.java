@@ -19,6 +19,7 @@ import java.util.TreeMap;
 import java.util.concurrent.ArrayBlockingQueue;
 import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
@@ -98,6 +99,7 @@ public final class McapWriter implements Closeable {
   private volatile boolean closed;
   private final Thread thread;
   private final Object syncLock = new Object();
+  private final CountDownLatch closeFinished = new CountDownLatch(1);
 
   // Owned by the writer thread (or, when synchronous, by whoever holds syncLock).
   private McapFileWriter file;
@@ -519,19 +521,46 @@ public final class McapWriter implements Closeable {
 
   /**
    * Waits for the queued messages to be written, then finishes the file: the channels with no
-   * message yet, the loss report, the summary and the footer. Writes after this throw.
+   * message yet, the loss report, the summary and the footer. Writes after this throw. A close
+   * called while another thread's is under way returns once that one has finished the file (so
+   * that the file is complete when either returns); a close after that does nothing.
    *
    * @throws IOException if writing failed at any point (the first failure; the file is then
-   *     incomplete)
+   *     incomplete); an {@link InterruptedIOException} if interrupted while waiting for another
+   *     thread's close
    */
   @Override
   public void close() throws IOException {
+    boolean first;
     synchronized (definitions) {
-      if (closed) {
-        return;
-      }
+      first = !closed;
       closed = true;
     }
+    if (!first) {
+      awaitClosed();
+      return;
+    }
+    try {
+      closeFirst();
+    } finally {
+      closeFinished.countDown();
+    }
+  }
+
+  private void awaitClosed() throws InterruptedIOException {
+    try {
+      closeFinished.await();
+      if (thread != null) {
+        thread.join(); // the other close may have been interrupted while the file was finished
+      }
+    } catch (InterruptedException e) {
+      Thread.currentThread().interrupt();
+      throw new InterruptedIOException(
+          "interrupted while another thread closes the MCAP writer for " + firstPath);
+    }
+  }
+
+  private void closeFirst() throws IOException {
     // Writers that passed the closed check finish their offer (it never waits) before the
     // CLOSE mark goes in, so nothing is queued behind it unseen.
     while (inFlight.get() > 0) {
