@@ -6,8 +6,10 @@ import java.io.Closeable;
 import java.io.IOException;
 import java.io.PrintStream;
 import java.io.UncheckedIOException;
+import java.nio.file.AtomicMoveNotSupportedException;
 import java.nio.file.Files;
 import java.nio.file.Path;
+import java.nio.file.StandardCopyOption;
 import java.util.ArrayDeque;
 import java.util.ArrayList;
 import java.util.Arrays;
@@ -161,7 +163,9 @@ public final class McapMerge {
    *
    * @param inputs the files, at least one, each a finished MCAP file (a writer that was killed
    *     leaves an unfinished one: see {@link Options#readUnfinished()})
-   * @param output the merged file; created or overwritten; not one of the inputs
+   * @param output the merged file; created or overwritten once the merge is complete (it is
+   *     written to {@code OUTPUT.partial} beside it first): a merge that fails leaves it as it
+   *     was; not one of the inputs
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written
    * @throws McapFormatException if an input is not a well-formed, finished MCAP file
@@ -191,13 +195,42 @@ public final class McapMerge {
     checkPaths(inputs, output);
     try (OpenInputs open = OpenInputs.open(inputs, options.readUnfinished)) {
       Channels channels = Channels.unify(open.readers);
-      try (BufferedOutputStream out = new BufferedOutputStream(Files.newOutputStream(output), 1 << 16)) {
-        McapFileWriter file =
-            new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize);
-        Result result = write(open.readers, channels, file, output);
-        file.finish();
+      Path partial = partialPath(output);
+      try {
+        Result result;
+        try (BufferedOutputStream out = new BufferedOutputStream(Files.newOutputStream(partial), 1 << 16)) {
+          McapFileWriter file =
+              new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize);
+          result = write(open.readers, channels, file, output);
+          file.finish();
+        }
+        moveInPlace(partial, output);
         return result;
+      } catch (IOException | RuntimeException | Error e) {
+        try {
+          Files.deleteIfExists(partial);
+        } catch (IOException deleting) {
+          e.addSuppressed(deleting);
+        }
+        throw e;
       }
+    }
+  }
+
+  /**
+   * Where a merge is written until it is complete: beside the output, so that a merge that fails
+   * part way (an input found corrupt) leaves neither a half-written file at the output path nor
+   * the loss of what was there (an earlier merge).
+   */
+  private static Path partialPath(Path output) {
+    return output.resolveSibling(output.getFileName() + ".partial");
+  }
+
+  private static void moveInPlace(Path partial, Path output) throws IOException {
+    try {
+      Files.move(partial, output, StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE);
+    } catch (AtomicMoveNotSupportedException e) {
+      Files.move(partial, output, StandardCopyOption.REPLACE_EXISTING);
     }
   }
 
@@ -258,6 +291,11 @@ public final class McapMerge {
       if (in.equals(out) || (Files.exists(output) && Files.exists(input) && Files.isSameFile(input, output))) {
         throw new IllegalArgumentException(
             "the output " + output + " is also an input: write the merge to another file");
+      }
+      if (in.equals(partialPath(out))) {
+        throw new IllegalArgumentException(
+            "input " + input + " is where the merge into " + output + " is written until it is"
+                + " complete: rename the input, or write the merge to another file");
       }
     }
   }
