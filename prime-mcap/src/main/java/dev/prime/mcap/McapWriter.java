@@ -263,7 +263,8 @@ public final class McapWriter implements Closeable {
    * @param type the values' class
    * @param <T> the values' type
    * @return the channel; the same one if the topic was defined before with the same type
-   * @throws IllegalArgumentException if the type is not supported, or the topic has another type
+   * @throws IllegalArgumentException if the type is not supported, the topic has another type, or
+   *     it has an unpaired surrogate (not Unicode text, which MCAP's UTF-8 strings cannot hold)
    */
   public <T> McapChannel<T> channel(String topic, Class<T> type) {
     return channel(topic, ValueType.of(type), Map.of());
@@ -276,7 +277,7 @@ public final class McapWriter implements Closeable {
    * @param type the values' type, e.g. {@code new ValueType<Tuple2<Double, String>>() {}}
    * @param <T> the values' type
    * @return the channel; the same one if the topic was defined before with the same type
-   * @throws IllegalArgumentException if the topic has another type
+   * @throws IllegalArgumentException if the topic has another type, or an unpaired surrogate
    */
   public <T> McapChannel<T> channel(String topic, ValueType<T> type) {
     return channel(topic, type, Map.of());
@@ -290,7 +291,10 @@ public final class McapWriter implements Closeable {
    * @param metadata key/value pairs for the Channel record
    * @param <T> the values' type
    * @return the channel; the same one if the topic was defined before with the same type
-   * @throws IllegalArgumentException if the topic has another type or 65535 channels exist
+   * @throws IllegalArgumentException if the topic has another type or 65535 channels exist, or
+   *     the topic or a metadata key or value has an unpaired surrogate (not Unicode text, which
+   *     MCAP's UTF-8 strings cannot hold)
+   * @throws NullPointerException for a null metadata key or value
    */
   public <T> McapChannel<T> channel(String topic, ValueType<T> type, Map<String, String> metadata) {
     Objects.requireNonNull(topic, "topic");
@@ -298,6 +302,11 @@ public final class McapWriter implements Closeable {
     if (topic.isEmpty()) {
       throw new IllegalArgumentException("an MCAP topic must not be empty");
     }
+    requireUnicode(topic, "topic");
+    metadata.forEach((key, value) -> {
+      requireUnicode(key, "metadata key of topic '" + topic + "'");
+      requireUnicode(value, "metadata value of '" + key + "' on topic '" + topic + "'");
+    });
     synchronized (definitions) {
       if (closed) {
         throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
@@ -338,7 +347,9 @@ public final class McapWriter implements Closeable {
    * @param name the record's name, e.g. {@code prime.process}; not empty, not {@value
    *     #LOSS_METADATA} (the writer's own)
    * @param pairs the key/value pairs (copied)
-   * @throws IllegalArgumentException for an empty or reserved name
+   * @throws IllegalArgumentException for an empty or reserved name, or a name, key or value with
+   *     an unpaired surrogate (not Unicode text, which MCAP's UTF-8 strings cannot hold)
+   * @throws NullPointerException for a null key or value
    * @throws IllegalStateException if the writer is closed
    */
   public void metadata(String name, Map<String, String> pairs) {
@@ -349,12 +360,38 @@ public final class McapWriter implements Closeable {
           "a Metadata record's name must not be empty nor '" + LOSS_METADATA
               + "' (the writer's loss report), was '" + name + "'");
     }
+    requireUnicode(name, "Metadata record name");
+    pairs.forEach((key, value) -> {
+      requireUnicode(key, "key of Metadata record '" + name + "'");
+      requireUnicode(value, "value of '" + key + "' in Metadata record '" + name + "'");
+    });
     Map<String, String> copy = new TreeMap<>(pairs);
     synchronized (definitions) {
       if (closed) {
         throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
       }
       metadata.add(Map.entry(name, copy));
+    }
+  }
+
+  /**
+   * Refuses a string that UTF-8, the encoding of every MCAP string, cannot hold: one with an
+   * unpaired UTF-16 surrogate. Encoding it would write {@code ?} in its place, so that the file
+   * would name the topic (or metadata) otherwise than the caller did, and two such topics alike.
+   */
+  private static void requireUnicode(String text, String what) {
+    Objects.requireNonNull(text, () -> "a " + what + " is null");
+    for (int i = 0; i < text.length(); i++) {
+      char c = text.charAt(i);
+      if (Character.isHighSurrogate(c) && i + 1 < text.length() && Character.isLowSurrogate(text.charAt(i + 1))) {
+        i++;
+      } else if (Character.isSurrogate(c)) {
+        throw new IllegalArgumentException(String.format(
+            "%s '%s' has an unpaired surrogate (U+%04X) at index %d: it is not Unicode text, and"
+                + " MCAP strings are UTF-8, which cannot hold it; pass the name as it was meant"
+                + " (a surrogate pair, or the character itself)",
+            what, text, (int) c, i));
+      }
     }
   }
 
