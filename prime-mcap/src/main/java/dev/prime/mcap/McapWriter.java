@@ -135,8 +135,15 @@ public final class McapWriter implements Closeable {
     this.options = options;
     this.opener = opener;
     openFile(path);
-    for (Path earlier : rotatedFilesIn(path).values()) {
-      Files.deleteIfExists(earlier); // an earlier recording's: not to be read as this one's
+    try {
+      deleteEarlierRotatedFiles(path);
+    } catch (IOException | RuntimeException e) {
+      try {
+        file.abandon();
+      } catch (IOException closing) {
+        e.addSuppressed(closing);
+      }
+      throw e;
     }
     if (options.isSynchronous()) {
       queue = null;
@@ -152,6 +159,21 @@ public final class McapWriter implements Closeable {
       thread = new Thread(this::drain, "prime-mcap-writer " + path.getFileName());
       thread.setDaemon(true);
       thread.start();
+    }
+  }
+
+  /** Deletes the rotated files of an earlier recording at {@code path}: not to be read as this one's. */
+  private static void deleteEarlierRotatedFiles(Path path) throws IOException {
+    for (Path earlier : rotatedFilesIn(path).values()) {
+      try {
+        Files.deleteIfExists(earlier);
+      } catch (IOException e) {
+        throw new IOException(
+            "cannot delete " + earlier + ", a rotated file of an earlier recording at " + path
+                + " (a new writer there replaces that recording): " + e
+                + "; remove or move it, or write the recording to another path",
+            e);
+      }
     }
   }
 
