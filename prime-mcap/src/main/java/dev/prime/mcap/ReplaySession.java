@@ -147,9 +147,10 @@ public final class ReplaySession implements Closeable {
       return;
     }
     long due = startNanos + (logTime - firstLogTime);
-    long wait = due - clock.nanoTime();
-    if (wait > 0) {
-      clock.sleepNanos(wait);
+    if (due - clock.nanoTime() > 0) {
+      // until the deadline, not for the difference: a clock moved meanwhile (a VirtualClock
+      // advanced by another thread) would make a sleep for the difference overshoot
+      clock.sleepUntil(due);
     }
   }
 }
