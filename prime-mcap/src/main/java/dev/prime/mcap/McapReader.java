@@ -97,7 +97,8 @@ public final class McapReader implements Closeable {
   /**
    * Opens what a writer that never finished left behind (the process was killed, the machine
    * lost power): every complete record of the data section, read in one pass up to the first
-   * record that is cut short (or the DataEnd, for a finished file). prime-mcap's writer writes
+   * record that is cut short (or the DataEnd: a file cut after it, in its summary, has every
+   * message, and {@link #unfinishedAt()} is where the DataEnd ends). prime-mcap's writer writes
    * each chunk whole as it closes it, so this recovers every message but those of the chunk
    * that was open and those still queued. Statistics are counted in that pass.
    *
@@ -382,6 +383,7 @@ public final class McapReader implements Closeable {
     long limit = unfinished ? size : size - 8 - FOOTER_LENGTH;
     long offset = from;
     boolean cut = false;
+    long dataEnd = -1;
     while (offset < limit) {
       if (unfinished && offset + RECORD_PREFIX > size) {
         cut = true;
@@ -391,6 +393,7 @@ public final class McapReader implements Closeable {
       int opcode = prefix.u8("opcode");
       long length = prefix.u64("length");
       if (opcode == Opcode.DATA_END) {
+        dataEnd = offset;
         break;
       }
       boolean fits = fits(offset, length, limit);
@@ -438,10 +441,23 @@ public final class McapReader implements Closeable {
     if (offset >= limit && !unfinished) {
       throw problem(offset, "the data section has no DataEnd record before the Footer");
     }
-    recoveredUpTo = cut || offset >= limit ? offset : -1;
+    if (unfinished && dataEnd >= 0 && !endsWithFooter()) {
+      // the writer stopped while writing the summary: every record of the data section is there
+      recoveredUpTo = dataEnd + DATA_END_LENGTH <= size ? dataEnd + DATA_END_LENGTH : dataEnd;
+    } else {
+      recoveredUpTo = cut || offset >= limit ? offset : -1;
+    }
     statistics = new McapStatistics(messageCount, schemas.size(), channels.size(), 0, metadataRecords.size(),
         chunkCount, messageCount == 0 ? 0 : first, messageCount == 0 ? 0 : last,
         Collections.unmodifiableMap(counts));
+  }
+
+  /** Whether the file ends with a Footer record and the closing magic, as a finished file does. */
+  private boolean endsWithFooter() throws IOException {
+    long footerOffset = size - Opcode.MAGIC.length - FOOTER_LENGTH;
+    return footerOffset > 0
+        && Arrays.equals(read(size - Opcode.MAGIC.length, Opcode.MAGIC.length, "the closing magic"), Opcode.MAGIC)
+        && read(footerOffset, 1, "the Footer record")[0] == Opcode.FOOTER;
   }
 
   private McapMessage readMessage(RecordCursor record, int length, IntPredicate wanted) {
