@@ -433,22 +433,22 @@ public final class McapWriter implements Closeable {
   }
 
   boolean submit(McapChannel<?> channel, long sequence, long logTime, long publishTime, byte[] data) {
+    Entry entry = new Entry(channel, sequence, logTime, publishTime, data);
+    if (queue == null) {
+      // closed is checked under the lock that close() finishes the file under: a write that
+      // holds it (waiting for the disk) ends before the file is finished, one after sees closed
+      synchronized (syncLock) {
+        requireOpen(channel);
+        process(entry);
+        if (failure != null) {
+          throw new UncheckedIOException("writing " + currentPath() + " failed", failure);
+        }
+      }
+      return true;
+    }
     inFlight.incrementAndGet();
     try {
-      if (closed) {
-        throw new IllegalStateException(
-            "MCAP writer for " + firstPath + " is closed: '" + channel.topic() + "' cannot record");
-      }
-      Entry entry = new Entry(channel, sequence, logTime, publishTime, data);
-      if (queue == null) {
-        synchronized (syncLock) {
-          process(entry);
-          if (failure != null) {
-            throw new UncheckedIOException("writing " + currentPath() + " failed", failure);
-          }
-        }
-        return true;
-      }
+      requireOpen(channel);
       long bytes = data.length;
       if (queuedBytes.addAndGet(bytes) > options.queueBytes()) {
         queuedBytes.addAndGet(-bytes);
@@ -461,6 +461,13 @@ public final class McapWriter implements Closeable {
       return true;
     } finally {
       inFlight.decrementAndGet();
+    }
+  }
+
+  private void requireOpen(McapChannel<?> channel) {
+    if (closed) {
+      throw new IllegalStateException(
+          "MCAP writer for " + firstPath + " is closed: '" + channel.topic() + "' cannot record");
     }
   }
 
@@ -620,16 +627,17 @@ public final class McapWriter implements Closeable {
   }
 
   private void closeFirst() throws IOException {
-    // Writers that passed the closed check finish their offer (it never waits) before the
-    // CLOSE mark goes in, so nothing is queued behind it unseen.
-    while (inFlight.get() > 0) {
-      Thread.yield();
-    }
     if (queue == null) {
+      // waits (blocked, not spinning) for a write under way, which may wait for the disk
       synchronized (syncLock) {
         finishFile();
       }
     } else {
+      // Writers that passed the closed check finish their offer (it never waits) before the
+      // CLOSE mark goes in, so nothing is queued behind it unseen.
+      while (inFlight.get() > 0) {
+        Thread.yield();
+      }
       // Waits for room for the CLOSE mark while the writer thread lives (a stalled disk makes
       // close() wait; a writer thread that died does not make it hang).
       boolean interrupted = false;

@@ -51,7 +51,8 @@ class ConcurrentCloseTest {
     long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30);
     while (!done.isDone() && !WAITING.contains(thread.getState())) {
       if (System.nanoTime() > deadline) {
-        fail(thread.getName() + " neither waited nor returned within 30 s: " + thread.getState());
+        fail(thread.getName() + " neither waited nor returned within 30 s: " + thread.getState()
+            + (thread.getState() == Thread.State.RUNNABLE ? " (spinning)" : ""));
       }
       Thread.onSpinWait();
     }
@@ -126,6 +127,37 @@ class ConcurrentCloseTest {
       try (McapReader reader = McapReader.open(file)) {
         assertEquals(1, reader.messageCount("ticks"));
       }
+    }
+  }
+
+  /**
+   * A synchronous writer's close while a write waits for a stalled disk waits for it blocked, not
+   * spinning a core until the disk comes back, and then finishes the file with that message.
+   */
+  @Test
+  void aSynchronousCloseWaitsForAWriteUnderWayWithoutSpinning() throws Exception {
+    Path file = dir.resolve("synchronous.mcap");
+    StallingOutput[] output = new StallingOutput[1];
+    McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().chunkSize(1).synchronous(),
+        path -> output[0] = new StallingOutput(path));
+    McapChannel<Sample> samples = writer.channel("samples", Sample.class);
+    output[0].stall();
+    CompletableFuture<Boolean> written = CompletableFuture.supplyAsync(() -> samples.write(1, 1, 1, new Sample(1)));
+    try {
+      assertTrue(output[0].awaitBlocked(30), "the write waits for the disk");
+      CompletableFuture<Void> closed = new CompletableFuture<>();
+      Thread closing = closer(writer, closed, "closer");
+      closing.start();
+      awaitWaitingOrDone(closing, closed);
+      assertFalse(closed.isDone(), "close() waits for the write under way");
+      output[0].release();
+      assertTrue(written.get(30, TimeUnit.SECONDS));
+      closed.get(30, TimeUnit.SECONDS);
+    } finally {
+      output[0].release();
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("samples"));
     }
   }
 }
