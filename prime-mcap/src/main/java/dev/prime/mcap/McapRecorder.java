@@ -89,7 +89,8 @@ public final class McapRecorder implements AutoCloseable {
     try {
       ValueType<?> given = types.get(name);
       ValueType<Object> type =
-          (ValueType<Object>) (given != null ? given : ValueType.of(entry.value().getClass()));
+          (ValueType<Object>)
+              (given != null ? given : ValueType.of(RecordingMcap.channelClass(entry.value())));
       Map<String, String> metadata = new LinkedHashMap<>();
       metadata.put("prime.service", name);
       if (entry.pseudoname() != null) {
@@ -101,7 +102,7 @@ public final class McapRecorder implements AutoCloseable {
       return raced != null ? raced : channel;
     } catch (IllegalArgumentException | IllegalStateException e) {
       unwritable(
-          name + ": values of " + entry.value().getClass().getName() + " have no channel type ("
+          name + ": values of " + RecordingMcap.channelClass(entry.value()).getName() + " have no channel type ("
               + e.getMessage() + "); give its type in RecordingMcap.stream(..., types)");
       return null;
     }

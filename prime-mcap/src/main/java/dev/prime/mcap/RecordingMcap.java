@@ -50,7 +50,8 @@ public final class RecordingMcap {
 
   /**
    * Starts recording every value {@code recording} records from now on into MCAP files, as it is
-   * recorded; see {@link McapRecorder}. Each name's channel is typed by its first value's class.
+   * recorded; see {@link McapRecorder}. Each name's channel is typed by its first value's class
+   * (an enum constant with a body of its own: its enum).
    *
    * @param recording the core's recording (not a merged one: it records nothing more)
    * @param path the first file; overwritten if it exists; rotated files are named by {@link
@@ -246,7 +247,7 @@ public final class RecordingMcap {
     if (given != null) {
       return (ValueType<Object>) given;
     }
-    Class<?> type = first.value().getClass();
+    Class<?> type = channelClass(first.value());
     try {
       return (ValueType<Object>) ValueType.of(type);
     } catch (IllegalArgumentException unsupported) {
@@ -256,6 +257,15 @@ public final class RecordingMcap {
               + name + "' in RecordingMcap.write(recording, path, types)",
           unsupported);
     }
+  }
+
+  /**
+   * The class that types a channel whose first value is {@code value}: its class, or for an enum
+   * constant with a body of its own (an instance of an anonymous subclass, which is not itself an
+   * enum) the enum.
+   */
+  static Class<?> channelClass(Object value) {
+    return value instanceof Enum<?> constant ? constant.getDeclaringClass() : value.getClass();
   }
 
   private static long epochNanos(Instant time) {
