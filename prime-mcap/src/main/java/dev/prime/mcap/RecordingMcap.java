@@ -173,7 +173,8 @@ public final class RecordingMcap {
    * @return the number of messages written
    * @throws IOException if the file cannot be written
    * @throws IllegalArgumentException if {@code types} names a name that is not recorded, a
-   *     channel's type cannot be made from its first value's class, or a metadata name is
+   *     channel's type cannot be made from its first value's class, a name with no type given has
+   *     values of more than one class (refused before the file is opened), or a metadata name is
    *     reserved or empty
    */
   public static long write(
@@ -208,27 +209,57 @@ public final class RecordingMcap {
       }
     }
     all.sort(Comparator.comparing(RecordedValue::wallTime));
+    // every channel's type, checked before the file at the path is replaced
+    Map<String, ValueType<Object>> channelTypes = new LinkedHashMap<>();
+    byName.forEach((name, entries) -> {
+      channelTypes.put(name, type(name, types.get(name), entries.get(0)));
+      if (!types.containsKey(name)) {
+        requireOneClass(name, entries);
+      }
+    });
     long written = 0;
     ProcessIdentity process = ProcessIdentity.current();
     try (McapWriter writer = McapWriter.open(path, McapWriterOptions.defaults().synchronous())) {
       writer.metadata(PROCESS_METADATA, process.metadata());
       metadata.forEach(writer::metadata);
       Map<String, McapChannel<Object>> channels = new LinkedHashMap<>();
-      byName.forEach(
-          (name, entries) ->
-              channels.put(
-                  name,
-                  writer.channel(
-                      name, type(name, types.get(name), entries.get(0)),
-                      channelMetadata(recording, name, process))));
+      channelTypes.forEach(
+          (name, type) -> channels.put(name, writer.channel(name, type, channelMetadata(recording, name, process))));
       for (RecordedValue<Object> entry : all) {
         long time = epochNanos(entry.wallTime());
-        if (channels.get(entry.service()).write(time, time, entry.sequence(), entry.value())) {
-          written++;
+        McapChannel<Object> channel = channels.get(entry.service());
+        try {
+          if (channel.write(time, time, entry.sequence(), entry.value())) {
+            written++;
+          }
+        } catch (IllegalArgumentException e) {
+          throw new IllegalArgumentException(
+              "value " + entry.sequence() + " recorded under '" + entry.service() + "' ("
+                  + entry.value().getClass().getName() + ") cannot be written as "
+                  + channel.type().name() + ": " + e.getMessage(),
+              e);
         }
       }
     }
     return written;
+  }
+
+  /**
+   * Refuses a name whose values (its channel typed by the first one's class) are of more than one
+   * class: another class's values cannot be written as that type.
+   */
+  private static void requireOneClass(String name, List<RecordedValue<Object>> entries) {
+    Class<?> first = channelClass(entries.get(0).value());
+    for (RecordedValue<Object> entry : entries) {
+      Class<?> other = channelClass(entry.value());
+      if (other != first) {
+        throw new IllegalArgumentException(
+            "the values recorded under '" + name + "' are of more than one class: " + first.getName()
+                + ", and " + other.getName() + " (value " + entry.sequence() + "); a channel has one"
+                + " type: have the block give values of one class (a record, say), or give the"
+                + " type of '" + name + "' in RecordingMcap.write(recording, path, types)");
+      }
+    }
   }
 
   private static Map<String, String> channelMetadata(
