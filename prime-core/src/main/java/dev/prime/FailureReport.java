@@ -32,12 +32,27 @@ public final class FailureReport {
       name = failed.chainName();
       own = failed.getCause();
     }
+    handle(handler, name, input, own);
+  }
+
+  /**
+   * Gives one failure to the handler as it is, under {@code name}: a handler that throws is
+   * logged at ERROR with the failure suppressed in it, and the caller goes on; a {@link
+   * VirtualMachineError} from the handler propagates. For failures that are not a service's, such
+   * as a {@link PrimeCore#whenRunning} hook's, which the handler gets under the hook's name.
+   *
+   * @param handler the core's error handler
+   * @param name the name the handler gets
+   * @param input what failed, as the handler gets it
+   * @param error what it threw
+   */
+  static void handle(ErrorHandler handler, String name, Object input, Throwable error) {
     try {
-      handler.handle(name, input, own);
+      handler.handle(name, input, error);
     } catch (VirtualMachineError e) {
       throw e;
     } catch (Throwable handlerFailure) {
-      handlerFailure.addSuppressed(own);
+      handlerFailure.addSuppressed(error);
       LOG.error("the error handler failed for service '{}'", name, handlerFailure);
     }
   }

@@ -15,7 +15,8 @@ import org.slf4j.LoggerFactory;
  * on the adding thread; a hook added after the core closed is refused. If {@code close()} races
  * with adding a hook to a started core, the hook's close may run before its start: the close is
  * still called exactly once, and a hook must tolerate that order (cancel first, launch later is a
- * no-op on a cancelled coroutine scope). A hook that throws goes to the core's error handler.
+ * no-op on a cancelled coroutine scope). A hook that throws goes to the core's error handler; a
+ * handler that throws in turn is logged and ignored, as for a service.
  */
 final class LifecycleHooks {
   private record Hook(String name, Runnable onStart, Runnable onClose) {}
@@ -77,7 +78,8 @@ final class LifecycleHooks {
       if (e instanceof VirtualMachineError fatal) {
         throw fatal;
       }
-      core.config().errorHandler().handle(name, phase, e);
+      // a handler that throws is logged, so start() and close() carry on whole
+      FailureReport.handle(core.config().errorHandler(), name, phase, e);
     }
   }
 

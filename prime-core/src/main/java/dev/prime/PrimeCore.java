@@ -1109,7 +1109,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * the calling thread, if the core has started), and {@code onClose} once when it closes, before
    * its sources close (also if it never started). Both must return quickly; an exception from
    * either goes to the error handler under {@code name}, with {@code "start"} or {@code "close"}
-   * as the input.
+   * as the input; a handler that throws is logged and ignored ({@link ErrorHandler}), so {@code
+   * start()} and {@code close()} carry on whole.
    *
    * @param name names the work in the error handler, such as the source it feeds
    * @param onStart starts the work

@@ -1,5 +1,6 @@
 package dev.prime.conformance;
 
+import static org.junit.jupiter.api.Assertions.assertDoesNotThrow;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertSame;
@@ -170,6 +171,51 @@ public interface LifecycleHookConformance extends ConformanceBase {
     assertEquals("stopper", failures.get(0)[0]);
     assertEquals("close", failures.get(0)[1]);
     assertSame(boom, failures.get(0)[2]);
+  }
+
+  /**
+   * A hook that throws while the error handler itself throws: the handler's failure is logged and
+   * ignored, as for a service ({@link dev.prime.ErrorHandler}), so {@code start()} and {@code
+   * close()} carry on whole. {@code start()} starts the other hooks; {@code close()} closes them,
+   * stops the services, wakes the readers with {@code CoreClosedException} and leaves no thread.
+   */
+  @Test
+  default void aHookFailureTheErrorHandlerCannotTakeLeavesStartAndCloseWhole()
+      throws InterruptedException {
+    List<String> handled = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  handled.add(service + " " + input);
+                  throw new IllegalStateException("the error handler is down");
+                })
+            .build();
+    List<String> calls = new CopyOnWriteArrayList<>();
+    PrimeCore core = newCore(config);
+    Reader<Integer> reader;
+    try (core) {
+      core.whenRunning(
+          "broken",
+          () -> {
+            throw new IllegalStateException("cannot start");
+          },
+          () -> {
+            throw new IllegalStateException("cannot stop");
+          });
+      core.whenRunning("fine", () -> calls.add("fine started"), () -> calls.add("fine closed"));
+      EventBlock<Integer> events = new EventBlock<>();
+      reader = core.link(core.source(events), core.chain((Integer x) -> x + 1)).reader();
+      assertDoesNotThrow(core::start, "start() with a failing hook and a failing error handler");
+      assertEquals(List.of("fine started"), calls, "the hook after the failing one started");
+      events.publish(1);
+      assertEquals(2, takeOrFail(reader));
+      assertDoesNotThrow(core::close, "close() with a failing hook and a failing error handler");
+    }
+    assertEquals(List.of("fine started", "fine closed"), calls, "the hook after the failing one closed");
+    assertEquals(List.of("broken start", "broken close"), handled);
+    assertThrows(CoreClosedException.class, reader::poll, "the core's sources closed");
+    awaitNoThreadsLeft(core);
   }
 
   /**
