@@ -6,8 +6,9 @@ package dev.prime;
  * Metrics#onProcessed(String, ProcessingListener)}.
  *
  * <p>Called on the thread that processed the value, right after it (before a chain's output goes
- * on), so it must be quick and must not block or throw; what it throws is caught and logged, and
- * the value goes on. The log is rate-limited per node, as the default error handler's is: the first
+ * on), so it must be quick and must not block or throw; what it throws (an exception, checked or
+ * not, or an {@link Error} but a {@link VirtualMachineError}) is caught and logged, and the value
+ * goes on. The log is rate-limited per node, as the default error handler's is: the first
  * failure of a burst in full, then one WARN line per 10 s counting the rest, and the count still
  * owed when the core closes.
  */

@@ -119,7 +119,9 @@ public final class Recording {
     void deliver(RecordedValue<Object> value) {
       try {
         listener.recorded(value);
-      } catch (RuntimeException e) {
+      } catch (VirtualMachineError e) {
+        throw e; // the JVM itself is in trouble
+      } catch (Throwable e) { // an Error or a checked exception (Kotlin) too: never the controller's
         failures.increment();
       }
     }

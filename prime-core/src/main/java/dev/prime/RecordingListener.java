@@ -10,8 +10,9 @@ package dev.prime;
  * coroutine), inside the ring's monitor of that name, so the values of one name arrive in
  * sequence order while values of different names may arrive concurrently. It must return quickly
  * and never block (hand the value to a bounded queue and drop when it is full): the controller
- * waits for it. An exception it throws is caught, counted in {@link
- * Recording.Subscription#failures()}, and does not reach the controller.
+ * waits for it. What it throws (an exception, checked or not, or an {@link Error} but a {@link
+ * VirtualMachineError}) is caught, counted in {@link Recording.Subscription#failures()}, and does
+ * not reach the controller.
  */
 @FunctionalInterface
 public interface RecordingListener {

@@ -93,7 +93,9 @@ final class ServiceMeter {
     for (ProcessingListener listener : told) {
       try {
         listener.processed(n, failed);
-      } catch (RuntimeException e) {
+      } catch (VirtualMachineError e) {
+        throw e; // the JVM itself is in trouble
+      } catch (Throwable e) { // an Error or a checked exception (Kotlin) too: the value goes on
         listenerFailures.record(
             "a metrics listener of '" + name + "' threw",
             1,

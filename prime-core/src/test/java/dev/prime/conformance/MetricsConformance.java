@@ -608,6 +608,46 @@ public interface MetricsConformance extends ConformanceBase {
   }
 
   /**
+   * {@link dev.prime.ProcessingListener}: "what it throws is caught and logged, and the value goes
+   * on": also an {@link AssertionError} and a checked exception (a Kotlin listener throws {@code
+   * IOException} without declaring it), not only a {@code RuntimeException}.
+   */
+  @Test
+  default void aListenerThrowingAnErrorOrACheckedExceptionIsCaughtAndTheValueGoesOn()
+      throws Exception {
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(failures)) {
+      Block<Integer, Integer> noted = core.chain("noted", (Integer x) -> x * 2).toBlock();
+      AtomicLong calls = new AtomicLong();
+      core.metrics()
+          .onProcessed(
+              "noted",
+              (nanos, failed) -> {
+                if (calls.incrementAndGet() % 2 == 1) {
+                  throw new AssertionError("listener broken");
+                }
+                throw MetricsConformance.<RuntimeException>sneaky(
+                    new java.io.IOException("listener cannot write"));
+              });
+      core.start();
+      List<Integer> out = new ArrayList<>();
+      for (int i = 1; i <= 4; i++) {
+        out.add(noted.process(i));
+      }
+      assertEquals(List.of(2, 4, 6, 8), out, "every value went on past the listener");
+      assertEquals(4, calls.get(), "the listener was told of every value");
+      assertCounts(core.metrics().service("noted"), "BlockChain", 4, 4, 0);
+    }
+    assertEquals(List.of(), failures, "a listener's failure is not the service's");
+  }
+
+  /** Throws any throwable, checked or not, without declaring it. */
+  @SuppressWarnings("unchecked")
+  private static <E extends Throwable> RuntimeException sneaky(Throwable t) throws E {
+    throw (E) t;
+  }
+
+  /**
    * {@link dev.prime.ProcessingListener}: "Called on the thread that processed the value, right
    * after it (before a chain's output goes on)". The block leaves the value it processed in a
    * thread-local; the listener, told on the same thread right after, finds each value there, in

@@ -553,6 +553,45 @@ public interface RecordingConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.RecordingListener}: "An exception it throws is caught, counted in {@link
+   * Recording.Subscription#failures()}, and does not reach the controller": also an {@link
+   * AssertionError} and a checked exception (a Kotlin writer to disk throws {@code IOException}
+   * without declaring it), not only a {@code RuntimeException}.
+   */
+  @Test
+  default void aSubscriberThrowingAnErrorOrACheckedExceptionIsCountedAndNeverReachesTheCaller()
+      throws Exception {
+    try (PrimeCore core = recordingCore(10)) {
+      Block<Integer, Integer> doubled = core.chain("double", (Integer x) -> x * 2).toBlock();
+      core.start();
+      Recording recording = core.recording();
+      java.util.concurrent.atomic.AtomicInteger calls = new java.util.concurrent.atomic.AtomicInteger();
+      Recording.Subscription throwing =
+          recording.subscribe(
+              v -> {
+                if (calls.incrementAndGet() % 2 == 1) {
+                  throw new AssertionError("a listener's assertion");
+                }
+                throw RecordingConformance.<RuntimeException>sneaky(
+                    new java.io.IOException("the disk is full"));
+              });
+      List<Integer> out = new ArrayList<>();
+      for (int i = 1; i <= 4; i++) {
+        out.add(doubled.process(i));
+      }
+      assertEquals(List.of(2, 4, 6, 8), out, "no listener failure reached the caller");
+      assertEquals(4, recording.recorded("double"));
+      assertEquals(4, throwing.failures(), "every failure of the listener is counted");
+    }
+  }
+
+  /** Throws any throwable, checked or not, without declaring it. */
+  @SuppressWarnings("unchecked")
+  private static <E extends Throwable> RuntimeException sneaky(Throwable t) throws E {
+    throw (E) t;
+  }
+
   private static void awaitNextMicrosecond(Instant then) {
     long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(1);
     for (int i = 0; i < 10_000_000 && System.nanoTime() < deadline; i++) {
