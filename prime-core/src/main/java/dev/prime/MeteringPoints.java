@@ -89,7 +89,7 @@ final class MeteringPoints {
       long start = System.nanoTime();
       try {
         step.accept(input, value);
-      } catch (RuntimeException | Error failed) {
+      } catch (Throwable failed) { // a checked exception thrown sneakily fails the value too
         meter.processed(System.nanoTime() - start, true);
         throw failed;
       }
@@ -201,7 +201,7 @@ final class MeteringPoints {
       O output;
       try {
         output = block.process(input);
-      } catch (RuntimeException | Error failed) {
+      } catch (Throwable failed) { // a checked exception thrown sneakily fails the value too
         meter.processed(System.nanoTime() - start, true);
         throw failed;
       }
@@ -222,7 +222,7 @@ final class MeteringPoints {
       boolean passed;
       try {
         passed = predicate.test(value);
-      } catch (RuntimeException | Error failed) {
+      } catch (Throwable failed) { // a checked exception thrown sneakily fails the value too
         meter.processed(System.nanoTime() - start, true);
         throw failed;
       }
@@ -243,7 +243,7 @@ final class MeteringPoints {
       Iterable<?> outputs;
       try {
         outputs = block.process(input);
-      } catch (RuntimeException | Error failed) {
+      } catch (Throwable failed) { // a checked exception thrown sneakily fails the value too
         meter.processed(System.nanoTime() - start, true);
         throw failed;
       }
@@ -283,7 +283,7 @@ final class MeteringPoints {
       long start = System.nanoTime();
       try {
         listener.accept(value);
-      } catch (RuntimeException | Error failed) {
+      } catch (Throwable failed) { // a checked exception thrown sneakily fails the value too
         meter.processed(System.nanoTime() - start, true);
         throw failed;
       }

@@ -156,6 +156,55 @@ public interface MetricsConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A block or filter that throws a checked exception without declaring it (as Kotlin code does,
+   * an {@code IOException} of a sensor) fails like any other ({@link Block}): it is counted as a
+   * failure and timed, and its value no longer counts as in progress in the queue depth.
+   */
+  @Test
+  default void aCheckedExceptionThrownSneakilyIsCountedAsAFailure() throws Exception {
+    List<Throwable> handled = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(handled)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> evens =
+          core.source("numbers", events)
+              .filter(
+                  x -> {
+                    if (x % 2 == 1) {
+                      throw MetricsConformance.<RuntimeException>sneaky(
+                          new java.io.IOException("odd: " + x));
+                    }
+                    return true;
+                  })
+              .reader();
+      Block<Integer, Integer> reads =
+          core.chain(
+                  "reads",
+                  (Integer x) -> {
+                    if (x < 0) {
+                      throw MetricsConformance.<RuntimeException>sneaky(
+                          new java.io.IOException("sensor unplugged"));
+                    }
+                    return x;
+                  })
+              .toBlock();
+      core.start();
+      for (int i = 1; i <= 4; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(2, 4), takeOrFail(evens, 2));
+      assertEquals(1, reads.process(1));
+      assertThrows(RuntimeException.class, () -> reads.process(-1));
+
+      Metrics metrics = core.metrics();
+      assertCounts(metrics.service("reads"), "BlockChain", 2, 1, 1);
+      ServiceMetrics filter = metrics.service("filter(numbers)");
+      assertCounts(filter, "Filter", 4, 2, 2);
+      assertEquals(0, filter.queueDepth(), "nothing waits or is in progress: " + filter);
+      assertEquals(2, handled.size(), "the error handler saw the filter's failures");
+    }
+  }
+
   @Test
   default void queueDepthCountsWhatWaitsAndWhatIsInProgress() throws Exception {
     CountDownLatch firstInside = new CountDownLatch(1);
