@@ -74,10 +74,9 @@ final class LifecycleHooks {
   private void run(String name, String phase, Runnable action) {
     try {
       action.run();
-    } catch (RuntimeException | Error e) {
-      if (e instanceof VirtualMachineError fatal) {
-        throw fatal;
-      }
+    } catch (VirtualMachineError fatal) {
+      throw fatal;
+    } catch (Throwable e) { // a checked exception thrown sneakily (a Kotlin hook's) too
       // a handler that throws is logged, so start() and close() carry on whole
       FailureReport.handle(core.config().errorHandler(), name, phase, e);
     }

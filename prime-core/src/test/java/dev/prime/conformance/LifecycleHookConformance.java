@@ -219,6 +219,58 @@ public interface LifecycleHookConformance extends ConformanceBase {
   }
 
   /**
+   * A hook that throws a checked exception without declaring it (a Kotlin hook's {@code
+   * IOException}) goes to the error handler like any other failure, and {@code start()} and
+   * {@code close()} carry on whole: the other hooks run, the services stop, no thread is left.
+   */
+  @Test
+  default void aHookThrowingACheckedExceptionGoesToTheErrorHandlerAndStartAndCloseCarryOn()
+      throws InterruptedException {
+    List<Object[]> failures = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler((service, input, error) -> failures.add(new Object[] {service, input, error}))
+            .build();
+    java.io.IOException cannotStart = new java.io.IOException("cannot open the port");
+    java.io.IOException cannotStop = new java.io.IOException("cannot close the port");
+    List<String> calls = new CopyOnWriteArrayList<>();
+    PrimeCore core = newCore(config);
+    Reader<Integer> reader;
+    try (core) {
+      core.whenRunning(
+          "port",
+          () -> {
+            throw LifecycleHookConformance.<RuntimeException>sneaky(cannotStart);
+          },
+          () -> {
+            throw LifecycleHookConformance.<RuntimeException>sneaky(cannotStop);
+          });
+      core.whenRunning("fine", () -> calls.add("fine started"), () -> calls.add("fine closed"));
+      EventBlock<Integer> events = new EventBlock<>();
+      reader = core.link(core.source(events), core.chain((Integer x) -> x + 1)).reader();
+      assertDoesNotThrow(core::start, "start() with a hook that throws a checked exception");
+      events.publish(1);
+      assertEquals(2, takeOrFail(reader));
+      assertDoesNotThrow(core::close, "close() with a hook that throws a checked exception");
+    }
+    assertEquals(List.of("fine started", "fine closed"), calls);
+    assertEquals(2, failures.size());
+    assertEquals("port", failures.get(0)[0]);
+    assertEquals("start", failures.get(0)[1]);
+    assertSame(cannotStart, failures.get(0)[2]);
+    assertEquals("close", failures.get(1)[1]);
+    assertSame(cannotStop, failures.get(1)[2]);
+    assertThrows(CoreClosedException.class, reader::poll, "the core's sources closed");
+    awaitNoThreadsLeft(core);
+  }
+
+  /** Throws any throwable, checked or not, without declaring it. */
+  @SuppressWarnings("unchecked")
+  private static <E extends Throwable> RuntimeException sneaky(Throwable t) throws E {
+    throw (E) t;
+  }
+
+  /**
    * {@link PrimeCore#whenRunning}: "{@code onStart} runs when the core starts, after its
    * services". A hook's {@code onStart} publishes to a source linked to a chain and waits (at most
    * the kit's patience) for the chain to process the value: that can happen only if the service
