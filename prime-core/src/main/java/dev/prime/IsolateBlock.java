@@ -11,6 +11,9 @@ import java.util.function.BooleanSupplier;
  * Lets several callers share one block without ever running it concurrently: calls run one at a
  * time, in the order they came (first come, first served), so no caller starves.
  *
+ * <p>A call from inside the block (the block calls its own isolated chain, on the thread that
+ * runs it) would wait for itself: it fails at once with an {@link IllegalStateException} instead.
+ *
  * <p>A caller waiting for its turn honours interruption: it stops waiting, keeps its interrupt
  * flag set and gets a {@link PrimeException}; the block is not run for it, and the callers behind
  * it keep their order. A waiting caller also runs a check given by the owner every {@value
@@ -76,6 +79,13 @@ final class IsolateBlock<I, O> implements Block<I, O> {
   private volatile int waiting;
 
   /**
+   * The thread running the block now, or null; written only by that thread, around the block. A
+   * plain field: a thread reads its own last write here or another thread's, never a stale write
+   * of its own, so only a call from inside the block (which would wait for itself) sees itself.
+   */
+  private Thread running;
+
+  /**
    * A shared block whose waiting callers stop only when interrupted.
    *
    * @param block the shared block
@@ -111,6 +121,13 @@ final class IsolateBlock<I, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
+    Thread caller = Thread.currentThread();
+    if (running == caller) {
+      throw new IllegalStateException(
+          "an isolated chain was called from inside itself, on the thread that runs it: the call"
+              + " would wait for itself forever. Inside the shared block, call what it needs"
+              + " directly, not through a user of its own isolated chain");
+    }
     long ticket = nextTicket.getAndIncrement();
     boolean waits = serving != ticket;
     if (waits) {
@@ -120,7 +137,12 @@ final class IsolateBlock<I, O> implements Block<I, O> {
       if (waits && callerGaveUp.getAsBoolean()) {
         throw gaveUp();
       }
-      return block.process(input);
+      running = caller;
+      try {
+        return block.process(input);
+      } finally {
+        running = null;
+      }
     } finally {
       passTurn(ticket);
     }

@@ -312,6 +312,45 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * A block of an isolated chain that calls the same isolated chain (through another user) on
+   * the thread that runs it would wait for itself: misuse, which never hangs (architecture,
+   * <i>Errors</i>). Where blocks run on the caller's thread the inner call fails at once with an
+   * {@link IllegalStateException} that says so, the outer call fails with it, and the chain
+   * serves the next call.
+   */
+  @Test
+  default void anIsolatedChainCalledFromInsideItselfFailsInsteadOfWaitingForItself()
+      throws InterruptedException {
+    org.junit.jupiter.api.Assumptions.assumeTrue(
+        blocksRunOnTheCallersThread(), "blocks run on the caller's thread");
+    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
+    PrimeCore core = newCore();
+    try {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  "counter",
+                  (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0));
+      Block<Integer, Integer> outer = isolated.newUser().toBlock();
+      inner.set(isolated.newUser().toBlock());
+      core.start();
+      assertEquals(0, outer.process(0), "a call that does not re-enter");
+      Caller reentering = new Caller("reentering", () -> outer.process(1));
+      Throwable failure = reentering.awaitFailure(patience());
+      Throwable cause = failure;
+      while (cause != null && !(cause instanceof IllegalStateException)) {
+        cause = cause.getCause();
+      }
+      assertInstanceOf(IllegalStateException.class, cause, "the inner call's failure: " + failure);
+      assertTrue(
+          cause.getMessage().contains("from inside itself"), "says what is wrong: " + cause);
+      assertEquals(0, inner.get().process(0), "the isolated chain serves the next call");
+    } finally {
+      core.close();
+    }
+  }
+
+  /**
    * A sync collector's call that waits honours interruption and takes no value with it: the
    * values published after it ended go to the next calls, in order (wherever the collector's
    * wait ran: on Optimus a service's, which learns that its caller gave up).
