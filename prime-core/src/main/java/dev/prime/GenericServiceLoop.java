@@ -137,7 +137,9 @@ public final class GenericServiceLoop implements Runnable {
     Duration wait;
     try {
       wait = service.backoff(failures);
-    } catch (RuntimeException e) {
+    } catch (VirtualMachineError e) {
+      throw e;
+    } catch (Throwable e) { // an Error or a checked exception too: only the JVM's trouble ends it
       LOG.warn("generic service '{}': its backoff({}) failed; waiting 1 s", name, failures, e);
       wait = Duration.ofSeconds(1);
     }

@@ -305,6 +305,38 @@ public interface GenericServiceConformance extends ConformanceBase {
     assertEquals(List.of(1, 2, 1), backoffs, "failures in a row count up; a success resets them");
   }
 
+  /**
+   * A {@code backoff} that throws (an {@link AssertionError}, a checked exception of Kotlin code)
+   * does not end the service: only a {@link VirtualMachineError} does (architecture, <i>Generic
+   * services</i>). The service waits a second instead and goes on with its next step.
+   */
+  @Test
+  default void aBackOffThatThrowsAnErrorDoesNotEndTheService() throws InterruptedException {
+    AtomicInteger works = new AtomicInteger();
+    CountDownLatch workedAgain = new CountDownLatch(1);
+    GenericService driver =
+        new GenericService() {
+          @Override
+          public void work() throws Exception {
+            if (works.incrementAndGet() == 1) {
+              throw new IllegalStateException("unplugged");
+            }
+            workedAgain.countDown();
+            Thread.sleep(5);
+          }
+
+          @Override
+          public Duration backoff(int failures) {
+            throw new AssertionError("a back-off bug");
+          }
+        };
+    try (PrimeCore core = newCore(recordingFailures(new CopyOnWriteArrayList<>()))) {
+      core.service("backing-off", driver);
+      core.start();
+      assertTrue(await(workedAgain), "work ran again after the failing back-off; calls: " + works.get());
+    }
+  }
+
   @Test
   default void theDefaultBackOffKeepsAFailingWorkFromSpinning() throws InterruptedException {
     AtomicInteger works = new AtomicInteger();
