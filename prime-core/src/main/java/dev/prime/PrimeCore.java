@@ -457,8 +457,7 @@ public abstract class PrimeCore implements AutoCloseable {
    * CoreClosedException} when the core closes; the calls behind it keep their order. A call that
    * already runs is not stopped. A block of the shared chain must not call the shared chain (through
    * any user): that call would wait for itself. Where blocks run on the caller's thread (Liberty,
-   * Radiant) it fails at once with {@link IllegalStateException}; elsewhere it waits until its
-   * caller gives up (a call timeout).
+   * Radiant) it fails at once with {@link IllegalStateException}.
    *
    * @param chain the shared chain
    * @param <I> input type
