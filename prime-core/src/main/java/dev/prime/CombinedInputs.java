@@ -53,7 +53,9 @@ final class CombinedInputs {
               step.accept(input, value);
             }
           };
-      threads.add(name + " input " + (i + 1), hostedOnly(core, name, reader, accept));
+      String thread = name + " input " + (i + 1);
+      // a core closed unstarted holds no publisher of another core up
+      threads.add(thread, thread, hostedOnly(core, name, reader, accept), reader::close);
     }
   }
 

@@ -159,7 +159,8 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
               }
             },
             core.config().errorHandler(),
-            core::isClosed));
+            core::isClosed),
+        values::close); // a core closed unstarted holds no publisher of another core up
     return out;
   }
 
@@ -231,7 +232,9 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
   <T> void run(String name, Reader<T> reader, Consumer<? super T> step) {
     threads.add(
         name,
-        new SourceService<>(name, reader, step, core.config().errorHandler(), core::isClosed));
+        name,
+        new SourceService<>(name, reader, step, core.config().errorHandler(), core::isClosed),
+        reader::close); // a core closed unstarted holds no publisher of another core up
   }
 
   /**

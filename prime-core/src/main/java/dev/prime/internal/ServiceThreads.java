@@ -2,6 +2,7 @@ package dev.prime.internal;
 
 import java.time.Duration;
 import java.util.ArrayList;
+import java.util.HashMap;
 import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
@@ -21,7 +22,9 @@ import org.slf4j.LoggerFactory;
  * ends a service's thread is logged at ERROR under the service's name before it goes on to the
  * thread's uncaught-exception handler. A service may stop the services from its own thread (a
  * listener that closes its core): that thread is neither interrupted nor joined, since it cannot
- * wait for itself; its loop ends when it returns to read its closed source. All methods are
+ * wait for itself; its loop ends when it returns to read its closed source. A service whose thread
+ * never ran (its core closed before it started) lets go of what it holds outside the thread (an
+ * input on another core's source) through the release it was added with. All methods are
  * synchronized: they run on lifecycle calls, never per value.
  */
 public final class ServiceThreads {
@@ -30,6 +33,7 @@ public final class ServiceThreads {
   private final String coreName;
   private final String prefix;
   private final Map<String, Thread> threads = new LinkedHashMap<>();
+  private final Map<String, Runnable> releases = new HashMap<>(); // run if the thread never ran
   private final Supplier<? extends RuntimeException> stoppedError;
   private boolean started;
   private boolean stopped;
@@ -78,7 +82,28 @@ public final class ServiceThreads {
    * @throws RuntimeException the constructor's {@code stoppedError} if the services are stopped
    */
   public synchronized void add(String service, String shownAs, Runnable body) {
+    add(service, shownAs, body, null);
+  }
+
+  /**
+   * Adds a service that holds something outside its thread until its body ends, such as an input
+   * opened on another core's source, which holds that source's publishers up: {@code release}
+   * lets it go if the services stop before the thread ever ran (a core closed without being
+   * started), when the body, which would have let it go, never runs.
+   *
+   * @param service unique service name, for the thread
+   * @param shownAs the name its ERROR line gives when a {@link VirtualMachineError} ends it
+   * @param body the service loop; must return when interrupted, and let go of what it holds
+   * @param release lets go of what the body holds, if the body never runs; {@code null} for
+   *     nothing; must not throw
+   * @throws RuntimeException the constructor's {@code stoppedError} if the services are stopped
+   *     (then {@code release} ran)
+   */
+  public synchronized void add(String service, String shownAs, Runnable body, Runnable release) {
     if (stopped) {
+      if (release != null) {
+        release.run(); // the core closed while the service was declared: it never runs
+      }
       throw stoppedError.get();
     }
     if (threads.containsKey(service)) {
@@ -87,6 +112,9 @@ public final class ServiceThreads {
     Thread thread = new Thread(logFatal(shownAs, body), prefix + service);
     thread.setDaemon(true);
     threads.put(service, thread);
+    if (release != null) {
+      releases.put(service, release);
+    }
     if (started) {
       thread.start();
     }
@@ -143,10 +171,20 @@ public final class ServiceThreads {
    */
   public List<String> stopAll(Duration timeout) {
     List<Thread> toJoin;
+    List<Runnable> neverRan = new ArrayList<>();
     synchronized (this) {
-      stopped = true;
+      stopped = true; // no thread starts from now on: one still new never runs
       toJoin = new ArrayList<>(threads.values());
+      threads.forEach(
+          (service, thread) -> {
+            Runnable release = releases.get(service);
+            if (release != null && thread.getState() == Thread.State.NEW) {
+              neverRan.add(release);
+            }
+          });
+      releases.clear();
     }
+    neverRan.forEach(Runnable::run);
     toJoin.remove(Thread.currentThread()); // a service closing its own core
     for (Thread thread : toJoin) {
       thread.interrupt();

@@ -406,6 +406,34 @@ public interface SourceConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A core closed without ever starting stops holding up the sources of another core that its
+   * services and combinators read: the inputs they opened there close with it, as those of a
+   * started core do (architecture, <i>Sources, readers and retention</i>: "a service that has
+   * stopped (its core closing) no longer does"). Publishes to such a source go on past the
+   * capacity of those inputs.
+   */
+  @Test
+  default void aCoreClosedBeforeItStartedHoldsUpNoSourceOfAnotherCore()
+      throws InterruptedException {
+    CoreConfig small =
+        CoreConfig.builder().sourceRetention(4).publishTimeout(Duration.ofMillis(200)).build();
+    try (PrimeCore a = newCore(small)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> shared = a.source("shared", events);
+      Reader<Integer> reader = shared.reader();
+      a.start();
+      PrimeCore b = newCore(small);
+      b.link(shared, b.chain("never-run", (Integer x) -> x));
+      b.merge(shared);
+      b.close();
+      for (int i = 1; i <= 12; i++) {
+        events.publish(i); // threw QueueFullException naming a service of b once its input was full
+      }
+      assertEquals(12, reader.drain().size() + reader.missed(), "every value was published");
+    }
+  }
+
   @Test
   default void filterFlatMapAndListen() throws InterruptedException {
     try (PrimeCore core = newCore()) {
