@@ -251,6 +251,15 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
     subscription.close();
   }
 
+  /**
+   * Closes {@code reader}, which this core opened on another core's source (a collector's), when
+   * this core closes (at once if it is closing): that source stays open, and a wait in the reader
+   * must end with this core.
+   */
+  void closeOnClose(Reader<?> reader) {
+    unsubscribeOnClose(reader::close);
+  }
+
   /** Unsubscribes from every event block and closes every source, waking their readers. */
   void close() {
     List<MemorySource<?>> closing;

@@ -353,10 +353,22 @@ final class ModelCompiler<F> {
    * when the caller gave up ({@link PrimeCore#callerGaveUp}).
    */
   private <T> Block<Token, T> syncCollector(Source<T> source) {
+    Reader<T> reader = collectorReader(source);
+    return new SyncCollectorBlock<>(
+        reader, callersMayBeElsewhere() ? core::callerGaveUp : null, core::ensureOpen);
+  }
+
+  /**
+   * The reader of a collector of {@code source}. One of another core's sources stays open when
+   * this core closes, so the reader is closed with this core: a wait in it ends then, and the
+   * collector, finding its reader closed, says that its core is.
+   */
+  private <T> Reader<T> collectorReader(Source<T> source) {
     Reader<T> reader = InProcessServices.serviceReader(source);
-    return callersMayBeElsewhere()
-        ? new SyncCollectorBlock<>(reader, core::callerGaveUp)
-        : new SyncCollectorBlock<>(reader);
+    if (source.core() != core) {
+      memory.closeOnClose(reader);
+    }
+    return reader;
   }
 
   /**
@@ -367,8 +379,8 @@ final class ModelCompiler<F> {
     return media.copiesValues();
   }
 
-  private static <T> Block<Token, List<T>> asyncCollector(Source<T> source) {
-    return new AsyncCollectorBlock<>(InProcessServices.serviceReader(source));
+  private <T> Block<Token, List<T>> asyncCollector(Source<T> source) {
+    return new AsyncCollectorBlock<>(collectorReader(source), core::ensureOpen);
   }
 
   @SuppressWarnings({"unchecked", "rawtypes"})

@@ -35,6 +35,7 @@ final class SyncCollectorBlock<T> implements Block<Token, T> {
 
   private final Reader<T> reader;
   private final BooleanSupplier callerGaveUp; // null: callers run the block on their own threads
+  private final Runnable ownerOpen;
   private final Deque<T> keptForTheNextCall = new ConcurrentLinkedDeque<>();
 
   /**
@@ -43,8 +44,7 @@ final class SyncCollectorBlock<T> implements Block<Token, T> {
    * @param reader where the values come from
    */
   SyncCollectorBlock(Reader<T> reader) {
-    this.reader = Objects.requireNonNull(reader, "reader must not be null");
-    this.callerGaveUp = null;
+    this(reader, null, () -> {});
   }
 
   /**
@@ -54,8 +54,21 @@ final class SyncCollectorBlock<T> implements Block<Token, T> {
    * @param callerGaveUp whether the caller of the call the current thread runs gave up
    */
   SyncCollectorBlock(Reader<T> reader, BooleanSupplier callerGaveUp) {
+    this(reader, Objects.requireNonNull(callerGaveUp, "callerGaveUp must not be null"), () -> {});
+  }
+
+  /**
+   * A collector of a core, whose reader that core closes when it closes (one of another core's
+   * source): a call that finds the reader closed ends with the owner's check.
+   *
+   * @param reader where the values come from
+   * @param callerGaveUp as above; {@code null} where callers run the block on their own threads
+   * @param ownerOpen throws (the core's {@link CoreClosedException}) if the owner closed
+   */
+  SyncCollectorBlock(Reader<T> reader, BooleanSupplier callerGaveUp, Runnable ownerOpen) {
     this.reader = Objects.requireNonNull(reader, "reader must not be null");
-    this.callerGaveUp = Objects.requireNonNull(callerGaveUp, "callerGaveUp must not be null");
+    this.callerGaveUp = callerGaveUp;
+    this.ownerOpen = Objects.requireNonNull(ownerOpen, "ownerOpen must not be null");
   }
 
   @Override
@@ -69,6 +82,9 @@ final class SyncCollectorBlock<T> implements Block<Token, T> {
     } catch (InterruptedException e) {
       Thread.currentThread().interrupt();
       throw new PrimeException("interrupted while a sync collector waited for a value", e);
+    } catch (IllegalStateException readerClosed) {
+      ownerOpen.run(); // closed with its core: that core's CoreClosedException
+      throw readerClosed;
     }
   }
 

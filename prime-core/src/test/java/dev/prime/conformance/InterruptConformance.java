@@ -351,6 +351,37 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * A sync collector of another core's source is a blocking wait of its own core: it ends with
+   * {@link CoreClosedException} when that core closes, the other core and its source open
+   * ({@link PrimeCore}: "Every blocking wait ... ends when its thread is interrupted or the core
+   * closes"). Collecting again after the close, also with an async collector, is refused the same
+   * way.
+   */
+  @Test
+  default void aSyncCollectorOfAnotherCoresSourceEndsItsWaitWhenItsOwnCoreCloses()
+      throws InterruptedException {
+    try (PrimeCore other = newCore()) {
+      Source<Integer> shared = other.source("shared", new EventBlock<Integer>());
+      other.start();
+      PrimeCore core = newCore();
+      Block<Token, Integer> collect = core.syncCollector(shared).toBlock();
+      Block<Token, List<Integer>> collectAll = core.asyncCollector(shared).toBlock();
+      core.start();
+      Caller waiting = new Caller("collector", () -> collect.process(Token.INSTANCE));
+      Caller.awaitBlocked(List.of(waiting));
+      core.close();
+      Throwable failure = waiting.awaitFailure(patience());
+      assertInstanceOf(CoreClosedException.class, failure, "the wait ended with its core's close");
+      assertTrue(failure.getMessage().contains("'" + core.name() + "'"), "names the core: " + failure);
+      Caller again = new Caller("again", () -> collect.process(Token.INSTANCE));
+      assertInstanceOf(CoreClosedException.class, again.awaitFailure(patience()));
+      Caller all = new Caller("all", () -> collectAll.process(Token.INSTANCE));
+      assertInstanceOf(
+          CoreClosedException.class, all.awaitFailure(patience()), "an async collector too");
+    }
+  }
+
+  /**
    * A sync collector's call that waits honours interruption and takes no value with it: the
    * values published after it ended go to the next calls, in order (wherever the collector's
    * wait ran: on Optimus a service's, which learns that its caller gave up).
