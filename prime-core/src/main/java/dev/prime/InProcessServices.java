@@ -155,6 +155,7 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
             value -> {
               O output = block.process(value);
               if (output != null) {
+                clearOwnInterrupt();
                 out.publish(output);
               }
             },
@@ -178,6 +179,7 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
         values,
         value -> {
           if (test.test(value)) {
+            clearOwnInterrupt();
             out.publish(value);
           }
         });
@@ -201,6 +203,7 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
           if (outputs != null) {
             for (R output : outputs) {
               if (output != null) {
+                clearOwnInterrupt();
                 out.publish(output);
               }
             }
@@ -219,6 +222,19 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
         (Consumer<? super T>)
             ((NodeLogic.Listen) metered(name, new NodeLogic.Listen(listener), input, values))
                 .listener());
+  }
+
+  /**
+   * Clears the interrupt flag that the user's code of a service set on the service's own thread
+   * while the core is open (a block that restored the flag of an {@code InterruptedException} it
+   * caught), before the service publishes what that code made: a publish that waits for room in
+   * a full input would take the flag for a stop and fail. A close marks the core closed before it
+   * interrupts, so the flag of a close stays.
+   */
+  private void clearOwnInterrupt() {
+    if (Thread.interrupted() && core.isClosed()) {
+      Thread.currentThread().interrupt();
+    }
   }
 
   /** A generic service on a thread of the core; it stops when the core closes. */

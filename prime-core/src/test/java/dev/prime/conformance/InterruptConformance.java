@@ -91,6 +91,31 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * Waits, at most 300 ms, until the threads of {@code core} whose name mentions {@code service}
+   * wait (in a monitor or a park), so that what the test does next meets them waiting. A media
+   * whose threads are named otherwise, or wait in a socket read, passes the bound; the test's
+   * assertions hold either way.
+   */
+  private static void awaitWaiting(PrimeCore core, String service) throws InterruptedException {
+    long deadline = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(300);
+    CountDownLatch never = new CountDownLatch(1);
+    String prefix = "prime-" + core.name() + "-";
+    while (System.nanoTime() < deadline) {
+      boolean waiting = false;
+      for (Thread thread : Thread.getAllStackTraces().keySet()) {
+        if (thread.getName().startsWith(prefix) && thread.getName().contains(service)) {
+          Thread.State state = thread.getState();
+          waiting = state == Thread.State.WAITING || state == Thread.State.TIMED_WAITING;
+        }
+      }
+      if (waiting) {
+        return;
+      }
+      never.await(1, TimeUnit.MILLISECONDS); // a bounded pause
+    }
+  }
+
   /** A call that may throw anything. */
   @FunctionalInterface
   interface Callable {
@@ -545,6 +570,61 @@ public interface InterruptConformance extends ConformanceBase {
         Thread.interrupted(); // the flag the block set on this thread, where it ran here
       }
       assertEquals(20, called.process(2), "the chain works after the block interrupted itself");
+    }
+  }
+
+  /**
+   * The flag a block sets on its own thread is cleared after the block, so it does not fail what
+   * the service does next with the block's output: a publish that waits for room in a full
+   * service input (back-pressure) waits as for any block, and the value reaches that service in
+   * its order; nothing goes to the error handler.
+   */
+  @Test
+  default void aBlockThatInterruptsItsOwnThreadStillHasItsOutputPublishedToAFullInput()
+      throws InterruptedException {
+    int capacity = 2;
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .publishTimeout(patience())
+            .errorHandler((service, input, error) -> failures.add(error))
+            .build();
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch lastTaken = new CountDownLatch(1);
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> restless =
+          core.source("in", events)
+              .then(
+                  core.chain(
+                      "restless",
+                      (Integer x) -> {
+                        if (x == capacity + 1) {
+                          lastTaken.countDown();
+                        }
+                        return interruptOn(x, x);
+                      }));
+      List<Integer> heard = new java.util.concurrent.CopyOnWriteArrayList<>();
+      CountDownLatch all = new CountDownLatch(capacity + 2);
+      restless
+          .then(stuckChain(core, "slow", inside, release))
+          .listen(
+              x -> {
+                heard.add(x);
+                all.countDown();
+              });
+      core.start();
+      fillStuckInput(events, inside, capacity); // 0 held by slow, 1 and 2 fill its input
+      events.publish(capacity + 1); // restless's publish of it waits for room, its flag set
+      assertTrue(lastTaken.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      awaitWaiting(core, "restless"); // its publish of 3 waits for room (or failed)
+      release.countDown();
+      assertTrue(all.await(patience().toMillis(), TimeUnit.MILLISECONDS), "heard only " + heard);
+      assertEquals(List.of(0, 1, 2, 3), heard, "every value, in order");
+      assertEquals(List.of(), failures, "nothing failed");
+    } finally {
+      release.countDown();
     }
   }
 
