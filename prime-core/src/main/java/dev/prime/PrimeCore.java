@@ -455,9 +455,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * ends, and is not run, when its caller is interrupted (a {@link PrimeException}, the flag kept
    * set) or gives up another way (a call timeout on a media that has one), and with {@link
    * CoreClosedException} when the core closes; the calls behind it keep their order. A call that
-   * already runs is not stopped. A block of the shared chain must not call the shared chain (through
-   * any user): that call would wait for itself. Where blocks run on the caller's thread (Liberty,
-   * Radiant) it fails at once with {@link IllegalStateException}.
+   * already runs is not stopped. A block of the shared chain must not call the shared chain
+   * (through any user): that call would wait for itself. Where blocks run on the caller's thread
+   * (Liberty, Radiant) it fails at once with {@link IllegalStateException}.
    *
    * @param chain the shared chain
    * @param <I> input type

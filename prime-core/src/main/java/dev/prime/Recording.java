@@ -121,7 +121,7 @@ public final class Recording {
         listener.recorded(value);
       } catch (VirtualMachineError e) {
         throw e; // the JVM itself is in trouble
-      } catch (Throwable e) { // an Error or a checked exception (Kotlin) too: never the controller's
+      } catch (Throwable e) { // an Error, a checked exception (Kotlin): never the controller's
         failures.increment();
       }
     }
