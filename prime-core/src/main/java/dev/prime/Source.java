@@ -106,8 +106,8 @@ public interface Source<T> {
    * A source that publishes, once every {@code period} of the core's clock ({@link
    * CoreConfig#clock()}), the latest value of this source if one arrived since the previous
    * period, and nothing if none did: a fast sensor read at the rate of a slow controller, always
-   * its freshest value. Periods count from the core's start. A service of this source's core,
-   * named {@code sample(this)}.
+   * its freshest value. Periods count from the core's start (from this call, on a started core,
+   * as a timer's do). A service of this source's core, named {@code sample(this)}.
    *
    * @param period how often to publish, positive, at most {@code Long.MAX_VALUE} nanoseconds
    *     (about 292 years)
