@@ -65,6 +65,6 @@ public interface Chain<I, O> {
    * @return the combined chain
    */
   default <R> Chain<I, R> then(Block<? super O, ? extends R> next) {
-    return core().link(this, core().chain(Block.<O, R>narrow(next)));
+    return core().linkBlock(this, next);
   }
 }

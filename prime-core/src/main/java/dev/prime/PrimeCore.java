@@ -289,6 +289,14 @@ public abstract class PrimeCore implements AutoCloseable {
     return declaredChain(recorder -> recorder.link(first, second), first, second);
   }
 
+  /**
+   * {@link Chain#then(Block)}: links {@code first} to a new chain made of {@code next}, in one
+   * declaration, so that a link that is refused leaves no chain of the block behind.
+   */
+  final <I, M, O> Chain<I, O> linkBlock(Chain<I, M> first, Block<? super M, ? extends O> next) {
+    return declared(() -> link(first, chain(Block.<M, O>narrow(next))), first);
+  }
+
   // ---------------------------------------------------------------- templates
 
   /**
@@ -804,6 +812,14 @@ public abstract class PrimeCore implements AutoCloseable {
           return model().service(topologyRecorder().sourceLink(source, chain), source, chain);
         },
         chain);
+  }
+
+  /**
+   * {@link Source#then(Block)}: links {@code source} to a new chain made of {@code block}, in one
+   * declaration, so that a link that is refused leaves no chain of the block behind.
+   */
+  final <I, O> Source<O> linkBlock(Source<I> source, Block<? super I, ? extends O> block) {
+    return declared(() -> link(source, chain(Block.<I, O>narrow(block))));
   }
 
   /**

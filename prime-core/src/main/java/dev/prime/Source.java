@@ -53,7 +53,7 @@ public interface Source<T> {
    * @return the source of the block's outputs
    */
   default <R> Source<R> then(Block<? super T, ? extends R> block) {
-    return core().link(this, core().chain(Block.<T, R>narrow(block)));
+    return core().linkBlock(this, block);
   }
 
   /**

@@ -74,12 +74,25 @@ public final class Names {
   }
 
   /**
-   * Releases a name claimed for a declaration that failed, so it can be claimed again.
+   * Releases a name claimed for a declaration that failed, so it can be claimed again. A fresh
+   * {@code kind-N} that was the last of its kind gives its number back too, so that the next
+   * fresh name is the one it would have been without the failed declaration (release the names of
+   * a failed declaration latest first).
    *
    * @param name a claimed name
    */
   public synchronized void release(String name) {
-    taken.remove(name);
+    if (!taken.remove(name)) {
+      return;
+    }
+    int dash = name.lastIndexOf('-');
+    if (dash > 0) {
+      String kind = name.substring(0, dash);
+      Integer last = counters.get(kind);
+      if (last != null && name.substring(dash + 1).equals(String.valueOf(last))) {
+        counters.put(kind, last - 1);
+      }
+    }
   }
 
   private static boolean valid(String name) {

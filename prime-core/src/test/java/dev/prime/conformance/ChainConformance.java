@@ -88,6 +88,25 @@ public interface ChainConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * A call that is refused changes nothing (architecture, <i>Errors</i>, "Misuse"): {@code
+   * then(block)} of a used chain is refused and leaves no chain of the block behind, so the
+   * diagram, its services and the next generated name are what they were.
+   */
+  @Test
+  default void aRefusedThenOfABlockLeavesNoChainBehind() {
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> used = core.chain("used", (Integer x) -> x);
+      used.toBlock();
+      java.util.Set<String> services = core.serviceNames();
+      List<dev.prime.topology.TopologyNode> nodes = core.topology().nodes();
+      assertThrows(ChainAlreadyUsedException.class, () -> used.then((Integer x) -> x + 1));
+      assertEquals(services, core.serviceNames(), "no service was added");
+      assertEquals(nodes, core.topology().nodes(), "the diagram is as it was");
+      assertEquals("chain-1", core.chain((Integer x) -> x).name(), "the next generated name");
+    }
+  }
+
   @Test
   default void linkingAChainToItselfIsRefused() {
     try (PrimeCore core = newCore()) {
