@@ -54,9 +54,19 @@ final class ConflatedReader<T> implements Reader<T> {
     reader.close();
   }
 
-  /** {@code first}, or the newest value published after it, if any is available now. */
+  /**
+   * {@code first}, or the newest value published after it, if any is available now. A drain that
+   * fails (on a media whose sources live elsewhere: the source became unreachable, or answered too
+   * slowly, as the drain looked for more) returns {@code first}: the wrapped reader handed it out
+   * already, so throwing would lose it. The failure comes again at the next read if it lasts.
+   */
   private T newest(T first) {
-    List<T> later = reader.drain();
+    List<T> later;
+    try {
+      later = reader.drain();
+    } catch (RuntimeException e) {
+      return first;
+    }
     return later.isEmpty() ? first : later.get(later.size() - 1);
   }
 
