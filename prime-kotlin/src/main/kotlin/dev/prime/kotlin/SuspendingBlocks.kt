@@ -27,7 +27,8 @@ import kotlin.coroutines.EmptyCoroutineContext
  * A block that ignores interrupts (a busy loop) and runs on the calling thread (a plain block, a
  * chain's block on Liberty and Radiant) runs to its end before the cancellation is reported; an
  * Optimus chain's call, which waits for the service running the block, stops waiting at once. A
- * failure of a call that was not cancelled reaches the caller as the block's media throws it.
+ * failure of a call that was not cancelled reaches the caller as the block's media throws it,
+ * also an [InterruptedException] of a block that something else interrupted.
  *
  * @param input the input value
  * @param context where the block runs; [EmptyCoroutineContext] runs it on the caller's thread,
@@ -39,20 +40,34 @@ public suspend fun <I, O> Block<I, O>.processSuspending(
     context: CoroutineContext = Dispatchers.IO,
 ): O {
     try {
-        return runInterruptible(context) { process(input) }
+        return runInterruptible(context) {
+            try {
+                process(input)
+            } catch (interrupted: InterruptedException) {
+                throw BlockInterrupted(interrupted)
+            }
+        }
     } catch (cancelled: CancellationException) {
         throw cancelled
     } catch (failure: Throwable) {
+        val own = if (failure is BlockInterrupted) failure.interrupted else failure
         // the interrupt of a cancelled call surfaces as whatever the block or the media made of it
         try {
             currentCoroutineContext().ensureActive()
         } catch (cancelled: CancellationException) {
-            cancelled.addSuppressed(failure)
+            cancelled.addSuppressed(own)
             throw cancelled
         }
-        throw failure
+        throw own
     }
 }
+
+/**
+ * Carries the [InterruptedException] of a call's block out of `runInterruptible`, which turns
+ * every one into a cancellation, also when the coroutine was not cancelled (the block's own code
+ * or another thread interrupted it): [processSuspending] then rethrows the block's exception.
+ */
+private class BlockInterrupted(val interrupted: InterruptedException) : RuntimeException(interrupted)
 
 /**
  * A [Block] made of a suspending function, for any core's `chain(...)`: each call runs [logic] to
