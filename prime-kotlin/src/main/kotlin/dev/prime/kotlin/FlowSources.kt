@@ -3,6 +3,7 @@
 package dev.prime.kotlin
 
 import dev.prime.EventBlock
+import dev.prime.FailureReport
 import dev.prime.PrimeCore
 import dev.prime.Source
 import kotlinx.coroutines.CancellationException
@@ -35,7 +36,9 @@ public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBloc
  * Failures go to the core's error handler under the source's name: a value that cannot be
  * published (such as a value an Optimus codec refuses) with that value as the input, after which
  * collection carries on with the next value; a failure of the flow itself with the flow as the
- * input, after which the source publishes nothing more.
+ * input, after which the source publishes nothing more. A cancellation the flow throws while the
+ * core runs (a `withTimeout` in it that runs out) is such a failure. As everywhere in the core, an
+ * error handler that throws is logged and ignored, and collection goes on.
  *
  * @param name the source's name, unique in this core
  * @param flow the values to publish, collected while the core runs
@@ -86,19 +89,19 @@ private class FlowFeed<T : Any>(
             flow.collect { value ->
                 try {
                     runInterruptible { events.publish(value) }
-                } catch (cancelled: CancellationException) {
-                    throw cancelled
                 } catch (failure: Exception) {
                     currentCoroutineContext().ensureActive() // the core closed during the publish
-                    errors.handle(name, value, failure)
+                    FailureReport.report(errors, name, value, failure)
                 }
             }
-        } catch (cancelled: CancellationException) {
-            throw cancelled
         } catch (fatal: VirtualMachineError) {
             throw fatal
         } catch (failure: Throwable) {
-            errors.handle(name, flow, failure)
+            if (failure is CancellationException) {
+                // the core's close, unless the flow threw a cancellation of its own (a withTimeout in it)
+                currentCoroutineContext().ensureActive()
+            }
+            FailureReport.report(errors, name, flow, failure)
         }
     }
 }

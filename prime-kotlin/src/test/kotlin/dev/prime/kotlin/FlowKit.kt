@@ -5,6 +5,7 @@ import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import dev.prime.ValueCodec
 import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.TimeoutCancellationException
 import kotlinx.coroutines.async
 import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.channels.Channel
@@ -25,6 +26,7 @@ import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
 import java.nio.ByteBuffer
 import java.time.Duration
+import java.util.Optional
 import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
@@ -202,6 +204,52 @@ internal abstract class FlowKit(private val media: Media) {
         assertThrows<CoreClosedException> { core.source("late", flow { collected.incrementAndGet(); emit(1) }) }
         assertThrows<CoreClosedException> { core.source(flow { collected.incrementAndGet(); emit(1) }) }
         assertEquals(0, collected.get())
+    }
+
+    /**
+     * A flow that fails with a cancellation of its own (a `withTimeout` inside it that runs out),
+     * while the core runs, has failed: the failure goes to the error handler with the flow as the
+     * input, as any other failure of the flow, rather than ending the source without a word.
+     */
+    @Test
+    fun `a flow that fails with a cancellation of its own goes to the error handler`(): Unit = runBlocking {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val config = CoreConfig.builder().errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }.build()
+        media.newCore(config).use { core ->
+            val timingOut = flow {
+                emit(1)
+                withTimeout(1) { awaitCancellation() }
+            }
+            val source = core.source("sensor", timingOut)
+            core.start()
+            source.reader().use { assertEquals(1, it.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow()) }
+            val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("the flow's failure never reached the error handler")
+            assertEquals("sensor", failure.first)
+            assertSame(timingOut, failure.second)
+            assertInstanceOf(TimeoutCancellationException::class.java, failure.third)
+        }
+    }
+
+    /**
+     * An error handler that throws is logged and ignored, as everywhere in the core
+     * (`ErrorHandler`): the flow carries on with its next value.
+     */
+    @Test
+    fun `an error handler that throws does not end the flow`(): Unit = runBlocking {
+        val handled = AtomicInteger()
+        val config = CoreConfig.builder()
+            .copyValues(IntsOnly)
+            .errorHandler { _, _, _ -> handled.incrementAndGet(); throw IllegalStateException("the handler fails too") }
+            .build()
+        media.newCore(config).use { core ->
+            val source = core.source("sensor", flowOf<Any>(1, Unshippable(), 3))
+            core.start()
+            source.reader().use { reader ->
+                assertEquals(1, reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow())
+                assertEquals(Optional.of<Any>(3), reader.take(Duration.ofMillis(WAIT_MILLIS)), "the value after the refused one")
+            }
+            assertEquals(1, handled.get(), "calls of the error handler")
+        }
     }
 
     /** A type no codec knows. */
