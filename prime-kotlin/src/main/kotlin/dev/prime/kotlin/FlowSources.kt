@@ -11,12 +11,17 @@ import kotlinx.coroutines.CoroutineName
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.asContextElement
 import kotlinx.coroutines.cancel
 import kotlinx.coroutines.currentCoroutineContext
 import kotlinx.coroutines.ensureActive
 import kotlinx.coroutines.flow.Flow
+import kotlinx.coroutines.job
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.runInterruptible
+import java.time.Duration
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
 
 /**
  * A source, named `source-N`, that publishes the values of [flow]; see [source] with a name.
@@ -29,7 +34,11 @@ public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBloc
 /**
  * A source named [name] that publishes the values of [flow]: an event block fed by the flow. The
  * flow is collected once, on [Dispatchers.IO], in a coroutine scope tied to this core: collection
- * begins when the core starts (at once if it has started) and is cancelled when the core closes.
+ * begins when the core starts (at once if it has started) and is cancelled when the core closes,
+ * whose `close()` waits for it to end (the flow's own clean-up, such as a `finally` or an
+ * `awaitClose`, run), as for the core's services at most its `shutdownTimeout`; a flow that has
+ * not ended by then is reported to the error handler under the source's name, with `"close"` as
+ * the input. A close from within the flow (or from the error handler it calls) does not wait.
  * When the flow completes, the source publishes nothing more; the source itself stays (sources do
  * not complete).
  *
@@ -59,13 +68,22 @@ private inline fun <T : Any> PrimeCore.feed(
     return source
 }
 
+/** The [FlowFeed] whose collection runs on this thread, if any. */
+private val feeding = ThreadLocal<FlowFeed<*>>()
+
+/** The longest wait [FlowFeed.stop] reckons in nanoseconds (about 292 years). */
+private val LONGEST_WAIT: Duration = Duration.ofNanos(Long.MAX_VALUE)
+
 /**
  * Collects a flow into an event block while a core runs.
  *
  * Design note. The scope has its own [SupervisorJob], cancelled by the core's close hook; a
  * launch on a cancelled scope does nothing, so a close that overtakes the start leaves nothing
  * running. Publishing may wait (an Optimus source publishes over the network), so it runs
- * interruptibly on [Dispatchers.IO], and a cancellation during a publish ends it at once.
+ * interruptibly on [Dispatchers.IO], and a cancellation during a publish ends it at once. The
+ * close hook then waits for the job to complete (the flow's own clean-up run), as the core waits
+ * for its services, at most the core's shutdown timeout; not when the close comes from the
+ * collection itself (the flow or the error handler closing the core), which [feeding] tells.
  */
 private class FlowFeed<T : Any>(
     private val core: PrimeCore,
@@ -73,7 +91,14 @@ private class FlowFeed<T : Any>(
     private val flow: Flow<T>,
     private val events: EventBlock<T>,
 ) {
-    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.IO + CoroutineName("prime-${core.name()}-$name"))
+    private val scope = CoroutineScope(
+        SupervisorJob() + Dispatchers.IO + CoroutineName("prime-${core.name()}-$name") + feeding.asContextElement(this),
+    )
+    private val ended = CountDownLatch(1)
+
+    init {
+        scope.coroutineContext.job.invokeOnCompletion { ended.countDown() }
+    }
 
     fun start() {
         scope.launch { collect() }
@@ -81,6 +106,24 @@ private class FlowFeed<T : Any>(
 
     fun stop() {
         scope.cancel("core '${core.name()}' closed")
+        if (feeding.get() === this) {
+            return // the collection closes the core: it ends once that close returns
+        }
+        val timeout = core.config().shutdownTimeout()
+        val endedInTime = try {
+            ended.await(if (timeout < LONGEST_WAIT) timeout.toNanos() else Long.MAX_VALUE, TimeUnit.NANOSECONDS)
+        } catch (_: InterruptedException) {
+            Thread.currentThread().interrupt() // the close's caller gave up waiting
+            return
+        }
+        if (!endedInTime) {
+            val stillRunning = IllegalStateException(
+                "the flow feeding source '$name' did not end within the shutdown timeout ($timeout) after" +
+                    " core '${core.name()}' began to close, and goes on in the background: make it honour" +
+                    " cancellation (wrap a blocking call in it in runInterruptible, check isActive in a long loop)",
+            )
+            FailureReport.report(core.config().errorHandler(), name, "close", stillRunning)
+        }
     }
 
     private suspend fun collect() {

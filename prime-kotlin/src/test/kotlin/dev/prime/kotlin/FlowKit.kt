@@ -30,6 +30,7 @@ import java.util.Optional
 import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicBoolean
 import java.util.concurrent.atomic.AtomicInteger
 
 /** Sources as flows and flows as sources, on one media. */
@@ -252,6 +253,99 @@ internal abstract class FlowKit(private val media: Media) {
         }
     }
 
+    /**
+     * `close()` stops the core's work before it returns, the flow that feeds a source included:
+     * once it returns, the flow's own clean-up (a `finally`, an `awaitClose`) has run.
+     */
+    @Test
+    fun `close returns once the flow that feeds a source has ended`() {
+        val collecting = CountDownLatch(1)
+        val cleanupBegan = CountDownLatch(1)
+        val finishCleanup = CountDownLatch(1)
+        val cleanedUp = CountDownLatch(1)
+        val feed = flow {
+            try {
+                emit(1)
+                collecting.countDown()
+                awaitCancellation()
+            } finally {
+                cleanupBegan.countDown()
+                finishCleanup.await(WAIT_MILLIS, TimeUnit.MILLISECONDS)
+                cleanedUp.countDown()
+            }
+        }
+        val core = media.newCore()
+        core.source("sensor", feed)
+        core.start()
+        assertTrue(collecting.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "the flow was not collected")
+        val closed = CountDownLatch(1)
+        val cleanedWhenClosed = AtomicBoolean()
+        val closer = Thread {
+            core.close()
+            cleanedWhenClosed.set(cleanedUp.count == 0L)
+            closed.countDown()
+        }
+        closer.start()
+        assertTrue(cleanupBegan.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "close() did not cancel the flow")
+        val returnedDuringCleanup = closed.await(CLEANUP_MILLIS, TimeUnit.MILLISECONDS)
+        finishCleanup.countDown()
+        assertTrue(closed.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "close() did not return")
+        assertFalse(returnedDuringCleanup, "close() returned while the flow was still cleaning up")
+        assertTrue(cleanedWhenClosed.get(), "the flow had not ended when close() returned")
+    }
+
+    /**
+     * A flow that does not end when cancelled holds `close()` up for the core's shutdown timeout at
+     * most, and the error handler is told, under the source's name, that it goes on.
+     */
+    @Test
+    fun `a flow that ignores its cancellation holds close up for the shutdown timeout at most, and the error handler is told`() {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val config = CoreConfig.builder()
+            .shutdownTimeout(Duration.ofMillis(CLEANUP_MILLIS))
+            .errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }
+            .build()
+        val collecting = CountDownLatch(1)
+        val release = CountDownLatch(1)
+        val stubborn = flow {
+            emit(1)
+            collecting.countDown()
+            release.await(WAIT_MILLIS, TimeUnit.MILLISECONDS) // ignores the cancellation
+        }
+        try {
+            val core = media.newCore(config)
+            core.source("stubborn", stubborn)
+            core.start()
+            assertTrue(collecting.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "the flow was not collected")
+            val began = System.nanoTime()
+            core.close()
+            val millis = (System.nanoTime() - began) / 1_000_000
+            assertTrue(millis < WAIT_MILLIS / 2, "close() took $millis ms")
+            val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("the error handler was not told")
+            assertEquals("stubborn", failure.first)
+            assertEquals("close", failure.second)
+            assertTrue(failure.third.message!!.contains("did not end within"), failure.third.message)
+        } finally {
+            release.countDown()
+        }
+    }
+
+    /** A flow may close its own core (its last value sent, say): the close does not wait for the flow that makes it. */
+    @Test
+    fun `a flow that closes its own core is not held up waiting for itself`() {
+        val config = CoreConfig.builder().shutdownTimeout(Duration.ofMillis(WAIT_MILLIS * 2)).build()
+        val core = media.newCore(config)
+        val closedItself = CountDownLatch(1)
+        core.source("last", flow {
+            emit(1)
+            core.close()
+            closedItself.countDown()
+        })
+        core.start()
+        assertTrue(closedItself.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "the flow's close() of its own core did not return")
+        core.close()
+    }
+
     /** A type no codec knows. */
     private class Unshippable
 
@@ -268,6 +362,9 @@ internal abstract class FlowKit(private val media: Media) {
     private companion object {
         const val WAIT_MILLIS = 20_000L
         const val PROMPT_MILLIS = 750L
+
+        /** How long a flow's clean-up holds `close()` up in the tests of a close that waits for it. */
+        const val CLEANUP_MILLIS = 500L
 
         /** How long a flow must stay uncollected before start() to count as not collected early. */
         const val NOT_BEFORE_MILLIS = 300L
