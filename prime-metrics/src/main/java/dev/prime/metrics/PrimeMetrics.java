@@ -13,8 +13,11 @@ import io.micrometer.core.instrument.Timer;
 import io.micrometer.core.instrument.binder.MeterBinder;
 import java.time.Duration;
 import java.util.ArrayList;
+import java.util.Collections;
+import java.util.IdentityHashMap;
 import java.util.List;
 import java.util.Objects;
+import java.util.Set;
 import java.util.concurrent.TimeUnit;
 import java.util.function.ToDoubleFunction;
 
@@ -148,8 +151,9 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
    * <p>One binder per core and registry: the meters of a second binder would be the first one's
    * (a registry keeps one meter per name and tags), so its timers would time each value twice
    * and closing either binder would remove the other's meters. Binding a second one is refused,
-   * and so is binding a core whose name, media and nodes are those of another core bound there;
-   * close the first binder, or give the cores distinct names.
+   * and so is binding a core whose name, media and nodes are those of another core bound there,
+   * also where the registry's meter filters rename the meters; close the first binder, or give
+   * the cores distinct names.
    *
    * @param registry the registry
    * @throws IllegalStateException if {@code registry} holds the meters of a node of this core
@@ -163,45 +167,60 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
         return;
       }
     }
-    List<ServiceMetrics> services = metrics.services();
-    for (ServiceMetrics service : services) {
-      if (registry.find(VALUES_IN).tags(tagsOf(service)).functionCounter() != null) {
+    // Another binder's meters are told by what registering returns (the registry's meter for
+    // that id), not looked up by name: a meter filter may have renamed them.
+    Set<Meter> existing = Collections.newSetFromMap(new IdentityHashMap<>());
+    existing.addAll(registry.getMeters());
+    List<Bound> made = new ArrayList<>();
+    for (ServiceMetrics service : metrics.services()) {
+      List<Meter> meters = register(registry, service);
+      if (meters.stream().anyMatch(existing::contains)) {
+        meters.stream().filter(meter -> !existing.contains(meter)).forEach(registry::remove);
+        for (Bound b : made) {
+          b.timing().close();
+          b.meters().forEach(registry::remove);
+        }
         throw new IllegalStateException(
             "the registry already has the meters of node '" + service.name() + "' of core '"
                 + metrics.core() + "' on " + metrics.media() + ", bound by another PrimeMetrics:"
                 + " bind one PrimeMetrics per core and registry (close the other first), or give"
                 + " cores bound to one registry distinct names");
       }
-    }
-    for (ServiceMetrics service : services) {
-      String name = service.name();
-      Tags tags = tagsOf(service);
-      List<Meter> meters = new ArrayList<>();
-      meters.add(counter(registry, VALUES_IN, "values given to the node", tags, name,
-          ServiceMetrics::valuesIn));
-      meters.add(counter(registry, VALUES_OUT, "values the node gave out", tags, name,
-          ServiceMetrics::valuesOut));
-      meters.add(counter(registry, FAILURES, "values on which the node's logic threw", tags,
-          name, ServiceMetrics::failures));
-      meters.add(counter(registry, MISSED, "values the node's input missed", tags, name,
-          ServiceMetrics::missed));
-      meters.add(gauge(registry, DEAD_LETTERS, "values the media set aside as dead letters",
-          tags, name, ServiceMetrics::deadLetters));
-      if (metrics.hasQueue(name)) {
-        meters.add(gauge(registry, QUEUE_DEPTH, "values in the node's input not finished",
-            tags, name, ServiceMetrics::queueDepth));
-      }
-      Timer timer =
-          Timer.builder(PROCESSING)
-              .description("the time the node took per value")
-              .tags(tags)
-              .publishPercentileHistogram()
-              .register(registry);
-      meters.add(timer);
+      Timer timer = (Timer) meters.get(meters.size() - 1);
       Metrics.Subscription timing =
-          metrics.onProcessed(name, (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
-      bound.add(new Bound(registry, meters, timing));
+          metrics.onProcessed(
+              service.name(), (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
+      made.add(new Bound(registry, meters, timing));
     }
+    bound.addAll(made);
+  }
+
+  /** Registers the meters of one node, its timer last; {@return them} */
+  private List<Meter> register(MeterRegistry registry, ServiceMetrics service) {
+    String name = service.name();
+    Tags tags = tagsOf(service);
+    List<Meter> meters = new ArrayList<>();
+    meters.add(counter(registry, VALUES_IN, "values given to the node", tags, name,
+        ServiceMetrics::valuesIn));
+    meters.add(counter(registry, VALUES_OUT, "values the node gave out", tags, name,
+        ServiceMetrics::valuesOut));
+    meters.add(counter(registry, FAILURES, "values on which the node's logic threw", tags,
+        name, ServiceMetrics::failures));
+    meters.add(counter(registry, MISSED, "values the node's input missed", tags, name,
+        ServiceMetrics::missed));
+    meters.add(gauge(registry, DEAD_LETTERS, "values the media set aside as dead letters",
+        tags, name, ServiceMetrics::deadLetters));
+    if (metrics.hasQueue(name)) {
+      meters.add(gauge(registry, QUEUE_DEPTH, "values in the node's input not finished",
+          tags, name, ServiceMetrics::queueDepth));
+    }
+    meters.add(
+        Timer.builder(PROCESSING)
+            .description("the time the node took per value")
+            .tags(tags)
+            .publishPercentileHistogram()
+            .register(registry));
+    return meters;
   }
 
   private Tags tagsOf(ServiceMetrics service) {

@@ -16,6 +16,7 @@ import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.Meter;
 import io.micrometer.core.instrument.Tag;
 import io.micrometer.core.instrument.Timer;
+import io.micrometer.core.instrument.config.MeterFilter;
 import io.micrometer.core.instrument.distribution.DistributionStatisticConfig;
 import io.micrometer.core.instrument.distribution.pause.PauseDetector;
 import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
@@ -459,6 +460,45 @@ abstract class PrimeMetricsContract {
       second.bindTo(registry);
       assertEquals(meters.size(), registry.getMeters().size(), "the second binds once the first is closed");
       second.close();
+    }
+  }
+
+  /**
+   * A registry's meter filter may rename the meters (a prefix, say): a second binder of a core is
+   * refused there too, and changes nothing, rather than sharing the first one's meters and timing
+   * each value twice.
+   */
+  @Test
+  void aSecondBinderIsRefusedAlsoWhereAMeterFilterRenamesTheMeters() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().name("renamed").metrics(true).build())) {
+      Block<Integer, Integer> same = core.chain("same", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      registry.config().meterFilter(new MeterFilter() {
+        @Override
+        public Meter.Id map(Meter.Id id) {
+          return id.withName("robot." + id.getName());
+        }
+      });
+      PrimeMetrics first = PrimeMetrics.of(core, Duration.ZERO);
+      first.bindTo(registry);
+      List<Meter> meters = List.copyOf(registry.getMeters());
+      PrimeMetrics second = PrimeMetrics.of(core, Duration.ZERO);
+      IllegalStateException refused =
+          assertThrows(IllegalStateException.class, () -> second.bindTo(registry),
+              "a second binder of the core on the registry");
+      assertTrue(refused.getMessage().contains("node 'same' of core 'renamed'")
+              && refused.getMessage().contains("one PrimeMetrics per core and registry"),
+          refused.getMessage());
+      assertEquals(meters, registry.getMeters(), "the refused binder registered nothing");
+      core.start();
+      assertEquals(7, same.process(7));
+      second.close();
+      assertEquals(meters, registry.getMeters(), "the refused binder removed nothing");
+      assertEquals(1,
+          registry.get("robot." + PrimeMetrics.PROCESSING).tag("service", "same").timer().count(),
+          "each value timed once");
+      first.close();
+      assertEquals(List.of(), registry.getMeters(), "closing the binder removes its meters");
     }
   }
 
