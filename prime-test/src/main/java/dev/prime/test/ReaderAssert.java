@@ -224,12 +224,16 @@ public final class ReaderAssert<T> {
    * Expects the reader to emit nothing for {@code quiet}, and not to complete; waits all of it.
    * The timeout of {@link #within(Duration)} does not apply.
    *
-   * @param quiet how long nothing may come
+   * @param quiet how long nothing may come: zero (no value is there now) or positive
    * @return this
    * @throws AssertionFailedError if a value comes or the reader completes
+   * @throws IllegalArgumentException if {@code quiet} is negative
    */
   public ReaderAssert<T> emitsNothingWithin(Duration quiet) {
     Objects.requireNonNull(quiet, "quiet must not be null");
+    if (quiet.isNegative()) {
+      throw new IllegalArgumentException("quiet must be zero or positive, was " + quiet);
+    }
     long start = System.nanoTime();
     Optional<T> got;
     try {

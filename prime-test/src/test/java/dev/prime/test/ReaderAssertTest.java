@@ -312,6 +312,20 @@ class ReaderAssertTest {
   }
 
   /**
+   * A negative quiet time is refused, as a negative timeout is: {@code emitsNothingWithin} would
+   * otherwise wait for nothing and pass, whatever comes a moment later.
+   */
+  @PrimeTest(media = Media.LIBERTY)
+  void aNegativeQuietTimeIsRefusedAtTheCall(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+
+    IllegalArgumentException refused =
+        assertThrows(IllegalArgumentException.class,
+            () -> assertThat(reader).emitsNothingWithin(Duration.ofMillis(-100)));
+    assertEquals("quiet must be zero or positive, was PT-0.1S", refused.getMessage());
+  }
+
+  /**
    * Starts a thread that publishes {@code values} once it runs, while the test thread goes on to
    * wait for them; join it afterwards.
    */
