@@ -47,6 +47,35 @@ class ConcurrentCloseTest {
   }
 
   /** Waits (bounded) until {@code thread} waits or {@code done} completes. */
+  /**
+   * Closes {@code closeable} from two threads while its writer thread is held in {@code output}:
+   * the first close waits, the second waits too (it does not return while the first finishes the
+   * file); once released, the file holds the one message of {@code topic}.
+   */
+  private static void closeTwiceWhileHeld(AutoCloseable closeable, StallingOutput output, Path file, String topic)
+      throws Exception {
+    CompletableFuture<Void> firstDone = new CompletableFuture<>();
+    Thread first = closer(closeable, firstDone, "first closer");
+    first.start();
+    awaitWaitingOrDone(first, firstDone);
+    assertFalse(firstDone.isDone(), "the first close waits for the held writer thread");
+
+    CompletableFuture<Void> secondDone = new CompletableFuture<>();
+    Thread second = closer(closeable, secondDone, "second closer");
+    second.start();
+    awaitWaitingOrDone(second, secondDone);
+    boolean secondReturnedWhileWriting = secondDone.isDone();
+
+    output.release();
+    firstDone.get(30, TimeUnit.SECONDS);
+    secondDone.get(30, TimeUnit.SECONDS);
+    assertFalse(secondReturnedWhileWriting,
+        "the second close() returned while the first was still finishing the file");
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount(topic));
+    }
+  }
+
   private static void awaitWaitingOrDone(Thread thread, CompletableFuture<Void> done) {
     long deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30);
     while (!done.isDone() && !WAITING.contains(thread.getState())) {
@@ -69,26 +98,7 @@ class ConcurrentCloseTest {
     assertTrue(samples.write(1, 1, 1, new Sample(1)));
     assertTrue(output[0].awaitBlocked(30), "the writer thread is held writing the chunk");
 
-    CompletableFuture<Void> firstDone = new CompletableFuture<>();
-    Thread first = closer(writer, firstDone, "first closer");
-    first.start();
-    awaitWaitingOrDone(first, firstDone);
-    assertFalse(firstDone.isDone(), "the first close waits for the held writer thread");
-
-    CompletableFuture<Void> secondDone = new CompletableFuture<>();
-    Thread second = closer(writer, secondDone, "second closer");
-    second.start();
-    awaitWaitingOrDone(second, secondDone);
-    boolean secondReturnedWhileWriting = secondDone.isDone();
-
-    output[0].release();
-    firstDone.get(30, TimeUnit.SECONDS);
-    secondDone.get(30, TimeUnit.SECONDS);
-    assertFalse(secondReturnedWhileWriting,
-        "the second close() returned while the first was still finishing the file");
-    try (McapReader reader = McapReader.open(file)) {
-      assertEquals(1, reader.messageCount("samples"));
-    }
+    closeTwiceWhileHeld(writer, output[0], file, "samples");
   }
 
   /** {@link McapRecorder#close()} likewise: it closes its writer. */
@@ -107,26 +117,7 @@ class ConcurrentCloseTest {
       ticks.publish(1);
       assertTrue(output[0].awaitBlocked(30), "the writer thread is held writing the chunk");
 
-      CompletableFuture<Void> firstDone = new CompletableFuture<>();
-      Thread first = closer(recorder, firstDone, "first closer");
-      first.start();
-      awaitWaitingOrDone(first, firstDone);
-      assertFalse(firstDone.isDone(), "the first close waits for the held writer thread");
-
-      CompletableFuture<Void> secondDone = new CompletableFuture<>();
-      Thread second = closer(recorder, secondDone, "second closer");
-      second.start();
-      awaitWaitingOrDone(second, secondDone);
-      boolean secondReturnedWhileWriting = secondDone.isDone();
-
-      output[0].release();
-      firstDone.get(30, TimeUnit.SECONDS);
-      secondDone.get(30, TimeUnit.SECONDS);
-      assertFalse(secondReturnedWhileWriting,
-          "the second close() returned while the first was still finishing the file");
-      try (McapReader reader = McapReader.open(file)) {
-        assertEquals(1, reader.messageCount("ticks"));
-      }
+      closeTwiceWhileHeld(recorder, output[0], file, "ticks");
     }
   }
 

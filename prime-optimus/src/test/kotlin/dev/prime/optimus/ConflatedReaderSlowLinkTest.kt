@@ -1,6 +1,5 @@
 package dev.prime.optimus
 
-import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import dev.prime.PrimeException
 import org.junit.jupiter.api.Assertions.assertEquals
@@ -20,37 +19,28 @@ class ConflatedReaderSlowLinkTest {
 
     @Test
     fun aConflatedTakeReturnsTheValueItTookWhenItsDrainForNewerOnesFails() {
-        val config = CoreConfig.builder().name("conflated-slow-${System.nanoTime()}").build()
-        EmbeddedRedis.start().use { redis ->
-            FaultProxy(redis.uri).use { proxy ->
-                OptimusCore.builder().config(config).redis(redis.uri).hosts(emptyList()).build().use { publisher ->
-                    val numbers = publisher.source("numbers", EventBlock<Int>())
-                    publisher.start()
-                    OptimusCore.builder().config(config).redis(proxy.url).hosts(emptyList()).build().use { readerCore ->
-                        val latest = readerCore.source("numbers", EventBlock<Int>()).conflatedReader()
-                        readerCore.start()
-                        publisher.publishAll(numbers, listOf(1))
-                        assertEquals(1, latest.take(PATIENCE).orElseThrow(), "warm: the reader is connected and reads")
+        withProxiedReaderCore("conflated-slow") { publisher, numbers, proxy, readerCore ->
+            val latest = readerCore.source("numbers", EventBlock<Int>()).conflatedReader()
+            readerCore.start()
+            publisher.publishAll(numbers, listOf(1))
+            assertEquals(1, latest.take(PATIENCE).orElseThrow(), "warm: the reader is connected and reads")
 
-                        proxy.replyDelayNanos = SLOW_REPLY.toNanos()
-                        publisher.publishAll(numbers, listOf(2))
-                        val untimed = outcome { latest.take() }
-                        publisher.publishAll(numbers, listOf(3))
-                        val timed = outcome { latest.take(PATIENCE).orElse(null) }
-                        proxy.replyDelayNanos = 0
-                        val after = outcome { latest.take(Duration.ofSeconds(2)).orElse(null) }
+            proxy.replyDelayNanos = SLOW_REPLY.toNanos()
+            publisher.publishAll(numbers, listOf(2))
+            val untimed = outcome { latest.take() }
+            publisher.publishAll(numbers, listOf(3))
+            val timed = outcome { latest.take(PATIENCE).orElse(null) }
+            proxy.replyDelayNanos = 0
+            val after = outcome { latest.take(Duration.ofSeconds(2)).orElse(null) }
 
-                        assertEquals(
-                            listOf("value 2", "value 3", "value null"),
-                            listOf(untimed, timed, after),
-                            "take() and take(timeout) returned the value each took, and a take after them found nothing newer",
-                        )
-                        assertEquals(Optional.empty<Int>(), latest.poll(), "nothing newer: each value came once")
-                        publisher.publishAll(numbers, listOf(4))
-                        assertEquals(4, latest.take(PATIENCE).orElseThrow(), "the reader goes on")
-                    }
-                }
-            }
+            assertEquals(
+                listOf("value 2", "value 3", "value null"),
+                listOf(untimed, timed, after),
+                "take() and take(timeout) returned the value each took, and a take after them found nothing newer",
+            )
+            assertEquals(Optional.empty<Int>(), latest.poll(), "nothing newer: each value came once")
+            publisher.publishAll(numbers, listOf(4))
+            assertEquals(4, latest.take(PATIENCE).orElseThrow(), "the reader goes on")
         }
     }
 

@@ -1,6 +1,5 @@
 package dev.prime.optimus
 
-import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Test
@@ -14,29 +13,20 @@ class ReaderDrainOutageTest {
 
     @Test
     fun aDrainThatMeetsAnUnreachableRedisReturnsTheValuesItHadCollected() {
-        val config = CoreConfig.builder().name("drain-outage-${System.nanoTime()}").build()
-        EmbeddedRedis.start().use { redis ->
-            FaultProxy(redis.uri).use { proxy ->
-                OptimusCore.builder().config(config).redis(redis.uri).hosts(emptyList()).build().use { publisher ->
-                    val numbers = publisher.source("numbers", EventBlock<Int>())
-                    publisher.start()
-                    OptimusCore.builder().config(config).redis(proxy.url).hosts(emptyList()).build().use { readerCore ->
-                        val reader = readerCore.source("numbers", EventBlock<Int>()).reader()
-                        readerCore.start()
-                        publisher.publishAll(numbers, (1..100).toList()) // one frame
-                        val received = ArrayList<Int>()
-                        received += reader.take(Duration.ofSeconds(10)).orElseThrow() // the rest of the frame waits in the reader
-                        proxy.refuse() // Redis is unreachable for the reader
-                        received += reader.drain()
-                        assertEquals((1..100).toList(), received, "the drain returned the frame's values it handed out")
-                        proxy.restore()
-                        publisher.publishAll(numbers, (101..110).toList())
-                        repeat(10) { received += reader.take(Duration.ofSeconds(10)).orElseThrow() }
-                        assertEquals((1..110).toList(), received, "every value once, in order, after Redis came back")
-                        assertEquals(emptyList<Int>(), reader.drain(), "nothing more")
-                    }
-                }
-            }
+        withProxiedReaderCore("drain-outage") { publisher, numbers, proxy, readerCore ->
+            val reader = readerCore.source("numbers", EventBlock<Int>()).reader()
+            readerCore.start()
+            publisher.publishAll(numbers, (1..100).toList()) // one frame
+            val received = ArrayList<Int>()
+            received += reader.take(Duration.ofSeconds(10)).orElseThrow() // the rest of the frame waits in the reader
+            proxy.refuse() // Redis is unreachable for the reader
+            received += reader.drain()
+            assertEquals((1..100).toList(), received, "the drain returned the frame's values it handed out")
+            proxy.restore()
+            publisher.publishAll(numbers, (101..110).toList())
+            repeat(10) { received += reader.take(Duration.ofSeconds(10)).orElseThrow() }
+            assertEquals((1..110).toList(), received, "every value once, in order, after Redis came back")
+            assertEquals(emptyList<Int>(), reader.drain(), "nothing more")
         }
     }
 }
