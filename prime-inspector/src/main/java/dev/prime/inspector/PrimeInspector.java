@@ -41,8 +41,9 @@ import java.util.Objects;
  * the values it recorded per second and in all. The page says which it shows.
  *
  * <p><b>Values.</b> With recording on, the values of a recorded name can be plotted: numbers,
- * booleans (0 or 1) and the numeric components of records (nested records as {@code pose.x}).
- * With recording off the page says so and plots nothing.
+ * booleans (0 or 1) and the numeric components of records (nested records as {@code pose.x}); a
+ * NaN or an infinity (null in the JSON, which has neither) is left out of the plot. With recording
+ * off the page says so and plots nothing.
  *
  * <p><b>Addresses.</b> {@code GET /} the page; {@code /api/topology} the layout as JSON; {@code
  * /api/events} the figures as server-sent events, {@code /api/events/NAME} the same with the

@@ -188,6 +188,55 @@ class InspectorPageBrowserTest {
     }
   }
 
+  /** A gauge whose level is unknown (NaN) every other step, and a reading that is never finite. */
+  record Gauge(long step, double level, double unknown) {}
+
+  private static String pointsOf(String field) {
+    return "(() => { const p = document.querySelector('#plot polyline.series[data-field=\"" + field + "\"]');"
+        + " return p ? p.getAttribute('points') : null; })()";
+  }
+
+  /**
+   * NaN and the infinities, which JSON has not, come to the page as null: the plot leaves those
+   * values out. It drew them as 0, a value the source never gave.
+   */
+  @Test
+  void valuesThatAreNoNumberAreLeftOutOfThePlotNotDrawnAsZero() throws Exception {
+    try (PrimeCore core = new LibertyCore(recording())) {
+      EventBlock<Long> steps = new EventBlock<>();
+      core.source("steps", steps).then(core.chain("gauge",
+          (Long s) -> new Gauge(s, s % 2 == 0 ? 5.0 : Double.NaN, Double.POSITIVE_INFINITY)));
+      core.start();
+      for (long s = 1; s <= 20; s++) {
+        steps.publish(s);
+      }
+      assertEquals(20, waitForRecorded(core, "gauge", 20), "values gauge recorded");
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium =
+              HeadlessChromium.open(URI.create(inspector.uri() + "#plot=gauge"), 1200, 800)) {
+        JsonNode level =
+            chromium.await(pointsOf("level"), p -> p.isTextual() && p.asText().split(" ").length >= 2,
+                PATIENCE, "gauge's level should be plotted");
+        Set<String> heights = new TreeSet<>();
+        for (String point : level.asText().split(" ")) {
+          heights.add(point.split(",")[1]);
+        }
+        assertEquals(1, heights.size(),
+            "every level given is 5.0, so every point drawn lies at one height: " + level.asText());
+        assertEquals("", chromium.evaluate(pointsOf("unknown")).asText(),
+            "a field that was never a finite number has no point drawn");
+      }
+    }
+  }
+
+  private static long waitForRecorded(PrimeCore core, String name, long count) throws InterruptedException {
+    long deadline = System.nanoTime() + PATIENCE.toNanos();
+    while (core.recording().recorded(name) < count && System.nanoTime() < deadline) {
+      Thread.sleep(10); // polling the recording, bounded by the deadline
+    }
+    return core.recording().recorded(name);
+  }
+
   @Test
   void saysSoWhenRecordingIsOffAndStillDrawsTheDiagram() throws Exception {
     try (PrimeCore core = DemoController.declaredOn(new LibertyCore(CoreConfig.builder().name("quiet").build()))) {

@@ -254,6 +254,7 @@
           state.series.set(field, (s = []));
           if (COUNTER.test(field)) state.hidden.add(field); // a counter would flatten the rest
         }
+        if (value === null) continue; // NaN or an infinity, which JSON has not: left out, not drawn as 0
         s.push([p.t, value]);
         if (s.length > MAX_POINTS) s.splice(0, s.length - MAX_POINTS);
       }
