@@ -116,6 +116,7 @@ final class Combinators {
           long nanos = checkedPeriod(period);
           List<Source<?>> inputs = checked(source);
           String name = core.topologyRecorder().combinator("sample", inputs);
+          hostIfStarted(name);
           EventBlock<Object> events = new EventBlock<>();
           Source<Object> out = core.newSource(name, events);
           AtomicReference<Object> latest = new AtomicReference<>();
@@ -148,6 +149,7 @@ final class Combinators {
           long nanos = checkedPeriod(period);
           core.ensureOpen();
           String claimed = core.topologyRecorder().timer(name, period);
+          hostIfStarted(claimed);
           EventBlock<Tick> events = new EventBlock<>();
           Source<Tick> out = core.newSource(claimed, events);
           schedule(
@@ -176,8 +178,19 @@ final class Combinators {
     threads.add(thread, ticking);
   }
 
+  /**
+   * Takes the hosting of a combinator or timer declared on a started core (before the start,
+   * {@code start()} takes it): on a media that spreads services over processes, its host lease.
+   */
+  private void hostIfStarted(String service) {
+    if (core.isStarted()) {
+      core.hostOnCoreThreads(service);
+    }
+  }
+
   /** The output source of a combinator and its input services. */
   private <R> Source<R> combine(String name, List<Source<?>> inputs, Pairing pairing) {
+    hostIfStarted(name);
     EventBlock<Object> events = new EventBlock<>();
     Source<Object> out = core.newSource(name, events);
     CombinedInputs.InputStep step = (input, value) -> pairing.accept(input, value, events::publish);

@@ -980,6 +980,18 @@ public abstract class PrimeCore implements AutoCloseable {
   }
 
   /**
+   * Called when a combinator of sources or a timer, which runs on this core's own threads, is
+   * declared on a started core, before its threads start: a media that spreads services over
+   * processes overrides it to take the service's hosting as {@code start()} takes it for those
+   * declared before (Optimus: it claims the host lease), so that one process at a time runs it.
+   * Nothing by default.
+   *
+   * @param service the combinator's or timer's name in the diagram
+   * @throws IllegalStateException if another process hosts it; the declaration then fails
+   */
+  protected void hostOnCoreThreads(String service) {}
+
+  /**
    * Whether the caller of the call this thread runs a block for has given up on it (it was
    * interrupted, or its timeout passed). Called on a service's thread while a block waits for an
    * {@linkplain #isolate isolated chain}, about every 50 ms, and once when its turn comes after a

@@ -527,6 +527,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         .filter { it is TopologyNode.Combinator || it is TopologyNode.Timer }
         .map { it.name() }
 
+    /**
+     * A combinator or timer declared after [start] claims its host lease now, as [start] claims
+     * those declared before it (waiting up to one lease time for another's to lapse), so a second
+     * process that declares it too is refused and never emits it.
+     *
+     * @throws IllegalStateException if another live instance holds the lease ("already hosted by")
+     */
+    override fun hostOnCoreThreads(service: String) {
+        if (!isHosted(service) || isClosed || service in hostLeases.services) return
+        claimHostLeases(listOf(service)) // refused: the declaration fails and is forgotten, nothing runs
+    }
+
     override fun onClose() {
         // close() from a service's or listener's own thread must not wait for that thread
         val ownThread = Thread.currentThread() in threads

@@ -148,6 +148,44 @@ class CombinatorHostingTest {
         }
     }
 
+    /**
+     * A combinator or timer declared on a started core holds its host lease as one declared before
+     * the start does: a second process that declares it too, after its own start, is refused
+     * ("already hosted by") and emits nothing, so each value is combined and each tick published once.
+     */
+    @Test
+    fun aCombinatorOrTimerDeclaredOnAStartedCoreHoldsItsHostLease() {
+        val name = "combinator-after-start-${System.nanoTime()}"
+        val config = CoreConfig.builder().name(name).build()
+        fun core() = OptimusCore.builder().config(config).redis(TestRedis.url).leaseTime(LEASE).build()
+        core().use { first ->
+            first.start()
+            val declared = declare(first)
+            declared.ticks.take(PATIENCE).orElseThrow()
+            Jedis(URI(TestRedis.url)).use { jedis ->
+                assertEquals(
+                    listOf(first.instanceId, first.instanceId),
+                    listOf("combineLatest(a|b)", "tick").map { jedis.get(Keys(name).hostLease(it))?.toString(UTF_8) },
+                    "the host leases of a combinator and a timer declared after start()",
+                )
+            }
+            core().use { second ->
+                second.start()
+                val a = EventBlock<Int>()
+                val b = EventBlock<String>()
+                val e = assertThrows(IllegalStateException::class.java) {
+                    second.combineLatest(second.source("a", a), second.source("b", b))
+                }
+                assertTrue(e.message!!.contains("already hosted by") && e.message!!.contains("'combineLatest(a|b)'"), e.message)
+                val t = assertThrows(IllegalStateException::class.java) { second.timer("tick", Duration.ofMillis(20)) }
+                assertTrue(t.message!!.contains("already hosted by") && t.message!!.contains("'tick'"), t.message)
+            }
+            declared.ticks.drain()
+            val counts = (1..5).map { declared.ticks.take(PATIENCE).orElseThrow().count() }
+            assertEquals((counts[0]..counts[0] + 4).toList(), counts, "the first host's timer goes on, each tick once")
+        }
+    }
+
     private companion object {
         val PATIENCE: Duration = Duration.ofSeconds(20)
         val QUIET: Duration = Duration.ofMillis(500)
