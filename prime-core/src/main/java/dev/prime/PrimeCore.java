@@ -720,8 +720,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * published then with its count and due time. A timer that falls behind (a slow publish, a
    * virtual clock advanced by many periods) publishes every tick that is due, in order, and never
    * drifts. A tick whose publish fails (a full service input, see {@link QueueFullException})
-   * goes to the error handler with its count and is not retried. A service of this core: on a
-   * media that spreads services over processes only the process that hosts it ticks.
+   * goes to the error handler with its count and is not retried. A clock whose {@link
+   * PrimeClock#sleepUntil} throws goes to the error handler with the count of the tick it waited
+   * for, and the timer asks it again for that tick after a back-off (10 ms doubling up to 1 s).
+   * A service of this core: on a media that spreads services over processes only the process that
+   * hosts it ticks.
    *
    * @param name the timer's name, unique in this core (like a chain's)
    * @param period the time between two ticks, positive, at most {@code Long.MAX_VALUE}

@@ -1,6 +1,7 @@
 package dev.prime;
 
 import java.time.Instant;
+import java.util.concurrent.TimeUnit;
 import java.util.function.BiConsumer;
 
 /**
@@ -15,9 +16,10 @@ import java.util.function.BiConsumer;
  * advanced by many periods at once) runs every tick that is due, in order, before it sleeps
  * again: a {@link VirtualClock} advanced by ten seconds gives exactly one thousand ticks of a 100
  * Hz timer. An action that throws goes to the error handler with the tick and the loop goes on;
- * an interrupt (the core closing) or the core's closing ends it. It runs only where the service
- * is hosted ({@link PrimeCore#isHostedHere}), and skips the ticks due after its process lost the
- * hosting to another.
+ * so does a clock whose {@code sleepUntil} throws (the loop then waits a back-off and asks the
+ * clock again for the same tick). An interrupt (the core closing) or the core's closing ends it.
+ * It runs only where the service is hosted ({@link PrimeCore#isHostedHere}), and skips the ticks
+ * due after its process lost the hosting to another.
  */
 final class Ticking implements Runnable {
 
@@ -67,9 +69,7 @@ final class Ticking implements Runnable {
     while (!Thread.currentThread().isInterrupted() && !core.isClosed()) {
       count++;
       long due = due(origin, count);
-      try {
-        clock.sleepUntil(due);
-      } catch (InterruptedException e) {
+      if (!sleepUntil(clock, due, count)) {
         return;
       }
       if (!core.isHostedHere(name)) {
@@ -87,6 +87,43 @@ final class Ticking implements Runnable {
         throw e;
       } catch (Throwable e) {
         report(count, e);
+      }
+    }
+  }
+
+  /**
+   * Waits on the clock until tick {@code count} is {@code due}. A clock whose {@code sleepUntil}
+   * throws is reported to the error handler with the tick's count, as a failed publish is, and
+   * asked again after a back-off in real time (10 ms doubling up to 1 s, as a generic service's),
+   * so a clock that keeps failing neither spins the core nor floods the handler, and one that
+   * recovers publishes that tick, none skipped.
+   *
+   * @return whether the tick is due; false if the loop must end (an interrupt, the core closing)
+   */
+  private boolean sleepUntil(PrimeClock clock, long due, long count) {
+    int failures = 0;
+    while (true) {
+      try {
+        clock.sleepUntil(due);
+        return true;
+      } catch (InterruptedException e) {
+        return false;
+      } catch (VirtualMachineError e) {
+        throw e;
+      } catch (Throwable e) {
+        if (Thread.currentThread().isInterrupted() || core.isClosed()) {
+          return false;
+        }
+        report(count, e);
+        failures++;
+      }
+      try {
+        TimeUnit.MILLISECONDS.sleep(Math.min(10L << Math.min(failures - 1, 10), 1000L));
+      } catch (InterruptedException e) {
+        return false;
+      }
+      if (core.isClosed()) {
+        return false;
       }
     }
   }

@@ -7,6 +7,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
+import dev.prime.PrimeClock;
 import dev.prime.PrimeCore;
 import dev.prime.QueueFullException;
 import dev.prime.Reader;
@@ -27,6 +28,7 @@ import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicLong;
 import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
@@ -372,6 +374,68 @@ public interface CombinatorConformance extends ConformanceBase {
       assertTrue(
           laterTick.await(patience().toMillis(), TimeUnit.MILLISECONDS),
           "the timer goes on after a tick it could not publish");
+    }
+  }
+
+  /**
+   * A timer is a service, and a service's failure goes to the error handler and the service goes
+   * on (architecture.md, <i>Generic services</i>, "Failures"): a {@link PrimeClock} whose {@code
+   * sleepUntil} throws does not end the timer's thread silently. The handler gets each failure
+   * under the timer's name with the count of the tick it was waiting for, and once the clock
+   * works again that tick and the next are published, none skipped.
+   */
+  @Test
+  default void aClockThatFailsGoesToTheErrorHandlerAndTheTimerGoesOn()
+      throws InterruptedException {
+    VirtualClock virtual = new VirtualClock();
+    Instant origin = virtual.now();
+    AtomicInteger failuresLeft = new AtomicInteger(2);
+    PrimeClock failing =
+        new PrimeClock() {
+          @Override
+          public long nanoTime() {
+            return virtual.nanoTime();
+          }
+
+          @Override
+          public void sleepNanos(long nanos) throws InterruptedException {
+            virtual.sleepNanos(nanos);
+          }
+
+          @Override
+          public void sleepUntil(long deadline) throws InterruptedException {
+            if (failuresLeft.getAndDecrement() > 0) {
+              throw new IllegalStateException("the clock's device is gone");
+            }
+            virtual.sleepUntil(deadline);
+          }
+
+          @Override
+          public Instant now() {
+            return virtual.now();
+          }
+        };
+    BlockingQueue<List<Object>> failures = new LinkedBlockingQueue<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .clock(failing)
+            .errorHandler((service, input, error) -> failures.add(List.of(service, input, error)))
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      Reader<Tick> ticks = core.timer("beat", Duration.ofMillis(10)).reader();
+      core.start();
+      for (int i = 1; i <= 2; i++) {
+        List<Object> failure = failures.poll(patience().toMillis(), TimeUnit.MILLISECONDS);
+        assertTrue(failure != null, "clock failure " + i + " not reported within " + patience());
+        assertEquals("beat", failure.get(0), "the timer's name");
+        assertEquals(1L, failure.get(1), "the count of the tick it waited for");
+        assertTrue(failure.get(2) instanceof IllegalStateException, String.valueOf(failure.get(2)));
+      }
+      virtual.advance(Duration.ofMillis(20));
+      assertEquals(
+          List.of(new Tick(1, origin.plusMillis(10)), new Tick(2, origin.plusMillis(20))),
+          takeOrFail(ticks, 2),
+          "the timer goes on once its clock works again");
     }
   }
 
