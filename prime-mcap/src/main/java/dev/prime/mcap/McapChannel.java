@@ -35,7 +35,9 @@ public final class McapChannel<T> {
    * @param value the value (not null)
    * @return true if the message was accepted, false if it was dropped (queue full, or the
    *     background writer failed earlier: {@link McapWriter#close()} then throws that failure)
-   * @throws IllegalArgumentException for a negative time or a value Jackson cannot write
+   * @throws IllegalArgumentException for a negative time, a value Jackson cannot write, or (with
+   *     a queue) a message larger than the queue's byte bound ({@link McapWriterOptions#queue}),
+   *     which could never be queued
    * @throws IllegalStateException if the writer is closed
    */
   public boolean write(long logTimeNanos, long publishTimeNanos, long sequence, T value) {

@@ -24,10 +24,11 @@ import java.util.logging.Logger;
  * encodes the value and offers it to the writer's queue, which never waits: when the writer
  * cannot keep up the value is dropped and counted ({@link #droppedCount()}), never stalling the
  * controller. A name's channel is defined on its first value (typed by that value's class unless
- * a type was given). A value that cannot be written (no channel type for its class, or JSON
- * encoding fails) is counted in {@link #unwritableCount()} with its first reason. {@link #close()}
- * unsubscribes, flushes the queue, finishes the file (whose {@code prime.mcap} Metadata record
- * reports the drops) and logs a line when anything was lost.
+ * a type was given). A value that cannot be written (no channel type for its class, JSON encoding
+ * fails, or its message is larger than the queue's byte bound) is counted in {@link
+ * #unwritableCount()} with its first reason. {@link #close()} unsubscribes, flushes the queue,
+ * finishes the file (whose {@code prime.mcap} Metadata record reports the drops) and logs a line
+ * when anything was lost.
  */
 public final class McapRecorder implements AutoCloseable {
   private static final Logger LOG = Logger.getLogger(McapRecorder.class.getName());

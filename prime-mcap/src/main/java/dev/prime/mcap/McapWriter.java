@@ -49,8 +49,11 @@ import java.util.stream.Stream;
  * A write that finds the queue full does not wait: the message is dropped, counted in
  * {@link #droppedCount()} and per channel, and the loss is reported in the file itself (a
  * {@code prime.mcap} Metadata record per file: {@code dropped_messages} and
- * {@code dropped.<topic>} counts). If the disk fails, the writer thread stops writing, the
- * messages after it count as dropped, and {@link #close()} throws the failure.
+ * {@code dropped.<topic>} counts). A message larger than the queue's byte bound could never be
+ * queued, not even on an empty queue: its write is refused with an {@link
+ * IllegalArgumentException} naming its size and the bound, and nothing is dropped. If the disk
+ * fails, the writer thread stops writing, the messages after it count as dropped, and {@link
+ * #close()} throws the failure.
  *
  * <p>Memory is bounded by the queue's byte bound, plus the open chunk (about the chunk size),
  * plus a chunk index (about 70 bytes, and 10 per channel in the chunk) per chunk of the current
@@ -450,6 +453,14 @@ public final class McapWriter implements Closeable {
     try {
       requireOpen(channel);
       long bytes = data.length;
+      if (bytes > options.queueBytes()) {
+        throw new IllegalArgumentException(String.format(
+            "a message of %d bytes on '%s' is larger than the writer's queue byte bound of %d bytes,"
+                + " so it could never be queued: raise the bound with"
+                + " McapWriterOptions.queue(messages, bytes), or write synchronously"
+                + " (McapWriterOptions.synchronous())",
+            bytes, channel.topic(), options.queueBytes()));
+      }
       if (queuedBytes.addAndGet(bytes) > options.queueBytes()) {
         queuedBytes.addAndGet(-bytes);
         return drop(channel);

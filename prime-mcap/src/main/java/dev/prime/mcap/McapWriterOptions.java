@@ -67,7 +67,8 @@ public final class McapWriterOptions {
 
   /**
    * A background writer thread behind a queue bounded in messages and in bytes: a write that
-   * finds the queue full is dropped and counted, never waits.
+   * finds the queue full is dropped and counted, never waits. A message larger than {@code bytes}
+   * could never be queued: its write is refused with an {@link IllegalArgumentException}.
    *
    * @param messages at most this many messages wait to be written
    * @param bytes at most this many bytes of encoded messages wait to be written

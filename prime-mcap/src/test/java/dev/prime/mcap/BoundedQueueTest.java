@@ -123,6 +123,36 @@ class BoundedQueueTest {
   }
 
   /**
+   * A message larger than the queue's byte bound could never be queued, not even on an empty
+   * queue: it is refused with an {@link IllegalArgumentException} naming its size, the bound and
+   * how to raise it, not dropped and counted as if the queue were full. The queue is untouched:
+   * nothing counts as dropped, and the next message that fits is written.
+   */
+  @Test
+  void aMessageLargerThanTheByteBoundIsRefusedSayingSo() throws Exception {
+    Path file = dir.resolve("too-large.mcap");
+    Sample big = new Sample(1, "x".repeat(2000));
+    int size = ValueType.of(Sample.class).toJson(big).length;
+    long bound = 1024;
+    McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().queue(100, bound));
+    McapChannel<Sample> samples = writer.channel("samples", Sample.class);
+    IllegalArgumentException e =
+        assertThrows(IllegalArgumentException.class, () -> samples.write(1, 1, 1, big));
+    assertTrue(e.getMessage().contains(size + " bytes"), e.getMessage());
+    assertTrue(e.getMessage().contains("byte bound of " + bound), e.getMessage());
+    assertTrue(e.getMessage().contains("'samples'"), e.getMessage());
+    assertTrue(e.getMessage().contains("McapWriterOptions.queue"), e.getMessage());
+    assertEquals(0, writer.droppedCount(), "the queue was not full: nothing was dropped");
+    assertEquals(0, samples.droppedCount());
+    assertTrue(samples.write(2, 2, 2, new Sample(2, "")), "a message that fits is written");
+    writer.close();
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("samples"));
+      assertEquals("0", reader.metadata(McapWriter.LOSS_METADATA).get(0).get("dropped_messages"));
+    }
+  }
+
+  /**
    * {@link McapWriterOptions#queue(int, long)} takes any positive bound in messages, and the
    * writer's memory is bounded by the byte bound ({@link McapWriter}'s design note): a message
    * bound as large as an int holds is a queue bounded in bytes only.
