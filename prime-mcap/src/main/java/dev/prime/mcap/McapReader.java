@@ -46,7 +46,8 @@ import java.util.zip.CRC32;
  * <p>Malformed files give a {@link McapFormatException} naming the file, the byte offset and
  * the problem: not MCAP (bad magic), truncated (no footer or closing magic: the writer did not
  * finish), a bad CRC (summary on open; a chunk when its messages are read; the whole data
- * section in {@link #verify()}), records cut short. A file whose writer never finished is
+ * section in {@link #verify()}), records cut short, a Footer whose summary_start points at no
+ * summary (refused before the summary is read). A file whose writer never finished is
  * read with {@link #openUnfinished}. Not thread-safe for concurrent streams.
  */
 public final class McapReader implements Closeable {
@@ -246,6 +247,8 @@ public final class McapReader implements Closeable {
       throw problem(footerOffset, "the Footer's summary_start " + summaryStart + " or summary_offset_start "
           + summaryOffsetStart + " lies outside the file's summary area");
     }
+    long summaryEnd = summaryOffsetStart != 0 ? summaryOffsetStart : footerOffset;
+    checkSummaryStart(headerEnd, summaryEnd);
     byte[] summary = read(summaryStart, footerOffset - summaryStart, "the summary section");
     if (summaryCrc != 0) {
       CRC32 crc = new CRC32();
@@ -257,10 +260,64 @@ public final class McapReader implements Closeable {
             crc.getValue(), summaryCrc));
       }
     }
-    long summaryEnd = summaryOffsetStart != 0 ? summaryOffsetStart : footerOffset;
     readSummary(summary, (int) (summaryEnd - summaryStart));
     if (statistics == null) {
       scanDataSection(headerEnd, false);
+    }
+  }
+
+  /**
+   * Checks that the Footer's summary_start points at a summary before the summary is read whole:
+   * a corrupt one inside a large file would otherwise have up to 2 GiB read (and allocated) only
+   * for the summary's CRC to tell. Cheap: the summary starts right after the DataEnd record that
+   * ends the data section, as writers put it (its opcode and length are read). Where no DataEnd of
+   * that length is there (a record between the two, a DataEnd of a later version with more
+   * fields), the records from summary_start on are checked by their opcode and length only: each
+   * must be one a summary may hold (no Chunk, Message, MessageIndex, Attachment, Metadata, Header,
+   * Footer or DataEnd) and they must end where the summary ends.
+   */
+  private void checkSummaryStart(long headerEnd, long summaryEnd) throws IOException {
+    long dataEnd = summaryStart - DATA_END_LENGTH;
+    if (dataEnd >= headerEnd) {
+      RecordCursor prefix = cursor(read(dataEnd, RECORD_PREFIX, "the DataEnd record"), dataEnd, "DataEnd record");
+      if (prefix.u8("opcode") == Opcode.DATA_END && prefix.u64("length") == DATA_END_LENGTH - RECORD_PREFIX) {
+        return;
+      }
+    }
+    long offset = summaryStart;
+    while (offset < summaryEnd) {
+      RecordCursor prefix = cursor(read(offset, RECORD_PREFIX, "a summary record's opcode and length"), offset, "record");
+      int opcode = prefix.u8("opcode");
+      long length = prefix.u64("length");
+      String noSummary = "the Footer's summary_start " + summaryStart + " points at no summary section (no DataEnd"
+          + " record ends right before it): ";
+      if (!mayBeInSummary(opcode)) {
+        throw problem(offset, noSummary + "at byte " + offset + " is a " + Opcode.name(opcode)
+            + " record, which a summary does not hold: summary_start is corrupt");
+      }
+      if (!fits(offset, length, summaryEnd)) {
+        throw problem(offset, noSummary + "the " + Opcode.name(opcode) + " record at byte " + offset
+            + " declares a length of " + Long.toUnsignedString(length) + " bytes, past the summary's end at byte "
+            + summaryEnd + ": summary_start is corrupt");
+      }
+      offset += RECORD_PREFIX + length;
+    }
+  }
+
+  /** Whether a record of this opcode may be in a summary section: any but the data section's own. */
+  private static boolean mayBeInSummary(int opcode) {
+    switch (opcode) {
+      case Opcode.HEADER:
+      case Opcode.FOOTER:
+      case Opcode.MESSAGE:
+      case Opcode.CHUNK:
+      case Opcode.MESSAGE_INDEX:
+      case Opcode.ATTACHMENT:
+      case Opcode.METADATA:
+      case Opcode.DATA_END:
+        return false;
+      default:
+        return true;
     }
   }
 

@@ -10,6 +10,7 @@ import dev.prime.mcap.internal.Opcode;
 import dev.prime.mcap.internal.RecordBuffer;
 import java.io.IOException;
 import java.io.RandomAccessFile;
+import java.lang.management.ManagementFactory;
 import java.nio.ByteBuffer;
 import java.nio.ByteOrder;
 import java.nio.charset.StandardCharsets;
@@ -19,6 +20,7 @@ import java.util.Arrays;
 import java.util.List;
 import java.util.Map;
 import java.util.stream.Collectors;
+import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.function.Executable;
 import org.junit.jupiter.api.io.TempDir;
@@ -165,6 +167,44 @@ class MalformedFileTest {
     McapFormatException e = openFails(file);
     assertTrue(e.getMessage().contains("the Footer's summary_start"), e.getMessage());
   }
+
+  /**
+   * A Footer whose summary_start is corrupt but still inside the file (here: pointing at the first
+   * Chunk, at the start of eight MiB of data) is refused as soon as the record there shows it is
+   * no summary: the summary starts right after the DataEnd record, and a Chunk is no summary
+   * record. Opening must not first read everything from there to the Footer (up to 2 GiB in a
+   * large file) only to find that its CRC does not match.
+   */
+  @Test
+  void aSummaryStartPointingIntoTheDataIsRefusedBeforeTheSummaryIsRead() throws IOException {
+    Path file = dir.resolve("large.mcap");
+    String padding = "x".repeat(1000);
+    try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      McapChannel<Padded> padded = writer.channel("padded", Padded.class);
+      for (int i = 0; i < 8192; i++) {
+        padded.write(i, i, i, new Padded(i, padding));
+      }
+    }
+    long firstChunk = 8 + 9 + 4 + 4 + "prime-mcap".length();
+    long footer = Files.size(file) - 8 - 29;
+    try (RandomAccessFile raf = new RandomAccessFile(file.toFile(), "rw")) {
+      raf.seek(footer + 9);
+      raf.write(ByteBuffer.allocate(8).order(ByteOrder.LITTLE_ENDIAN).putLong(firstChunk).array());
+    }
+    com.sun.management.ThreadMXBean threads =
+        (com.sun.management.ThreadMXBean) ManagementFactory.getThreadMXBean();
+    Assumptions.assumeTrue(threads.isThreadAllocatedMemorySupported() && threads.isThreadAllocatedMemoryEnabled());
+    long before = threads.getCurrentThreadAllocatedBytes();
+    McapFormatException e = openFails(file);
+    long allocated = threads.getCurrentThreadAllocatedBytes() - before;
+    assertTrue(allocated < (1 << 20), "opening allocated " + allocated + " bytes of a " + Files.size(file)
+        + "-byte file to refuse a corrupt summary_start; refused with: " + e.getMessage());
+    assertEquals(firstChunk, e.offset(), e.getMessage());
+    assertTrue(e.getMessage().contains("summary_start " + firstChunk), e.getMessage());
+    assertTrue(e.getMessage().contains("Chunk"), e.getMessage());
+  }
+
+  record Padded(int index, String padding) {}
 
   /** A file as another writer may make it: no chunks, no summary; read by one pass. */
   @Test
