@@ -36,6 +36,7 @@ class SpiSurfaceTest {
                 "sourcePart",
                 "recordReader",
                 "runGenericService",
+                "hostOnCoreThreads",
                 "isHostedHere",
                 "callerGaveUp",
                 "isOwnThread",
