@@ -94,8 +94,7 @@ public interface GenericService {
    * @return the wait, zero or more
    */
   default Duration backoff(int failures) {
-    int doublings = Math.min(Math.max(failures, 1) - 1, 10);
-    return Duration.ofMillis(Math.min(10L << doublings, 1000L));
+    return FailureBackoff.after(failures);
   }
 
   /** Which step of a generic service failed: the input its {@link ErrorHandler} receives. */

@@ -118,7 +118,7 @@ final class Ticking implements Runnable {
         failures++;
       }
       try {
-        TimeUnit.MILLISECONDS.sleep(Math.min(10L << Math.min(failures - 1, 10), 1000L));
+        TimeUnit.NANOSECONDS.sleep(FailureBackoff.after(failures).toNanos());
       } catch (InterruptedException e) {
         return false;
       }

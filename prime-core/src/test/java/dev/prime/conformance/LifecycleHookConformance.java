@@ -87,10 +87,7 @@ public interface LifecycleHookConformance extends ConformanceBase {
   @Test
   default void aHookThatThrowsGoesToTheErrorHandlerAndStartCarriesOn() throws InterruptedException {
     List<Object[]> failures = new CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder()
-            .errorHandler((service, input, error) -> failures.add(new Object[] {service, input, error}))
-            .build();
+    CoreConfig config = handledInto(failures);
     IllegalStateException boom = new IllegalStateException("boom");
     List<String> calls = new CopyOnWriteArrayList<>();
     try (PrimeCore core = newCore(config)) {
@@ -121,10 +118,7 @@ public interface LifecycleHookConformance extends ConformanceBase {
   default void aHookClosesBeforeItsSourcesAndAFailureOfItsCloseGoesToTheErrorHandler()
       throws InterruptedException {
     List<Object[]> failures = new CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder()
-            .errorHandler((service, input, error) -> failures.add(new Object[] {service, input, error}))
-            .build();
+    CoreConfig config = handledInto(failures);
     IllegalStateException boom = new IllegalStateException("cannot stop");
     CountDownLatch taking = new CountDownLatch(1);
     CountDownLatch woken = new CountDownLatch(1);
@@ -227,10 +221,7 @@ public interface LifecycleHookConformance extends ConformanceBase {
   default void aHookThrowingACheckedExceptionGoesToTheErrorHandlerAndStartAndCloseCarryOn()
       throws InterruptedException {
     List<Object[]> failures = new CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder()
-            .errorHandler((service, input, error) -> failures.add(new Object[] {service, input, error}))
-            .build();
+    CoreConfig config = handledInto(failures);
     java.io.IOException cannotStart = new java.io.IOException("cannot open the port");
     java.io.IOException cannotStop = new java.io.IOException("cannot close the port");
     List<String> calls = new CopyOnWriteArrayList<>();
@@ -262,6 +253,13 @@ public interface LifecycleHookConformance extends ConformanceBase {
     assertSame(cannotStop, failures.get(1)[2]);
     assertThrows(CoreClosedException.class, reader::poll, "the core's sources closed");
     awaitNoThreadsLeft(core);
+  }
+
+  /** A config whose error handler adds each failure to {@code failures} as (service, input, error). */
+  private static CoreConfig handledInto(List<Object[]> failures) {
+    return CoreConfig.builder()
+        .errorHandler((service, input, error) -> failures.add(new Object[] {service, input, error}))
+        .build();
   }
 
   /** Throws any throwable, checked or not, without declaring it. */
