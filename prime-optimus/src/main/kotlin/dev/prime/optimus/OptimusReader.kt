@@ -376,6 +376,11 @@ internal class OptimusReader<T>(
      * Hands out the next buffered value, skipping duplicates and undecodable envelopes. An entry
      * counts as delivered (acknowledged by the next step) once all its values were handed out:
      * a frame is acknowledged as a whole.
+     *
+     * A value the codec fails on is skipped with a WARN naming its id, whatever the codec threw:
+     * a codec of the user's may throw another exception than [CodecException] (against its
+     * contract), and the value, counted as handed out, would otherwise be lost without a word
+     * (a [drain] that had values keeps them and drops the failure).
      */
     private fun deliver(): Any? {
         while (true) {
@@ -386,19 +391,32 @@ internal class OptimusReader<T>(
                 continue
             }
             val at = 2 * entry.next++
-            try {
-                val envelope = Envelope.parse(entry.bytes, entry.bounds[at], entry.bounds[at + 1])
-                if (envelope.id in recent) continue
-                recent.add(envelope.id)
-                val value = envelope.value(core, held) ?: continue
-                if (entry.isHandedOut) {
-                    buffer.removeFirst() // the last value of its entry: the entry is delivered with it
-                    delivered++
-                }
-                return value
+            val envelope = try {
+                Envelope.parse(entry.bytes, entry.bounds[at], entry.bounds[at + 1])
             } catch (e: CodecException) {
                 LOG.warn("a reader of core '{}' skipped a value it cannot decode: {}", core.name(), e.message)
+                continue
             }
+            if (envelope.id in recent) continue
+            recent.add(envelope.id)
+            val value = try {
+                envelope.value(core, held) ?: continue
+            } catch (e: CodecException) {
+                LOG.warn("a reader of core '{}' skipped a value it cannot decode (value id {}): {}", core.name(), envelope.id, e.message)
+                continue
+            } catch (e: Exception) {
+                LOG.warn(
+                    "a reader of core '{}' skipped a value it cannot decode (value id {}): its codec threw {} (a codec " +
+                        "should throw CodecException for bytes it cannot decode)",
+                    core.name(), envelope.id, e.toString(), e,
+                )
+                continue
+            }
+            if (entry.isHandedOut) {
+                buffer.removeFirst() // the last value of its entry: the entry is delivered with it
+                delivered++
+            }
+            return value
         }
     }
 
