@@ -291,6 +291,7 @@ internal class OptimusReader<T>(
                 }
                 val roundTrip = System.nanoTime() - stepStarted
                 failed = null
+                backoff.reset() // Redis answered: a later outage starts from the shortest wait again
                 delivered = 0
                 if (taken.isNotEmpty()) {
                     framed = taken.sumOf(Frame::count) >= FRAMED_VALUES * taken.size
@@ -327,7 +328,6 @@ internal class OptimusReader<T>(
                     framed = Frame.count(it) >= FRAMED_VALUES
                     buffer(it)
                 }
-                backoff.reset()
             } catch (e: InterruptedException) {
                 throw e
             } catch (e: Exception) {
