@@ -113,6 +113,57 @@ class OrderedHostingTest {
         }
     }
 
+    /**
+     * As above, with frames in flight: the values are published as frames of [FRAME] values, and
+     * the active host is killed (SIGKILL) while its step holds several of them in its processing
+     * list, its results not stored. The standby redoes those frames whole, in order; the reader
+     * gets every value once.
+     */
+    @Test
+    fun aStandbyRedoesTheFramesAKilledHostHeldInOrderWithNoLossOrDuplicate() {
+        val name = "ordered-kill-frames"
+        val frames = 8
+        val n = frames * FRAME
+        EmbeddedRedis.start().use { redis ->
+            CompetingTopology.core(redis.uri, name, null).use { publisher ->
+                val numbers = publisher.source("numbers", dev.prime.EventBlock<Int>())
+                val output = numbers.then(publisher.chain(CompetingTopology.SERVICE) { x: Int -> x })
+                val reader = output.reader()
+                publisher.start()
+                val args = arrayOf(redis.uri, name, "ORDERED", "5")
+                val lease = publisher.keys.hostLease(CompetingTopology.SERVICE)
+                val processing = publisher.keys.serviceProcessing(CompetingTopology.SERVICE)
+                WorkerProcess.start(ConsumerWorkerMain::class.java, *args).use { active ->
+                    val activeId = active.awaitLine("READY").substringAfter(' ')
+                    WorkerProcess.start(ConsumerWorkerMain::class.java, *args).use { standby ->
+                        val standbyId = standby.awaitLine("READY").substringAfter(' ')
+                        for (f in 0 until frames) publisher.publishAll(numbers, (f * FRAME until (f + 1) * FRAME).toList())
+                        // the first frame's results are out: the active host's next step holds the frames after it
+                        val received = takeAll(reader, FRAME)
+                        Jedis(URI(redis.uri)).use { jedis ->
+                            assertEquals(activeId, jedis.get(lease)?.toString(UTF_8), "the first worker is the active host")
+                            val held = jedis.lrange(processing, 0, -1)
+                            active.kill()
+                            println("OrderedHostingTest: killed the active host holding ${held.size} entries of ${held.sumOf(Frame::count)} values")
+                            assertTrue(held.size > 1 && held.all { Frame.count(it) == FRAME }, "frames in flight: ${held.map(Frame::count)}")
+                            val tookOver = CompetingConsumersTest.boundedWait(Duration.ofSeconds(10)) {
+                                jedis.get(lease)?.toString(UTF_8) == standbyId
+                            }
+                            assertTrue(tookOver, "the standby took over")
+                        }
+                        received += takeAll(reader, n - FRAME)
+                        assertEquals((0 until n).toList(), received, "0 lost, 0 reordered")
+                        assertEquals(Optional.empty<Int>(), reader.take(Duration.ofMillis(500)), "0 duplicated at the reader")
+                        Jedis(URI(redis.uri)).use { jedis ->
+                            assertEquals(n.toLong(), TestRedis.values(jedis, publisher.keys.sourceLog(output.name())), "0 duplicated")
+                            assertEquals(0L, jedis.llen(processing) + jedis.llen(publisher.keys.serviceInput(CompetingTopology.SERVICE)))
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     @Test
     fun anActiveHostThatLosesItsLeaseStandsByAndTakesOverAgain() {
         val name = "ordered-lost"
@@ -183,5 +234,10 @@ class OrderedHostingTest {
                 val e = assertThrows(IllegalArgumentException::class.java) { core.start() }
                 assertTrue(e.message!!.contains("[nope]") && e.message!!.contains("does not declare"), e.message)
             }
+    }
+
+    private companion object {
+        /** The values of one published frame. */
+        const val FRAME = 50
     }
 }
