@@ -18,7 +18,9 @@ import dev.prime.ValueCodec
  * - **Nulls.** Neither method sees `null`: the core encodes `null` outputs itself.
  * - **Exceptions.** [encode] throws [IllegalArgumentException] for a value it cannot encode,
  *   with a message that says how to allow it; [decode] throws [CodecException] for bytes it
- *   cannot or must not decode. The core sends undecodable input to a dead-letter list.
+ *   cannot or must not decode. The core sends undecodable input to a dead-letter list (a
+ *   reader skips it with a WARN). Any other exception [decode] throws is taken the same way,
+ *   for that value only: it neither stops a service nor reaches a reader's caller.
  *
  * Every Optimus codec is a [ValueCodec], so the in-memory media can copy values through it
  * (`CoreConfig.builder().copyValues(KryoCodec.standard())`) and fail in a test the way Optimus
