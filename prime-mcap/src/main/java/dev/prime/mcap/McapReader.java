@@ -98,15 +98,19 @@ public final class McapReader implements Closeable {
   /**
    * Opens what a writer that never finished left behind (the process was killed, the machine
    * lost power): every complete record of the data section, read in one pass up to the first
-   * record that is cut short (or the DataEnd: a file cut after it, in its summary, has every
-   * message, and {@link #unfinishedAt()} is where the DataEnd ends). prime-mcap's writer writes
-   * each chunk whole as it closes it, so this recovers every message but those of the chunk
-   * that was open and those still queued. Statistics are counted in that pass.
+   * record that is cut short or damaged (or the DataEnd: a file cut after it, in its summary, has
+   * every message, and {@link #unfinishedAt()} is where the DataEnd ends). A damaged record is a
+   * Chunk whose CRC or structure does not check, or a Schema, Channel or Message outside chunks
+   * that does not parse: what a power cut leaves where the file was extended but the bytes never
+   * reached the disk (they read back as zeroes). {@link #unfinishedAt()} is where such a record
+   * starts; nothing of it or after it is read. prime-mcap's writer writes each chunk whole as it
+   * closes it, so this recovers every message but those of the chunk that was open (or
+   * damaged) and those still queued. Statistics are counted in that pass.
    *
    * @param path the file
    * @return the reader
    * @throws IOException if the file cannot be read
-   * @throws McapFormatException if it is not MCAP or a complete record in it is malformed
+   * @throws McapFormatException if it is not MCAP or its Header is malformed
    */
   public static McapReader openUnfinished(Path path) throws IOException {
     FileChannel file = openFile(path);
@@ -463,35 +467,54 @@ public final class McapReader implements Closeable {
         throw tooLong(offset, opcode, length, limit);
       }
       long total = RECORD_PREFIX + length;
-      if (opcode == Opcode.CHUNK) {
-        List<McapMessage> messages = loadChunk(new ChunkRef(0, offset, total, null, false), id -> true);
-        Set<Integer> ids = messages.stream().map(m -> m.channel().id()).collect(Collectors.toSet());
-        long startTime = messages.isEmpty() ? 0 : messages.get(0).logTime();
-        chunks.add(new ChunkRef(startTime, offset, total, ids, false));
-        chunkCount++;
-        for (McapMessage m : messages) {
-          messageCount++;
-          counts.merge(m.channel().id(), 1L, Long::sum);
-          first = Math.min(first, m.logTime());
-          last = Math.max(last, m.logTime());
+      // a Chunk's records may define schemas and channels before one of them proves damaged
+      Map<Integer, SchemaInfo> schemasBefore = unfinished && opcode == Opcode.CHUNK ? new TreeMap<>(schemas) : null;
+      Map<Integer, ChannelInfo> channelsBefore = unfinished && opcode == Opcode.CHUNK ? new TreeMap<>(channels) : null;
+      try {
+        if (opcode == Opcode.CHUNK) {
+          List<McapMessage> messages = loadChunk(new ChunkRef(0, offset, total, null, false), id -> true);
+          Set<Integer> ids = messages.stream().map(m -> m.channel().id()).collect(Collectors.toSet());
+          long startTime = messages.isEmpty() ? 0 : messages.get(0).logTime();
+          chunks.add(new ChunkRef(startTime, offset, total, ids, false));
+          chunkCount++;
+          for (McapMessage m : messages) {
+            messageCount++;
+            counts.merge(m.channel().id(), 1L, Long::sum);
+            first = Math.min(first, m.logTime());
+            last = Math.max(last, m.logTime());
+          }
+        } else if (opcode == Opcode.MESSAGE || opcode == Opcode.SCHEMA || opcode == Opcode.CHANNEL) {
+          byte[] content = read(offset + RECORD_PREFIX, length, Opcode.name(opcode) + " record");
+          RecordCursor record = cursor(content, offset + RECORD_PREFIX, Opcode.name(opcode) + " record");
+          if (opcode == Opcode.SCHEMA) {
+            readSchema(record);
+          } else if (opcode == Opcode.CHANNEL) {
+            readChannel(record);
+          } else {
+            McapMessage m = readMessage(record, content.length, id -> true);
+            chunks.add(new ChunkRef(m.logTime(), offset, total, Set.of(m.channel().id()), true));
+            messageCount++;
+            counts.merge(m.channel().id(), 1L, Long::sum);
+            first = Math.min(first, m.logTime());
+            last = Math.max(last, m.logTime());
+          }
+        } else if (opcode == Opcode.METADATA) {
+          metadataRecords.add(new long[] {offset, total});
         }
-      } else if (opcode == Opcode.MESSAGE || opcode == Opcode.SCHEMA || opcode == Opcode.CHANNEL) {
-        byte[] content = read(offset + RECORD_PREFIX, length, Opcode.name(opcode) + " record");
-        RecordCursor record = cursor(content, offset + RECORD_PREFIX, Opcode.name(opcode) + " record");
-        if (opcode == Opcode.SCHEMA) {
-          readSchema(record);
-        } else if (opcode == Opcode.CHANNEL) {
-          readChannel(record);
-        } else {
-          McapMessage m = readMessage(record, content.length, id -> true);
-          chunks.add(new ChunkRef(m.logTime(), offset, total, Set.of(m.channel().id()), true));
-          messageCount++;
-          counts.merge(m.channel().id(), 1L, Long::sum);
-          first = Math.min(first, m.logTime());
-          last = Math.max(last, m.logTime());
+      } catch (McapFormatException damaged) {
+        if (!unfinished) {
+          throw damaged;
         }
-      } else if (opcode == Opcode.METADATA) {
-        metadataRecords.add(new long[] {offset, total});
+        // a record whose bytes never reached the disk (a power cut leaves zeroes where the file
+        // was extended for it) or are damaged: the complete records end before it
+        if (schemasBefore != null) {
+          schemas.clear();
+          schemas.putAll(schemasBefore);
+          channels.clear();
+          channels.putAll(channelsBefore);
+        }
+        cut = true;
+        break;
       }
       offset += total;
     }
