@@ -49,13 +49,15 @@ import java.util.stream.Collectors;
  *       is written, naming the topic, both schemas and both files. Equal schemas become one. The
  *       channel's metadata is the first input's, with the keys only later inputs have added, and
  *       {@value #MERGED_FROM} listing the files that had the topic (their paths as given,
- *       comma-separated).
+ *       comma-separated); an input that is itself a merge gives its own list instead of its
+ *       path, so a merge of merges still lists the recordings.
  *   <li><b>Messages</b> come in log-time order, then by sequence number, then in the order the
  *       inputs are given; each keeps its sequence number and times. Log times are compared as
  *       the writers stamped them: for files of several machines, run their clocks in step (NTP
  *       or PTP), or the merged order is only as good as their agreement.
  *   <li><b>Metadata</b>: every Metadata record of every input is copied, with {@value
- *       #MERGED_FROM} (the input's path, as given) added to its pairs, so a merged recording still has
+ *       #MERGED_FROM} (the input's path, as given) added to its pairs unless an earlier merge
+ *       added it (then it keeps naming the file it came from), so a merged recording still has
  *       each process's {@code prime.process} (host, pid) and loss report ({@code prime.mcap}); and
  *       one record {@value #INPUT_METADATA} per input: its {@code index}, {@code file}, {@code
  *       library}, {@code messages} and {@code topics}.
@@ -338,7 +340,8 @@ public final class McapMerge {
       for (String name : reader.metadataNames()) {
         for (Map<String, String> pairs : reader.metadata(name)) {
           Map<String, String> copy = new TreeMap<>(pairs);
-          copy.put(MERGED_FROM, from);
+          // a record an earlier merge copied keeps the file it came from
+          copy.putIfAbsent(MERGED_FROM, from);
           file.addMetadata(name, copy);
         }
       }
@@ -477,8 +480,11 @@ public final class McapMerge {
             checkSame(unified, channel, file);
           }
           channel.metadata().forEach(unified.metadata::putIfAbsent);
-          if (!unified.files.contains(file)) {
-            unified.files.add(file);
+          // an input that is itself a merge names the files it had the topic from: kept, so
+          // that a merge of merges still lists the recordings
+          String from = channel.metadata().getOrDefault(MERGED_FROM, file);
+          if (!unified.files.contains(from)) {
+            unified.files.add(from);
           }
           ids.put(channel.id(), unified.id);
         }

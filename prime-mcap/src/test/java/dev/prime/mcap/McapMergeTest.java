@@ -172,6 +172,41 @@ class McapMergeTest {
     }
   }
 
+  /**
+   * A merge of a merged file keeps the earlier merge's provenance: a channel's {@value
+   * McapMerge#MERGED_FROM} lists the files the earlier merge had the topic from, and a Metadata
+   * record copied by the earlier merge still names the file it came from.
+   */
+  @Test
+  void mergingAMergedFileKeepsWhereItsChannelsAndMetadataCameFrom() throws Exception {
+    Path robot = robotFile(20);
+    Path worker = workerFile(10);
+    Path first = dir.resolve("first.mcap");
+    McapMerge.merge(List.of(robot, worker), first);
+    Path late = dir.resolve("late.mcap");
+    try (McapWriter writer = McapWriter.open(late, McapWriterOptions.defaults().synchronous())) {
+      writer.metadata("prime.process", Map.of("host", "late-host", "pid", "33"));
+      writer.channel("shared", ValueType.of(Long.class)).write(5_000_000_000L, 5_000_000_000L, 0, 5L);
+    }
+    Path again = dir.resolve("again.mcap");
+
+    McapMerge.merge(List.of(first, late), again);
+
+    try (McapReader reader = McapReader.open(again)) {
+      assertEquals(robot + "," + worker + "," + late,
+          reader.channel("shared").orElseThrow().metadata().get(McapMerge.MERGED_FROM));
+      assertEquals(robot.toString(), reader.channel("odometry").orElseThrow().metadata().get(McapMerge.MERGED_FROM));
+      assertEquals(worker.toString(), reader.channel("planner").orElseThrow().metadata().get(McapMerge.MERGED_FROM));
+      assertEquals(List.of(robot.toString(), worker.toString(), late.toString()),
+          reader.metadata("prime.process").stream().map(m -> m.get(McapMerge.MERGED_FROM)).toList());
+      List<Map<String, String>> inputs = reader.metadata(McapMerge.INPUT_METADATA);
+      assertEquals(List.of(robot.toString(), worker.toString(), first.toString(), late.toString()),
+          inputs.stream().map(m -> m.get("file")).toList(), "the earlier merge's input records, then this one's");
+      assertEquals(List.of(first.toString(), first.toString()),
+          inputs.subList(0, 2).stream().map(m -> m.get(McapMerge.MERGED_FROM)).toList());
+    }
+  }
+
   @Test
   void aTopicWithTwoSchemasIsRefusedNamingBothAndNothingIsWritten() throws Exception {
     Path robot = robotFile(5);
