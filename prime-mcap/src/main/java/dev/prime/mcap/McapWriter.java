@@ -71,7 +71,9 @@ import java.util.stream.Stream;
  * With {@link McapWriterOptions#rotateAtSize(long)}, the first file is the path given; the
  * n-th next one inserts {@code -NNNN} (n, at least 4 digits) before the last dot of the file
  * name: {@code run.mcap}, {@code run-0001.mcap}, {@code run-0002.mcap}, ... (no dot: the suffix
- * goes at the end). Existing files of those names are overwritten. See {@link #rotatedPath}.
+ * goes at the end). A file is finished once it reaches the size, and the next one is started by
+ * the next message (or at close, only to hold messages dropped or Metadata records added since),
+ * so a recording does not end with an empty file. Existing files of those names are overwritten. See {@link #rotatedPath}.
  */
 public final class McapWriter implements Closeable {
   /** The message encoding of every channel this writer makes. */
@@ -105,9 +107,11 @@ public final class McapWriter implements Closeable {
   private final CountDownLatch closeFinished = new CountDownLatch(1);
 
   // Owned by the writer thread (or, when synchronous, by whoever holds syncLock).
+  /** The file being written; null between a rotation and the next message, which starts the next file. */
   private McapFileWriter file;
   private int fileIndex;
   private long droppedAtFileStart;
+  private int metadataAtFileStart;
   private final Map<Integer, Long> channelDroppedAtFileStart = new HashMap<>();
   private volatile IOException failure;
   private final List<Path> files = new CopyOnWriteArrayList<>();
@@ -521,15 +525,18 @@ public final class McapWriter implements Closeable {
     }
     try {
       int channelId = entry.channel.id();
+      if (file == null) {
+        openNextFile();
+      }
       if (!file.hasChannel(channelId)) {
         defineInFile(channelId);
       }
       file.addMessage(channelId, entry.sequence, entry.logTime, entry.publishTime, entry.data);
       if (options.rotateAtSize() > 0 && file.size() >= options.rotateAtSize()) {
+        // the next message starts the next file: a recording does not end with an empty one
         finishFile();
         if (failure == null) {
-          openFile(rotatedPath(firstPath, fileIndex + 1));
-          fileIndex++;
+          file = null;
         }
       }
     } catch (IOException e) {
@@ -551,46 +558,68 @@ public final class McapWriter implements Closeable {
   private void openFile(Path path) throws IOException {
     file = new McapFileWriter(opener.open(path), options.library(), options.chunkSize());
     files.add(path);
-    droppedAtFileStart = dropped.sum();
-    channelDroppedAtFileStart.clear();
-    for (McapChannel<?> channel : channelsById.values()) {
-      channelDroppedAtFileStart.put(channel.id(), channel.droppedCount());
-    }
+  }
+
+  /** The next file of a rotated recording. */
+  private void openNextFile() throws IOException {
+    openFile(rotatedPath(firstPath, fileIndex + 1));
+    fileIndex++;
   }
 
   private Path currentPath() {
     return files.get(files.size() - 1);
   }
 
-  /** Every channel defined so far, the loss report, the summary and the footer. */
+  /**
+   * Every channel defined so far, the loss report, the summary and the footer. After a rotation
+   * no file is open until the next message: then a file is started only to report messages
+   * dropped, or hold Metadata records added, since the last one was finished.
+   */
   private void finishFile() {
     if (failure != null) {
-      try {
-        file.abandon();
-      } catch (IOException e) {
-        failure.addSuppressed(e);
+      if (file != null) {
+        try {
+          file.abandon();
+        } catch (IOException e) {
+          failure.addSuppressed(e);
+        }
       }
       return;
     }
     try {
+      if (file == null) {
+        if (dropped.sum() == droppedAtFileStart && metadata.size() == metadataAtFileStart) {
+          return;
+        }
+        openNextFile();
+      }
       List<Integer> ids = new ArrayList<>(new TreeMap<>(channelsById).keySet());
       for (int id : ids) {
         if (!file.hasChannel(id)) {
           defineInFile(id);
         }
       }
-      for (Map.Entry<String, Map<String, String>> record : metadata) {
+      List<Map.Entry<String, Map<String, String>>> records = List.copyOf(metadata);
+      for (Map.Entry<String, Map<String, String>> record : records) {
         file.addMetadata(record.getKey(), record.getValue());
       }
+      // counted once: what is dropped after this goes into the next file's report
+      long droppedNow = dropped.sum();
+      Map<Integer, Long> channelDroppedNow = new HashMap<>();
       Map<String, String> loss = new TreeMap<>();
-      loss.put("dropped_messages", Long.toString(dropped.sum() - droppedAtFileStart));
+      loss.put("dropped_messages", Long.toString(droppedNow - droppedAtFileStart));
       for (int id : ids) {
         McapChannel<?> channel = channelsById.get(id);
-        long lost = channel.droppedCount() - channelDroppedAtFileStart.getOrDefault(id, 0L);
+        channelDroppedNow.put(id, channel.droppedCount());
+        long lost = channelDroppedNow.get(id) - channelDroppedAtFileStart.getOrDefault(id, 0L);
         loss.put("dropped." + channel.topic(), Long.toString(lost));
       }
       file.addMetadata(LOSS_METADATA, loss);
       file.finish();
+      droppedAtFileStart = droppedNow;
+      channelDroppedAtFileStart.clear();
+      channelDroppedAtFileStart.putAll(channelDroppedNow);
+      metadataAtFileStart = records.size();
     } catch (IOException e) {
       failure = e;
     }

@@ -259,6 +259,54 @@ class SummaryAndChunksTest {
     assertEquals(total, next);
   }
 
+  /**
+   * A file is finished once it reaches the rotation size, and the next one is started by the next
+   * message: a recording whose last message filled a file ends with that file, not with an empty
+   * one made at close.
+   */
+  @Test
+  void aRecordingEndsWithItsLastMessagesFileNotAnEmptyOne() throws IOException {
+    for (boolean synchronous : new boolean[] {true, false}) {
+      Path file = dir.resolve((synchronous ? "sync" : "queued") + ".mcap");
+      McapWriterOptions options = McapWriterOptions.defaults().rotateAtSize(1);
+      McapWriter writer = McapWriter.open(file, synchronous ? options.synchronous() : options);
+      try {
+        McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+        for (int i = 0; i < 3; i++) {
+          assertTrue(readings.write(i, i, i, new Reading(i, i)));
+        }
+      } finally {
+        writer.close();
+      }
+      List<Path> files = writer.files();
+      assertEquals(List.of(file, McapWriter.rotatedPath(file, 1), McapWriter.rotatedPath(file, 2)), files,
+          "one file per message, each filled by it");
+      assertEquals(files, McapReader.recordingFiles(file));
+      for (Path part : files) {
+        try (McapReader reader = McapReader.open(part)) {
+          assertEquals(1, reader.messageCount("readings"), part.toString());
+          assertEquals("0", reader.metadata(McapWriter.LOSS_METADATA).get(0).get("dropped_messages"));
+        }
+      }
+      assertTrue(Files.notExists(McapWriter.rotatedPath(file, 3)), "no empty file after the last message");
+    }
+  }
+
+  /** A Metadata record added after the last file was finished still goes into a file of its own. */
+  @Test
+  void aMetadataRecordAddedAfterTheLastRotationGetsAFile() throws IOException {
+    Path file = dir.resolve("late.mcap");
+    try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().rotateAtSize(1).synchronous())) {
+      assertTrue(writer.channel("readings", Reading.class).write(0, 0, 0, new Reading(0, 0)));
+      writer.metadata("late", Map.of("added", "after the file was finished"));
+    }
+    assertEquals(List.of(file, McapWriter.rotatedPath(file, 1)), McapReader.recordingFiles(file));
+    try (McapReader reader = McapReader.open(McapWriter.rotatedPath(file, 1))) {
+      assertEquals(0, reader.messageCount("readings"));
+      assertEquals(List.of(Map.of("added", "after the file was finished")), reader.metadata("late"));
+    }
+  }
+
   @Test
   void rotatedNamesFollowTheDocumentedRule() {
     assertEquals(Path.of("logs/run.mcap"), McapWriter.rotatedPath(Path.of("logs/run.mcap"), 0));
