@@ -73,7 +73,18 @@ import java.util.stream.Stream;
  * name: {@code run.mcap}, {@code run-0001.mcap}, {@code run-0002.mcap}, ... (no dot: the suffix
  * goes at the end). A file is finished once it reaches the size, and the next one is started by
  * the next message (or at close, only to hold messages dropped or Metadata records added since),
- * so a recording does not end with an empty file. Existing files of those names are overwritten. See {@link #rotatedPath}.
+ * so a recording does not end with an empty file. Existing files of those names are overwritten.
+ * See {@link #rotatedPath}.
+ *
+ * <h2>One writer per path</h2>
+ *
+ * A writer holds its recording's path from {@link #open} until its last file is finished in
+ * {@link #close()}: a second writer (or {@link McapRecorder}) opened at the same path, in this
+ * JVM or in another process, is refused with an {@link IOException} naming the path and the
+ * holder (pid, host, thread), before anything is truncated or deleted. Across processes this is
+ * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
+ * releases it when its process dies, so the lock file a killed process leaves does not stop the
+ * next writer.
  */
 public final class McapWriter implements Closeable {
   /** The message encoding of every channel this writer makes. */
@@ -88,6 +99,8 @@ public final class McapWriter implements Closeable {
   private final Path firstPath;
   private final McapWriterOptions options;
   private final OutputOpener opener;
+  /** This writer's hold on the recording's path; released once its last file is finished. */
+  private final RecordingLock lock;
 
   private final Object definitions = new Object();
   private final Map<String, McapChannel<?>> channelsByTopic = new LinkedHashMap<>();
@@ -141,7 +154,14 @@ public final class McapWriter implements Closeable {
     this.firstPath = path;
     this.options = options;
     this.opener = opener;
-    openFile(path);
+    // before anything is truncated or deleted: those are the files of a writer that holds the path
+    this.lock = RecordingLock.acquire(path);
+    try {
+      openFile(path);
+    } catch (IOException | RuntimeException e) {
+      releaseLock(e);
+      throw e;
+    }
     try {
       deleteEarlierRotatedFiles(path);
     } catch (IOException | RuntimeException e) {
@@ -150,6 +170,7 @@ public final class McapWriter implements Closeable {
       } catch (IOException closing) {
         e.addSuppressed(closing);
       }
+      releaseLock(e);
       throw e;
     }
     if (options.isSynchronous()) {
@@ -190,7 +211,9 @@ public final class McapWriter implements Closeable {
    * @param path the (first) file; created or overwritten, and the rotated files of an earlier
    *     recording at this path deleted (see {@link #open(Path, McapWriterOptions)})
    * @return the writer
-   * @throws IOException if the file cannot be created, or an earlier recording's file deleted
+   * @throws IOException if the file cannot be created, or an earlier recording's file deleted, or
+   *     another writer (in this JVM or another process) is writing the recording at the path: the
+   *     message names the path and that writer (see "One writer per path" in the class description)
    */
   public static McapWriter open(Path path) throws IOException {
     return open(path, McapWriterOptions.defaults());
@@ -204,7 +227,9 @@ public final class McapWriter implements Closeable {
    *     that {@link McapReader#recordingFiles} lists this recording's files only
    * @param options chunk size, rotation, queue
    * @return the writer
-   * @throws IOException if the file cannot be created, or an earlier recording's file deleted
+   * @throws IOException if the file cannot be created, or an earlier recording's file deleted, or
+   *     another writer (in this JVM or another process) is writing the recording at the path: the
+   *     message names the path and that writer (see "One writer per path" in the class description)
    */
   public static McapWriter open(Path path, McapWriterOptions options) throws IOException {
     return open(path, options, OutputOpener.FILES);
@@ -515,7 +540,27 @@ public final class McapWriter implements Closeable {
         drop(entry.channel);
       }
     }
-    finishFile();
+    try {
+      finishFile();
+    } finally {
+      releaseLock(null);
+    }
+  }
+
+  /**
+   * Gives the recording's path up (once its last file is finished, or when opening failed); a
+   * failure to do so is added to {@code failed}'s, or else becomes the writer's failure.
+   */
+  private void releaseLock(Throwable failed) {
+    try {
+      lock.release();
+    } catch (IOException e) {
+      if (failed != null) {
+        failed.addSuppressed(e);
+      } else if (failure == null) {
+        failure = e;
+      }
+    }
   }
 
   private void process(Entry entry) {
@@ -670,7 +715,11 @@ public final class McapWriter implements Closeable {
     if (queue == null) {
       // waits (blocked, not spinning) for a write under way, which may wait for the disk
       synchronized (syncLock) {
-        finishFile();
+        try {
+          finishFile();
+        } finally {
+          releaseLock(null);
+        }
       }
     } else {
       // Writers that passed the closed check finish their offer (it never waits) before the

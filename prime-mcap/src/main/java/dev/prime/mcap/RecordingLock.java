@@ -1,0 +1,166 @@
+package dev.prime.mcap;
+
+import java.io.IOException;
+import java.nio.ByteBuffer;
+import java.nio.channels.FileChannel;
+import java.nio.channels.FileLock;
+import java.nio.channels.OverlappingFileLockException;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.NoSuchFileException;
+import java.nio.file.Path;
+import java.nio.file.StandardOpenOption;
+import java.nio.file.attribute.BasicFileAttributes;
+import java.time.Instant;
+import java.util.Map;
+import java.util.Objects;
+import java.util.concurrent.ConcurrentHashMap;
+
+/**
+ * Holds the path of a recording for one {@link McapWriter}, so that a second writer there (which
+ * would truncate the first one's file, delete its rotated files and interleave its records with
+ * the first one's) is refused instead.
+ *
+ * <p>Across processes: an advisory lock ({@link FileChannel#tryLock()}) on {@code <first>.lock}
+ * beside the recording, holding a line that names the holder (pid, host, thread, since when).
+ * The operating system releases it when its process dies, so a lock file a killed process left
+ * does not stop a new writer. In this JVM: a registry of the held paths, checked before the lock
+ * file is opened, because file locks belong to the whole JVM and closing any channel of the JVM
+ * on the lock file would release the lock (POSIX semantics).
+ *
+ * <p>Released by the writer once its last file is finished: the lock file is deleted (while still
+ * locked), then closed. A writer that took the lock file just before it was deleted sees that the
+ * path no longer names the file it locked, and takes the new one.
+ */
+final class RecordingLock {
+  private static final Map<Path, String> HELD_IN_THIS_JVM = new ConcurrentHashMap<>();
+  private static final int ATTEMPTS = 10;
+
+  private final Path key;
+  private final Path lockFile;
+  private final String holder;
+  private final FileChannel channel;
+
+  private RecordingLock(Path key, Path lockFile, String holder, FileChannel channel) {
+    this.key = key;
+    this.lockFile = lockFile;
+    this.holder = holder;
+    this.channel = channel;
+  }
+
+  /** The lock file of the recording whose first file is {@code first}: {@code <first>.lock}. */
+  static Path lockPath(Path first) {
+    return first.resolveSibling(first.getFileName() + ".lock");
+  }
+
+  /**
+   * Takes the recording at {@code first} for the calling writer.
+   *
+   * @throws IOException naming the path and the holder if another writer holds it, or if the lock
+   *     file cannot be made
+   */
+  static RecordingLock acquire(Path first) throws IOException {
+    Path lockFile = lockPath(first);
+    Path key = key(lockFile);
+    ProcessIdentity self = ProcessIdentity.current();
+    String holder = "pid " + self.pid() + " on " + self.host() + ", thread \"" + Thread.currentThread().getName()
+        + "\", since " + Instant.now();
+    String other = HELD_IN_THIS_JVM.putIfAbsent(key, holder);
+    if (other != null) {
+      throw held(first, lockFile, "another writer in this JVM (" + other + ")");
+    }
+    try {
+      for (int attempt = 1; ; attempt++) {
+        Object before = fileKey(lockFile);
+        FileChannel channel = FileChannel.open(lockFile, StandardOpenOption.CREATE, StandardOpenOption.READ,
+            StandardOpenOption.WRITE);
+        try {
+          FileLock lock;
+          try {
+            lock = channel.tryLock();
+          } catch (OverlappingFileLockException e) {
+            lock = null; // another channel of this JVM holds it (not through this class)
+          }
+          if (lock == null) {
+            String text = contents(channel);
+            throw held(first, lockFile, text.isBlank() ? "another process" : "another writer (" + text + ")");
+          }
+          Object after = fileKey(lockFile);
+          if (after != null && after.equals(before)) {
+            channel.truncate(0);
+            channel.write(ByteBuffer.wrap((holder + "\n").getBytes(StandardCharsets.UTF_8)), 0);
+            return new RecordingLock(key, lockFile, holder, channel);
+          }
+          if (after == null && before == null && attempt > 1) {
+            // no file key on this file system: the lock is taken as it is
+            channel.truncate(0);
+            channel.write(ByteBuffer.wrap((holder + "\n").getBytes(StandardCharsets.UTF_8)), 0);
+            return new RecordingLock(key, lockFile, holder, channel);
+          }
+        } catch (IOException | RuntimeException e) {
+          channel.close();
+          throw e;
+        }
+        // the lock file was created, or deleted by the writer that held it, meanwhile: again
+        channel.close();
+        if (attempt >= ATTEMPTS) {
+          throw new IOException("cannot take the lock file " + lockFile + " of the MCAP recording " + first
+              + ": it was replaced " + ATTEMPTS + " times while being taken (writers opening and closing there"
+              + " in a loop); open the writer again once they are done");
+        }
+      }
+    } catch (IOException | RuntimeException e) {
+      HELD_IN_THIS_JVM.remove(key, holder);
+      throw e;
+    }
+  }
+
+  /** Gives the recording up: deletes the lock file while holding it, then releases it. */
+  void release() throws IOException {
+    try {
+      Files.deleteIfExists(lockFile);
+    } finally {
+      try {
+        channel.close();
+      } finally {
+        HELD_IN_THIS_JVM.remove(key, holder);
+      }
+    }
+  }
+
+  private static IOException held(Path first, Path lockFile, String holder) {
+    return new IOException("cannot open an MCAP writer at " + first + ": " + holder + " is writing that recording"
+        + " (it holds " + lockFile + "); two writers at one path would truncate and interleave each other's"
+        + " files: close the other writer (or end its process) first, or write to another path");
+  }
+
+  /** The lock file's path, the same for every spelling of it (relative, through a symbolic link). */
+  private static Path key(Path lockFile) throws IOException {
+    Path absolute = lockFile.toAbsolutePath().normalize();
+    Path parent = absolute.getParent();
+    if (parent != null && Files.isDirectory(parent)) {
+      return parent.toRealPath().resolve(Objects.requireNonNull(absolute.getFileName()));
+    }
+    return absolute;
+  }
+
+  /** The identity (device and inode) of the file at {@code path}, or null if there is none. */
+  private static Object fileKey(Path path) throws IOException {
+    try {
+      return Files.readAttributes(path, BasicFileAttributes.class).fileKey();
+    } catch (NoSuchFileException e) {
+      return null;
+    }
+  }
+
+  /** What the holder wrote in the lock file (its first line, bounded), read through {@code channel}. */
+  private static String contents(FileChannel channel) throws IOException {
+    ByteBuffer buffer = ByteBuffer.allocate(512);
+    while (buffer.hasRemaining() && channel.read(buffer, buffer.position()) > 0) {
+      // read on, up to the buffer's size
+    }
+    String text = new String(buffer.array(), 0, buffer.position(), StandardCharsets.UTF_8);
+    int newline = text.indexOf('\n');
+    return (newline >= 0 ? text.substring(0, newline) : text).strip();
+  }
+}

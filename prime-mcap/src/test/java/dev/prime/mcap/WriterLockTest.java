@@ -1,0 +1,116 @@
+package dev.prime.mcap;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.RecordingOptions;
+import dev.prime.liberty.LibertyCore;
+import java.io.BufferedReader;
+import java.io.File;
+import java.io.IOException;
+import java.io.InputStreamReader;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.List;
+import java.util.concurrent.TimeUnit;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+
+/**
+ * One writer per recording: a second {@link McapWriter} (or recorder) opened at the path of one
+ * that is still writing, in the same JVM or in another process, is refused naming the path and
+ * the writer that holds it, and leaves the first one's files as they were.
+ */
+class WriterLockTest {
+  @TempDir Path dir;
+
+  record Reading(int value) {}
+
+  @Test
+  void aSecondWriterInTheSameJvmIsRefusedNamingThePathAndTheHolder() throws IOException {
+    Path file = dir.resolve("run.mcap");
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous().chunkSize(1).rotateAtSize(1);
+    try (McapWriter first = McapWriter.open(file, options)) {
+      McapChannel<Reading> readings = first.channel("readings", Reading.class);
+      for (int i = 0; i < 3; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)));
+      }
+      long sizeBefore = Files.size(file);
+
+      IOException refused = assertThrows(IOException.class, () -> McapWriter.open(file, options).close());
+
+      String message = refused.getMessage();
+      assertTrue(message.contains(file.toString()), message);
+      assertTrue(message.contains("pid " + ProcessHandle.current().pid()), "names the holder: " + message);
+      assertTrue(message.contains(Thread.currentThread().getName()), "names the holder's thread: " + message);
+      assertEquals(sizeBefore, Files.size(file), "the first writer's file is not truncated");
+      assertTrue(Files.exists(McapWriter.rotatedPath(file, 1)), "nor its rotated files deleted");
+      assertTrue(readings.write(3, 3, 3, new Reading(3)), "the first writer goes on");
+    }
+    List<Path> files = McapReader.recordingFiles(file);
+    long messages = 0;
+    for (Path part : files) {
+      try (McapReader reader = McapReader.open(part)) {
+        messages += reader.messageCount("readings");
+      }
+    }
+    assertEquals(4, messages, "every message of the first writer, none lost to the refused one");
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "no lock file is left once the writer is closed");
+    try (McapWriter again = McapWriter.open(file, options)) {
+      assertEquals(List.of(file), again.files(), "a writer opens once the first one is closed");
+    }
+  }
+
+  @Test
+  void aRecorderIsRefusedWhileAWriterHoldsThePath() throws Exception {
+    Path file = dir.resolve("recorder.mcap");
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(4)).build());
+        McapWriter writer = McapWriter.open(file)) {
+      core.source("ticks", new EventBlock<Integer>());
+      core.start();
+      IOException refused = assertThrows(IOException.class,
+          () -> RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults()).close());
+      assertTrue(refused.getMessage().contains(file.toString()), refused.getMessage());
+      assertEquals(List.of(file), writer.files());
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)));
+  }
+
+  @Test
+  void aWriterInAnotherProcessIsRefusedNamingItsPidUntilThatProcessDies() throws Exception {
+    Path file = dir.resolve("shared.mcap");
+    String java = new File(System.getProperty("java.home"), "bin/java").getPath();
+    Process holder = new ProcessBuilder(java, "-cp", System.getProperty("java.class.path"),
+        CrashingRecorder.class.getName(), file.toString(), "10", "1")
+        .redirectError(ProcessBuilder.Redirect.INHERIT)
+        .start();
+    try (BufferedReader out = new BufferedReader(new InputStreamReader(holder.getInputStream(), StandardCharsets.UTF_8))) {
+      assertEquals("WROTE 10", out.readLine(), "the other process writes");
+      long sizeBefore = Files.size(file);
+
+      IOException refused = assertThrows(IOException.class, () -> McapWriter.open(file).close());
+
+      String message = refused.getMessage();
+      assertTrue(message.contains(file.toString()), message);
+      assertTrue(message.contains("pid " + holder.pid()), "names the other process: " + message);
+      assertEquals(sizeBefore, Files.size(file), "its file is not truncated");
+    } finally {
+      holder.destroyForcibly();
+      assertTrue(holder.waitFor(30, TimeUnit.SECONDS), "the holder died");
+    }
+    try (McapReader reader = McapReader.openUnfinished(file)) {
+      assertEquals(10, reader.messageCount("ticks"), "the other process's messages are all there");
+    }
+    // the lock dies with its process: the lock file it left does not stop a new writer
+    try (McapWriter writer = McapWriter.open(file)) {
+      assertEquals(List.of(file), writer.files());
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)));
+  }
+}
