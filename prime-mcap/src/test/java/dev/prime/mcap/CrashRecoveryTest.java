@@ -84,6 +84,67 @@ class CrashRecoveryTest {
     }
   }
 
+  /**
+   * A recorder killed with SIGKILL while it writes (not after): every message whose write had
+   * returned (its chunk written, as the recorder acknowledged on its standard output before the
+   * kill) is recovered, in order, without a gap, each message whole; the chunk being written when
+   * the kill came is left out, not returned in part.
+   */
+  @Test
+  void aKillWhileWritingLosesNoAcknowledgedMessageAndReturnsNoPartOfOne() throws Exception {
+    // small messages (the kill lands between writes) to large ones (it lands in one, likely)
+    killWhileWriting(1024, 300);
+    killWhileWriting(64 * 1024, 100);
+    killWhileWriting(1024 * 1024, 20);
+  }
+
+  private void killWhileWriting(int noteLength, int killAfter) throws Exception {
+    Path file = dir.resolve("killed-while-writing-" + noteLength + ".mcap");
+    String java = new File(System.getProperty("java.home"), "bin/java").getPath();
+    Process recorder = new ProcessBuilder(java, "-cp", System.getProperty("java.class.path"),
+        AckingRecorder.class.getName(), file.toString(), String.valueOf(noteLength))
+        .redirectError(ProcessBuilder.Redirect.INHERIT)
+        .start();
+    long acknowledged = -1;
+    try (BufferedReader out = new BufferedReader(new InputStreamReader(recorder.getInputStream(), StandardCharsets.UTF_8))) {
+      String line;
+      while (acknowledged < killAfter && (line = out.readLine()) != null) {
+        acknowledged = Long.parseLong(line.substring("ACK ".length()));
+      }
+      assertEquals(killAfter, acknowledged, "the recorder acknowledges its writes one by one");
+      // SIGKILL while it goes on writing (through its handle: Process.destroyForcibly would also
+      // close the pipe, and with it the acknowledgements still in it)
+      assertTrue(recorder.toHandle().destroyForcibly(), "SIGKILL sent");
+      assertTrue(recorder.waitFor(30, TimeUnit.SECONDS), "the recorder died");
+      // what it acknowledged before it died, still in the pipe
+      for (int i = 0; i < 1_000_000 && (line = out.readLine()) != null; i++) {
+        acknowledged = Long.parseLong(line.substring("ACK ".length()));
+      }
+    } finally {
+      recorder.destroyForcibly();
+    }
+    assertEquals(137, recorder.exitValue(), "killed by SIGKILL");
+
+    try (McapReader reader = McapReader.openUnfinished(file)) {
+      long recovered = reader.messageCount("ticks");
+      assertTrue(recovered >= acknowledged + 1,
+          recovered + " messages recovered, but " + (acknowledged + 1) + " were acknowledged as written");
+      List<TypedMessage<CrashingRecorder.Tick>> messages =
+          reader.messages("ticks", CrashingRecorder.Tick.class).collect(Collectors.toList());
+      assertEquals(recovered, messages.size());
+      for (int i = 0; i < messages.size(); i++) {
+        TypedMessage<CrashingRecorder.Tick> m = messages.get(i);
+        assertEquals(i, m.sequence(), "a prefix of the writes, without a gap");
+        assertEquals(new CrashingRecorder.Tick(i, AckingRecorder.note(i, noteLength)), m.value(), "message " + i + " whole");
+      }
+      assertTrue(reader.unfinishedAt() > 0 && reader.unfinishedAt() <= Files.size(file),
+          "where the complete records end: " + reader.unfinishedAt() + " of " + Files.size(file) + " bytes");
+      System.out.printf("killed while writing %d-byte notes: %d acknowledged, %d recovered,"
+          + " complete records end at %d of %d bytes%n",
+          noteLength, acknowledged + 1, recovered, reader.unfinishedAt(), Files.size(file));
+    }
+  }
+
   @Test
   void aFinishedFileReadsTheSameEitherWay() throws IOException {
     Path file = dir.resolve("finished.mcap");
