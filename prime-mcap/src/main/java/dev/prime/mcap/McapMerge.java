@@ -169,7 +169,9 @@ public final class McapMerge {
    *     written to {@code OUTPUT.partial} beside it first): a merge that fails leaves it as it
    *     was; not one of the inputs
    * @return what was written
-   * @throws IOException if an input cannot be read or the output cannot be written
+   * @throws IOException if an input cannot be read or the output cannot be written, or a writer
+   *     (or another merge), in this JVM or another process, is writing the output path: the
+   *     message names the path and that writer (see {@link McapWriter}, "One writer per path")
    * @throws McapFormatException if an input is not a well-formed, finished MCAP file
    * @throws IllegalArgumentException for no inputs, an input given twice, the output among the
    *     inputs, or a topic whose schema (or message encoding) differs between inputs
@@ -185,7 +187,9 @@ public final class McapMerge {
    * @param output the merged file; not one of the inputs
    * @param options the chunk size, and whether unfinished inputs are read
    * @return what was written
-   * @throws IOException if an input cannot be read or the output cannot be written
+   * @throws IOException if an input cannot be read or the output cannot be written, or a writer
+   *     (or another merge), in this JVM or another process, is writing the output path: the
+   *     message names the path and that writer (see {@link McapWriter}, "One writer per path")
    * @throws McapFormatException if an input is not well-formed (or, without {@link
    *     Options#readUnfinished()}, not finished)
    * @throws IllegalArgumentException as {@link #merge(List, Path)}
@@ -195,6 +199,25 @@ public final class McapMerge {
     Objects.requireNonNull(output, "output");
     Objects.requireNonNull(options, "options");
     checkPaths(inputs, output);
+    // one writer per path: a merge moved into the path of a writer still writing would replace
+    // its file, and two merges into one output would write one partial file together
+    RecordingLock lock = RecordingLock.acquire(output, "merge into");
+    Result result;
+    try {
+      result = mergeHeld(inputs, output, options);
+    } catch (IOException | RuntimeException | Error e) {
+      try {
+        lock.release();
+      } catch (IOException releasing) {
+        e.addSuppressed(releasing);
+      }
+      throw e;
+    }
+    lock.release();
+    return result;
+  }
+
+  private static Result mergeHeld(List<Path> inputs, Path output, Options options) throws IOException {
     try (OpenInputs open = OpenInputs.open(inputs, options.readUnfinished)) {
       Channels channels = Channels.unify(open.readers);
       Path partial = partialPath(output);

@@ -155,7 +155,7 @@ public final class McapWriter implements Closeable {
     this.options = options;
     this.opener = opener;
     // before anything is truncated or deleted: those are the files of a writer that holds the path
-    this.lock = RecordingLock.acquire(path);
+    this.lock = RecordingLock.acquire(path, "open an MCAP writer at");
     try {
       openFile(path);
     } catch (IOException | RuntimeException e) {

@@ -17,9 +17,9 @@ import java.util.Objects;
 import java.util.concurrent.ConcurrentHashMap;
 
 /**
- * Holds the path of a recording for one {@link McapWriter}, so that a second writer there (which
- * would truncate the first one's file, delete its rotated files and interleave its records with
- * the first one's) is refused instead.
+ * Holds the path of a recording for one {@link McapWriter} (or a {@link McapMerge} into it), so
+ * that a second writer there (which would truncate the first one's file, delete its rotated files
+ * and interleave its records with the first one's, or a merge replace it) is refused instead.
  *
  * <p>Across processes: an advisory lock ({@link FileChannel#tryLock()}) on {@code <first>.lock}
  * beside the recording, holding a line that names the holder (pid, host, thread, since when).
@@ -54,12 +54,14 @@ final class RecordingLock {
   }
 
   /**
-   * Takes the recording at {@code first} for the calling writer.
+   * Takes the recording at {@code first} for the calling writer (or merge).
    *
+   * @param first the recording's (first) file
+   * @param action what the caller is about to do, for the refusal: "open an MCAP writer at"
    * @throws IOException naming the path and the holder if another writer holds it, or if the lock
    *     file cannot be made
    */
-  static RecordingLock acquire(Path first) throws IOException {
+  static RecordingLock acquire(Path first, String action) throws IOException {
     Path lockFile = lockPath(first);
     Path key = key(lockFile);
     ProcessIdentity self = ProcessIdentity.current();
@@ -67,7 +69,7 @@ final class RecordingLock {
         + "\", since " + Instant.now();
     String other = HELD_IN_THIS_JVM.putIfAbsent(key, holder);
     if (other != null) {
-      throw held(first, lockFile, "another writer in this JVM (" + other + ")");
+      throw held(action, first, lockFile, "another writer in this JVM (" + other + ")");
     }
     try {
       for (int attempt = 1; ; attempt++) {
@@ -83,7 +85,7 @@ final class RecordingLock {
           }
           if (lock == null) {
             String text = contents(channel);
-            throw held(first, lockFile, text.isBlank() ? "another process" : "another writer (" + text + ")");
+            throw held(action, first, lockFile, text.isBlank() ? "another process" : "another writer (" + text + ")");
           }
           Object after = fileKey(lockFile);
           if (after != null && after.equals(before)) {
@@ -128,8 +130,8 @@ final class RecordingLock {
     }
   }
 
-  private static IOException held(Path first, Path lockFile, String holder) {
-    return new IOException("cannot open an MCAP writer at " + first + ": " + holder + " is writing that recording"
+  private static IOException held(String action, Path first, Path lockFile, String holder) {
+    return new IOException("cannot " + action + " " + first + ": " + holder + " is writing that recording"
         + " (it holds " + lockFile + "); two writers at one path would truncate and interleave each other's"
         + " files: close the other writer (or end its process) first, or write to another path");
   }

@@ -82,6 +82,35 @@ class WriterLockTest {
     assertFalse(Files.exists(RecordingLock.lockPath(file)));
   }
 
+  /**
+   * A merge writes its output at the end by moving it into place: into the path of a writer still
+   * writing, that would replace the writer's file (which goes on writing into the file removed).
+   * It is refused as a second writer is, and the writer's file stays.
+   */
+  @Test
+  void aMergeIntoThePathOfAWriterStillWritingIsRefused() throws IOException {
+    Path input = dir.resolve("input.mcap");
+    try (McapWriter writer = McapWriter.open(input, McapWriterOptions.defaults().synchronous())) {
+      writer.channel("readings", Reading.class).write(1, 1, 0, new Reading(7));
+    }
+    Path file = dir.resolve("live.mcap");
+    try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous().chunkSize(1))) {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      assertTrue(readings.write(1, 1, 0, new Reading(1)));
+
+      IOException refused = assertThrows(IOException.class, () -> McapMerge.merge(List.of(input), file));
+
+      assertTrue(refused.getMessage().contains(file.toString())
+          && refused.getMessage().contains("pid " + ProcessHandle.current().pid()), refused.getMessage());
+      assertTrue(readings.write(2, 2, 1, new Reading(2)));
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(List.of(1, 2), reader.messages("readings", Reading.class).map(m -> m.value().value()).toList(),
+          "the writer's file, not the merge's");
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)));
+  }
+
   @Test
   void aWriterInAnotherProcessIsRefusedNamingItsPidUntilThatProcessDies() throws Exception {
     Path file = dir.resolve("shared.mcap");
