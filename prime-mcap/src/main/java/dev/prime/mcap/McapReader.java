@@ -102,10 +102,13 @@ public final class McapReader implements Closeable {
    * every message, and {@link #unfinishedAt()} is where the DataEnd ends). A damaged record is a
    * Chunk whose CRC or structure does not check, or a Schema, Channel or Message outside chunks
    * that does not parse: what a power cut leaves where the file was extended but the bytes never
-   * reached the disk (they read back as zeroes). {@link #unfinishedAt()} is where such a record
-   * starts; nothing of it or after it is read. prime-mcap's writer writes each chunk whole as it
-   * closes it, so this recovers every message but those of the chunk that was open (or
-   * damaged) and those still queued. Statistics are counted in that pass.
+   * reached the disk (they read back as zeroes). Of a Chunk cut short, or damaged by such zeroes
+   * at its end, the records at its start that end before the cut or the zeroes are read too (the
+   * bytes before them are as written), so every whole message before the damage is given back and
+   * none in part. {@link #unfinishedAt()} is where the last whole record ends (the damaged
+   * record's start if none of it is whole); nothing after it is read. prime-mcap's writer writes
+   * each chunk whole as it closes it, so this recovers every message but those of the chunk that
+   * was open and those still queued. Statistics are counted in that pass.
    *
    * @param path the file
    * @return the reader
@@ -444,6 +447,7 @@ public final class McapReader implements Closeable {
     long limit = unfinished ? size : size - 8 - FOOTER_LENGTH;
     long offset = from;
     boolean cut = false;
+    Salvage salvaged = null;
     long dataEnd = -1;
     while (offset < limit) {
       if (unfinished && offset + RECORD_PREFIX > size) {
@@ -461,6 +465,9 @@ public final class McapReader implements Closeable {
       if (unfinished && (opcode == 0 || !fits)) {
         // the record the writer was writing when it stopped (or zeroes after it)
         cut = true;
+        if (opcode == Opcode.CHUNK) {
+          salvaged = salvageChunk(offset, length, false);
+        }
         break;
       }
       if (!fits) {
@@ -512,6 +519,7 @@ public final class McapReader implements Closeable {
           schemas.putAll(schemasBefore);
           channels.clear();
           channels.putAll(channelsBefore);
+          salvaged = salvageChunk(offset, length, true);
         }
         cut = true;
         break;
@@ -520,6 +528,16 @@ public final class McapReader implements Closeable {
     }
     if (offset >= limit && !unfinished) {
       throw problem(offset, "the data section has no DataEnd record before the Footer");
+    }
+    if (salvaged != null) {
+      chunks.addAll(salvaged.refs());
+      for (McapMessage m : salvaged.messages()) {
+        messageCount++;
+        counts.merge(m.channel().id(), 1L, Long::sum);
+        first = Math.min(first, m.logTime());
+        last = Math.max(last, m.logTime());
+      }
+      offset = salvaged.end();
     }
     if (unfinished && dataEnd >= 0 && !endsWithFooter()) {
       // the writer stopped while writing the summary: every record of the data section is there
@@ -530,6 +548,84 @@ public final class McapReader implements Closeable {
     statistics = new McapStatistics(messageCount, schemas.size(), channels.size(), 0, metadataRecords.size(),
         chunkCount, messageCount == 0 ? 0 : first, messageCount == 0 ? 0 : last,
         Collections.unmodifiableMap(counts));
+  }
+
+  /**
+   * What a Chunk cut short or damaged still holds whole: its Message records, each read as a lone
+   * message ({@code refs}, {@code messages}), and where its last whole record ends ({@code end}).
+   */
+  private record Salvage(List<ChunkRef> refs, List<McapMessage> messages, long end) {}
+
+  /**
+   * The whole records at the start of a Chunk that the writer was writing when it stopped: cut
+   * short by the end of the file, or ending in zeroes (bytes that never reached the disk, which a
+   * power cut leaves where the file was extended), which is why its CRC does not check. The bytes
+   * before the cut or the zeroes are as written, so the records that end before it are read (the
+   * Schema and Channel records defined, the Messages kept); a record that reaches into it is not.
+   * A damaged Chunk that does not end in zeroes (corrupt, not unwritten) gives nothing, nor does a
+   * compressed one or one whose header is cut.
+   */
+  private Salvage salvageChunk(long offset, long length, boolean damaged) throws IOException {
+    Salvage nothing = new Salvage(List.of(), List.of(), offset);
+    long end = fits(offset, length, size) ? offset + RECORD_PREFIX + length : size;
+    if (end - offset > Integer.MAX_VALUE - 8) {
+      return nothing;
+    }
+    byte[] bytes = read(offset, end - offset, "a Chunk record");
+    int trusted = bytes.length;
+    while (trusted > 0 && bytes[trusted - 1] == 0) {
+      trusted--;
+    }
+    if (damaged && trusted == bytes.length) {
+      return nothing;
+    }
+    RecordCursor chunk = new RecordCursor(bytes, 0, trusted, offset, "Chunk record", this::problem);
+    Map<Integer, SchemaInfo> schemasBefore = new TreeMap<>(schemas);
+    Map<Integer, ChannelInfo> channelsBefore = new TreeMap<>(channels);
+    List<ChunkRef> refs = new ArrayList<>();
+    List<McapMessage> messages = new ArrayList<>();
+    long wholeUpTo = offset;
+    try {
+      chunk.u8("opcode");
+      chunk.u64("length");
+      chunk.u64("message_start_time");
+      chunk.u64("message_end_time");
+      chunk.u64("uncompressed_size");
+      chunk.u32("uncompressed_crc");
+      if (!chunk.string("compression").isEmpty()) {
+        return nothing;
+      }
+      chunk.u64("records length");
+      while (chunk.remaining() >= RECORD_PREFIX) {
+        long recordOffset = chunk.fileOffset();
+        int inner = chunk.u8("opcode");
+        long innerLength = chunk.u64(Opcode.name(inner) + " length");
+        if (inner == 0 || innerLength < 0 || innerLength > chunk.remaining()) {
+          break; // reaches into the cut or the zeroes
+        }
+        byte[] content = chunk.bytes(innerLength, Opcode.name(inner) + " content");
+        RecordCursor record = cursor(content, recordOffset + RECORD_PREFIX, Opcode.name(inner) + " record");
+        if (inner == Opcode.SCHEMA) {
+          readSchema(record);
+        } else if (inner == Opcode.CHANNEL) {
+          readChannel(record);
+        } else if (inner == Opcode.MESSAGE) {
+          McapMessage m = readMessage(record, content.length, id -> true);
+          refs.add(new ChunkRef(m.logTime(), recordOffset, RECORD_PREFIX + innerLength, Set.of(m.channel().id()), true));
+          messages.add(m);
+        }
+        wholeUpTo = chunk.fileOffset();
+      }
+    } catch (McapFormatException e) {
+      // a record that does not parse ends what is taken, as the cut does
+    }
+    if (wholeUpTo == offset) {
+      schemas.clear();
+      schemas.putAll(schemasBefore);
+      channels.clear();
+      channels.putAll(channelsBefore);
+    }
+    return new Salvage(refs, messages, wholeUpTo);
   }
 
   /** Whether the file ends with a Footer record and the closing magic, as a finished file does. */

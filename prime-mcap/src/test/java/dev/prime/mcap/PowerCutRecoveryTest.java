@@ -2,6 +2,7 @@ package dev.prime.mcap;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.mcap.internal.Opcode;
 import java.io.IOException;
@@ -104,6 +105,82 @@ class PowerCutRecoveryTest {
         assertEquals(chunk, reader.unfinishedAt(), "the recovery stops where the damaged chunk starts");
       }
     }
+  }
+
+  /**
+   * A chunk of many messages whose tail never reached the disk (zeroes), or was cut off (a kill
+   * while it was being written): the messages at its start that are whole are given back too,
+   * none in part, and the recovery says it stopped where the last of them ends.
+   */
+  @Test
+  void theWholeMessagesAtTheStartOfADamagedChunkAreGivenBack() throws IOException {
+    Path finished = dir.resolve("big-chunks.mcap");
+    int count = 200;
+    try (McapWriter writer = McapWriter.open(finished, McapWriterOptions.defaults().chunkSize(2048).synchronous())) {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      for (int i = 0; i < count; i++) {
+        readings.write(i, i, i, new Reading(i));
+      }
+    }
+    byte[] bytes = Files.readAllBytes(finished);
+    List<long[]> records = dataRecords(bytes);
+    int chunk = (int) lastChunkAt(records);
+    int end = completeEnd(bytes, records);
+    ByteBuffer b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN);
+    int chunkEnd = chunk + 1 + 8 + (int) b.getLong(chunk + 1);
+    int before = 0; // the messages of the chunks before the last
+    for (long[] record : records) {
+      if (record[1] == Opcode.CHUNK && record[0] != chunk) {
+        before += innerMessages(bytes, (int) record[0], Integer.MAX_VALUE).size();
+      }
+    }
+    List<Integer> inLast = innerMessages(bytes, chunk, Integer.MAX_VALUE);
+    assertTrue(inLast.size() >= 10, "the last chunk has many messages: " + inLast.size());
+    for (int damage : new int[] {chunk + CHUNK_HEADER + 1, (chunk + chunkEnd) / 2, chunkEnd - 1}) {
+      List<Integer> whole = innerMessages(bytes, chunk, damage);
+      int expected = before + whole.size();
+      long stops = whole.isEmpty() ? chunk : whole.get(whole.size() - 1);
+      byte[] zeroed = Arrays.copyOf(bytes, end);
+      Arrays.fill(zeroed, damage, end, (byte) 0);
+      byte[] cut = Arrays.copyOf(bytes, damage);
+      for (byte[] damaged : List.of(zeroed, cut)) {
+        String what = (damaged == cut ? "cut" : "zeroes") + " from byte " + (damage - chunk) + " of the last chunk";
+        Path file = Files.write(dir.resolve("damaged.mcap"), damaged);
+        try (McapReader reader = McapReader.openUnfinished(file)) {
+          assertEquals(expected, reader.messageCount("readings"), what);
+          List<TypedMessage<Reading>> read = reader.messages("readings", Reading.class).collect(Collectors.toList());
+          assertEquals(expected, read.size(), what);
+          for (int i = 0; i < read.size(); i++) {
+            assertEquals(i, read.get(i).sequence(), what + ": without a gap");
+            assertEquals(new Reading(i), read.get(i).value(), what + ": message " + i + " whole");
+          }
+          assertEquals(stops, reader.unfinishedAt(), what + ": stops where the last whole message ends");
+        }
+      }
+    }
+  }
+
+  /**
+   * The file offsets where the Message records of the chunk at {@code chunk} end, for those that
+   * end by {@code limit}.
+   */
+  private static List<Integer> innerMessages(byte[] bytes, int chunk, int limit) {
+    ByteBuffer b = ByteBuffer.wrap(bytes).order(ByteOrder.LITTLE_ENDIAN);
+    int chunkEnd = chunk + 1 + 8 + (int) b.getLong(chunk + 1);
+    int at = chunk + CHUNK_HEADER;
+    List<Integer> ends = new ArrayList<>();
+    for (int i = 0; i < 100_000 && at < chunkEnd; i++) {
+      int opcode = bytes[at] & 0xFF;
+      int next = at + 1 + 8 + (int) b.getLong(at + 1);
+      if (next > limit) {
+        break;
+      }
+      if (opcode == Opcode.MESSAGE) {
+        ends.add(next);
+      }
+      at = next;
+    }
+    return ends;
   }
 
   /** Zeroes after the last complete record (the file was extended, nothing written there). */
