@@ -84,7 +84,7 @@ import java.util.stream.Stream;
  * holder (pid, host, thread), before anything is truncated or deleted. Across processes this is
  * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
  * releases it when its process dies, so the lock file a killed process leaves does not stop the
- * next writer.
+ * next writer. A device or a pipe ({@code /dev/null}) is not held.
  */
 public final class McapWriter implements Closeable {
   /** The message encoding of every channel this writer makes. */

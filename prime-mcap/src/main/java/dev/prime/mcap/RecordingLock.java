@@ -28,7 +28,8 @@ import java.util.concurrent.ConcurrentHashMap;
  * file is opened, because file locks belong to the whole JVM and closing any channel of the JVM
  * on the lock file would release the lock (POSIX semantics).
  *
- * <p>Released by the writer once its last file is finished: the lock file is deleted (while still
+ * <p>A path that is a device or a pipe ({@code /dev/null}) is not held. Released by the writer
+ * once its last file is finished: the lock file is deleted (while still
  * locked), then closed. A writer that took the lock file just before it was deleted sees that the
  * path no longer names the file it locked, and takes the new one.
  */
@@ -62,6 +63,11 @@ final class RecordingLock {
    *     file cannot be made
    */
   static RecordingLock acquire(Path first, String action) throws IOException {
+    if (Files.exists(first) && !Files.isRegularFile(first) && !Files.isDirectory(first)) {
+      // a device or a pipe (/dev/null for a benchmark): no recording a second writer could
+      // truncate, and no folder of its own to put a lock file in
+      return new RecordingLock(null, null, null, null);
+    }
     Path lockFile = lockPath(first);
     Path key = key(lockFile);
     ProcessIdentity self = ProcessIdentity.current();
@@ -119,6 +125,9 @@ final class RecordingLock {
 
   /** Gives the recording up: deletes the lock file while holding it, then releases it. */
   void release() throws IOException {
+    if (channel == null) {
+      return;
+    }
     try {
       Files.deleteIfExists(lockFile);
     } finally {

@@ -4,6 +4,7 @@ import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
+import static org.junit.jupiter.api.Assumptions.assumeTrue;
 
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
@@ -109,6 +110,22 @@ class WriterLockTest {
           "the writer's file, not the merge's");
     }
     assertFalse(Files.exists(RecordingLock.lockPath(file)));
+  }
+
+  /**
+   * A device is no recording that a second writer could truncate: writers to /dev/null (as
+   * prime-bench's McapWriterBenchmark opens two) are not held, and make no lock file in /dev.
+   */
+  @Test
+  void writersToADeviceAreNotHeld() throws IOException {
+    Path devNull = Path.of("/dev/null");
+    assumeTrue(Files.exists(devNull) && !Files.isRegularFile(devNull), "needs /dev/null");
+    try (McapWriter first = McapWriter.open(devNull, McapWriterOptions.defaults().synchronous());
+        McapWriter second = McapWriter.open(devNull)) {
+      assertTrue(first.channel("readings", Reading.class).write(1, 1, 0, new Reading(1)));
+      assertTrue(second.channel("readings", Reading.class).write(1, 1, 0, new Reading(1)));
+      assertFalse(Files.exists(RecordingLock.lockPath(devNull)), "no lock file beside a device");
+    }
   }
 
   @Test
