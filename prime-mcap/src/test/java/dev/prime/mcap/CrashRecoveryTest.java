@@ -100,9 +100,36 @@ class CrashRecoveryTest {
 
   private void killWhileWriting(int noteLength, int killAfter) throws Exception {
     Path file = dir.resolve("killed-while-writing-" + noteLength + ".mcap");
+    long acknowledged = runAndKill(file, noteLength, killAfter, 0);
+    try (McapReader reader = McapReader.openUnfinished(file)) {
+      long recovered = reader.messageCount("ticks");
+      assertTrue(recovered >= acknowledged + 1,
+          recovered + " messages recovered, but " + (acknowledged + 1) + " were acknowledged as written");
+      List<TypedMessage<CrashingRecorder.Tick>> messages =
+          reader.messages("ticks", CrashingRecorder.Tick.class).collect(Collectors.toList());
+      assertEquals(recovered, messages.size());
+      for (int i = 0; i < messages.size(); i++) {
+        TypedMessage<CrashingRecorder.Tick> m = messages.get(i);
+        assertEquals(i, m.sequence(), "a prefix of the writes, without a gap");
+        assertEquals(new CrashingRecorder.Tick(i, AckingRecorder.note(i, noteLength)), m.value(), "message " + i + " whole");
+      }
+      assertTrue(reader.unfinishedAt() > 0 && reader.unfinishedAt() <= Files.size(file),
+          "where the complete records end: " + reader.unfinishedAt() + " of " + Files.size(file) + " bytes");
+      System.out.printf("killed while writing %d-byte notes: %d acknowledged, %d recovered,"
+          + " complete records end at %d of %d bytes%n",
+          noteLength, acknowledged + 1, recovered, reader.unfinishedAt(), Files.size(file));
+    }
+  }
+
+  /**
+   * Runs an {@link AckingRecorder} on {@code file} (rotated at {@code rotateAtSize}, 0 for none),
+   * kills it with SIGKILL once it has acknowledged write {@code killAfter}, and returns the last
+   * write it acknowledged before it died.
+   */
+  private static long runAndKill(Path file, int noteLength, int killAfter, long rotateAtSize) throws Exception {
     String java = new File(System.getProperty("java.home"), "bin/java").getPath();
     Process recorder = new ProcessBuilder(java, "-cp", System.getProperty("java.class.path"),
-        AckingRecorder.class.getName(), file.toString(), String.valueOf(noteLength))
+        AckingRecorder.class.getName(), file.toString(), String.valueOf(noteLength), String.valueOf(rotateAtSize))
         .redirectError(ProcessBuilder.Redirect.INHERIT)
         .start();
     long acknowledged = -1;
@@ -124,25 +151,35 @@ class CrashRecoveryTest {
       recorder.destroyForcibly();
     }
     assertEquals(137, recorder.exitValue(), "killed by SIGKILL");
+    return acknowledged;
+  }
 
-    try (McapReader reader = McapReader.openUnfinished(file)) {
-      long recovered = reader.messageCount("ticks");
-      assertTrue(recovered >= acknowledged + 1,
-          recovered + " messages recovered, but " + (acknowledged + 1) + " were acknowledged as written");
-      List<TypedMessage<CrashingRecorder.Tick>> messages =
-          reader.messages("ticks", CrashingRecorder.Tick.class).collect(Collectors.toList());
-      assertEquals(recovered, messages.size());
-      for (int i = 0; i < messages.size(); i++) {
-        TypedMessage<CrashingRecorder.Tick> m = messages.get(i);
-        assertEquals(i, m.sequence(), "a prefix of the writes, without a gap");
-        assertEquals(new CrashingRecorder.Tick(i, AckingRecorder.note(i, noteLength)), m.value(), "message " + i + " whole");
+  /**
+   * A rotating recorder killed while it writes: its finished files and its last, unfinished one
+   * hold every message it acknowledged, in order, without a gap; a merge of them (reading the
+   * unfinished one) has them all.
+   */
+  @Test
+  void aRotatedRecordingKilledWhileWritingLosesNoAcknowledgedMessage() throws Exception {
+    Path file = dir.resolve("rotated.mcap");
+    long acknowledged = runAndKill(file, 1024, 300, 64 * 1024);
+    List<Path> files = McapReader.recordingFiles(file);
+    assertTrue(files.size() >= 4, "rotated into " + files);
+    long next = 0;
+    for (Path part : files) {
+      try (McapReader reader = McapReader.openUnfinished(part)) {
+        for (TypedMessage<CrashingRecorder.Tick> m
+            : (Iterable<TypedMessage<CrashingRecorder.Tick>>) reader.messages("ticks", CrashingRecorder.Tick.class)::iterator) {
+          assertEquals(next, m.sequence(), part + ": without a gap across files");
+          assertEquals(new CrashingRecorder.Tick((int) next, AckingRecorder.note((int) next, 1024)), m.value());
+          next++;
+        }
       }
-      assertTrue(reader.unfinishedAt() > 0 && reader.unfinishedAt() <= Files.size(file),
-          "where the complete records end: " + reader.unfinishedAt() + " of " + Files.size(file) + " bytes");
-      System.out.printf("killed while writing %d-byte notes: %d acknowledged, %d recovered,"
-          + " complete records end at %d of %d bytes%n",
-          noteLength, acknowledged + 1, recovered, reader.unfinishedAt(), Files.size(file));
     }
+    assertTrue(next >= acknowledged + 1, next + " messages recovered, but " + (acknowledged + 1) + " were acknowledged");
+    Path merged = dir.resolve("merged.mcap");
+    McapMerge.Result result = McapMerge.merge(files, merged, McapMerge.Options.defaults().readUnfinished());
+    assertEquals(next, result.messages());
   }
 
   @Test
