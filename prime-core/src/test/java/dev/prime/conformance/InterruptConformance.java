@@ -680,6 +680,54 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * architecture.md (<i>Interrupts</i>): "while the core is open the service clears that flag
+   * after the block and goes on with the next value". A chain's block and a listener that
+   * interrupt their own threads on every value find the flag cleared when they get the next
+   * one; nothing fails.
+   */
+  @Test
+  default void aServiceClearsTheFlagItsBlockSetBeforeItsNextValue() throws InterruptedException {
+    List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CountDownLatch heard = new CountDownLatch(3);
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("restless-values", events);
+      Reader<Integer> out =
+          source
+              .then(
+                  core.chain(
+                      "restless-block",
+                      (Integer x) -> {
+                        if (Thread.currentThread().isInterrupted()) {
+                          found.add("the block got " + x);
+                        }
+                        Thread.currentThread().interrupt();
+                        return x;
+                      }))
+              .reader();
+      source.listen(
+          x -> {
+            if (Thread.currentThread().isInterrupted()) {
+              found.add("the listener got " + x);
+            }
+            Thread.currentThread().interrupt();
+            heard.countDown();
+          });
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 2, 3), takeOrFail(out, 3), "the service went on");
+      assertTrue(heard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the listener went on");
+      assertEquals(List.of(), found, "values whose block started with the flag set");
+      assertEquals(List.of(), failures, "nothing failed");
+    }
+  }
+
   /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */
   private static Integer interruptOn(int on, Integer x) {
     if (x == on) {

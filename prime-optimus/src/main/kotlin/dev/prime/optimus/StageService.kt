@@ -620,6 +620,7 @@ internal class StageService(
                 logic.process(value) { result = it }
             } finally {
                 running.active = false
+                clearOwnInterrupt()
             }
             val payload = core.encode(result, held)
             return if (next != null) {
@@ -651,7 +652,11 @@ internal class StageService(
             try {
                 // a null goes on to the next chain of a linked chain (as a null payload), as chains
                 // pass nulls between blocks on every media; the last chain publishes nothing for it
-                logic.process(value) { output -> if (output != null || next != null) outputs += core.valueEnvelope(output, held) }
+                try {
+                    logic.process(value) { output -> if (output != null || next != null) outputs += core.valueEnvelope(output, held) }
+                } finally {
+                    clearOwnInterrupt()
+                }
             } catch (e: VirtualMachineError) {
                 throw e
             } catch (e: Throwable) {
@@ -671,6 +676,16 @@ internal class StageService(
             }
             return
         }
+    }
+
+    /**
+     * Clears the interrupt flag the block set on this thread (it restored the flag of an
+     * InterruptedException it caught) while the core is open: the service goes on, and neither its
+     * next value's block nor another service sharing the thread starts with the flag. Cleared first,
+     * then the core looked at: the interrupt of a close that comes meanwhile is kept.
+     */
+    private fun clearOwnInterrupt() {
+        if (Thread.interrupted() && core.isClosed) Thread.currentThread().interrupt()
     }
 
     override fun toString(): String = "service '$name'"
