@@ -1,5 +1,6 @@
 package dev.prime;
 
+import dev.prime.internal.ServiceThreads;
 import java.util.Objects;
 
 /**
@@ -24,6 +25,10 @@ final class LinkBlock<I, M, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    return second.process(first.process(input));
+    M between = first.process(input);
+    if (Thread.currentThread().isInterrupted()) {
+      ServiceThreads.clearOwnInterrupt(); // the second does not start with the flag the first set
+    }
+    return second.process(between);
   }
 }

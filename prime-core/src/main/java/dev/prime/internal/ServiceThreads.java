@@ -36,7 +36,7 @@ public final class ServiceThreads {
   private final Map<String, Runnable> releases = new HashMap<>(); // run if the thread never ran
   private final Supplier<? extends RuntimeException> stoppedError;
   private boolean started;
-  private boolean stopped;
+  private volatile boolean stopped; // also read, without the lock, by the threads' blocks
 
   /**
    * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
@@ -109,7 +109,7 @@ public final class ServiceThreads {
     if (threads.containsKey(service)) {
       throw new IllegalArgumentException("service '" + service + "' already exists");
     }
-    Thread thread = new Thread(logFatal(shownAs, body), prefix + service);
+    Thread thread = new ServiceThread(this, logFatal(shownAs, body), prefix + service);
     thread.setDaemon(true);
     threads.put(service, thread);
     if (release != null) {
@@ -117,6 +117,33 @@ public final class ServiceThreads {
     }
     if (started) {
       thread.start();
+    }
+  }
+
+  /**
+   * Clears the interrupt flag of the calling thread if it is the thread of a service whose core
+   * is not stopping: a flag a block set on its own thread, which the next block of its linked
+   * chain must not see. Called between the blocks of a linked chain, only when the flag is set.
+   * Any other thread (a synchronous caller's), and a service of a core that is stopping (whose
+   * flag is the stop's), keeps its flag. Cleared first, then the core looked at: an interrupt by
+   * a stop that comes meanwhile is kept.
+   */
+  public static void clearOwnInterrupt() {
+    if (Thread.currentThread() instanceof ServiceThread service
+        && !service.owner.stopped
+        && Thread.interrupted()
+        && service.owner.stopped) {
+      service.interrupt();
+    }
+  }
+
+  /** The thread of one service, which knows whose it is. */
+  private static final class ServiceThread extends Thread {
+    final ServiceThreads owner;
+
+    ServiceThread(ServiceThreads owner, Runnable body, String name) {
+      super(body, name);
+      this.owner = owner;
     }
   }
 

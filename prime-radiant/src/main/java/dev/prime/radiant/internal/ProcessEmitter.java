@@ -26,6 +26,7 @@ import dev.prime.Block;
 import dev.prime.ChainFailedException;
 import dev.prime.CoreClosedException;
 import dev.prime.EventBlock;
+import dev.prime.spi.LinkedBlocks;
 import java.util.ArrayDeque;
 import java.util.ArrayList;
 import java.util.Deque;
@@ -59,8 +60,11 @@ import net.bytebuddy.jar.asm.Type;
  * rethrows {@link ChainFailedException}, {@link CoreClosedException} and
  * {@link VirtualMachineError} unchanged and wraps
  * anything else in a {@code ChainFailedException} naming that chain. Nothing runs on the normal
- * path but the calls. Each local variable slot holds one type only, so frames are simple to
- * compute. Stateless and thread-safe: the generated method keeps its state in locals.
+ * path but the calls, and between two steps of a link a call of {@link LinkedBlocks#between()}
+ * (the thread's interrupt flag read and a branch, once inlined), so that a step does not start
+ * with the flag the step before set on a service's thread. Each local variable slot holds one
+ * type only, so frames are simple to compute. Stateless and thread-safe: the generated method
+ * keeps its state in locals.
  *
  * <p>A {@link Node.Sequence} (links flattened) is its steps one after the other, the value on the
  * stack between them. The tree is expanded from a stack of pending steps, not by recursion, so
@@ -73,6 +77,7 @@ final class ProcessEmitter implements ByteCodeAppender {
   private static final String VM_ERROR = Type.getInternalName(VirtualMachineError.class);
   private static final String CHAIN_FAILED = Type.getInternalName(ChainFailedException.class);
   private static final String CORE_CLOSED = Type.getInternalName(CoreClosedException.class);
+  private static final String LINKED_BLOCKS = Type.getInternalName(LinkedBlocks.class);
   private static final String LIST = Type.getInternalName(List.class);
   private static final String ARRAY_LIST = Type.getInternalName(ArrayList.class);
   private static final String ITERATOR = Type.getInternalName(Iterator.class);
@@ -176,16 +181,22 @@ final class ProcessEmitter implements ByteCodeAppender {
       } else if (node instanceof Node.Opaque opaque) {
         callBlock(fields.block(opaque.block()), input);
       } else if (node instanceof Node.Link link) {
-        next(() -> emit(link.first(), input), () -> emit(link.second(), ON_STACK));
+        next(
+            () -> emit(link.first(), input),
+            this::betweenBlocks,
+            () -> emit(link.second(), ON_STACK));
       } else if (node instanceof Node.Sequence sequence) {
         List<Node> steps = sequence.steps();
-        Runnable[] all = new Runnable[steps.size()];
-        for (int i = 0; i < all.length; i++) {
+        List<Runnable> all = new ArrayList<>(2 * steps.size());
+        for (int i = 0; i < steps.size(); i++) {
           Node step = steps.get(i);
           int from = i == 0 ? input : ON_STACK;
-          all[i] = () -> emit(step, from);
+          if (i > 0) {
+            all.add(this::betweenBlocks);
+          }
+          all.add(() -> emit(step, from));
         }
-        next(all);
+        next(all.toArray(Runnable[]::new));
       } else if (node instanceof Node.IfElse branch) {
         emitBranch(
             branch.chain(),
@@ -348,6 +359,15 @@ final class ProcessEmitter implements ByteCodeAppender {
             mv.visitLabel(skip);
             mv.visitVarInsn(ALOAD, output);
           });
+    }
+
+    /**
+     * Between two steps of a link, the value on the stack: {@code LinkedBlocks.between()}, which
+     * clears the interrupt flag the first step set on a service's thread (three bytes; on the
+     * normal path the JIT makes it a read of the flag and a branch).
+     */
+    private void betweenBlocks() {
+      mv.visitMethodInsn(INVOKESTATIC, LINKED_BLOCKS, "between", "()V", false);
     }
 
     private void callBlock(ConstantFields.Field field, int input) {
