@@ -23,10 +23,16 @@ public interface ErrorHandler {
    *     its source. Media that fuse linked chains into one service (Liberty, Radiant) give the value
    *     that entered the linked chain; Optimus, which runs each chain as a service of its own, the
    *     value that entered the failing chain. For a generic service, the {@link
-   *     GenericService.Step} that failed
+   *     GenericService.Step} that failed. For a value the core's codec could not decode (see
+   *     {@code error}), the bytes it could not decode (Optimus: the value's envelope)
    * @param error the block's (or generic service's step's) own throwable, never a {@link
    *     ChainFailedException} wrapper around a block's: any
-   *     {@link Exception} or {@link Error} but a {@link VirtualMachineError}, which ends the service
+   *     {@link Exception} or {@link Error} but a {@link VirtualMachineError}, which ends the service.
+   *     A value whose copy the core's codec (a {@link ValueCodec}: {@link
+   *     CoreConfig.Builder#copyValues}, or a distributed media's codec) could not decode is
+   *     reported under the name of the service that read it, with a {@link PrimeException} that
+   *     names that service and the codec and whose cause is the codec's exception; the service
+   *     goes on with the next value
    */
   void handle(String service, Object input, Throwable error);
 }

@@ -105,7 +105,10 @@ import org.slf4j.LoggerFactory;
  * <p>Copies: with a {@link ValueCodec} (the core's {@code copyValues} option) the ring holds each
  * value encoded at publish time, and every read decodes a copy of its own, as if each reader were
  * another process: a publisher that mutates a value after publishing it, or a reader that mutates
- * what it read, changes nothing for the others; a value the codec refuses fails the publish.
+ * what it read, changes nothing for the others; a value the codec refuses fails the publish. A
+ * value the codec cannot decode (it broke its contract) is skipped: the read that met it throws
+ * {@link UndecodableValueException}, naming the reader, the source and the codec, and the next
+ * read goes on with the next value.
  *
  * @param <T> value type
  */
@@ -588,8 +591,22 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
   }
 
   @SuppressWarnings("unchecked")
-  private T decode(Object stored) {
-    return (T) (copies == null ? stored : copies.decode((byte[]) stored));
+  private T decode(Object stored, String service) {
+    if (copies == null) {
+      return (T) stored;
+    }
+    try {
+      return (T) copies.decode((byte[]) stored);
+    } catch (VirtualMachineError e) {
+      throw e;
+    } catch (RuntimeException | Error e) {
+      throw new UndecodableValueException(
+          service == null ? "a reader" : "service '" + service + "'",
+          name,
+          copies,
+          (byte[]) stored,
+          e);
+    }
   }
 
   @SuppressWarnings("unchecked")
@@ -641,7 +658,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
           continue;
         }
         if (CURSOR.compareAndSet(this, position, position + 1)) {
-          return decode(value);
+          return decode(value, service);
         }
       }
     }
@@ -845,7 +862,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
               break; // closed meanwhile: the checks above throw
             }
             CURSOR.setRelease(this, ++position); // the slot is read: a publisher may reuse it
-            if (!sink.accept(decode(value))) {
+            if (!sink.accept(decode(value, service))) {
               return;
             }
             if (position == available) {

@@ -17,7 +17,10 @@ import org.slf4j.LoggerFactory;
  * the closing of the core that runs it (which interrupts it), an interrupt while it waits for a
  * value, or the closing of its input source ends it. A step that interrupts its own thread while
  * the core is open (a block that restores the flag of an {@code InterruptedException} it caught)
- * does not: the loop clears that flag after the step and goes on.
+ * does not: the loop clears that flag after the step and goes on. Nor does a value the core's
+ * copy codec cannot decode ({@link UndecodableValueException}, thrown by the read): it goes to
+ * the error handler under the service's name, with the encoded bytes as the input, and the loop
+ * goes on with the next value.
  *
  * <p>An input that is a {@link BatchReader} (an in-memory service input) is drained in batches:
  * one call hands the loop every value available, each handled as above, instead of one {@link
@@ -78,6 +81,9 @@ final class SourceService<T> implements Runnable {
         }
       } catch (InterruptedException e) {
         return;
+      } catch (UndecodableValueException e) {
+        // the codec could not decode a copy of the value: reported as a failure, the value skipped
+        FailureReport.report(errors, name, e.encoded(), e);
       } catch (CoreClosedException e) {
         if (!ownerClosed.getAsBoolean()) {
           LOG.warn("service '{}' stops: its input source belongs to a closed core", name, e);

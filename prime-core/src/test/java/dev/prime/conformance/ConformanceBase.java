@@ -127,6 +127,16 @@ public interface ConformanceBase {
     return SerializingCodec.INSTANCE;
   }
 
+  /**
+   * A core whose values cross every service boundary through {@code config}'s {@link
+   * CoreConfig#valueCopies() copy codec}: by default {@link #newCore(CoreConfig)}, for the
+   * in-memory media copy through it; a media with codecs of its own (Optimus) makes it the core's
+   * codec.
+   */
+  default PrimeCore newCoreWithCodec(CoreConfig config) {
+    return newCore(config);
+  }
+
   /** Upper bound for any single wait in the kit; generous because the machine may be busy. */
   default Duration patience() {
     return Duration.ofSeconds(20);

@@ -18,6 +18,7 @@ public interface MediaConformance
         ClaimRaceConformance,
         InterruptConformance,
         ValueCopyConformance,
+        CodecFailureConformance,
         LongChainConformance,
         LoggingConformance,
         CombinatorConformance,

@@ -1,0 +1,95 @@
+package dev.prime.conformance;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertNotNull;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Source;
+import dev.prime.ValueCodec;
+import java.util.List;
+import java.util.concurrent.CopyOnWriteArrayList;
+import org.junit.jupiter.api.Test;
+
+/**
+ * A codec that cannot decode a value it encoded (it breaks {@link ValueCodec}'s contract) does not
+ * end the service that reads the value: as for a block that throws, the failure goes to the
+ * core's {@link dev.prime.ErrorHandler} under the service's name, saying which service could not
+ * decode a value with which codec, and the service goes on with the next value (architecture.md,
+ * <i>Errors</i>: "A service never dies silently").
+ */
+public interface CodecFailureConformance extends ConformanceBase {
+
+  /** The value {@link ForgetfulCodec} cannot read back. */
+  int UNREADABLE = -1;
+
+  /**
+   * Copies through {@link #copyCodec()}, but its decode throws for {@link #UNREADABLE}: a codec
+   * that cannot read its own encoding of one value.
+   */
+  final class ForgetfulCodec implements ValueCodec {
+    private final ValueCodec codec;
+
+    ForgetfulCodec(ValueCodec codec) {
+      this.codec = codec;
+    }
+
+    @Override
+    public byte[] encode(Object value) {
+      return codec.encode(value);
+    }
+
+    @Override
+    public Object decode(byte[] bytes) {
+      Object value = codec.decode(bytes);
+      if (Integer.valueOf(UNREADABLE).equals(value)) {
+        throw new IllegalStateException("ForgetfulCodec forgot how to read " + UNREADABLE);
+      }
+      return value;
+    }
+
+    @Override
+    public String toString() {
+      return "ForgetfulCodec";
+    }
+  }
+
+  /** One failure the error handler got. */
+  record Failure(String service, Object input, Throwable error) {}
+
+  @Test
+  default void aValueItsCodecCannotDecodeGoesToTheErrorHandlerAndTheServiceGoesOn()
+      throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .copyValues(new ForgetfulCodec(copyCodec()))
+            .errorHandler((service, input, error) -> failures.add(new Failure(service, input, error)))
+            .build();
+    try (PrimeCore core = newCoreWithCodec(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("codec-input", events);
+      Reader<Integer> tenfold = source.then(core.chain("tenfold", (Integer x) -> x * 10)).reader();
+      core.start();
+      events.publish(1);
+      events.publish(UNREADABLE);
+      events.publish(2);
+      assertEquals(List.of(10, 20), takeOrFail(tenfold, 2), "the service went on");
+      assertEquals(1, failures.size(), "failures reported: " + failures);
+      Failure failure = failures.get(0);
+      assertEquals("tenfold", failure.service(), "the service that could not decode the value");
+      assertNotNull(failure.input(), "the input the handler gets is never null");
+      String message = String.valueOf(failure.error().getMessage());
+      assertTrue(message.contains("'tenfold'"), "names the service: " + failure.error());
+      assertTrue(message.contains("ForgetfulCodec"), "names the codec: " + failure.error());
+      Throwable cause = failure.error();
+      while (cause != null && !(cause instanceof IllegalStateException)) {
+        cause = cause.getCause();
+      }
+      assertNotNull(cause, "the codec's own exception is kept: " + failure.error());
+    }
+  }
+}
