@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
+import dev.prime.PrimeException
 import dev.prime.internal.RateLimitedLog
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.currentCoroutineContext
@@ -589,9 +590,17 @@ internal class StageService(
         }
         val value = try {
             envelope.value(core, held)
-        } catch (e: CodecException) {
+        } catch (e: VirtualMachineError) {
+            throw e
+        } catch (e: Throwable) {
+            // a CodecException (bytes it cannot or must not read), or anything a codec that broke
+            // its contract throws: this entry's failure, never the service's (nor an outage to retry)
             deadLetter(step, "cannot decode the value: ${e.message}", at.alone())
-            if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
+            if (replyTo != null) {
+                step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
+            } else {
+                core.reportFailure(name, at.alone().bytes, undecodable(e))
+            }
             return null
         } catch (e: Exception) {
             // a codec of the user's that throws another exception (against its contract) must not
@@ -677,6 +686,14 @@ internal class StageService(
             return
         }
     }
+
+    /** What the error handler gets for a value the codec could not decode: which service, which codec, why. */
+    private fun undecodable(e: Throwable): PrimeException = PrimeException(
+        "service '$name' could not decode a value with codec ${core.codec}: $e; the value is dead-lettered " +
+            "(OptimusCore.deadLetters). Every process of the topology must use agreeing codecs, and a codec must " +
+            "decode every value it encodes",
+        e,
+    )
 
     /**
      * Clears the interrupt flag the block set on this thread (it restored the flag of an

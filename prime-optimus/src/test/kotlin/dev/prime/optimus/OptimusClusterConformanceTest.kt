@@ -14,6 +14,10 @@ class OptimusClusterConformanceTest : MediaConformance {
 
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
+    /** The kit's codec is the core's codec: Optimus copies every value through its own. */
+    override fun newCoreWithCodec(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(TestCluster.url).kitCodecOf(config).build()
+
     /** A service's input holds its queue limit, not the retention. */
     override fun newCoreWithServiceInputCapacity(config: CoreConfig, capacity: Int): PrimeCore =
         OptimusCore.builder().config(config).redis(TestCluster.url).queueLimit(capacity).build()

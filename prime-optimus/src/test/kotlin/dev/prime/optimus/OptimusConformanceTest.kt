@@ -12,6 +12,10 @@ class OptimusConformanceTest : MediaConformance {
     /** Optimus keeps one service per linked chain (their lists are re-routed, no extra hop). */
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
+    /** The kit's codec is the core's codec: Optimus copies every value through its own. */
+    override fun newCoreWithCodec(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(TestRedis.url).kitCodecOf(config).build()
+
     /** A service's input holds its queue limit, not the retention. */
     override fun newCoreWithServiceInputCapacity(config: CoreConfig, capacity: Int): PrimeCore =
         OptimusCore.builder().config(config).redis(TestRedis.url).queueLimit(capacity).build()

@@ -16,6 +16,10 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
 
     override fun servicesOfLinkedChain(chains: Int): Int = chains
 
+    /** The kit's codec is the core's codec: Optimus copies every value through its own. */
+    override fun newCoreWithCodec(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(slowUrl).kitCodecOf(config).build()
+
     /** A service's input holds its queue limit, not the retention. */
     override fun newCoreWithServiceInputCapacity(config: CoreConfig, capacity: Int): PrimeCore =
         OptimusCore.builder().config(config).redis(slowUrl).queueLimit(capacity).build()
