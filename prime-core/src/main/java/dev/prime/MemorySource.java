@@ -106,9 +106,9 @@ import org.slf4j.LoggerFactory;
  * value encoded at publish time, and every read decodes a copy of its own, as if each reader were
  * another process: a publisher that mutates a value after publishing it, or a reader that mutates
  * what it read, changes nothing for the others; a value the codec refuses fails the publish. A
- * value the codec cannot decode (it broke its contract) is skipped: the read that met it throws
- * {@link UndecodableValueException}, naming the reader, the source and the codec, and the next
- * read goes on with the next value.
+ * value the codec cannot decode (it broke its contract) is skipped: a service's read that met it
+ * throws {@link UndecodableValueException}, naming the service, the source and the codec, which
+ * the service reports; a plain reader logs that at WARN and goes on with the next value.
  *
  * @param <T> value type
  */
@@ -658,7 +658,14 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
           continue;
         }
         if (CURSOR.compareAndSet(this, position, position + 1)) {
-          return decode(value, service);
+          if (service != null) {
+            return decode(value, service); // a service reports a value it cannot decode
+          }
+          try {
+            return decode(value, null);
+          } catch (UndecodableValueException e) {
+            LOG.warn("{}", e.getMessage()); // skipped, as a distributed media's reader skips it
+          }
         }
       }
     }

@@ -21,10 +21,9 @@ import java.util.Optional;
  * for it (a reader nobody reads falls behind and holds up to the retention of values). After
  * {@code close()}, every call but {@code close()} throws {@link IllegalStateException}.
  *
- * <p>With {@link CoreConfig.Builder#copyValues} every read decodes a copy of its own: a value the
- * codec cannot decode (it broke its contract) makes the call that met it throw a {@link
- * PrimeException} naming the source and the codec, with the codec's exception as its cause; the
- * value is skipped, and the next call goes on with the next value.
+ * <p>A value the core's codec cannot decode (with {@link CoreConfig.Builder#copyValues} every
+ * read decodes a copy of its own; a distributed media decodes every value) is skipped, with a
+ * WARN line naming the source and why; the call goes on with the next value.
  *
  * <p>A source that lives outside this process (Optimus: in Redis) may be unreachable for a
  * while. {@link #take()} then waits for it to come back; {@link #take(Duration)} waits at most

@@ -92,4 +92,32 @@ public interface CodecFailureConformance extends ConformanceBase {
       assertNotNull(cause, "the codec's own exception is kept: " + failure.error());
     }
   }
+
+  /**
+   * {@link Reader}: a value the core's codec cannot decode is skipped (with a WARN line), and the
+   * call goes on with the next value: a take, and a drain, which loses none of the values around
+   * it.
+   */
+  @Test
+  default void aReaderSkipsAValueItsCodecCannotDecodeAndLosesNoOther()
+      throws InterruptedException {
+    CoreConfig config = CoreConfig.builder().copyValues(new ForgetfulCodec(copyCodec())).build();
+    try (PrimeCore core = newCoreWithCodec(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("codec-read", events);
+      Reader<Integer> taken = source.reader();
+      Reader<Integer> drained = source.reader();
+      core.start();
+      events.publish(1);
+      events.publish(UNREADABLE);
+      events.publish(2);
+      events.publish(3);
+      assertEquals(List.of(1, 2, 3), takeOrFail(taken, 3), "the values a take got");
+      List<Integer> got = new java.util.ArrayList<>(drained.drain());
+      if (got.size() < 3) { // a media that reads on the network may not have them all yet
+        got.addAll(takeOrFail(drained, 3 - got.size()));
+      }
+      assertEquals(List.of(1, 2, 3), got, "the values a drain got");
+    }
+  }
 }
