@@ -391,32 +391,22 @@ internal class OptimusReader<T>(
                 continue
             }
             val at = 2 * entry.next++
-            val envelope = try {
-                Envelope.parse(entry.bytes, entry.bounds[at], entry.bounds[at + 1])
-            } catch (e: CodecException) {
-                LOG.warn("a reader of core '{}' skipped a value it cannot decode: {}", core.name(), e.message)
-                continue
+            try {
+                val envelope = Envelope.parse(entry.bytes, entry.bounds[at], entry.bounds[at + 1])
+                if (envelope.id in recent) continue
+                recent.add(envelope.id)
+                val value = envelope.value(core, held) ?: continue
+                if (entry.isHandedOut) {
+                    buffer.removeFirst() // the last value of its entry: the entry is delivered with it
+                    delivered++
+                }
+                return value
+            } catch (e: VirtualMachineError) {
+                throw e
+            } catch (e: Throwable) {
+                // a CodecException, or anything a codec that broke its contract throws: the value is skipped
+                LOG.warn("a reader of core '{}' skipped a value it cannot decode with codec {}: {}", core.name(), core.codec, e.toString())
             }
-            if (envelope.id in recent) continue
-            recent.add(envelope.id)
-            val value = try {
-                envelope.value(core, held) ?: continue
-            } catch (e: CodecException) {
-                LOG.warn("a reader of core '{}' skipped a value it cannot decode (value id {}): {}", core.name(), envelope.id, e.message)
-                continue
-            } catch (e: Exception) {
-                LOG.warn(
-                    "a reader of core '{}' skipped a value it cannot decode (value id {}): its codec threw {} (a codec " +
-                        "should throw CodecException for bytes it cannot decode)",
-                    core.name(), envelope.id, e.toString(), e,
-                )
-                continue
-            }
-            if (entry.isHandedOut) {
-                buffer.removeFirst() // the last value of its entry: the entry is delivered with it
-                delivered++
-            }
-            return value
         }
     }
 
