@@ -28,6 +28,8 @@ final class GuardBlock<I, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    return pass.test(input) ? block.process(input) : substitute.process(input);
+    boolean passed = pass.test(input);
+    BlockBoundary.crossed(); // the block does not start with the flag the guard set
+    return passed ? block.process(input) : substitute.process(input);
   }
 }

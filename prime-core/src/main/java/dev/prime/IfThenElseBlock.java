@@ -27,6 +27,8 @@ final class IfThenElseBlock<I, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    return condition.test(input) ? then.process(input) : otherwise.process(input);
+    boolean pass = condition.test(input);
+    BlockBoundary.crossed(); // the branch does not start with the flag the condition set
+    return pass ? then.process(input) : otherwise.process(input);
   }
 }

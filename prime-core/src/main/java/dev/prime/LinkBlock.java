@@ -1,6 +1,5 @@
 package dev.prime;
 
-import dev.prime.internal.ServiceThreads;
 import java.util.Objects;
 
 /**
@@ -26,9 +25,7 @@ final class LinkBlock<I, M, O> implements Block<I, O> {
   @Override
   public O process(I input) {
     M between = first.process(input);
-    if (Thread.currentThread().isInterrupted()) {
-      ServiceThreads.clearOwnInterrupt(); // the second does not start with the flag the first set
-    }
+    BlockBoundary.crossed(); // the second does not start with the flag the first set
     return second.process(between);
   }
 }

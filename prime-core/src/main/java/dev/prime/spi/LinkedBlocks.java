@@ -3,8 +3,9 @@ package dev.prime.spi;
 import dev.prime.internal.ServiceThreads;
 
 /**
- * What a media that runs the blocks of a linked chain one after another on one thread does
- * between two of them, so that every block starts as it would on a thread of its own.
+ * What a media that runs the blocks of a linked chain (or the parts of a template: a condition
+ * and its branch, the parts of a union, the elements of a for-each) one after another on one
+ * thread does between two of them, so that every block starts as it would on a thread of its own.
  *
  * <p>A block may interrupt its own thread (it restored the flag of an {@code
  * InterruptedException} it caught). In a service, the next block of its linked chain must not

@@ -772,6 +772,69 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * As for the blocks of a linked chain (above), for the parts of a template that a media may run
+   * one after another on one thread: in a service, a branch does not start with the flag its
+   * condition set, nor a union's part with the flag of the part before, nor a for-each's element
+   * with the flag of the element before; every value goes on, nothing fails.
+   */
+  @Test
+  default void eachPartOfATemplateInAServiceStartsWithoutTheFlagOfThePartBefore()
+      throws InterruptedException {
+    List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("restless-parts", events);
+      Reader<dev.prime.Tuple2<Integer, Integer>> unions =
+          source
+              .then(
+                  core.union(
+                      core.chain("union-first", (Integer x) -> restless(found, "union-first", x)),
+                      core.chain("union-second", (Integer x) -> restless(found, "union-second", x))))
+              .reader();
+      Reader<Integer> branches =
+          source
+              .then(
+                  core.ifThenElse(
+                      (Integer x) -> restless(found, "condition", x) > 0,
+                      core.chain("then-branch", (Integer x) -> restless(found, "then-branch", x)),
+                      core.chain("else-branch", (Integer x) -> restless(found, "else-branch", x))))
+              .reader();
+      Reader<List<Integer>> elements =
+          source
+              .then((Integer x) -> List.of(x, x + 1))
+              .then(core.forEach(core.chain("element", (Integer x) -> restless(found, "element", x))))
+              .reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(
+          List.of(new dev.prime.Tuple2<>(1, 1), new dev.prime.Tuple2<>(2, 2)),
+          takeOrFail(unions, 2),
+          "the union's service went on");
+      assertEquals(List.of(1, 2), takeOrFail(branches, 2), "the if-then-else's service went on");
+      assertEquals(
+          List.of(List.of(1, 2), List.of(2, 3)), takeOrFail(elements, 2), "the for-each went on");
+      assertEquals(List.of(), found, "parts that started with the flag of the part before");
+      assertEquals(List.of(), failures, "nothing failed");
+    }
+  }
+
+  /**
+   * Notes in {@code found} that {@code part} started with its thread's flag set, then interrupts
+   * its own thread; returns {@code x}.
+   */
+  private static Integer restless(List<String> found, String part, Integer x) {
+    if (Thread.currentThread().isInterrupted()) {
+      found.add(part + " got " + x);
+    }
+    Thread.currentThread().interrupt();
+    return x;
+  }
+
   /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */
   private static Integer interruptOn(int on, Integer x) {
     if (x == on) {

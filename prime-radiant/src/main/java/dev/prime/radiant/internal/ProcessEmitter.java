@@ -227,6 +227,7 @@ final class ProcessEmitter implements ByteCodeAppender {
       Label elseLabel = new Label();
       Label end = new Label();
       named(chain, () -> callPredicate(fields.predicate(condition), input));
+      betweenBlocks(); // the branch does not start with the flag the condition set
       mv.visitJumpInsn(IFEQ, elseLabel);
       next(
           then,
@@ -288,6 +289,7 @@ final class ProcessEmitter implements ByteCodeAppender {
           () -> emit(loop.body(), element),
           () -> {
             int value = store();
+            betweenBlocks(); // the next element does not start with the flag this one set
             named(
                 loop.chain(),
                 () -> {
@@ -310,7 +312,13 @@ final class ProcessEmitter implements ByteCodeAppender {
       for (int i = 0; i < outputs.length; i++) {
         Node part = parts.get(i);
         int index = i;
-        steps[2 * i] = () -> emit(part, input);
+        steps[2 * i] =
+            i == 0
+                ? () -> emit(part, input)
+                : () -> {
+                  betweenBlocks(); // a part does not start with the flag the part before set
+                  emit(part, input);
+                };
         steps[2 * i + 1] = () -> outputs[index] = store();
       }
       String tuple = "dev/prime/Tuple" + outputs.length;
@@ -339,6 +347,7 @@ final class ProcessEmitter implements ByteCodeAppender {
           () -> emit(fork.body(), input),
           () -> {
             int output = store();
+            betweenBlocks(); // a publish that waits for room would take the body's flag for a stop
             Label skip = new Label();
             mv.visitVarInsn(ALOAD, output);
             mv.visitJumpInsn(IFNULL, skip);
@@ -362,9 +371,10 @@ final class ProcessEmitter implements ByteCodeAppender {
     }
 
     /**
-     * Between two steps of a link, the value on the stack: {@code LinkedBlocks.between()}, which
-     * clears the interrupt flag the first step set on a service's thread (three bytes; on the
-     * normal path the JIT makes it a read of the flag and a branch).
+     * Between two steps of a link (the value on the stack), a condition and its branch, two parts
+     * of a union, two elements of a for-each, a fork's body and its publish: {@code
+     * LinkedBlocks.between()}, which clears the interrupt flag the first set on a service's thread
+     * (three bytes; on the normal path the JIT makes it a read of the flag and a branch).
      */
     private void betweenBlocks() {
       mv.visitMethodInsn(INVOKESTATIC, LINKED_BLOCKS, "between", "()V", false);
