@@ -7,6 +7,7 @@ import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Set;
+import java.util.function.BooleanSupplier;
 import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
@@ -37,6 +38,10 @@ public final class ServiceThreads {
   private final Supplier<? extends RuntimeException> stoppedError;
   private boolean started;
   private volatile boolean stopped; // also read, without the lock, by the threads' blocks
+  private final BooleanSupplier isStopping = () -> stopped;
+
+  /** The step a thread of another media's service runs ({@link #enterService}), or null. */
+  private static final ThreadLocal<BooleanSupplier> SERVING = new ThreadLocal<>();
 
   /**
    * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
@@ -129,11 +134,45 @@ public final class ServiceThreads {
    * a stop that comes meanwhile is kept.
    */
   public static void clearOwnInterrupt() {
-    if (Thread.currentThread() instanceof ServiceThread service
-        && !service.owner.stopped
-        && Thread.interrupted()
-        && service.owner.stopped) {
-      service.interrupt();
+    Thread current = Thread.currentThread();
+    BooleanSupplier stopping;
+    if (current instanceof ServiceThread service) {
+      stopping = service.owner.isStopping;
+    } else {
+      stopping = SERVING.get();
+      if (stopping == null) {
+        return; // not a service's thread: a synchronous caller's, which keeps its flag
+      }
+    }
+    if (!stopping.getAsBoolean() && Thread.interrupted() && stopping.getAsBoolean()) {
+      current.interrupt();
+    }
+  }
+
+  /**
+   * Marks the calling thread, which is not a thread of this class, as running a step of a service
+   * (a media whose services run on threads of its own: Optimus), until {@link #leaveService}:
+   * {@link #clearOwnInterrupt()} then treats it as a service's thread.
+   *
+   * @param stopping whether the core that runs the service is closing
+   * @return what to give {@link #leaveService} (the mark it replaced)
+   */
+  public static BooleanSupplier enterService(BooleanSupplier stopping) {
+    BooleanSupplier before = SERVING.get();
+    SERVING.set(stopping);
+    return before;
+  }
+
+  /**
+   * Ends what {@link #enterService} began.
+   *
+   * @param before what it returned
+   */
+  public static void leaveService(BooleanSupplier before) {
+    if (before == null) {
+      SERVING.remove();
+    } else {
+      SERVING.set(before);
     }
   }
 
