@@ -824,6 +824,38 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * A repeater in a service whose inner block interrupts its own thread every round: the flag is
+   * the block's, not a stop (as where the inner chain is a service of its own), so the rounds go
+   * on until the repeater says stop, every round's block starts without it, and nothing fails.
+   * (An interrupt of a synchronous caller's thread still stops a repeater between rounds.)
+   */
+  @Test
+  default void aRepeaterInAServiceGoesOnWhenItsInnerBlockInterruptsItsOwnThread()
+      throws InterruptedException {
+    List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> counted =
+          core.source("restless-rounds", events)
+              .then(
+                  core.repeater(
+                      core.chain("restless-round", (Integer x) -> restless(found, "round", x) + 1),
+                      (Integer in, Integer out, List<Void> none) ->
+                          out >= 3 ? Repeat.stop(out) : Repeat.again(out)))
+              .reader();
+      core.start();
+      events.publish(0);
+      events.publish(1);
+      assertEquals(List.of(3, 3), takeOrFail(counted, 2), "the repeater's service went on");
+      assertEquals(List.of(), found, "rounds that started with the flag of the round before");
+      assertEquals(List.of(), failures, "nothing failed");
+    }
+  }
+
+  /**
    * Notes in {@code found} that {@code part} started with its thread's flag set, then interrupts
    * its own thread; returns {@code x}.
    */
