@@ -56,8 +56,9 @@ package dev.prime;
  *       InterruptedException} it caught): a service it runs in clears the flag afterwards and goes
  *       on while the core is open; only {@link PrimeCore#close()} ends a service. In a service,
  *       the next block of a linked chain (or part of a template) starts with that flag cleared,
- *       on every media, as it would on a thread of its own. A block called synchronously on the in-memory media runs
- *       on the caller's thread, whose flag it sets (the next blocks of the call see it too).
+ *       on every media, as it would on a thread of its own. A block called synchronously on the
+ *       in-memory media runs on the caller's thread, whose flag it sets (the next blocks of the
+ *       call see it too).
  * </ul>
  *
  * @param <I> input type

@@ -489,7 +489,7 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
       release(sequence);
     }
     wakeReaders();
-    missLog.flush(); // the misses counted since the last line: nobody reads them after the close
+    missLog.flush(); // the misses (and skips) counted since the last line: nobody reads them after the close
   }
 
   @Override
@@ -664,10 +664,26 @@ final class MemorySource<T> extends HandOffPadding.PaddedSequences implements Me
           try {
             return decode(value, null);
           } catch (UndecodableValueException e) {
-            LOG.warn("{}", e.getMessage()); // skipped, as a distributed media's reader skips it
+            skipped(e); // as a distributed media's reader skips it
           }
         }
       }
+    }
+
+    /**
+     * Logs a value this plain reader skipped because the codec could not decode it: the first of a
+     * burst in full, then counted, at most one line per {@value RateLimitedLog#DEFAULT_SECONDS} s.
+     */
+    private void skipped(UndecodableValueException e) {
+      missLog.record(
+          "a reader of source '" + name + "' of core '" + core.name() + "' skipped values",
+          1,
+          "codec " + copies + ": " + e.getCause(),
+          () ->
+              LOG.warn(
+                  "{} (further ones are counted, at most one line per {} s)",
+                  e.getMessage(),
+                  RateLimitedLog.DEFAULT_SECONDS));
     }
 
     private void recordMissed(long lost) {

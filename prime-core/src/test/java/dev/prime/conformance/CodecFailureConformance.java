@@ -120,4 +120,40 @@ public interface CodecFailureConformance extends ConformanceBase {
       assertEquals(List.of(1, 2, 3), got, "the values a drain got");
     }
   }
+
+  /**
+   * A burst of values a reader cannot decode is logged as other bursts are (architecture.md,
+   * <i>Values</i>): the first in full, the rest counted, not one WARN line per value.
+   */
+  @Test
+  default void aBurstOfValuesAReaderCannotDecodeIsLoggedOnceThenCounted()
+      throws InterruptedException {
+    int unreadable = 50;
+    List<String> lines;
+    try (CapturedStderr err = new CapturedStderr()) {
+      CoreConfig config = CoreConfig.builder().copyValues(new ForgetfulCodec(copyCodec())).build();
+      try (PrimeCore core = newCoreWithCodec(config)) {
+        EventBlock<Integer> events = new EventBlock<>();
+        Reader<Integer> reader = core.source("unreadable-burst", events).reader();
+        core.start();
+        for (int i = 0; i < unreadable; i++) {
+          events.publish(UNREADABLE);
+        }
+        events.publish(7);
+        assertEquals(7, takeOrFail(reader), "the value after the burst");
+      } // a count still owed is written when the core closes
+      lines = err.lines();
+    }
+    List<String> mentions = lines.stream().filter(l -> l.contains("ForgetfulCodec")).toList();
+    assertTrue(
+        mentions.size() >= 1 && mentions.size() <= 4,
+        "one WARN line and at most a few summaries, not "
+            + mentions.size()
+            + ":\n"
+            + String.join("\n", mentions));
+    assertEquals(
+        unreadable,
+        mentions.stream().mapToLong(l -> Math.max(1, CapturedStderr.summarised(l))).sum(),
+        "the lines count every value skipped: " + mentions);
+  }
 }
