@@ -15,6 +15,7 @@ import dev.prime.ChainCompiler
 import dev.prime.GenericServiceLoop
 import dev.prime.SourceCompiler
 import dev.prime.internal.Deadlines.boundedNanos
+import dev.prime.internal.RateLimitedLog
 import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CoroutineName
@@ -199,6 +200,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         minOf(settings.frameBytes.toLong(), maxValueBytes.toLong() + ENVELOPE_OVERHEAD).toInt(),
     )
     internal val readerMisses: ReaderMisses = ReaderMisses(name())
+
+    /** The values readers skipped because the codec could not decode them: bursts logged once, then counted. */
+    internal val readerSkips: RateLimitedLog = RateLimitedLog(OptimusReader::class.java.name)
     private val hosts: Set<String>? = settings.hosts
     private val instance = UUID.randomUUID().toString()
 
@@ -577,6 +581,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
         shutdownResources()
         readerMisses.flush() // the misses counted since the last line: no publish of this core comes after
+        readerSkips.flush() // the skips counted since the last line: no read of this core comes after
     }
 
     /** Also this core's own threads (services, listeners, the heartbeat), which a close under way joins. */

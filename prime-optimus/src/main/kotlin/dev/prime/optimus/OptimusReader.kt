@@ -3,6 +3,7 @@ package dev.prime.optimus
 import dev.prime.CoreClosedException
 import dev.prime.Reader
 import dev.prime.internal.Deadlines.boundedNanos
+import dev.prime.internal.RateLimitedLog
 import org.slf4j.LoggerFactory
 import java.nio.channels.ClosedByInterruptException
 import java.time.Duration
@@ -405,7 +406,17 @@ internal class OptimusReader<T>(
                 throw e
             } catch (e: Throwable) {
                 // a CodecException, or anything a codec that broke its contract throws: the value is skipped
-                LOG.warn("a reader of core '{}' skipped a value it cannot decode with codec {}: {}", core.name(), core.codec, e.toString())
+                core.readerSkips.record(
+                    "a reader of source '${source.name}' of core '${core.name()}' skipped values",
+                    1,
+                    "codec ${core.codec}: $e",
+                ) {
+                    LOG.warn(
+                        "a reader of source '{}' of core '{}' skipped a value it cannot decode with codec {}: {} (further " +
+                            "ones are counted, at most one line per {} s)",
+                        source.name, core.name(), core.codec, e.toString(), RateLimitedLog.DEFAULT_SECONDS,
+                    )
+                }
             }
         }
     }

@@ -3,8 +3,8 @@ package dev.prime.optimus
 import dev.prime.ChainFailedException
 import dev.prime.CoreClosedException
 import dev.prime.PrimeException
-import dev.prime.internal.ServiceThreads
 import dev.prime.internal.RateLimitedLog
+import dev.prime.internal.ServiceThreads
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.currentCoroutineContext
 import kotlinx.coroutines.delay
