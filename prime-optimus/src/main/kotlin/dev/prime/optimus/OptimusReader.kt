@@ -392,8 +392,10 @@ internal class OptimusReader<T>(
                 continue
             }
             val at = 2 * entry.next++
+            var id: Long? = null // known once the envelope is parsed, for the warning
             try {
                 val envelope = Envelope.parse(entry.bytes, entry.bounds[at], entry.bounds[at + 1])
+                id = envelope.id
                 if (envelope.id in recent) continue
                 recent.add(envelope.id)
                 val value = envelope.value(core, held) ?: continue
@@ -412,9 +414,10 @@ internal class OptimusReader<T>(
                     "codec ${core.codec}: $e",
                 ) {
                     LOG.warn(
-                        "a reader of source '{}' of core '{}' skipped a value it cannot decode with codec {}: {} (further " +
+                        "a reader of source '{}' of core '{}' skipped a value{} it cannot decode with codec {}: {} (further " +
                             "ones are counted, at most one line per {} s)",
-                        source.name, core.name(), core.codec, e.toString(), RateLimitedLog.DEFAULT_SECONDS,
+                        source.name, core.name(), if (id == null) "" else " (value id $id)", core.codec, e.toString(),
+                        RateLimitedLog.DEFAULT_SECONDS,
                     )
                 }
             }

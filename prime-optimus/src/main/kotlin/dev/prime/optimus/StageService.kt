@@ -604,12 +604,6 @@ internal class StageService(
                 core.reportFailure(name, at.alone().bytes, undecodable(e))
             }
             return null
-        } catch (e: Exception) {
-            // a codec of the user's that throws another exception (against its contract) must not
-            // stop the service on this value: it is undecodable all the same
-            deadLetter(step, "cannot decode the value: its codec threw $e (a codec should throw CodecException)", at.alone())
-            if (replyTo != null) step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
-            return null
         }
         when (envelope.kind) {
             Envelope.Kind.REQUEST -> return handleRequest(envelope, value, step)
