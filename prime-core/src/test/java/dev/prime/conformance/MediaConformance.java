@@ -26,4 +26,5 @@ public interface MediaConformance
         MetricsConformance,
         LifecycleHookConformance,
         GenericServiceConformance,
-        LinkVarianceConformance {}
+        LinkVarianceConformance,
+        MisuseConformance {}
