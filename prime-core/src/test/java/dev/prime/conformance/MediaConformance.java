@@ -27,4 +27,5 @@ public interface MediaConformance
         LifecycleHookConformance,
         GenericServiceConformance,
         LinkVarianceConformance,
-        MisuseConformance {}
+        MisuseConformance,
+        ServiceInputConformance {}
