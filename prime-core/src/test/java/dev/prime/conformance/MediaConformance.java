@@ -28,4 +28,5 @@ public interface MediaConformance
         GenericServiceConformance,
         LinkVarianceConformance,
         MisuseConformance,
-        ServiceInputConformance {}
+        ServiceInputConformance,
+        TemplateFailureConformance {}
