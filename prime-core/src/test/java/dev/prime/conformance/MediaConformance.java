@@ -29,4 +29,5 @@ public interface MediaConformance
         LinkVarianceConformance,
         MisuseConformance,
         ServiceInputConformance,
-        TemplateFailureConformance {}
+        TemplateFailureConformance,
+        LongTemplateChainConformance {}
