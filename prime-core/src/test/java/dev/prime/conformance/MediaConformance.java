@@ -30,4 +30,5 @@ public interface MediaConformance
         MisuseConformance,
         ServiceInputConformance,
         TemplateFailureConformance,
-        LongTemplateChainConformance {}
+        LongTemplateChainConformance,
+        SameSourceTwiceConformance {}
