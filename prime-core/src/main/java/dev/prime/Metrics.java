@@ -135,7 +135,8 @@ public final class Metrics {
   /**
    * Whether a metered node has an input queue on this media, so that {@link
    * ServiceMetrics#queueDepth()} of its snapshots is a count whenever the media can read it: a
-   * filter's, flat-map's or listener's input on every media, and every service's input on Optimus.
+   * filter's, flat-map's or listener's input on every media, and the input of every service of a
+   * chain on Optimus; never a generic service, combinator or timer, on any media.
    * It does not depend on reading the queue, so it tells a node without a queue (always {@code
    * -1}) from a queue that cannot be read now (Optimus while Redis is unreachable).
    *
