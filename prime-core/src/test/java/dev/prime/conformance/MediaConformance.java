@@ -31,4 +31,5 @@ public interface MediaConformance
         ServiceInputConformance,
         TemplateFailureConformance,
         LongTemplateChainConformance,
-        SameSourceTwiceConformance {}
+        SameSourceTwiceConformance,
+        ThreadNameConformance {}
