@@ -3,6 +3,8 @@ package dev.prime;
 import dev.prime.topology.TopologyNode;
 import java.time.Duration;
 import java.util.Iterator;
+import java.util.Map;
+import java.util.concurrent.ConcurrentHashMap;
 import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
@@ -22,6 +24,7 @@ final class MeteringPoints {
   private final PrimeCore core;
   private final InProcessServices unsubscriber; // closes its event block subscriptions at close
   private final Metrics metrics;
+  private final Map<String, SourcePoint> eventSources = new ConcurrentHashMap<>();
 
   MeteringPoints(PrimeCore core, String media, ServiceGauges gauges, InProcessServices memory) {
     this.core = core;
@@ -71,7 +74,25 @@ final class MeteringPoints {
 
   /** Starts metering an event source; see {@link RecordingPoints#beforeSource}. */
   SourcePoint beforeSource(TopologyNode node, EventBlock<?> events) {
-    return new SourcePoint(meter(node), events, node instanceof TopologyNode.Combinator);
+    boolean combinator = node instanceof TopologyNode.Combinator;
+    SourcePoint point = new SourcePoint(meter(node), events, combinator);
+    if (!combinator) {
+      eventSources.put(node.name(), point);
+    }
+    return point;
+  }
+
+  /**
+   * Counts {@code count} values that the media published to the event source {@code name}
+   * together, not through its event block ({@link PrimeCore#publishedTogether}), as its event
+   * block's publishes are counted: each in; and, if the media accepted them, each out, timed with
+   * the whole publish's time. Nothing for a name that is not a metered event source.
+   */
+  void countAll(String name, int count, long nanos, boolean accepted) {
+    SourcePoint point = eventSources.get(name);
+    if (point != null) {
+      point.countAll(count, nanos, accepted);
+    }
   }
 
   /**
@@ -189,6 +210,20 @@ final class MeteringPoints {
     /** Stops counting: the media made no source. */
     void cancel() {
       counting.close();
+      eventSources.values().remove(this);
+    }
+
+    private void countAll(int count, long nanos, boolean accepted) {
+      for (int i = 0; i < count; i++) {
+        meter.in();
+      }
+      if (!accepted || core.isClosed()) {
+        return;
+      }
+      for (int i = 0; i < count; i++) {
+        meter.out();
+        meter.processed(nanos, false);
+      }
     }
   }
 

@@ -1,6 +1,7 @@
 package dev.prime;
 
 import dev.prime.topology.TopologyNode;
+import java.time.Instant;
 import java.util.ArrayList;
 import java.util.List;
 import java.util.Objects;
@@ -132,6 +133,20 @@ final class ModelCompiler<F> {
         metered.cancel();
       }
       throw failed;
+    }
+  }
+
+  /**
+   * Records and counts values the media published to its event source {@code name} together, not
+   * through the source's event block (see {@link PrimeCore#publishedTogether}).
+   */
+  void publishedTogether(
+      String name, List<?> values, Instant wallTime, long monotonicNanos, boolean accepted) {
+    if (metering != null) {
+      metering.countAll(name, values.size(), System.nanoTime() - monotonicNanos, accepted);
+    }
+    if (recording != null && accepted) {
+      recording.recordAll(name, values, wallTime, monotonicNanos);
     }
   }
 

@@ -1020,6 +1020,33 @@ public abstract class PrimeCore implements AutoCloseable {
     topologyRecorder().reader(source);
   }
 
+  /**
+   * Tells the core that the media published {@code values} to its event source {@code source} in
+   * one step, not through the source's event block (Optimus: {@code publishAll}), so that they
+   * are recorded and metered as what the event block publishes is: with recording on, each
+   * accepted value is recorded under the source, in order, stamped with the time the publish
+   * began; with metrics on, each value counts in, and, if accepted, out, timed with the whole
+   * publish. Call it once the publish has returned ({@code accepted}) or failed. Nothing happens
+   * for a name that is not an event source of this core, or with recording and metrics off.
+   *
+   * @param source the event source's name
+   * @param values the values, in the order they were published
+   * @param wallTime the wall-clock time the publish began
+   * @param monotonicNanos {@link System#nanoTime()} when the publish began
+   * @param accepted whether the media accepted the values (a refused publish published nothing)
+   */
+  protected final void publishedTogether(
+      String source,
+      List<?> values,
+      java.time.Instant wallTime,
+      long monotonicNanos,
+      boolean accepted) {
+    Objects.requireNonNull(source, "source must not be null");
+    Objects.requireNonNull(values, "values must not be null");
+    Objects.requireNonNull(wallTime, "wallTime must not be null");
+    model().publishedTogether(source, values, wallTime, monotonicNanos, accepted);
+  }
+
   /** Where this core's diagram is recorded and every name is made. */
   final TopologyRecorder topologyRecorder() {
     return recorder;

@@ -1,6 +1,9 @@
 package dev.prime;
 
 import java.time.Instant;
+import java.util.List;
+import java.util.Map;
+import java.util.concurrent.ConcurrentHashMap;
 
 /**
  * Where a core records (see {@link Recording}): the model compiler asks it for a tap at each
@@ -16,6 +19,7 @@ final class RecordingPoints {
   private final PrimeCore core;
   private final InProcessServices unsubscriber; // closes its event block subscriptions at close
   private final Recording recording;
+  private final Map<String, RecordingRing> eventSources = new ConcurrentHashMap<>();
 
   RecordingPoints(PrimeCore core, RecordingOptions options, InProcessServices memory) {
     this.core = core;
@@ -44,6 +48,22 @@ final class RecordingPoints {
     return new SourcePoint(name, events);
   }
 
+  /**
+   * Records {@code values} that the media published to the event source {@code name} together,
+   * not through its event block ({@link PrimeCore#publishedTogether}), each stamped with the time
+   * that publish began; nothing for a name that is not a recorded event source, or once the core
+   * is closed.
+   */
+  void recordAll(String name, List<?> values, Instant wallTime, long monotonicNanos) {
+    RecordingRing ring = eventSources.get(name);
+    if (ring == null || core.isClosed()) {
+      return;
+    }
+    for (Object value : values) {
+      ring.record(value, wallTime, monotonicNanos);
+    }
+  }
+
   /** The recording of one event source; see {@link #beforeSource}. */
   final class SourcePoint {
     private final String name;
@@ -70,6 +90,7 @@ final class RecordingPoints {
      */
     void afterMedia() {
       RecordingRing ring = recording.ring(name, core.topologyRecorder().pseudoname(name));
+      eventSources.put(name, ring);
       unsubscriber.unsubscribeOnClose(stamping);
       EventBlock.Subscription recorder =
           events.subscribe(

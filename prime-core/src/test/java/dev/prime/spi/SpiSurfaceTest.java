@@ -35,6 +35,7 @@ class SpiSurfaceTest {
                 "sourceCompiler",
                 "sourcePart",
                 "recordReader",
+                "publishedTogether",
                 "runGenericService",
                 "hostOnCoreThreads",
                 "isHostedHere",

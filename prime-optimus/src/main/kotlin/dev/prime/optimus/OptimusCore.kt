@@ -38,6 +38,7 @@ import redis.clients.jedis.params.ScanParams
 import redis.clients.jedis.params.SetParams
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
+import java.time.Instant
 import java.util.Collections
 import java.util.UUID
 import java.util.concurrent.ConcurrentHashMap
@@ -316,13 +317,24 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
         val keys = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }.keys
+        val began = Instant.now()
+        val beganNanos = System.nanoTime()
+        val published = values.toList()
         val envelopes = holdCodec().use { held ->
-            values.map { value ->
+            published.map { value ->
                 requireNotNull(value) { "sources carry no null values" }
                 Envelope.withId(valueEnvelope(value, held), ids.next())
             }
         }
-        if (envelopes.isNotEmpty()) publish(keys, envelopes)
+        if (envelopes.isEmpty()) return
+        var accepted = false
+        try {
+            publish(keys, envelopes)
+            accepted = true
+        } finally {
+            // recorded and metered as what the source's event block publishes
+            publishedTogether(source.name(), published, began, beganNanos, accepted)
+        }
     }
 
     // ------------------------------------------------------------------ generic services
