@@ -110,12 +110,14 @@ final class ModelCompiler<F> {
     if (recording == null && metering == null) {
       return compiler.eventSource(name, events);
     }
+    TopologyNode node = core.topologyRecorder().node(name);
     MeteringPoints.SourcePoint metered =
-        metering == null
-            ? null
-            : metering.beforeSource(core.topologyRecorder().node(name), events);
+        metering == null ? null : metering.beforeSource(node, events);
+    // only event sources are recorded: not the output of a timer or a combinator (Recording)
     RecordingPoints.SourcePoint point =
-        recording == null ? null : recording.beforeSource(name, events);
+        recording == null || !(node instanceof TopologyNode.EventSource)
+            ? null
+            : recording.beforeSource(name, events);
     try {
       Source<T> source = compiler.eventSource(name, events);
       if (point != null) {

@@ -32,4 +32,5 @@ public interface MediaConformance
         TemplateFailureConformance,
         LongTemplateChainConformance,
         SameSourceTwiceConformance,
-        ThreadNameConformance {}
+        ThreadNameConformance,
+        RecordedKindsConformance {}
