@@ -33,4 +33,5 @@ public interface MediaConformance
         LongTemplateChainConformance,
         SameSourceTwiceConformance,
         ThreadNameConformance,
-        RecordedKindsConformance {}
+        RecordedKindsConformance,
+        MeteredKindsConformance {}
