@@ -34,4 +34,5 @@ public interface MediaConformance
         SameSourceTwiceConformance,
         ThreadNameConformance,
         RecordedKindsConformance,
-        MeteredKindsConformance {}
+        MeteredKindsConformance,
+        ConcurrentDeclarationConformance {}
