@@ -32,8 +32,8 @@ import java.util.Objects;
  *     caller's thread or inside the service it is linked into; a source has no input; generic
  *     services, combinators and timers have none on any media) or cannot
  *     read it now (Optimus with Redis unreachable); {@link Metrics#hasQueue} tells the two apart
- * @param missed for an event source, the values its plain readers missed (see {@link
- *     Reader#missed()}), as this process counted them: on Liberty and Radiant when a lagging
+ * @param missed for an event source, a timer or a combinator, the values the plain readers of
+ *     its source missed (see {@link Reader#missed()}), as this process counted them: on Liberty and Radiant when a lagging
  *     reader next reads, on Optimus when a publish of this process trims a reader's list; 0 for
  *     the other nodes, whose inputs are queues, which never miss
  * @param processing how long the node took per value ({@code count} equals {@code valuesIn} once

@@ -1,18 +1,24 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.Reader;
 import dev.prime.ServiceMetrics;
 import dev.prime.Source;
+import dev.prime.Tick;
 import dev.prime.Token;
+import dev.prime.VirtualClock;
 import java.time.Duration;
 import java.util.List;
 import java.util.Set;
 import java.util.TreeSet;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
 import java.util.stream.Collectors;
 import org.junit.jupiter.api.Test;
 
@@ -67,6 +73,36 @@ public interface MeteredKindsConformance extends ConformanceBase {
                   "beat",
                   "driver"));
       assertEquals(expected, metered, "topology: " + core.topology().nodes());
+    }
+  }
+
+  /**
+   * A timer's {@code missed}, like an event source's, is what the plain readers of its source
+   * missed ({@link ServiceMetrics}): ten ticks with a retention of 4 and a reader that reads only
+   * after the tenth make the reader miss 6, and the timer's metrics say 6.
+   */
+  @Test
+  default void aTimerCountsWhatTheReadersOfItsTicksMissed() throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    CoreConfig config =
+        CoreConfig.builder().clock(clock).metrics(true).sourceRetention(4).build();
+    try (PrimeCore core = newCore(config)) {
+      Source<Tick> beat = core.timer("beat", Duration.ofMillis(10));
+      Reader<Tick> late = beat.reader();
+      CountDownLatch tenth = new CountDownLatch(1);
+      beat.listen(
+          tick -> {
+            if (tick.count() == 10) {
+              tenth.countDown();
+            }
+          });
+      core.start();
+      clock.advance(Duration.ofMillis(100));
+      assertTrue(tenth.await(patience().toMillis(), TimeUnit.MILLISECONDS), "ten ticks published");
+      assertEquals(7, takeOrFail(late).count(), "the oldest retained tick");
+      assertEquals(6, late.missed());
+      ServiceMetrics metered = core.metrics().service("beat");
+      assertEquals(6, metered.missed(), metered.toString());
     }
   }
 }
