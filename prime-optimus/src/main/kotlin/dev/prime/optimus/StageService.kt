@@ -597,7 +597,8 @@ internal class StageService(
         } catch (e: Throwable) {
             // a CodecException (bytes it cannot or must not read), or anything a codec that broke
             // its contract throws: this entry's failure, never the service's (nor an outage to retry)
-            deadLetter(step, "cannot decode the value: ${e.message}", at.alone())
+            val why = if (e is CodecException) e.message else "its codec threw $e (a codec should throw CodecException)"
+            deadLetter(step, "cannot decode the value: $why", at.alone())
             if (replyTo != null) {
                 step.reply(replyTo, Envelope.replyError(envelope.id, name, e.toString()))
             } else {
