@@ -109,6 +109,15 @@ public interface ConformanceBase {
   }
 
   /**
+   * Whether the thread named {@code name} belongs to the kit's set-up of this media, not to a core
+   * (a proxy between the core and its Redis starts a thread per connection): the kit does not hold
+   * such a thread to a core's naming. False by default.
+   */
+  default boolean isFixtureThread(String name) {
+    return false;
+  }
+
+  /**
    * Whether a publish before {@code start()} waits in the services' inputs until they run (true
    * for the in-memory media). A media that refuses it (Optimus: a publish, a call and a read
    * before {@code start()} fail at once with {@link IllegalStateException}, publishing nothing)

@@ -94,7 +94,9 @@ public interface ThreadNameConformance extends ConformanceBase {
       assertEquals(8, shared.process(7));
       assertEquals(3, repeated.process(0));
       for (Thread thread : Thread.getAllStackTraces().keySet()) {
-        if (!beforeThreads.contains(thread) && !before.contains(thread.getName())) {
+        if (!beforeThreads.contains(thread)
+            && !before.contains(thread.getName())
+            && !isFixtureThread(thread.getName())) {
           appeared.add(thread.getName());
         }
       }

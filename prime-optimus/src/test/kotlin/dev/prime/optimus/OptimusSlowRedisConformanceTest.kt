@@ -41,6 +41,9 @@ class OptimusSlowRedisConformanceTest : MediaConformance {
     /** A publish before start() fails at once, like a call and a read. */
     override fun publishesBeforeStartWait(): Boolean = false
 
+    /** The slow link's proxy starts threads of its own for each connection the core opens. */
+    override fun isFixtureThread(name: String): Boolean = name.startsWith("fault-proxy-")
+
     /** A topology lives in Redis: a later core of the same name carries on. */
     override fun topologyOutlivesItsCores(): Boolean = true
 
