@@ -55,10 +55,12 @@ package dev.prime;
  *   <li><b>Interrupts.</b> A block may interrupt its own thread (restore the flag of an {@link
  *       InterruptedException} it caught): a service it runs in clears the flag afterwards and goes
  *       on while the core is open; only {@link PrimeCore#close()} ends a service. In a service,
- *       the next block of a linked chain (or part of a template) starts with that flag cleared,
- *       on every media, as it would on a thread of its own. A block called synchronously on the
- *       in-memory media runs on the caller's thread, whose flag it sets (the next blocks of the
- *       call see it too).
+ *       the blocks run after it on that thread see the flag until the service clears it, before
+ *       its next value: on the in-memory media the rest of a linked chain, which a service runs
+ *       as one function, as hand-written calls would; on every media the later parts of a
+ *       template. (On Optimus each chain is a service of its own, on a thread of its own.) A
+ *       block called synchronously on the in-memory media runs on the caller's thread, whose
+ *       flag it sets (the next blocks of the call see it too).
  * </ul>
  *
  * @param <I> input type

@@ -25,9 +25,6 @@ final class ForEachBlock<I, O> implements Block<List<I>, List<O>> {
     Objects.requireNonNull(input, "for-each input list must not be null");
     List<O> out = new ArrayList<>(input.size());
     for (I element : input) {
-      if (!out.isEmpty()) {
-        BlockBoundary.crossed(); // an element does not start with the flag the one before set
-      }
       out.add(body.process(element));
     }
     return out;

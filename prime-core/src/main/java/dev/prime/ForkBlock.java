@@ -25,7 +25,6 @@ final class ForkBlock<I, O> implements Block<I, O> {
   @Override
   public O process(I input) {
     O output = block.process(input);
-    BlockBoundary.crossed(); // a publish that waits for room would take the block's flag for a stop
     if (output != null) {
       events.publish(output);
     }

@@ -28,8 +28,6 @@ final class GuardBlock<I, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    boolean passed = pass.test(input);
-    BlockBoundary.crossed(); // the block does not start with the flag the guard set
-    return passed ? block.process(input) : substitute.process(input);
+    return pass.test(input) ? block.process(input) : substitute.process(input);
   }
 }

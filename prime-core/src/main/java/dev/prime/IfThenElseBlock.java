@@ -27,8 +27,6 @@ final class IfThenElseBlock<I, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    boolean pass = condition.test(input);
-    BlockBoundary.crossed(); // the branch does not start with the flag the condition set
-    return pass ? then.process(input) : otherwise.process(input);
+    return condition.test(input) ? then.process(input) : otherwise.process(input);
   }
 }

@@ -24,8 +24,6 @@ final class LinkBlock<I, M, O> implements Block<I, O> {
 
   @Override
   public O process(I input) {
-    M between = first.process(input);
-    BlockBoundary.crossed(); // the second does not start with the flag the first set
-    return second.process(between);
+    return second.process(first.process(input));
   }
 }

@@ -12,8 +12,7 @@ import java.util.function.BooleanSupplier;
  *
  * <p>The loop can always be stopped from outside: before every round after the first it checks
  * the calling thread's interrupt flag (if set, it stays set and a {@link PrimeException} ends the
- * call; a flag a round's block set on the thread of a service of an open core is the block's, not a
- * stop, and is cleared first, as between linked blocks) and runs a check given by its owner (a core passes its open check, so closing the core
+ * call) and runs a check given by its owner (a core passes its open check, so closing the core
  * ends the loop with {@link dev.prime.CoreClosedException} within one round). Where the loop runs
  * on a service's thread for a caller elsewhere (Optimus), the owner also says whether that caller
  * gave up ({@link PrimeCore#callerGaveUp}): asked between rounds, at most once every {@value
@@ -75,7 +74,6 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
     long nextCheck = callerGaveUp == null ? 0 : System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(CHECK_MILLIS);
     while (true) {
       R output = inner.process(round);
-      BlockBoundary.crossed(); // the flag the round set on a service's thread is the round's
       List<E> collected = collector == null ? List.of() : collector.process(Token.INSTANCE);
       Repeat<I, O> decision = repeater.next(round, output, collected);
       if (decision == null) {
@@ -86,7 +84,6 @@ final class RepeaterLoopBlock<I, R, E, O> implements Block<I, O> {
         return decision.conclusion();
       }
       round = decision.next();
-      BlockBoundary.crossed(); // only a caller's interrupt (or a close's) stops the loop here
       if (Thread.currentThread().isInterrupted()) {
         throw new PrimeException("interrupted between two rounds of a repeater");
       }

@@ -108,9 +108,6 @@ final class UnionBlock<I, T> implements Block<I, T> {
   public T process(I input) {
     Object[] outputs = new Object[parts.length];
     for (int i = 0; i < parts.length; i++) {
-      if (i > 0) {
-        BlockBoundary.crossed(); // a part does not start with the flag the part before set
-      }
       outputs[i] = parts[i].process(input);
     }
     return maker.make(outputs);

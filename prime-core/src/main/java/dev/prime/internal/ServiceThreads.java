@@ -7,7 +7,6 @@ import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Set;
-import java.util.function.BooleanSupplier;
 import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
@@ -37,11 +36,7 @@ public final class ServiceThreads {
   private final Map<String, Runnable> releases = new HashMap<>(); // run if the thread never ran
   private final Supplier<? extends RuntimeException> stoppedError;
   private boolean started;
-  private volatile boolean stopped; // also read, without the lock, by the threads' blocks
-  private final BooleanSupplier isStopping = () -> stopped;
-
-  /** The step a thread of another media's service runs ({@link #enterService}), or null. */
-  private static final ThreadLocal<BooleanSupplier> SERVING = new ThreadLocal<>();
+  private boolean stopped;
 
   /**
    * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
@@ -114,7 +109,7 @@ public final class ServiceThreads {
     if (threads.containsKey(service)) {
       throw new IllegalArgumentException("service '" + service + "' already exists");
     }
-    Thread thread = new ServiceThread(this, logFatal(shownAs, body), prefix + service);
+    Thread thread = new Thread(logFatal(shownAs, body), prefix + service);
     thread.setDaemon(true);
     threads.put(service, thread);
     if (release != null) {
@@ -122,67 +117,6 @@ public final class ServiceThreads {
     }
     if (started) {
       thread.start();
-    }
-  }
-
-  /**
-   * Clears the interrupt flag of the calling thread if it is the thread of a service whose core
-   * is not stopping: a flag a block set on its own thread, which the next block of its linked
-   * chain must not see. Called between the blocks of a linked chain, only when the flag is set.
-   * Any other thread (a synchronous caller's), and a service of a core that is stopping (whose
-   * flag is the stop's), keeps its flag. Cleared first, then the core looked at: an interrupt by
-   * a stop that comes meanwhile is kept.
-   */
-  public static void clearOwnInterrupt() {
-    Thread current = Thread.currentThread();
-    BooleanSupplier stopping;
-    if (current instanceof ServiceThread service) {
-      stopping = service.owner.isStopping;
-    } else {
-      stopping = SERVING.get();
-      if (stopping == null) {
-        return; // not a service's thread: a synchronous caller's, which keeps its flag
-      }
-    }
-    if (!stopping.getAsBoolean() && Thread.interrupted() && stopping.getAsBoolean()) {
-      current.interrupt();
-    }
-  }
-
-  /**
-   * Marks the calling thread, which is not a thread of this class, as running a step of a service
-   * (a media whose services run on threads of its own: Optimus), until {@link #leaveService}:
-   * {@link #clearOwnInterrupt()} then treats it as a service's thread.
-   *
-   * @param stopping whether the core that runs the service is closing
-   * @return what to give {@link #leaveService} (the mark it replaced)
-   */
-  public static BooleanSupplier enterService(BooleanSupplier stopping) {
-    BooleanSupplier before = SERVING.get();
-    SERVING.set(stopping);
-    return before;
-  }
-
-  /**
-   * Ends what {@link #enterService} began.
-   *
-   * @param before what it returned
-   */
-  public static void leaveService(BooleanSupplier before) {
-    if (before == null) {
-      SERVING.remove();
-    } else {
-      SERVING.set(before);
-    }
-  }
-
-  /** The thread of one service, which knows whose it is. */
-  private static final class ServiceThread extends Thread {
-    final ServiceThreads owner;
-
-    ServiceThread(ServiceThreads owner, Runnable body, String name) {
-      super(body, name);
-      this.owner = owner;
     }
   }
 

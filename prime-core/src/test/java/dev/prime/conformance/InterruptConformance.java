@@ -729,142 +729,50 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
-   * architecture.md (<i>Interrupts</i>): a service clears the flag a block set on its own thread
-   * after the block; the blocks of a chain linked to a source are each such a block. Every block
-   * of a linked chain running as a service starts with the flag its predecessor set cleared
-   * (where each chain is a service of its own, as on Optimus, a block never shares a thread with
-   * its predecessor), also past the length where a media groups its blocks (runs of 16 on
-   * Liberty): here every one of 20 linked blocks interrupts its own thread, and none found its
-   * flag set when it started; the service goes on with the next value, and nothing failed.
+   * architecture.md (<i>Interrupts</i>): in a service, the blocks run after one that interrupted
+   * its own thread see the flag until the service clears it before its next value. The second
+   * block of a linked chain sees it where the media runs the linked chain as one function on one
+   * thread (Liberty, Radiant), and not where each chain is a service on a thread of its own
+   * (Optimus); on every media the first block starts each value without it, and nothing fails.
    */
   @Test
-  default void eachBlockOfALinkedChainInAServiceStartsWithoutItsPredecessorsInterrupt()
+  default void theNextBlockOfALinkedChainSeesTheFlagOnlyWhereTheChainIsOneFunction()
       throws InterruptedException {
-    int length = 20;
-    List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
+    List<String> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
     List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
     CoreConfig config =
         CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
     try (PrimeCore core = newCore(config)) {
       EventBlock<Integer> events = new EventBlock<>();
-      Chain<Integer, Integer> linked = null;
-      for (int i = 0; i < length; i++) {
-        String name = "restless-" + i;
-        Chain<Integer, Integer> block =
-            core.chain(
-                name,
-                (Integer x) -> {
-                  if (Thread.currentThread().isInterrupted()) {
-                    found.add(name + " got " + x);
-                  }
-                  Thread.currentThread().interrupt();
-                  return x + 1;
-                });
-        linked = linked == null ? block : core.link(linked, block);
-      }
-      Reader<Integer> out = core.link(core.source("restless", events), linked).reader();
-      core.start();
-      events.publish(0);
-      events.publish(100);
-      assertEquals(List.of(length, 100 + length), takeOrFail(out, 2), "the service went on");
-      assertEquals(List.of(), found, "blocks that started with their predecessor's interrupt");
-      assertEquals(List.of(), failures, "nothing failed");
-    }
-  }
-
-  /**
-   * As for the blocks of a linked chain (above), for the parts of a template that a media may run
-   * one after another on one thread: in a service, a branch does not start with the flag its
-   * condition set, nor a union's part with the flag of the part before, nor a for-each's element
-   * with the flag of the element before; every value goes on, nothing fails.
-   */
-  @Test
-  default void eachPartOfATemplateInAServiceStartsWithoutTheFlagOfThePartBefore()
-      throws InterruptedException {
-    List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
-    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
-    try (PrimeCore core = newCore(config)) {
-      EventBlock<Integer> events = new EventBlock<>();
-      Source<Integer> source = core.source("restless-parts", events);
-      Reader<dev.prime.Tuple2<Integer, Integer>> unions =
-          source
-              .then(
-                  core.union(
-                      core.chain("union-first", (Integer x) -> restless(found, "union-first", x)),
-                      core.chain("union-second", (Integer x) -> restless(found, "union-second", x))))
-              .reader();
-      Reader<Integer> branches =
-          source
-              .then(
-                  core.ifThenElse(
-                      (Integer x) -> restless(found, "condition", x) > 0,
-                      core.chain("then-branch", (Integer x) -> restless(found, "then-branch", x)),
-                      core.chain("else-branch", (Integer x) -> restless(found, "else-branch", x))))
-              .reader();
-      Reader<List<Integer>> elements =
-          source
-              .then((Integer x) -> List.of(x, x + 1))
-              .then(core.forEach(core.chain("element", (Integer x) -> restless(found, "element", x))))
-              .reader();
+      Chain<Integer, Integer> first =
+          core.chain(
+              "restless-first",
+              (Integer x) -> {
+                seen.add("first " + x + (Thread.currentThread().isInterrupted() ? " flagged" : ""));
+                Thread.currentThread().interrupt();
+                return x;
+              });
+      Chain<Integer, Integer> second =
+          core.chain(
+              "restless-second",
+              (Integer x) -> {
+                seen.add("second " + x + (Thread.currentThread().isInterrupted() ? " flagged" : ""));
+                return x;
+              });
+      Reader<Integer> out =
+          core.link(core.source("restless-link", events), core.link(first, second)).reader();
       core.start();
       events.publish(1);
       events.publish(2);
-      assertEquals(
-          List.of(new dev.prime.Tuple2<>(1, 1), new dev.prime.Tuple2<>(2, 2)),
-          takeOrFail(unions, 2),
-          "the union's service went on");
-      assertEquals(List.of(1, 2), takeOrFail(branches, 2), "the if-then-else's service went on");
-      assertEquals(
-          List.of(List.of(1, 2), List.of(2, 3)), takeOrFail(elements, 2), "the for-each went on");
-      assertEquals(List.of(), found, "parts that started with the flag of the part before");
+      assertEquals(List.of(1, 2), takeOrFail(out, 2), "the service went on");
+      String second1 = blocksRunOnTheCallersThread() ? "second 1 flagged" : "second 1";
+      String second2 = blocksRunOnTheCallersThread() ? "second 2 flagged" : "second 2";
+      List<String> firsts = seen.stream().filter(line -> line.startsWith("first")).toList();
+      List<String> seconds = seen.stream().filter(line -> line.startsWith("second")).toList();
+      assertEquals(List.of("first 1", "first 2"), firsts, "each value's first block starts clean");
+      assertEquals(List.of(second1, second2), seconds, "what the second block saw");
       assertEquals(List.of(), failures, "nothing failed");
     }
-  }
-
-  /**
-   * A repeater in a service whose inner block interrupts its own thread every round: the flag is
-   * the block's, not a stop (as where the inner chain is a service of its own), so the rounds go
-   * on until the repeater says stop, every round's block starts without it, and nothing fails.
-   * (An interrupt of a synchronous caller's thread still stops a repeater between rounds.)
-   */
-  @Test
-  default void aRepeaterInAServiceGoesOnWhenItsInnerBlockInterruptsItsOwnThread()
-      throws InterruptedException {
-    List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
-    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
-    try (PrimeCore core = newCore(config)) {
-      EventBlock<Integer> events = new EventBlock<>();
-      Reader<Integer> counted =
-          core.source("restless-rounds", events)
-              .then(
-                  core.repeater(
-                      core.chain("restless-round", (Integer x) -> restless(found, "round", x) + 1),
-                      (Integer in, Integer out, List<Void> none) ->
-                          out >= 3 ? Repeat.stop(out) : Repeat.again(out)))
-              .reader();
-      core.start();
-      events.publish(0);
-      events.publish(1);
-      assertEquals(List.of(3, 3), takeOrFail(counted, 2), "the repeater's service went on");
-      assertEquals(List.of(), found, "rounds that started with the flag of the round before");
-      assertEquals(List.of(), failures, "nothing failed");
-    }
-  }
-
-  /**
-   * Notes in {@code found} that {@code part} started with its thread's flag set, then interrupts
-   * its own thread; returns {@code x}.
-   */
-  private static Integer restless(List<String> found, String part, Integer x) {
-    if (Thread.currentThread().isInterrupted()) {
-      found.add(part + " got " + x);
-    }
-    Thread.currentThread().interrupt();
-    return x;
   }
 
   /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */

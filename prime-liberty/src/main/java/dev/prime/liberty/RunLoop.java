@@ -1,7 +1,6 @@
 package dev.prime.liberty;
 
 import dev.prime.Block;
-import dev.prime.spi.LinkedBlocks;
 import java.util.List;
 
 /**
@@ -24,10 +23,9 @@ final class RunLoop implements Block<Object, Object> {
 
   @Override
   public Object process(Object input) {
-    Object x = parts[0].process(input);
-    for (int i = 1; i < parts.length; i++) {
-      LinkedBlocks.between(); // as between two steps of a run
-      x = parts[i].process(x);
+    Object x = input;
+    for (Block<Object, Object> part : parts) {
+      x = part.process(x);
     }
     return x;
   }

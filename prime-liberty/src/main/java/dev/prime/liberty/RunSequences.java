@@ -1,7 +1,6 @@
 package dev.prime.liberty;
 
 import dev.prime.Block;
-import dev.prime.spi.LinkedBlocks;
 import java.util.List;
 
 /**
@@ -12,8 +11,7 @@ import java.util.List;
  * up to {@code MAX_RUNS × Runs.MAX_LENGTH} blocks is one sequence of runs, every run inlined at a
  * call site of its own, with no loop between them. A sequence only ever calls runs and a run only
  * ever calls blocks, so no class calls itself and the JIT's limit on recursive inlining never
- * applies. The runs name failing chains; a sequence adds nothing on the failure path. Between
- * two runs it calls {@link LinkedBlocks#between()}, as a run does between two steps.
+ * applies. The runs name failing chains; a sequence adds nothing on the failure path.
  */
 final class RunSequences {
   /** The most runs in one sequence; longer chains are a {@link RunLoop} of sequences. */
@@ -54,7 +52,6 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       return r2.process(x);
     }
   }
@@ -74,9 +71,7 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       x = r2.process(x);
-      LinkedBlocks.between();
       return r3.process(x);
     }
   }
@@ -98,11 +93,8 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       x = r2.process(x);
-      LinkedBlocks.between();
       x = r3.process(x);
-      LinkedBlocks.between();
       return r4.process(x);
     }
   }
@@ -126,13 +118,9 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       x = r2.process(x);
-      LinkedBlocks.between();
       x = r3.process(x);
-      LinkedBlocks.between();
       x = r4.process(x);
-      LinkedBlocks.between();
       return r5.process(x);
     }
   }
@@ -158,15 +146,10 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       x = r2.process(x);
-      LinkedBlocks.between();
       x = r3.process(x);
-      LinkedBlocks.between();
       x = r4.process(x);
-      LinkedBlocks.between();
       x = r5.process(x);
-      LinkedBlocks.between();
       return r6.process(x);
     }
   }
@@ -194,17 +177,11 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       x = r2.process(x);
-      LinkedBlocks.between();
       x = r3.process(x);
-      LinkedBlocks.between();
       x = r4.process(x);
-      LinkedBlocks.between();
       x = r5.process(x);
-      LinkedBlocks.between();
       x = r6.process(x);
-      LinkedBlocks.between();
       return r7.process(x);
     }
   }
@@ -234,19 +211,12 @@ final class RunSequences {
     @Override
     public Object process(Object input) {
       Object x = r1.process(input);
-      LinkedBlocks.between();
       x = r2.process(x);
-      LinkedBlocks.between();
       x = r3.process(x);
-      LinkedBlocks.between();
       x = r4.process(x);
-      LinkedBlocks.between();
       x = r5.process(x);
-      LinkedBlocks.between();
       x = r6.process(x);
-      LinkedBlocks.between();
       x = r7.process(x);
-      LinkedBlocks.between();
       return r8.process(x);
     }
   }

@@ -1,7 +1,6 @@
 package dev.prime.liberty;
 
 import dev.prime.Block;
-import dev.prime.spi.LinkedBlocks;
 import java.util.List;
 
 /**
@@ -13,10 +12,7 @@ import java.util.List;
  * stopping after one level of a recursive composition; a call site sees only the blocks that
  * stand at its position in chains of its run's length, so a program's profile is split sixteen
  * ways per length instead of meeting in one shared site. The failing position is tracked in a
- * local ({@code at}), which costs nothing on the normal path; only a failure reads it. Between
- * two steps {@link LinkedBlocks#between()} reads the thread's interrupt flag (a field read and a
- * branch), so that a step does not start with the flag the step before set on a service's
- * thread.
+ * local ({@code at}), which costs nothing on the normal path; only a failure reads it.
  */
 final class Runs {
   /** The longest run; longer chains are sequences of runs. */
@@ -93,7 +89,6 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         return b2.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -122,10 +117,8 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         return b3.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -156,13 +149,10 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         return b4.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -195,16 +185,12 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         return b5.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -239,19 +225,14 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         return b6.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -288,22 +269,16 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         return b7.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -342,25 +317,18 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         return b8.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -401,28 +369,20 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         return b9.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -465,31 +425,22 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         return b10.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -534,34 +485,24 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         x = b10.process(x);
         at = 10;
-        LinkedBlocks.between();
         return b11.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -608,37 +549,26 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         x = b10.process(x);
         at = 10;
-        LinkedBlocks.between();
         x = b11.process(x);
         at = 11;
-        LinkedBlocks.between();
         return b12.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -687,40 +617,28 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         x = b10.process(x);
         at = 10;
-        LinkedBlocks.between();
         x = b11.process(x);
         at = 11;
-        LinkedBlocks.between();
         x = b12.process(x);
         at = 12;
-        LinkedBlocks.between();
         return b13.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -771,43 +689,30 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         x = b10.process(x);
         at = 10;
-        LinkedBlocks.between();
         x = b11.process(x);
         at = 11;
-        LinkedBlocks.between();
         x = b12.process(x);
         at = 12;
-        LinkedBlocks.between();
         x = b13.process(x);
         at = 13;
-        LinkedBlocks.between();
         return b14.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -860,46 +765,32 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         x = b10.process(x);
         at = 10;
-        LinkedBlocks.between();
         x = b11.process(x);
         at = 11;
-        LinkedBlocks.between();
         x = b12.process(x);
         at = 12;
-        LinkedBlocks.between();
         x = b13.process(x);
         at = 13;
-        LinkedBlocks.between();
         x = b14.process(x);
         at = 14;
-        LinkedBlocks.between();
         return b15.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);
@@ -954,49 +845,34 @@ final class Runs {
       try {
         x = b1.process(x);
         at = 1;
-        LinkedBlocks.between();
         x = b2.process(x);
         at = 2;
-        LinkedBlocks.between();
         x = b3.process(x);
         at = 3;
-        LinkedBlocks.between();
         x = b4.process(x);
         at = 4;
-        LinkedBlocks.between();
         x = b5.process(x);
         at = 5;
-        LinkedBlocks.between();
         x = b6.process(x);
         at = 6;
-        LinkedBlocks.between();
         x = b7.process(x);
         at = 7;
-        LinkedBlocks.between();
         x = b8.process(x);
         at = 8;
-        LinkedBlocks.between();
         x = b9.process(x);
         at = 9;
-        LinkedBlocks.between();
         x = b10.process(x);
         at = 10;
-        LinkedBlocks.between();
         x = b11.process(x);
         at = 11;
-        LinkedBlocks.between();
         x = b12.process(x);
         at = 12;
-        LinkedBlocks.between();
         x = b13.process(x);
         at = 13;
-        LinkedBlocks.between();
         x = b14.process(x);
         at = 14;
-        LinkedBlocks.between();
         x = b15.process(x);
         at = 15;
-        LinkedBlocks.between();
         return b16.process(x);
       } catch (Throwable e) {
         throw steps[at].failed(e);

@@ -13,7 +13,6 @@ import org.slf4j.LoggerFactory
 import redis.clients.jedis.args.ListDirection
 import redis.clients.jedis.exceptions.JedisDataException
 import java.nio.charset.StandardCharsets.UTF_8
-import java.util.function.BooleanSupplier
 
 /** What a service does with one input: emit any number of outputs (a chain emits exactly one). */
 internal fun interface StageLogic {
@@ -622,11 +621,9 @@ internal class StageService(
             var result: Any? = null
             running.id = envelope.id
             running.active = true
-            val before = ServiceThreads.enterService(stopping)
             try {
                 logic.process(value) { result = it }
             } finally {
-                ServiceThreads.leaveService(before)
                 running.active = false
                 clearOwnInterrupt()
             }
@@ -660,11 +657,9 @@ internal class StageService(
             try {
                 // a null goes on to the next chain of a linked chain (as a null payload), as chains
                 // pass nulls between blocks on every media; the last chain publishes nothing for it
-                val before = ServiceThreads.enterService(stopping)
                 try {
                     logic.process(value) { output -> if (output != null || next != null) outputs += core.valueEnvelope(output, held) }
                 } finally {
-                    ServiceThreads.leaveService(before)
                     clearOwnInterrupt()
                 }
             } catch (e: VirtualMachineError) {
@@ -687,13 +682,6 @@ internal class StageService(
             return
         }
     }
-
-    /**
-     * Whether the core is closing, for [ServiceThreads.clearOwnInterrupt]: while a block of this
-     * service runs, the parts of a template it runs one after another on this thread (a condition,
-     * then a call of a branch's service) do not start with the flag the part before set.
-     */
-    private val stopping = BooleanSupplier { core.isClosed }
 
     /** What the error handler gets for a value the codec could not decode: which service, which codec, why. */
     private fun undecodable(e: Throwable): PrimeException = PrimeException(

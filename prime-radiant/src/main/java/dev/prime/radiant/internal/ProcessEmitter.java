@@ -26,7 +26,6 @@ import dev.prime.Block;
 import dev.prime.ChainFailedException;
 import dev.prime.CoreClosedException;
 import dev.prime.EventBlock;
-import dev.prime.spi.LinkedBlocks;
 import java.util.ArrayDeque;
 import java.util.ArrayList;
 import java.util.Deque;
@@ -60,11 +59,8 @@ import net.bytebuddy.jar.asm.Type;
  * rethrows {@link ChainFailedException}, {@link CoreClosedException} and
  * {@link VirtualMachineError} unchanged and wraps
  * anything else in a {@code ChainFailedException} naming that chain. Nothing runs on the normal
- * path but the calls, and between two steps of a link a call of {@link LinkedBlocks#between()}
- * (the thread's interrupt flag read and a branch, once inlined), so that a step does not start
- * with the flag the step before set on a service's thread. Each local variable slot holds one
- * type only, so frames are simple to compute. Stateless and thread-safe: the generated method
- * keeps its state in locals.
+ * path but the calls. Each local variable slot holds one type only, so frames are simple to
+ * compute. Stateless and thread-safe: the generated method keeps its state in locals.
  *
  * <p>A {@link Node.Sequence} (links flattened) is its steps one after the other, the value on the
  * stack between them. The tree is expanded from a stack of pending steps, not by recursion, so
@@ -77,7 +73,6 @@ final class ProcessEmitter implements ByteCodeAppender {
   private static final String VM_ERROR = Type.getInternalName(VirtualMachineError.class);
   private static final String CHAIN_FAILED = Type.getInternalName(ChainFailedException.class);
   private static final String CORE_CLOSED = Type.getInternalName(CoreClosedException.class);
-  private static final String LINKED_BLOCKS = Type.getInternalName(LinkedBlocks.class);
   private static final String LIST = Type.getInternalName(List.class);
   private static final String ARRAY_LIST = Type.getInternalName(ArrayList.class);
   private static final String ITERATOR = Type.getInternalName(Iterator.class);
@@ -181,22 +176,16 @@ final class ProcessEmitter implements ByteCodeAppender {
       } else if (node instanceof Node.Opaque opaque) {
         callBlock(fields.block(opaque.block()), input);
       } else if (node instanceof Node.Link link) {
-        next(
-            () -> emit(link.first(), input),
-            this::betweenBlocks,
-            () -> emit(link.second(), ON_STACK));
+        next(() -> emit(link.first(), input), () -> emit(link.second(), ON_STACK));
       } else if (node instanceof Node.Sequence sequence) {
         List<Node> steps = sequence.steps();
-        List<Runnable> all = new ArrayList<>(2 * steps.size());
-        for (int i = 0; i < steps.size(); i++) {
+        Runnable[] all = new Runnable[steps.size()];
+        for (int i = 0; i < all.length; i++) {
           Node step = steps.get(i);
           int from = i == 0 ? input : ON_STACK;
-          if (i > 0) {
-            all.add(this::betweenBlocks);
-          }
-          all.add(() -> emit(step, from));
+          all[i] = () -> emit(step, from);
         }
-        next(all.toArray(Runnable[]::new));
+        next(all);
       } else if (node instanceof Node.IfElse branch) {
         emitBranch(
             branch.chain(),
@@ -227,7 +216,6 @@ final class ProcessEmitter implements ByteCodeAppender {
       Label elseLabel = new Label();
       Label end = new Label();
       named(chain, () -> callPredicate(fields.predicate(condition), input));
-      betweenBlocks(); // the branch does not start with the flag the condition set
       mv.visitJumpInsn(IFEQ, elseLabel);
       next(
           then,
@@ -289,7 +277,6 @@ final class ProcessEmitter implements ByteCodeAppender {
           () -> emit(loop.body(), element),
           () -> {
             int value = store();
-            betweenBlocks(); // the next element does not start with the flag this one set
             named(
                 loop.chain(),
                 () -> {
@@ -312,13 +299,7 @@ final class ProcessEmitter implements ByteCodeAppender {
       for (int i = 0; i < outputs.length; i++) {
         Node part = parts.get(i);
         int index = i;
-        steps[2 * i] =
-            i == 0
-                ? () -> emit(part, input)
-                : () -> {
-                  betweenBlocks(); // a part does not start with the flag the part before set
-                  emit(part, input);
-                };
+        steps[2 * i] = () -> emit(part, input);
         steps[2 * i + 1] = () -> outputs[index] = store();
       }
       String tuple = "dev/prime/Tuple" + outputs.length;
@@ -347,7 +328,6 @@ final class ProcessEmitter implements ByteCodeAppender {
           () -> emit(fork.body(), input),
           () -> {
             int output = store();
-            betweenBlocks(); // a publish that waits for room would take the body's flag for a stop
             Label skip = new Label();
             mv.visitVarInsn(ALOAD, output);
             mv.visitJumpInsn(IFNULL, skip);
@@ -368,16 +348,6 @@ final class ProcessEmitter implements ByteCodeAppender {
             mv.visitLabel(skip);
             mv.visitVarInsn(ALOAD, output);
           });
-    }
-
-    /**
-     * Between two steps of a link (the value on the stack), a condition and its branch, two parts
-     * of a union, two elements of a for-each, a fork's body and its publish: {@code
-     * LinkedBlocks.between()}, which clears the interrupt flag the first set on a service's thread
-     * (three bytes; on the normal path the JIT makes it a read of the flag and a branch).
-     */
-    private void betweenBlocks() {
-      mv.visitMethodInsn(INVOKESTATIC, LINKED_BLOCKS, "between", "()V", false);
     }
 
     private void callBlock(ConstantFields.Field field, int input) {
