@@ -69,6 +69,10 @@ public interface Source<T> {
   /**
    * A source of all values that {@code block} makes of each value of this one, in order.
    *
+   * <p>Sources never carry {@code null}: a {@code null} element of the iterable is skipped, and
+   * a {@code null} iterable drops its value as an empty one does, on every media, without a call
+   * of the error handler.
+   *
    * @param block turns one value into any number of values (an empty iterable drops it)
    * @param <R> output type
    * @return the flattened source

@@ -483,6 +483,31 @@ public interface SourceConformance extends ConformanceBase {
   }
 
   /**
+   * {@link Source#flatMap}: "a {@code null} element of the iterable is skipped, and a {@code null}
+   * iterable drops its value as an empty one does, ... without a call of the error handler".
+   */
+  @Test
+  default void flatMapSkipsNullElementsAndDropsANullIterable() throws InterruptedException {
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> spread =
+          core.source(events)
+              .flatMap(x -> x == 0 ? null : java.util.Arrays.asList(x, null, x + 1, null))
+              .reader();
+      core.start();
+      for (int x : List.of(1, 0, 5)) {
+        events.publish(x);
+      }
+      assertEquals(List.of(1, 2, 5, 6), takeOrFail(spread, 4));
+      assertEquals(Optional.empty(), spread.poll(), "one value too many");
+      assertEquals(List.of(), failures, "nothing went to the error handler");
+    }
+  }
+
+  /**
    * {@link Reader}: "concurrent calls are safe but each value goes to exactly one of the
    * callers", and a reader reads in publication order. Four threads taking from one reader, of an
    * event source and of a service's output, share the values: none is taken twice, none is lost,
