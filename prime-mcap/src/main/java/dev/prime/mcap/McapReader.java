@@ -604,13 +604,8 @@ public final class McapReader implements Closeable {
           break; // reaches into the cut or the zeroes
         }
         byte[] content = chunk.bytes(innerLength, Opcode.name(inner) + " content");
-        RecordCursor record = cursor(content, recordOffset + RECORD_PREFIX, Opcode.name(inner) + " record");
-        if (inner == Opcode.SCHEMA) {
-          readSchema(record);
-        } else if (inner == Opcode.CHANNEL) {
-          readChannel(record);
-        } else if (inner == Opcode.MESSAGE) {
-          McapMessage m = readMessage(record, content.length, id -> true);
+        McapMessage m = readChunkRecord(inner, content, recordOffset, id -> true);
+        if (m != null) {
           refs.add(new ChunkRef(m.logTime(), recordOffset, RECORD_PREFIX + innerLength, Set.of(m.channel().id()), true));
           messages.add(m);
         }
@@ -634,6 +629,24 @@ public final class McapReader implements Closeable {
     return footerOffset > 0
         && Arrays.equals(read(size - Opcode.MAGIC.length, Opcode.MAGIC.length, "the closing magic"), Opcode.MAGIC)
         && read(footerOffset, 1, "the Footer record")[0] == Opcode.FOOTER;
+  }
+
+  /**
+   * Reads one record of a chunk's records, found at {@code recordOffset} with {@code content}: a
+   * Schema or a Channel is taken in; a Message is returned if its channel is {@code wanted}.
+   *
+   * @return the message, or null for any other record or a message not wanted
+   */
+  private McapMessage readChunkRecord(int opcode, byte[] content, long recordOffset, IntPredicate wanted) {
+    RecordCursor record = cursor(content, recordOffset + RECORD_PREFIX, Opcode.name(opcode) + " record");
+    if (opcode == Opcode.SCHEMA) {
+      readSchema(record);
+    } else if (opcode == Opcode.CHANNEL) {
+      readChannel(record);
+    } else if (opcode == Opcode.MESSAGE) {
+      return readMessage(record, content.length, wanted);
+    }
+    return null;
   }
 
   private McapMessage readMessage(RecordCursor record, int length, IntPredicate wanted) {
@@ -707,16 +720,9 @@ public final class McapReader implements Closeable {
       int inner = records.u8("opcode");
       long innerLength = records.u64(Opcode.name(inner) + " length");
       byte[] content = records.bytes(innerLength, Opcode.name(inner) + " content");
-      RecordCursor record = cursor(content, recordOffset + RECORD_PREFIX, Opcode.name(inner) + " record");
-      if (inner == Opcode.SCHEMA) {
-        readSchema(record);
-      } else if (inner == Opcode.CHANNEL) {
-        readChannel(record);
-      } else if (inner == Opcode.MESSAGE) {
-        McapMessage m = readMessage(record, content.length, wanted);
-        if (m != null) {
-          messages.add(m);
-        }
+      McapMessage m = readChunkRecord(inner, content, recordOffset, wanted);
+      if (m != null) {
+        messages.add(m);
       }
     }
     messages.sort(Comparator.comparingLong(McapMessage::logTime));
