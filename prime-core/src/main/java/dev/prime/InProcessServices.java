@@ -4,6 +4,7 @@ import dev.prime.internal.ServiceThreads;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.function.BooleanSupplier;
 import java.util.function.Consumer;
 import java.util.function.Predicate;
 import java.util.function.Supplier;
@@ -25,12 +26,14 @@ import java.util.function.Supplier;
 final class InProcessServices implements SourceCompiler<Source<?>> {
   private final PrimeCore core;
   private final ServiceThreads threads;
+  private final BooleanSupplier closed; // core::isClosed, made once: asked on a service's hot path
   private final List<MemorySource<?>> sources = new ArrayList<>(); // guarded by itself
   private final List<EventBlock.Subscription> subscriptions = new ArrayList<>(); // guarded by sources
   private volatile MeteringPoints metering; // null: metrics are off
 
   InProcessServices(PrimeCore core, ServiceThreads threads) {
     this.core = core;
+    this.closed = core::isClosed;
     this.threads = threads;
   }
 
@@ -232,9 +235,7 @@ final class InProcessServices implements SourceCompiler<Source<?>> {
    * interrupts, so the flag of a close stays.
    */
   private void clearOwnInterrupt() {
-    if (Thread.interrupted() && core.isClosed()) {
-      Thread.currentThread().interrupt();
-    }
+    ServiceThreads.clearOwnInterrupt(closed);
   }
 
   /** A generic service on a thread of the core; it stops when the core closes. */

@@ -7,6 +7,7 @@ import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Map;
 import java.util.Set;
+import java.util.function.BooleanSupplier;
 import java.util.function.Supplier;
 import org.slf4j.Logger;
 import org.slf4j.LoggerFactory;
@@ -217,5 +218,20 @@ public final class ServiceThreads {
           stuck);
     }
     return stuck;
+  }
+
+  /**
+   * Clears the interrupt flag the user's code of a service set on the calling thread (a block that
+   * restored the flag of an {@code InterruptedException} it caught), unless its core is closing:
+   * the flag is cleared first and {@code closed} asked after, and a close marks its core closed
+   * before it interrupts, so the flag of a close stays. Every media's services call it after
+   * the user's code, before they go on.
+   *
+   * @param closed whether the service's core is closed; asked only when the flag was set
+   */
+  public static void clearOwnInterrupt(BooleanSupplier closed) {
+    if (Thread.interrupted() && closed.getAsBoolean()) {
+      Thread.currentThread().interrupt();
+    }
   }
 }

@@ -13,6 +13,7 @@ import org.slf4j.LoggerFactory
 import redis.clients.jedis.args.ListDirection
 import redis.clients.jedis.exceptions.JedisDataException
 import java.nio.charset.StandardCharsets.UTF_8
+import java.util.function.BooleanSupplier
 
 /** What a service does with one input: emit any number of outputs (a chain emits exactly one). */
 internal fun interface StageLogic {
@@ -697,9 +698,10 @@ internal class StageService(
      * next value's block nor another service sharing the thread starts with the flag. Cleared first,
      * then the core looked at: the interrupt of a close that comes meanwhile is kept.
      */
-    private fun clearOwnInterrupt() {
-        if (Thread.interrupted() && core.isClosed) Thread.currentThread().interrupt()
-    }
+    private fun clearOwnInterrupt() = ServiceThreads.clearOwnInterrupt(closed)
+
+    /** Whether the core is closed, made once for [clearOwnInterrupt]. */
+    private val closed = BooleanSupplier { core.isClosed }
 
     override fun toString(): String = "service '$name'"
 
