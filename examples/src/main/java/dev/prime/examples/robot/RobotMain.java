@@ -140,7 +140,14 @@ public final class RobotMain {
           return 4;
         }
       }
-      result = new RobotSimulation(RobotSpec.SMALL_INDOOR).run(core, mission, out);
+      try {
+        result = new RobotSimulation(RobotSpec.SMALL_INDOOR).run(core, mission, out);
+      } catch (RuntimeException | Error e) {
+        if (recorder != null) {
+          finishAfterFailure(recorder, e);
+        }
+        throw e;
+      }
       if (recorder != null && !finishRecording(recorder, out, err)) {
         return 4;
       }
@@ -163,6 +170,19 @@ public final class RobotMain {
     } catch (IOException | UncheckedIOException | IllegalArgumentException e) {
       err.println("error: cannot write the recording to " + file + ": " + e.getMessage());
       return null;
+    }
+  }
+
+  /**
+   * Finishes a streamed recording after the run failed, so that the file is complete (readable
+   * without {@code McapReader.openUnfinished}) and its path free for the next run; a failure to
+   * finish it is added to {@code failure}'s.
+   */
+  private static void finishAfterFailure(McapRecorder recorder, Throwable failure) {
+    try {
+      recorder.close();
+    } catch (IOException | RuntimeException e) {
+      failure.addSuppressed(e);
     }
   }
 

@@ -1,12 +1,21 @@
 package dev.prime.examples.robot;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertSame;
+import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.mcap.McapReader;
 import java.io.ByteArrayOutputStream;
+import java.io.IOException;
+import java.io.OutputStream;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
 import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
 
 class RobotMainTest {
   private final ByteArrayOutputStream out = new ByteArrayOutputStream();
@@ -76,5 +85,47 @@ class RobotMainTest {
     assertEquals(0, run("--media", "optimus", "--goal", "0.5,0.2"));
     assertTrue(out().startsWith("robot on media optimus: driving from"), out());
     assertTrue(out().contains("reached goal (x=0.500, y=0.200) after "), out());
+  }
+
+  /**
+   * A run that fails part way (here its output, once the recording has started: an unchecked
+   * failure, as a closed pipe below the trace) still finishes its recording: the file is complete
+   * and its path is free for the next run.
+   */
+  @Test
+  void aRunThatFailsStillFinishesItsRecording(@TempDir Path dir) throws IOException {
+    Path file = dir.resolve("failed.mcap");
+    IllegalStateException broken = new IllegalStateException("the trace's output is closed (simulated)");
+    OutputStream failing =
+        new OutputStream() {
+          @Override
+          public void write(int b) {
+            write(new byte[] {(byte) b}, 0, 1);
+          }
+
+          @Override
+          public void write(byte[] bytes, int offset, int length) {
+            if (Files.exists(file)) {
+              throw broken; // the recording has started: the first trace line fails
+            }
+            out.write(bytes, offset, length);
+          }
+        };
+
+    IllegalStateException thrown =
+        assertThrows(
+            IllegalStateException.class,
+            () ->
+                RobotMain.run(
+                    new String[] {"--trace-every", "1", "--record", file.toString()},
+                    new PrintStream(failing, true, StandardCharsets.UTF_8),
+                    new PrintStream(err, true, StandardCharsets.UTF_8)));
+
+    assertSame(broken, thrown, "the run's failure is the one thrown");
+    assertTrue(out().startsWith("robot on media liberty: driving from"), out());
+    try (McapReader reader = McapReader.open(file)) {
+      assertTrue(reader.statistics().messageCount() > 0, "the values recorded before the failure are in the file");
+    }
+    assertFalse(Files.exists(dir.resolve("failed.mcap.lock")), "the recording's path is free again");
   }
 }
