@@ -1,11 +1,11 @@
 package dev.prime.mcap;
 
 import dev.prime.mcap.internal.McapFileWriter;
-import java.io.BufferedOutputStream;
 import java.io.Closeable;
 import java.io.IOException;
 import java.io.PrintStream;
 import java.io.UncheckedIOException;
+import java.nio.channels.FileChannel;
 import java.nio.file.AtomicMoveNotSupportedException;
 import java.nio.file.Files;
 import java.nio.file.Path;
@@ -166,8 +166,9 @@ public final class McapMerge {
    * @param inputs the files, at least one, each a finished MCAP file (a writer that was killed
    *     leaves an unfinished one: see {@link Options#readUnfinished()})
    * @param output the merged file; created or overwritten once the merge is complete (it is
-   *     written to {@code OUTPUT.partial} beside it first): a merge that fails leaves it as it
-   *     was; not one of the inputs
+   *     written to {@code OUTPUT.partial} beside it first, forced to the storage device, then
+   *     moved into place, and the folder forced): a merge that fails leaves it as it was, and
+   *     one that returned survives a power cut; not one of the inputs
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
    *     (or another merge), in this JVM or another process, is writing the output path: the
@@ -195,6 +196,10 @@ public final class McapMerge {
    * @throws IllegalArgumentException as {@link #merge(List, Path)}
    */
   public static Result merge(List<Path> inputs, Path output, Options options) throws IOException {
+    return merge(inputs, output, options, OutputOpener.FILES);
+  }
+
+  static Result merge(List<Path> inputs, Path output, Options options, OutputOpener opener) throws IOException {
     Objects.requireNonNull(inputs, "inputs");
     Objects.requireNonNull(output, "output");
     Objects.requireNonNull(options, "options");
@@ -204,7 +209,7 @@ public final class McapMerge {
     RecordingLock lock = RecordingLock.acquire(output, "merge into");
     Result result;
     try {
-      result = mergeHeld(inputs, output, options);
+      result = mergeHeld(inputs, output, options, opener);
     } catch (IOException | RuntimeException | Error e) {
       try {
         lock.release();
@@ -217,19 +222,24 @@ public final class McapMerge {
     return result;
   }
 
-  private static Result mergeHeld(List<Path> inputs, Path output, Options options) throws IOException {
+  private static Result mergeHeld(List<Path> inputs, Path output, Options options, OutputOpener opener)
+      throws IOException {
     try (OpenInputs open = OpenInputs.open(inputs, options.readUnfinished)) {
       Channels channels = Channels.unify(open.readers);
       Path partial = partialPath(output);
       try {
         Result result;
-        try (BufferedOutputStream out = new BufferedOutputStream(Files.newOutputStream(partial), 1 << 16)) {
+        try (FileChannel out = opener.open(partial)) {
+          // forced before it is moved into place: a power cut after the move must not leave an
+          // empty or zero-filled file where an earlier merge was
           McapFileWriter file =
-              new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize);
+              new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize, true);
           result = write(open.readers, channels, file, output);
           file.finish();
         }
         moveInPlace(partial, output);
+        // the move is a change of the folder's entries: stored once the folder is forced
+        Durability.forceFolderOf(output, opener);
         return result;
       } catch (IOException | RuntimeException | Error e) {
         try {

@@ -5,6 +5,7 @@ import java.io.Closeable;
 import java.io.IOException;
 import java.io.InterruptedIOException;
 import java.io.UncheckedIOException;
+import java.nio.channels.FileChannel;
 import java.nio.charset.StandardCharsets;
 import java.nio.file.Files;
 import java.nio.file.Path;
@@ -76,6 +77,18 @@ import java.util.stream.Stream;
  * so a recording does not end with an empty file. Existing files of those names are overwritten.
  * See {@link #rotatedPath}.
  *
+ * <h2>Durability</h2>
+ *
+ * A file is forced to the storage device (fsync: its bytes, its size, and its folder's entry for
+ * it) when it is finished: each rotated file as it reaches the rotation size (in the writer
+ * thread; with {@link McapWriterOptions#synchronous()}, in the thread whose write finished it),
+ * and the last one in {@link #close()}, before it returns. So a power cut after {@code close()}
+ * returned leaves the whole recording as it was written. A write is a hot path and never forces:
+ * messages are handed to the operating system as their chunk closes, and a power cut loses what
+ * it had not yet stored, and leaves the file being written unfinished ({@link
+ * McapReader#openUnfinished} reads the complete chunks that reached the disk). A device or a pipe
+ * ({@code /dev/null}) is not forced.
+ *
  * <h2>One writer per path</h2>
  *
  * A writer holds its recording's path from {@link #open} until its last file is finished in
@@ -122,6 +135,8 @@ public final class McapWriter implements Closeable {
   // Owned by the writer thread (or, when synchronous, by whoever holds syncLock).
   /** The file being written; null between a rotation and the next message, which starts the next file. */
   private McapFileWriter file;
+  /** Whether {@link #file} is a regular file (forced when finished), not a device or a pipe. */
+  private boolean fileIsRegular;
   private int fileIndex;
   private long droppedAtFileStart;
   private int metadataAtFileStart;
@@ -601,7 +616,19 @@ public final class McapWriter implements Closeable {
   }
 
   private void openFile(Path path) throws IOException {
-    file = new McapFileWriter(opener.open(path), options.library(), options.chunkSize());
+    FileChannel channel = opener.open(path);
+    try {
+      // a device or a pipe (/dev/null) cannot be forced
+      fileIsRegular = Files.isRegularFile(path);
+      file = new McapFileWriter(channel, options.library(), options.chunkSize(), fileIsRegular);
+    } catch (IOException | RuntimeException e) {
+      try {
+        channel.close();
+      } catch (IOException closing) {
+        e.addSuppressed(closing);
+      }
+      throw e;
+    }
     files.add(path);
   }
 
@@ -661,6 +688,9 @@ public final class McapWriter implements Closeable {
       }
       file.addMetadata(LOSS_METADATA, loss);
       file.finish();
+      if (fileIsRegular) {
+        Durability.forceFolderOf(currentPath(), opener);
+      }
       droppedAtFileStart = droppedNow;
       channelDroppedAtFileStart.clear();
       channelDroppedAtFileStart.putAll(channelDroppedNow);
@@ -672,7 +702,8 @@ public final class McapWriter implements Closeable {
 
   /**
    * Waits for the queued messages to be written, then finishes the file: the channels with no
-   * message yet, the loss report, the summary and the footer. Writes after this throw. A close
+   * message yet, the loss report, the summary and the footer, forced to the storage device with
+   * its folder's entry (see "Durability" in the class description). Writes after this throw. A close
    * called while another thread's is under way returns once that one has finished the file (so
    * that the file is complete when either returns); a close after that does nothing.
    *

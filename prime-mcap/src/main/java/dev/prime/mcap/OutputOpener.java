@@ -1,14 +1,38 @@
 package dev.prime.mcap;
 
 import java.io.IOException;
-import java.io.OutputStream;
+import java.nio.channels.FileChannel;
 import java.nio.file.Path;
+import java.nio.file.StandardOpenOption;
 
-/** Opens the output of one file (package-private: tests put a controllable output behind it). */
+/**
+ * Opens the files a writer or a merge writes, and the folders it forces (package-private: tests
+ * put a channel they control or watch behind it).
+ */
 @FunctionalInterface
 interface OutputOpener {
   /** The default: create or truncate the file. */
-  OutputOpener FILES = java.nio.file.Files::newOutputStream;
+  OutputOpener FILES =
+      path -> FileChannel.open(path, StandardOpenOption.CREATE, StandardOpenOption.WRITE,
+          StandardOpenOption.TRUNCATE_EXISTING);
 
-  OutputStream open(Path path) throws IOException;
+  /**
+   * Opens a file to write it from its start.
+   *
+   * @param path the file: created, or truncated
+   * @return a channel open for writing
+   * @throws IOException if the file cannot be created or truncated
+   */
+  FileChannel open(Path path) throws IOException;
+
+  /**
+   * Opens a folder to force its entries to the storage device (see {@link Durability}).
+   *
+   * @param folder the folder
+   * @return a channel open for reading
+   * @throws IOException if the folder cannot be opened
+   */
+  default FileChannel openFolder(Path folder) throws IOException {
+    return FileChannel.open(folder, StandardOpenOption.READ);
+  }
 }

@@ -1,8 +1,7 @@
 package dev.prime.mcap;
 
 import java.io.IOException;
-import java.io.OutputStream;
-import java.nio.file.Files;
+import java.nio.ByteBuffer;
 import java.nio.file.Path;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
@@ -12,8 +11,7 @@ import java.util.concurrent.TimeUnit;
  * (and says so through {@link #awaitBlocked}) until {@link #release()}; or it can be made to
  * fail. A disk that cannot keep up, without sleeps.
  */
-final class StallingOutput extends OutputStream {
-  private final OutputStream file;
+final class StallingOutput extends ForwardingFileChannel {
   private volatile boolean stalled;
   private volatile boolean failing;
   private volatile RuntimeException bug;
@@ -21,7 +19,7 @@ final class StallingOutput extends OutputStream {
   private final CountDownLatch released = new CountDownLatch(1);
 
   StallingOutput(Path path) throws IOException {
-    this.file = Files.newOutputStream(path);
+    super(OutputOpener.FILES.open(path));
   }
 
   /** The next writes block until {@link #release()}. */
@@ -68,19 +66,20 @@ final class StallingOutput extends OutputStream {
   }
 
   @Override
-  public void write(int b) throws IOException {
+  public int write(ByteBuffer source) throws IOException {
     gate();
-    file.write(b);
+    return super.write(source);
   }
 
   @Override
-  public void write(byte[] b, int off, int len) throws IOException {
+  public long write(ByteBuffer[] sources, int offset, int length) throws IOException {
     gate();
-    file.write(b, off, len);
+    return super.write(sources, offset, length);
   }
 
   @Override
-  public void close() throws IOException {
-    file.close();
+  public int write(ByteBuffer source, long position) throws IOException {
+    gate();
+    return super.write(source, position);
   }
 }

@@ -1,7 +1,8 @@
 package dev.prime.mcap.internal;
 
 import java.io.IOException;
-import java.io.OutputStream;
+import java.nio.ByteBuffer;
+import java.nio.channels.FileChannel;
 import java.util.ArrayList;
 import java.util.LinkedHashMap;
 import java.util.List;
@@ -18,9 +19,14 @@ import java.util.zip.CRC32;
  *
  * <p>Memory: the open chunk (about the chunk size), plus per chunk written one ChunkIndex (about
  * 70 bytes and 10 per channel in it), plus the schemas and channels.
+ *
+ * <p>Durability: records are handed to the operating system as chunks close, never forced (a
+ * message is a hot path); {@link #finish()} forces the finished file to the storage device before
+ * it returns, when made to.
  */
 public final class McapFileWriter {
-  private final OutputStream out;
+  private final FileChannel out;
+  private final boolean force;
   private final long chunkSize;
   private final CRC32 dataCrc = new CRC32();
   private long position;
@@ -51,10 +57,13 @@ public final class McapFileWriter {
    * @param out where the file goes (this writer closes it in {@link #finish()})
    * @param library the Header's library string
    * @param chunkSize a chunk is closed once its records reach this many bytes
+   * @param force whether {@link #finish()} forces the file to the storage device (a regular
+   *     file); false for a device or a pipe, which cannot be forced
    * @throws IOException from {@code out}
    */
-  public McapFileWriter(OutputStream out, String library, long chunkSize) throws IOException {
+  public McapFileWriter(FileChannel out, String library, long chunkSize, boolean force) throws IOException {
     this.out = out;
+    this.force = force;
     this.chunkSize = chunkSize;
     this.chunk = new RecordBuffer((int) Math.min(chunkSize + 1024, 1 << 20));
     emit(Opcode.MAGIC, 0, Opcode.MAGIC.length);
@@ -264,7 +273,8 @@ public final class McapFileWriter {
 
   /**
    * Closes the open chunk, writes DataEnd, the summary, the summary offsets, the footer and the
-   * closing magic, and closes the output.
+   * closing magic, forces the file to the storage device (if made to: its bytes and its size, so
+   * that a power cut after this returns leaves the file finished), and closes the output.
    *
    * @throws IOException from the output
    */
@@ -305,7 +315,9 @@ public final class McapFileWriter {
       summary.u32(summary.crc32());
       emit(summary);
       emit(Opcode.MAGIC, 0, Opcode.MAGIC.length);
-      out.flush();
+      if (force) {
+        out.force(true);
+      }
     } finally {
       out.close();
     }
@@ -352,7 +364,10 @@ public final class McapFileWriter {
   }
 
   private void emit(byte[] bytes, int offset, int length) throws IOException {
-    out.write(bytes, offset, length);
+    ByteBuffer buffer = ByteBuffer.wrap(bytes, offset, length);
+    while (buffer.hasRemaining()) {
+      out.write(buffer);
+    }
     dataCrc.update(bytes, offset, length);
     position += length;
   }

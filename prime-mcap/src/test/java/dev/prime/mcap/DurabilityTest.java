@@ -1,0 +1,168 @@
+package dev.prime.mcap;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import java.io.IOException;
+import java.io.UncheckedIOException;
+import java.nio.ByteBuffer;
+import java.nio.channels.FileChannel;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.nio.file.StandardOpenOption;
+import java.util.ArrayList;
+import java.util.Arrays;
+import java.util.Collections;
+import java.util.List;
+import java.util.function.Supplier;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+
+/**
+ * What a writer and a merge force to the storage device, watched through the channels they
+ * write and force with: a finished file is forced after its last byte and before it is closed,
+ * then its folder (a merge's output: before it is moved into place, and the folder after the
+ * move), and a write that finishes no file forces nothing.
+ */
+class DurabilityTest {
+  @TempDir Path dir;
+
+  record Reading(int value) {}
+
+  /** What was done to the channels, in order: "write NAME", "force NAME", "close NAME". */
+  private final List<String> events = Collections.synchronizedList(new ArrayList<>());
+
+  /** A real channel that logs its writes, forces and close, with what {@code state} says at a force. */
+  private final class Watched extends ForwardingFileChannel {
+    private final String name;
+    private final Supplier<String> state;
+
+    Watched(String name, FileChannel file, Supplier<String> state) {
+      super(file);
+      this.name = name;
+      this.state = state;
+    }
+
+    @Override
+    public int write(ByteBuffer source) throws IOException {
+      events.add("write " + name);
+      return super.write(source);
+    }
+
+    @Override
+    public void force(boolean metaData) throws IOException {
+      events.add("force " + name + state.get());
+      super.force(metaData);
+    }
+
+    @Override
+    protected void implCloseChannel() throws IOException {
+      events.add("close " + name);
+      super.implCloseChannel();
+    }
+  }
+
+  private OutputOpener watching(Supplier<String> state) {
+    return new OutputOpener() {
+      @Override
+      public FileChannel open(Path path) throws IOException {
+        return new Watched(path.getFileName().toString(), OutputOpener.FILES.open(path), state);
+      }
+
+      @Override
+      public FileChannel openFolder(Path folder) throws IOException {
+        return new Watched("folder", FileChannel.open(folder, StandardOpenOption.READ), state);
+      }
+    };
+  }
+
+  private List<String> forcesAndCloses() {
+    synchronized (events) {
+      return events.stream().filter(event -> !event.startsWith("write ")).toList();
+    }
+  }
+
+  @Test
+  void closeForcesTheFileAfterItsLastByteThenItsFolderAndNoWriteForces() throws IOException {
+    Path file = dir.resolve("run.mcap");
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous().chunkSize(1);
+    try (McapWriter writer = McapWriter.open(file, options, watching(() -> ""))) {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      for (int i = 0; i < 5; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)));
+      }
+      assertTrue(events.contains("write run.mcap"), "each message's chunk is written as it closes: " + events);
+      assertEquals(List.of(), forcesAndCloses(), "a write forces nothing (a hot path)");
+    }
+    assertEquals(List.of("force run.mcap", "close run.mcap", "force folder", "close folder"), forcesAndCloses(),
+        "close() forces the finished file, then its folder's entry for it: " + events);
+    assertEquals(events.lastIndexOf("write run.mcap") + 1, events.indexOf("force run.mcap"),
+        "forced after its last byte: " + events);
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(5, reader.messageCount("readings"));
+    }
+  }
+
+  @Test
+  void everyRotatedFileIsForcedAsItIsFinished() throws IOException {
+    Path file = dir.resolve("rotated.mcap");
+    McapWriterOptions options = McapWriterOptions.defaults().chunkSize(1).rotateAtSize(1);
+    McapWriter writer = McapWriter.open(file, options, watching(() -> ""));
+    try {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      for (int i = 0; i < 3; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)));
+      }
+    } finally {
+      writer.close();
+    }
+    List<Path> files = writer.files();
+    assertEquals(3, files.size(), "one file per message: " + files);
+    List<String> expected = new ArrayList<>();
+    for (Path part : files) {
+      String name = part.getFileName().toString();
+      expected.addAll(List.of("force " + name, "close " + name, "force folder", "close folder"));
+      assertEquals(events.lastIndexOf("write " + name) + 1, events.indexOf("force " + name),
+          name + " is forced after its last byte: " + events);
+    }
+    assertEquals(expected, forcesAndCloses(), "each file is forced, then its folder, as it is finished");
+  }
+
+  @Test
+  void aMergeIsForcedBeforeItIsMovedIntoPlaceAndTheFolderAfter() throws IOException {
+    Path input = dir.resolve("input.mcap");
+    try (McapWriter writer = McapWriter.open(input, McapWriterOptions.defaults().synchronous())) {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      for (int i = 0; i < 3; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)));
+      }
+    }
+    Path output = dir.resolve("merged.mcap");
+    Path partial = dir.resolve("merged.mcap.partial");
+    byte[] earlier = "an earlier merge".getBytes(StandardCharsets.UTF_8);
+    Files.write(output, earlier);
+    Supplier<String> state = () -> {
+      try {
+        return " (" + (Files.exists(partial) ? "partial" : "no partial") + ", "
+            + (Arrays.equals(Files.readAllBytes(output), earlier) ? "earlier output" : "new output") + ")";
+      } catch (IOException e) {
+        throw new UncheckedIOException(e);
+      }
+    };
+
+    McapMerge.merge(List.of(input), output, McapMerge.Options.defaults(), watching(state));
+
+    assertEquals(
+        List.of(
+            "force merged.mcap.partial (partial, earlier output)",
+            "close merged.mcap.partial",
+            "force folder (no partial, new output)",
+            "close folder"),
+        forcesAndCloses(),
+        "the merge is forced where it is written, before it replaces the earlier one; the folder after: " + events);
+    try (McapReader reader = McapReader.open(output)) {
+      assertEquals(3, reader.messageCount("readings"));
+    }
+  }
+}
