@@ -206,7 +206,7 @@ public final class McapMerge {
     checkPaths(inputs, output);
     // one writer per path: a merge moved into the path of a writer still writing would replace
     // its file, and two merges into one output would write one partial file together
-    RecordingLock lock = RecordingLock.acquire(output, "merge into");
+    RecordingLock lock = RecordingLock.acquire(output, "merge into", false);
     Result result;
     try {
       result = mergeHeld(inputs, output, options, opener);

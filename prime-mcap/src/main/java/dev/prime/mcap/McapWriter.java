@@ -94,7 +94,12 @@ import java.util.stream.Stream;
  * A writer holds its recording's path from {@link #open} until its last file is finished in
  * {@link #close()}: a second writer (or {@link McapRecorder}) opened at the same path, in this
  * JVM or in another process, is refused with an {@link IOException} naming the path and the
- * holder (pid, host, thread), before anything is truncated or deleted. Across processes this is
+ * holder (pid, host, thread), before anything is truncated or deleted. So is one whose files
+ * would overlap with the holder's: a writer, recorder or merge at {@code run-0001.mcap} while a
+ * writer at {@code run.mcap} holds its recording (it rotates into that name, truncating it), and
+ * a writer at {@code run.mcap} while one at {@code run-0001.mcap} is writing (it would delete
+ * that file as an earlier recording's, then rotate into it). Writers at {@code run-0001.mcap} and
+ * {@code run-0002.mcap} do not overlap, and may write at once. Across processes this is
  * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
  * releases it when its process dies, so the lock file a killed process leaves does not stop the
  * next writer. A device or a pipe ({@code /dev/null}) is not held.
@@ -170,7 +175,7 @@ public final class McapWriter implements Closeable {
     this.options = options;
     this.opener = opener;
     // before anything is truncated or deleted: those are the files of a writer that holds the path
-    this.lock = RecordingLock.acquire(path, "open an MCAP writer at");
+    this.lock = RecordingLock.acquire(path, "open an MCAP writer at", true);
     try {
       openFile(path);
     } catch (IOException | RuntimeException e) {
@@ -301,7 +306,7 @@ public final class McapWriter implements Closeable {
    * The rotation index {@code file} has as a file of {@code first}'s recording, as {@link
    * #rotatedPath} names them (1 and up); -1 if its name is not one of them.
    */
-  private static int rotationIndex(Path first, Path file) {
+  static int rotationIndex(Path first, Path file) {
     String name = first.getFileName().toString();
     String stem = name.substring(0, extensionAt(name)) + "-";
     String extension = name.substring(extensionAt(name));
@@ -317,6 +322,25 @@ public final class McapWriter implements Closeable {
     }
     int index = Integer.parseInt(digits);
     return index > 0 && file.getFileName().equals(rotatedPath(first, index).getFileName()) ? index : -1;
+  }
+
+  /**
+   * The first file of the recording that {@code file} is a rotated file of, by its name ({@code
+   * run.mcap} for {@code run-0001.mcap}); null if its name is no rotated file's.
+   */
+  static Path recordingOf(Path file) {
+    Path fileName = file.getFileName();
+    if (fileName == null) {
+      return null;
+    }
+    String name = fileName.toString();
+    int dot = extensionAt(name);
+    int dash = name.lastIndexOf('-', dot - 1);
+    if (dash <= 0) {
+      return null;
+    }
+    Path first = file.resolveSibling(name.substring(0, dash) + name.substring(dot));
+    return rotationIndex(first, file) > 0 ? first : null;
   }
 
   /** Where a file name's extension starts: at its last dot, if not the first character; else its end. */

@@ -12,9 +12,12 @@ import java.nio.file.Path;
 import java.nio.file.StandardOpenOption;
 import java.nio.file.attribute.BasicFileAttributes;
 import java.time.Instant;
+import java.util.ArrayList;
+import java.util.List;
 import java.util.Map;
 import java.util.Objects;
 import java.util.concurrent.ConcurrentHashMap;
+import java.util.stream.Stream;
 
 /**
  * Holds the path of a recording for one {@link McapWriter} (or a {@link McapMerge} into it), so
@@ -28,6 +31,16 @@ import java.util.concurrent.ConcurrentHashMap;
  * file is opened, because file locks belong to the whole JVM and closing any channel of the JVM
  * on the lock file would release the lock (POSIX semantics).
  *
+ * <p>A writer's recording is more than its first file: it deletes the rotated files of an earlier
+ * recording at its path when it opens, and truncates each next one as it rotates ({@link
+ * McapWriter#rotatedPath}). So a writer is also refused where its files and another holder's
+ * overlap: at {@code run-0001.mcap} while a writer at {@code run.mcap} holds that recording, and
+ * at {@code run.mcap} while a writer (or merge) holds {@code run-0001.mcap}. Each holder locks its
+ * own lock file first, then looks at the lock files of the overlapping paths (a lock it can take
+ * there is no holder's: it is let go at once), so two of them opened at once cannot both miss
+ * each other. In this JVM, taking and giving up holds is serialized, so that such a look never
+ * closes a channel on a lock file that a writer of this JVM holds.
+ *
  * <p>A path that is a device or a pipe ({@code /dev/null}) is not held. Released by the writer
  * once its last file is finished: the lock file is deleted (while still
  * locked), then closed. A writer that took the lock file just before it was deleted sees that the
@@ -36,6 +49,7 @@ import java.util.concurrent.ConcurrentHashMap;
 final class RecordingLock {
   private static final Map<Path, String> HELD_IN_THIS_JVM = new ConcurrentHashMap<>();
   private static final int ATTEMPTS = 10;
+  private static final String LOCK_SUFFIX = ".lock";
 
   private final Path key;
   private final Path lockFile;
@@ -51,7 +65,7 @@ final class RecordingLock {
 
   /** The lock file of the recording whose first file is {@code first}: {@code <first>.lock}. */
   static Path lockPath(Path first) {
-    return first.resolveSibling(first.getFileName() + ".lock");
+    return first.resolveSibling(first.getFileName() + LOCK_SUFFIX);
   }
 
   /**
@@ -59,15 +73,114 @@ final class RecordingLock {
    *
    * @param first the recording's (first) file
    * @param action what the caller is about to do, for the refusal: "open an MCAP writer at"
-   * @throws IOException naming the path and the holder if another writer holds it, or if the lock
-   *     file cannot be made
+   * @param rotatedFiles whether the caller also writes (and deletes) the rotated files of {@code
+   *     first} (a writer), or only {@code first} itself (a merge's output)
+   * @throws IOException naming the path and the holder if another writer holds it, or holds a path
+   *     whose files overlap with the caller's, or if the lock file cannot be made
    */
-  static RecordingLock acquire(Path first, String action) throws IOException {
+  static RecordingLock acquire(Path first, String action, boolean rotatedFiles) throws IOException {
     if (Files.exists(first) && !Files.isRegularFile(first) && !Files.isDirectory(first)) {
       // a device or a pipe (/dev/null for a benchmark): no recording a second writer could
       // truncate, and no folder of its own to put a lock file in
       return new RecordingLock(null, null, null, null);
     }
+    synchronized (RecordingLock.class) {
+      RecordingLock lock = take(first, action);
+      try {
+        refuseOverlaps(first, action, rotatedFiles);
+      } catch (IOException | RuntimeException e) {
+        try {
+          lock.release();
+        } catch (IOException releasing) {
+          e.addSuppressed(releasing);
+        }
+        throw e;
+      }
+      return lock;
+    }
+  }
+
+  /**
+   * Refuses a recording at {@code first} whose files overlap with those of a recording held
+   * (after {@code first}'s own lock is taken, so that of two such writers opened at once, the
+   * later look finds the other one's lock).
+   */
+  private static void refuseOverlaps(Path first, String action, boolean rotatedFiles) throws IOException {
+    Path recording = McapWriter.recordingOf(first);
+    if (recording != null) {
+      String holder = holderOf(recording);
+      if (holder != null) {
+        throw new IOException("cannot " + action + " " + first + ": " + holder + " is writing the recording at "
+            + recording + ", whose rotated file " + McapWriter.rotationIndex(recording, first) + " is " + first
+            + " (it holds " + lockPath(recording) + "); that writer truncates its rotated files as it rotates"
+            + " into them, so the two would destroy each other's files: close the other writer (or end its"
+            + " process) first, or write to another path");
+      }
+    }
+    if (!rotatedFiles) {
+      return;
+    }
+    Path folder = first.toAbsolutePath().getParent();
+    if (folder == null || !Files.isDirectory(folder)) {
+      return;
+    }
+    List<Path> rotated = new ArrayList<>();
+    try (Stream<Path> siblings = Files.list(folder)) {
+      for (Path sibling : (Iterable<Path>) siblings::iterator) {
+        String name = sibling.getFileName().toString();
+        if (name.endsWith(LOCK_SUFFIX)) {
+          Path file = first.resolveSibling(name.substring(0, name.length() - LOCK_SUFFIX.length()));
+          if (!name.equals(LOCK_SUFFIX) && McapWriter.rotationIndex(first, file) > 0) {
+            rotated.add(file);
+          }
+        }
+      }
+    }
+    for (Path file : rotated) {
+      String holder = holderOf(file);
+      if (holder != null) {
+        throw new IOException("cannot " + action + " " + first + ": " + holder + " is writing " + file
+            + ", which is rotated file " + McapWriter.rotationIndex(first, file) + " of a recording at " + first
+            + " (it holds " + lockPath(file) + "); a writer at " + first + " deletes the rotated files of an"
+            + " earlier recording there and truncates them as it rotates, so the two would destroy each other's"
+            + " files: close the other writer (or end its process) first, or write to another path");
+      }
+    }
+  }
+
+  /**
+   * Who holds the recording at {@code first}, for a refusal; null if nobody does (no lock file, or
+   * one whose process died: its lock, taken here to see, is let go at once).
+   */
+  private static String holderOf(Path first) throws IOException {
+    Path lockFile = lockPath(first);
+    String inThisJvm = HELD_IN_THIS_JVM.get(key(lockFile));
+    if (inThisJvm != null) {
+      return "another writer in this JVM (" + inThisJvm + ")";
+    }
+    FileChannel channel;
+    try {
+      channel = FileChannel.open(lockFile, StandardOpenOption.READ, StandardOpenOption.WRITE);
+    } catch (NoSuchFileException e) {
+      return null;
+    }
+    try (FileChannel open = channel) {
+      FileLock lock;
+      try {
+        lock = open.tryLock();
+      } catch (OverlappingFileLockException e) {
+        lock = null; // another channel of this JVM holds it (not through this class)
+      }
+      if (lock != null) {
+        return null; // nobody's: let go as the channel closes (no other channel of this JVM is open on it)
+      }
+      String text = contents(open);
+      return text.isBlank() ? "another process" : "another writer (" + text + ")";
+    }
+  }
+
+  /** Takes the lock file of the recording at {@code first}, refusing if another writer holds it. */
+  private static RecordingLock take(Path first, String action) throws IOException {
     Path lockFile = lockPath(first);
     Path key = key(lockFile);
     ProcessIdentity self = ProcessIdentity.current();
@@ -128,6 +241,12 @@ final class RecordingLock {
     if (channel == null) {
       return;
     }
+    synchronized (RecordingLock.class) {
+      releaseHeld();
+    }
+  }
+
+  private void releaseHeld() throws IOException {
     try {
       Files.deleteIfExists(lockFile);
     } finally {

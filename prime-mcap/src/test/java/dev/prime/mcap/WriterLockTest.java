@@ -159,4 +159,154 @@ class WriterLockTest {
     }
     assertFalse(Files.exists(RecordingLock.lockPath(file)));
   }
+
+  /**
+   * A rotating writer truncates each next file as it rotates into it: a second writer (recorder,
+   * merge) at one of its rotated files' names would lose its file to it, or truncate the file the
+   * first one finished there. Refused, naming both paths and the holder.
+   */
+  @Test
+  void aWriterAtARotatedFileOfARecordingBeingWrittenIsRefused() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    Path rotated = McapWriter.rotatedPath(file, 1);
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous().chunkSize(1).rotateAtSize(1);
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(4)).build());
+        McapWriter first = McapWriter.open(file, options)) {
+      core.source("ticks", new EventBlock<Integer>());
+      core.start();
+      McapChannel<Reading> readings = first.channel("readings", Reading.class);
+      for (int i = 0; i < 3; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)));
+      }
+      long sizeBefore = Files.size(rotated);
+
+      IOException refused = assertThrows(IOException.class, () -> McapWriter.open(rotated).close());
+
+      String message = refused.getMessage();
+      assertTrue(message.contains(rotated.toString()) && message.contains(file.toString()), message);
+      assertTrue(message.contains("pid " + ProcessHandle.current().pid()), "names the holder: " + message);
+      assertTrue(message.contains(Thread.currentThread().getName()), "names the holder's thread: " + message);
+      assertEquals(sizeBefore, Files.size(rotated), "the first writer's rotated file is not truncated");
+      Path later = McapWriter.rotatedPath(file, 4);
+      IOException recorder = assertThrows(IOException.class,
+          () -> RecordingMcap.stream(core.recording(), later, McapWriterOptions.defaults()).close());
+      assertTrue(recorder.getMessage().contains(later.toString()), recorder.getMessage());
+      IOException merge = assertThrows(IOException.class, () -> McapMerge.merge(List.of(file), later));
+      assertTrue(merge.getMessage().contains(file.toString()), merge.getMessage());
+      assertFalse(Files.exists(later), "nothing is written at the name the first writer rotates into");
+      for (int i = 3; i < 6; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)), "the first writer goes on");
+      }
+    }
+    long messages = 0;
+    for (Path part : McapReader.recordingFiles(file)) {
+      try (McapReader reader = McapReader.open(part)) {
+        messages += reader.messageCount("readings");
+      }
+    }
+    assertEquals(6, messages, "every message of the first writer");
+    try (McapWriter again = McapWriter.open(rotated)) {
+      assertEquals(List.of(rotated), again.files(), "the name is free once the first writer is closed");
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)) || Files.exists(RecordingLock.lockPath(rotated)));
+  }
+
+  /**
+   * A writer at {@code run.mcap} deletes {@code run-0001.mcap} as an earlier recording's rotated
+   * file, then rotates into it: refused while a writer there is writing, whose file stays.
+   */
+  @Test
+  void aWriterWhoseRotatedFilesWouldOverlapAFileBeingWrittenIsRefused() throws IOException {
+    Path file = dir.resolve("take.mcap");
+    Path rotated = McapWriter.rotatedPath(file, 1);
+    try (McapWriter live = McapWriter.open(rotated, McapWriterOptions.defaults().synchronous().chunkSize(1))) {
+      McapChannel<Reading> readings = live.channel("readings", Reading.class);
+      assertTrue(readings.write(1, 1, 0, new Reading(1)));
+      long sizeBefore = Files.size(rotated);
+
+      IOException refused = assertThrows(IOException.class,
+          () -> McapWriter.open(file, McapWriterOptions.defaults().rotateAtSize(1)).close());
+
+      String message = refused.getMessage();
+      assertTrue(message.contains(rotated.toString()) && message.contains(file.toString()), message);
+      assertTrue(message.contains("pid " + ProcessHandle.current().pid()), "names the holder: " + message);
+      assertTrue(Files.exists(rotated), "the file being written is not deleted");
+      assertEquals(sizeBefore, Files.size(rotated));
+      assertFalse(Files.exists(file), "the refused writer made no file");
+      assertTrue(readings.write(2, 2, 1, new Reading(2)), "the writer goes on");
+    }
+    try (McapReader reader = McapReader.open(rotated)) {
+      assertEquals(2, reader.messageCount("readings"));
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(rotated)));
+  }
+
+  /** Two rotated names of one recording overlap with it, not with each other: both are written at once. */
+  @Test
+  void writersAtTwoRotatedNamesOfOneRecordingWriteAtOnce() throws IOException {
+    Path file = dir.resolve("take.mcap");
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous();
+    try (McapWriter one = McapWriter.open(McapWriter.rotatedPath(file, 1), options);
+        McapWriter two = McapWriter.open(McapWriter.rotatedPath(file, 2), options)) {
+      assertTrue(one.channel("readings", Reading.class).write(1, 1, 0, new Reading(1)));
+      assertTrue(two.channel("readings", Reading.class).write(1, 1, 0, new Reading(2)));
+    }
+    for (int index = 1; index <= 2; index++) {
+      try (McapReader reader = McapReader.open(McapWriter.rotatedPath(file, index))) {
+        assertEquals(1, reader.messageCount("readings"));
+      }
+    }
+  }
+
+  /**
+   * Overlapping recordings across processes: another process writes {@code a.mcap} and {@code
+   * b-0001.mcap}; here, {@code a-0001.mcap} (a rotated file of its recording) and {@code b.mcap}
+   * (whose writer would delete its file) are refused naming its pid, until it dies.
+   */
+  @Test
+  void aWriterWhoseFilesOverlapAnotherProcesssRecordingIsRefusedUntilThatProcessDies() throws Exception {
+    Path a = dir.resolve("a.mcap");
+    Path b = dir.resolve("b.mcap");
+    Path bRotated = McapWriter.rotatedPath(b, 1);
+    Process holderOfA = startHolder(a);
+    Process holderOfB = startHolder(bRotated);
+    try {
+      for (Process holder : List.of(holderOfA, holderOfB)) {
+        try (BufferedReader out = new BufferedReader(new InputStreamReader(holder.getInputStream(), StandardCharsets.UTF_8))) {
+          assertEquals("WROTE 3", out.readLine(), "the other process writes");
+        }
+      }
+      long sizeOfB = Files.size(bRotated);
+      Path aRotated = McapWriter.rotatedPath(a, 1);
+
+      IOException intoA = assertThrows(IOException.class, () -> McapWriter.open(aRotated).close());
+      IOException overB = assertThrows(IOException.class, () -> McapWriter.open(b).close());
+
+      assertTrue(intoA.getMessage().contains(aRotated.toString()) && intoA.getMessage().contains(a.toString())
+          && intoA.getMessage().contains("pid " + holderOfA.pid()), intoA.getMessage());
+      assertTrue(overB.getMessage().contains(b.toString()) && overB.getMessage().contains(bRotated.toString())
+          && overB.getMessage().contains("pid " + holderOfB.pid()), overB.getMessage());
+      assertFalse(Files.exists(aRotated), "nothing written at a name of the other process's recording");
+      assertEquals(sizeOfB, Files.size(bRotated), "the other process's file is not deleted nor truncated");
+    } finally {
+      for (Process holder : List.of(holderOfA, holderOfB)) {
+        holder.destroyForcibly();
+        assertTrue(holder.waitFor(30, TimeUnit.SECONDS), "the holder died");
+      }
+    }
+    // the locks die with their process
+    try (McapWriter intoA = McapWriter.open(McapWriter.rotatedPath(a, 1));
+        McapWriter overB = McapWriter.open(b)) {
+      assertEquals(List.of(McapWriter.rotatedPath(a, 1)), intoA.files());
+      assertEquals(List.of(b), overB.files());
+    }
+  }
+
+  private static Process startHolder(Path file) throws IOException {
+    String java = new File(System.getProperty("java.home"), "bin/java").getPath();
+    return new ProcessBuilder(java, "-cp", System.getProperty("java.class.path"),
+        CrashingRecorder.class.getName(), file.toString(), "3", "1")
+        .redirectError(ProcessBuilder.Redirect.INHERIT)
+        .start();
+  }
 }
