@@ -28,7 +28,8 @@ import java.util.logging.Logger;
  * fails, or its message is larger than the queue's byte bound) is counted in {@link
  * #unwritableCount()} with its first reason. {@link #close()} unsubscribes, flushes the queue,
  * finishes the file (whose {@code prime.mcap} Metadata record reports the drops) and logs a line
- * when anything was lost.
+ * when anything was lost. A recorder that is never closed goes on recording, and holds its path,
+ * as its {@link McapWriter} does, until its JVM exits (see "One writer per path" there).
  */
 public final class McapRecorder implements AutoCloseable {
   private static final Logger LOG = Logger.getLogger(McapRecorder.class.getName());

@@ -103,6 +103,16 @@ import java.util.stream.Stream;
  * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
  * releases it when its process dies, so the lock file a killed process leaves does not stop the
  * next writer. A device or a pipe ({@code /dev/null}) is not held.
+ *
+ * <p>Only {@link #close()} gives the path up before the process ends. A writer that is never
+ * closed holds it, and its lock file, until its JVM exits, and its last file stays unfinished
+ * ({@link McapReader#openUnfinished} reads it): the writer thread, which waits for the next
+ * message, keeps the writer reachable, so garbage collection never frees it, and nothing
+ * releases the path on its behalf (that would let a new writer truncate a file the first may
+ * still write). A synchronous writer has no thread: once one is dropped unclosed and garbage
+ * collected, the operating system may release its lock file's lock, so that another process can
+ * take the path, while this JVM still refuses it until it exits. Close every writer, in a {@code
+ * try}-with-resources or a {@code finally}.
  */
 public final class McapWriter implements Closeable {
   /** The message encoding of every channel this writer makes. */
@@ -727,7 +737,8 @@ public final class McapWriter implements Closeable {
   /**
    * Waits for the queued messages to be written, then finishes the file: the channels with no
    * message yet, the loss report, the summary and the footer, forced to the storage device with
-   * its folder's entry (see "Durability" in the class description). Writes after this throw. A close
+   * its folder's entry (see "Durability" in the class description), and gives the recording's
+   * path up (see "One writer per path"), also when writing failed. Writes after this throw. A close
    * called while another thread's is under way returns once that one has finished the file (so
    * that the file is complete when either returns); a close after that does nothing.
    *
