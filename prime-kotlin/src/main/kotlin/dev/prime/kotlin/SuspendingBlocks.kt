@@ -5,6 +5,7 @@ package dev.prime.kotlin
 import dev.prime.Block
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.Job
 import kotlinx.coroutines.currentCoroutineContext
 import kotlinx.coroutines.ensureActive
 import kotlinx.coroutines.runBlocking
@@ -28,7 +29,12 @@ import kotlin.coroutines.EmptyCoroutineContext
  * chain's block on Liberty and Radiant) runs to its end before the cancellation is reported; an
  * Optimus chain's call, which waits for the service running the block, stops waiting at once. A
  * failure of a call that was not cancelled reaches the caller as the block's media throws it,
- * also an [InterruptedException] of a block that something else interrupted.
+ * also an [InterruptedException] of a block that something else interrupted. A
+ * [CancellationException] the block throws while the call is not cancelled (a plain block's own,
+ * such as a [suspendingBlock] whose `withTimeout` ran out) is the block's failure, not the
+ * call's cancellation: the call throws it as the cause of a [BlockCancelledException], so a
+ * caller in a `launch` fails rather than ending without a word. (A chain's block reaches the
+ * caller inside the media's `ChainFailedException`, which is no cancellation.)
  *
  * @param input the input value
  * @param context where the block runs; [EmptyCoroutineContext] runs it on the caller's thread,
@@ -44,13 +50,15 @@ public suspend fun <I, O> Block<I, O>.processSuspending(
             try {
                 process(input)
             } catch (interrupted: InterruptedException) {
-                throw BlockInterrupted(interrupted)
+                throw CarriedOut(interrupted)
+            } catch (cancelled: CancellationException) {
+                throw CarriedOut(cancelled)
             }
         }
     } catch (cancelled: CancellationException) {
-        throw cancelled
+        throw cancelled // the call's cancellation: the block's own are carried out
     } catch (failure: Throwable) {
-        val own = if (failure is BlockInterrupted) failure.interrupted else failure
+        val own = if (failure is CarriedOut) failure.thrown else failure
         // the interrupt of a cancelled call surfaces as whatever the block or the media made of it
         try {
             currentCoroutineContext().ensureActive()
@@ -58,16 +66,18 @@ public suspend fun <I, O> Block<I, O>.processSuspending(
             cancelled.addSuppressed(own)
             throw cancelled
         }
-        throw own
+        throw if (own is CancellationException) BlockCancelledException(own) else own
     }
 }
 
 /**
- * Carries the [InterruptedException] of a call's block out of `runInterruptible`, which turns
- * every one into a cancellation, also when the coroutine was not cancelled (the block's own code
- * or another thread interrupted it): [processSuspending] then rethrows the block's exception.
+ * Carries what a call's block threw out of `runInterruptible` when it would pass for the call's
+ * cancellation there: an [InterruptedException], which `runInterruptible` turns into a
+ * cancellation, and a [CancellationException], both also when the coroutine was not cancelled
+ * (the block's own code or another thread interrupted it; the block's own timeout ran out).
+ * [processSuspending] then tells the two cases apart, with the very object the block threw.
  */
-private class BlockInterrupted(val interrupted: InterruptedException) : RuntimeException(interrupted)
+private class CarriedOut(val thrown: Exception) : RuntimeException(thrown)
 
 /**
  * A [Block] made of a suspending function, for any core's `chain(...)`: each call runs [logic] to
@@ -75,6 +85,13 @@ private class BlockInterrupted(val interrupted: InterruptedException) : RuntimeE
  * [context], with the calling thread blocked meanwhile. Interrupting that thread (a core closing
  * its services, a cancelled [processSuspending]) cancels [logic], and the call ends with an
  * [InterruptedException].
+ *
+ * A [CancellationException] that [logic] throws of its own (a `withTimeout` in it that ran out)
+ * is the block's failure: the call throws a [BlockCancelledException] whose cause it is, never
+ * the cancellation itself, which a caller running in a coroutine would take for its own and drop
+ * without a word. A chain's synchronous caller gets it inside the media's `ChainFailedException`,
+ * and a service gives it to the core's error handler, as any failure of a block. Only when a
+ * `Job` in [context] was cancelled does the call end with that job's [CancellationException].
  *
  * @param context the coroutine context [logic] runs in; its dispatcher, if any, runs the
  *     suspending parts while the calling thread waits
@@ -91,7 +108,14 @@ private class SuspendingBlock<I, O>(
     private val context: CoroutineContext,
     private val logic: suspend (I) -> O,
 ) : Block<I, O> {
-    override fun process(input: I): O = runBlocking(context) { logic(input) }
+    override fun process(input: I): O = try {
+        runBlocking(context) { logic(input) }
+    } catch (cancelled: CancellationException) {
+        if (context[Job]?.isActive == false) {
+            throw cancelled // the job the caller gave in the context was cancelled
+        }
+        throw BlockCancelledException(cancelled) // the logic's own (an interrupt ends it with InterruptedException)
+    }
 
     override fun toString(): String = "SuspendingBlock[$logic]"
 }

@@ -11,6 +11,7 @@ import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.channels.Channel
 import kotlinx.coroutines.flow.flow
 import kotlinx.coroutines.flow.flowOf
+import kotlinx.coroutines.flow.map
 import kotlinx.coroutines.flow.onEach
 import kotlinx.coroutines.flow.take
 import kotlinx.coroutines.flow.toList
@@ -228,6 +229,54 @@ internal abstract class FlowKit(private val media: Media) {
             assertEquals("sensor", failure.first)
             assertSame(timingOut, failure.second)
             assertInstanceOf(TimeoutCancellationException::class.java, failure.third)
+        }
+    }
+
+    /**
+     * A flow that calls a suspending block whose own `withTimeout` runs out fails with the block's
+     * [BlockCancelledException]: the failure goes to the error handler with the flow as the input,
+     * as any other failure of the flow.
+     */
+    @Test
+    fun `a flow whose suspending call fails with the block's own timeout goes to the error handler`(): Unit = runBlocking {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val config = CoreConfig.builder().errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }.build()
+        media.newCore(config).use { core ->
+            val timingOut = suspendingBlock<Int, Int> { x -> if (x < 0) withTimeout(1) { awaitCancellation() } else x }
+            val calling = flowOf(1, -1, 2).map { timingOut.processSuspending(it) }
+            val source = core.source("sensor", calling)
+            core.start()
+            source.reader().use { assertEquals(1, it.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow()) }
+            val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("the flow's failure never reached the error handler")
+            assertEquals("sensor", failure.first)
+            assertSame(calling, failure.second)
+            assertInstanceOf(BlockCancelledException::class.java, failure.third, "what the error handler got")
+            assertInstanceOf(TimeoutCancellationException::class.java, failure.third.cause, "the block's timeout")
+        }
+    }
+
+    /**
+     * A source's flow collected in a `launch` and handed to a suspending block whose own
+     * `withTimeout` runs out: the collection fails with the block's [BlockCancelledException], so
+     * the `launch` fails rather than ending as if cancelled.
+     */
+    @Test
+    fun `a source's flow whose collector's suspending call times out of its own fails the launch`(): Unit = runBlocking {
+        media.newCore().use { core ->
+            val events = EventBlock<Int>()
+            val source = core.source("numbers", events)
+            core.start()
+            val timingOut = suspendingBlock<Int, Int> { x -> if (x < 0) withTimeout(1) { awaitCancellation() } else x }
+            val seen = Channel<Int>(Channel.UNLIMITED)
+            val collecting = async(Dispatchers.IO) {
+                failureOfLaunch { source.asFlow().collect { seen.send(timingOut.processSuspending(it)) } }
+            }
+            events.publish(1)
+            assertEquals(1, withTimeout(WAIT_MILLIS) { seen.receive() })
+            events.publish(-1)
+            val failure = withTimeout(WAIT_MILLIS) { collecting.await() }
+            assertInstanceOf(BlockCancelledException::class.java, failure, "what the collecting launch failed with")
+            assertInstanceOf(TimeoutCancellationException::class.java, failure!!.cause, "the block's timeout")
         }
     }
 

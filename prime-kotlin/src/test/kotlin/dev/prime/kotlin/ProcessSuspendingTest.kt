@@ -1,12 +1,26 @@
 package dev.prime.kotlin
 
 import dev.prime.Block
+import kotlinx.coroutines.CancellationException
+import kotlinx.coroutines.CompletableDeferred
+import kotlinx.coroutines.CoroutineExceptionHandler
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.TimeoutCancellationException
+import kotlinx.coroutines.awaitCancellation
+import kotlinx.coroutines.cancel
 import kotlinx.coroutines.isActive
+import kotlinx.coroutines.launch
 import kotlinx.coroutines.runBlocking
+import kotlinx.coroutines.withTimeout
+import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertInstanceOf
 import org.junit.jupiter.api.Assertions.assertSame
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
 import kotlin.coroutines.EmptyCoroutineContext
 
 /** `processSuspending` of a plain block, with no core: what its KDoc says of a call that was not cancelled. */
@@ -22,7 +36,7 @@ internal class ProcessSuspendingTest {
     fun `a block interrupted while its call is not cancelled fails the call with its InterruptedException`(): Unit = runBlocking {
         val interrupted = InterruptedException("the block's own interrupt")
         val block = Block<Int, Int> { throw interrupted }
-        for (context in listOf(kotlinx.coroutines.Dispatchers.IO, EmptyCoroutineContext)) {
+        for (context in listOf(Dispatchers.IO, EmptyCoroutineContext)) {
             val failure = runCatching { block.processSuspending(1, context) }.exceptionOrNull()
             assertTrue(isActive, "the calling coroutine was cancelled")
             assertInstanceOf(InterruptedException::class.java, failure, "what the call on $context threw")
@@ -43,7 +57,79 @@ internal class ProcessSuspendingTest {
         assertInstanceOf(InterruptedException::class.java, failure, "what the call threw")
     }
 
+    /**
+     * A block that throws a cancellation of its own while its call is not cancelled (a plain
+     * block's `CancellationException`, a suspending block whose `withTimeout` ran out) has failed:
+     * the call throws a [BlockCancelledException] whose cause is that cancellation, so a `launch`
+     * that made the call fails rather than ending without a word.
+     */
+    @Test
+    fun `a block's own cancellation fails a call that was not cancelled, also in a launch`(): Unit = runBlocking {
+        val own = java.util.concurrent.CancellationException("the block's own")
+        val plain = Block<Int, Int> { throw own }
+        val timingOut = suspendingBlock<Int, Int> { withTimeout(1) { awaitCancellation() } }
+        for (context in listOf(Dispatchers.IO, EmptyCoroutineContext)) {
+            val failure = failureOfLaunch { plain.processSuspending(1, context) }
+            assertInstanceOf(BlockCancelledException::class.java, failure, "what the launch failed with (context $context)")
+            assertSame(own, failure!!.cause, "the block's own cancellation")
+
+            val timedOut = failureOfLaunch { timingOut.processSuspending(1, context) }
+            assertInstanceOf(BlockCancelledException::class.java, timedOut, "what the launch failed with (context $context)")
+            assertInstanceOf(TimeoutCancellationException::class.java, timedOut!!.cause, "the logic's timeout")
+        }
+    }
+
+    /** A call that is cancelled still ends with the coroutine's cancellation, the block's logic cancelled. */
+    @Test
+    fun `a cancelled call of a suspending block ends with the coroutine's cancellation`(): Unit = runBlocking {
+        val running = CountDownLatch(1)
+        val cancelled = CountDownLatch(1)
+        val waiting = suspendingBlock<Int, Int> { awaitCancellationSignalling(running, cancelled) }
+        for (context in listOf(Dispatchers.IO, EmptyCoroutineContext)) {
+            val thrown = runCatching { withTimeout(TIMEOUT_MILLIS) { waiting.processSuspending(1, context) } }.exceptionOrNull()
+            assertInstanceOf(TimeoutCancellationException::class.java, thrown, "what the timed-out call threw (context $context)")
+        }
+        assertTrue(cancelled.await(0, TimeUnit.SECONDS), "the logic was not cancelled")
+
+        val launchedRunning = CountDownLatch(1)
+        val launchedCancelled = CountDownLatch(1)
+        val launched = suspendingBlock<Int, Int> { awaitCancellationSignalling(launchedRunning, launchedCancelled) }
+        val failure = CompletableDeferred<Throwable>()
+        val call = launch(Dispatchers.IO) {
+            try {
+                launched.processSuspending(1)
+            } catch (e: Throwable) {
+                failure.complete(e)
+                throw e
+            }
+        }
+        assertTrue(launchedRunning.await(WAIT_MILLIS, TimeUnit.MILLISECONDS), "the logic never ran")
+        call.cancel()
+        withTimeout(WAIT_MILLIS) { call.join() }
+        assertTrue(launchedCancelled.await(0, TimeUnit.SECONDS), "the launched call's logic was not cancelled")
+        val thrown = failure.await()
+        assertInstanceOf(CancellationException::class.java, thrown, "what the cancelled call threw")
+        assertFalse(thrown is BlockCancelledException, "the caller's cancellation, not the block's failure")
+    }
+
     private companion object {
         const val WAIT_MILLIS = 20_000L
+        const val TIMEOUT_MILLIS = 50L
+    }
+}
+
+/**
+ * Runs [call] in a `launch` of its own scope and returns what the launch failed with (what reached
+ * its exception handler), or `null` if it ended without a word (normally, or with a cancellation).
+ */
+internal suspend fun failureOfLaunch(call: suspend () -> Unit): Throwable? {
+    val reported = CompletableDeferred<Throwable>()
+    val scope = CoroutineScope(SupervisorJob() + Dispatchers.Default + CoroutineExceptionHandler { _, e -> reported.complete(e) })
+    try {
+        val job = scope.launch { call() }
+        withTimeout(20_000L) { job.join() }
+        return if (reported.isCompleted) reported.await() else null
+    } finally {
+        scope.cancel()
     }
 }

@@ -9,13 +9,16 @@ import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.TimeoutCancellationException
 import kotlinx.coroutines.async
+import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertInstanceOf
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
 import java.time.Duration
+import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.CountDownLatch
@@ -163,6 +166,59 @@ internal abstract class SuspendingCallKit(private val media: Media) {
             } else {
                 assertEquals(4, runs.get(), "runs: two values and two interrupted calls")
             }
+        }
+    }
+
+    /**
+     * A suspending block whose own `withTimeout` runs out, in a chain called from a coroutine that
+     * nobody cancelled: the call fails with the chain's failure (its cause the block's
+     * [BlockCancelledException], whose cause is the timeout), so the `launch` that made it fails
+     * rather than ending without a word, and the chain takes the next call.
+     */
+    @Test
+    fun `a suspending block's own timeout fails a call that was not cancelled, naming the chain`() = runBlocking {
+        media.newCore().use { core ->
+            val block = core.chain("times-out", suspendingBlock { x: Int ->
+                if (x < 0) withTimeout(1) { awaitCancellation() }
+                x + 1
+            }).toBlock()
+            core.start()
+            assertEquals(2, block.processSuspending(1))
+            val failure = failureOfLaunch { block.processSuspending(-1) }
+            assertInstanceOf(ChainFailedException::class.java, failure, "what the launch failed with")
+            assertEquals("times-out", (failure as ChainFailedException).chainName())
+            assertInstanceOf(BlockCancelledException::class.java, failure.cause, "the block's failure")
+            assertInstanceOf(TimeoutCancellationException::class.java, failure.cause!!.cause, "the logic's timeout")
+            assertEquals(3, block.processSuspending(2))
+        }
+    }
+
+    /**
+     * The same in a service: the core's error handler gets the chain's name, the input and the
+     * block's [BlockCancelledException], and the service goes on with the next value.
+     */
+    @Test
+    fun `a suspending block's own timeout in a service goes to the error handler and the service goes on`() {
+        val failures = ArrayBlockingQueue<Triple<String, Any?, Throwable>>(4)
+        val config = CoreConfig.builder().errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }.build()
+        media.newCore(config).use { core ->
+            val events = EventBlock<Int>()
+            val reader = core.source("numbers", events)
+                .then(core.chain("times-out", suspendingBlock { x: Int ->
+                    if (x < 0) withTimeout(1) { awaitCancellation() }
+                    x + 1
+                }))
+                .reader()
+            core.start()
+            events.publish(-1)
+            events.publish(1)
+            assertEquals(2, reader.take(Duration.ofSeconds(WAIT_SECONDS)).orElseThrow(), "the value after the failed one")
+            val failure = failures.poll(WAIT_SECONDS, TimeUnit.SECONDS) ?: error("the block's failure never reached the error handler")
+            assertEquals("times-out", failure.first)
+            assertEquals(-1, failure.second)
+            assertInstanceOf(BlockCancelledException::class.java, failure.third, "what the error handler got")
+            assertInstanceOf(TimeoutCancellationException::class.java, failure.third.cause, "the logic's timeout")
+            assertEquals(null, failures.poll(), "one failure only")
         }
     }
 
