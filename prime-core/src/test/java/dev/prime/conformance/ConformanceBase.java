@@ -129,7 +129,8 @@ public interface ConformanceBase {
 
   /**
    * The codec the kit gives to {@link CoreConfig.Builder#copyValues}: by default
-   * {@link SerializingCodec}, which copies any {@link java.io.Serializable} value. A media with a
+   * {@link SerializingCodec}, which copies any {@link java.io.Serializable} value and the core's
+   * own value types (a timer's ticks, the tuples of a zip or a union, repeats). A media with a
    * codec of its own may return it; Optimus copies through its own codec whatever this is.
    */
   default dev.prime.ValueCodec copyCodec() {

@@ -12,7 +12,9 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import dev.prime.Tick;
 import dev.prime.Tuple2;
+import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Collections;
 import java.util.List;
@@ -256,6 +258,71 @@ public interface ValueCopyConformance extends ConformanceBase {
         assertSame(seen.get(0), seen.get(1), "the union's parts got the very same input, metrics " + metrics);
         assertEquals(5, branch.process(5), "a value that stays in the service is not copied, metrics " + metrics);
       }
+    }
+  }
+
+  /**
+   * The core's own value types cross service boundaries as copies too: the tuples of a zip (a
+   * tuple inside a tuple as well) reach a reader and a chain linked after the zip, on a core whose
+   * values all go through the kit's copy codec, and nothing reaches the error handler.
+   */
+  @Test
+  default void aZipsTuplesAreCopiedThroughTheCodec() throws InterruptedException {
+    List<String> failures = Collections.synchronizedList(new ArrayList<>());
+    CoreConfig config =
+        CoreConfig.builder()
+            .copyValues(copyCodec())
+            .errorHandler((service, input, error) -> failures.add(service + ": " + error))
+            .build();
+    try (PrimeCore core = newCoreWithCodec(config)) {
+      EventBlock<Integer> numbers = new EventBlock<>();
+      EventBlock<String> names = new EventBlock<>();
+      EventBlock<Boolean> flags = new EventBlock<>();
+      Source<Tuple2<Tuple2<Integer, String>, Boolean>> zipped =
+          core.zip(
+              core.zip(core.source("numbers", numbers), core.source("names", names)),
+              core.source("flags", flags));
+      Reader<Tuple2<Tuple2<Integer, String>, Boolean>> reader = zipped.reader();
+      Reader<String> described =
+          zipped
+              .then(
+                  core.chain(
+                      "describe",
+                      (Tuple2<Tuple2<Integer, String>, Boolean> t) ->
+                          t.first().first() + t.first().second() + t.second()))
+              .reader();
+      core.start();
+      numbers.publish(1);
+      names.publish("a");
+      flags.publish(true);
+      assertEquals(new Tuple2<>(new Tuple2<>(1, "a"), true), takeOrFail(reader));
+      assertEquals("1atrue", takeOrFail(described));
+      assertEquals(List.of(), failures, "failures");
+    }
+  }
+
+  /**
+   * A timer's ticks cross service boundaries as copies: they reach a reader and a chain linked
+   * after the timer, on a core whose values all go through the kit's copy codec, and nothing
+   * reaches the error handler.
+   */
+  @Test
+  default void aTimersTicksAreCopiedThroughTheCodec() throws InterruptedException {
+    List<String> failures = Collections.synchronizedList(new ArrayList<>());
+    CoreConfig config =
+        CoreConfig.builder()
+            .copyValues(copyCodec())
+            .errorHandler((service, input, error) -> failures.add(service + ": " + error))
+            .build();
+    try (PrimeCore core = newCoreWithCodec(config)) {
+      Source<Tick> ticks = core.timer("ticks", Duration.ofMillis(20));
+      Reader<Tick> reader = ticks.reader();
+      Reader<Long> counts = ticks.then(core.chain("count", Tick::count)).reader();
+      core.start();
+      Tick first = takeOrFail(reader);
+      assertEquals(1L, first.count(), "the first tick's count");
+      assertEquals(1L, takeOrFail(counts), "the count the chain after the timer read");
+      assertEquals(List.of(), failures, "failures");
     }
   }
 
