@@ -20,10 +20,12 @@ import java.util.ArrayList;
 import java.util.List;
 import java.util.Locale;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicBoolean;
 import java.util.concurrent.locks.LockSupport;
 import java.util.regex.Matcher;
 import java.util.regex.Pattern;
 import org.junit.jupiter.api.extension.ExtensionConfigurationException;
+import org.junit.jupiter.api.extension.ExtensionContext;
 
 /**
  * A TCP proxy on the loopback interface in front of one Redis that delays every byte it forwards,
@@ -43,8 +45,14 @@ import org.junit.jupiter.api.extension.ExtensionConfigurationException;
  * most). All state but the {@code closed} and {@code failure} fields is the thread's own; {@link
  * #close()} sets the flag, wakes the selector and waits for the thread, which closes every socket
  * as it ends.
+ *
+ * <p>Kept in the test class's extension store, it is a {@link
+ * ExtensionContext.Store.CloseableResource} as well as an {@link AutoCloseable}, so that every
+ * JUnit 5 closes it after the class (JUnit closes an {@code AutoCloseable} only from 5.13 on), and
+ * closed once.
  */
-final class SlowLink implements AutoCloseable {
+@SuppressWarnings("deprecation") // CloseableResource: how JUnit before 5.13 closes a store's value
+final class SlowLink implements AutoCloseable, ExtensionContext.Store.CloseableResource {
 
   /** The JUnit configuration parameter of the delay. */
   static final String DELAY_PARAMETER = "prime.test.slowLink.delay";
@@ -73,6 +81,7 @@ final class SlowLink implements AutoCloseable {
   private final List<Connection> connections = new ArrayList<>(); // the thread's own
   private final ByteBuffer readBuffer = ByteBuffer.allocate(READ_SIZE); // the thread's own
   private volatile boolean closed;
+  private final AtomicBoolean closeCalled = new AtomicBoolean();
   private volatile Throwable failure;
 
   private SlowLink(URI redis, Duration delay) throws IOException {
@@ -155,13 +164,16 @@ final class SlowLink implements AutoCloseable {
 
   /**
    * Stops the proxy: closes the listening socket and every connection, and waits for its thread
-   * to end.
+   * to end. Only the first call does anything.
    *
    * @throws IllegalStateException if the thread has not ended within 5 s, or if it failed
    *     while the proxy ran (the selector threw)
    */
   @Override
   public void close() {
+    if (!closeCalled.compareAndSet(false, true)) {
+      return;
+    }
     closed = true;
     selector.wakeup();
     try {
