@@ -287,6 +287,84 @@ public interface LifecycleConformance extends ConformanceBase {
   }
 
   /**
+   * {@link PrimeCore#chain(String, Block)}: a name is "1 to 200 characters, no whitespace or
+   * braces", and the same for a generic service and a timer ("like a chain's"). Names at both
+   * bounds and of every other kind of character are taken and work end to end: a chain of each
+   * such name linked to a source of such a name computes, and its name is listed as a service. Each
+   * name outside the rule (empty, 201 characters, a space, a tab, a line break, an em space, a
+   * control character, an opening or a closing brace) is refused, by a chain, a generic service
+   * and a timer alike, with an {@link IllegalArgumentException} that quotes the name and says
+   * what a name may be.
+   */
+  @Test
+  default void namesOfOneTo200CharactersWithoutWhitespaceOrBracesWorkAndOthersAreRefused()
+      throws InterruptedException {
+    String tag = Long.toString(System.nanoTime(), 36);
+    List<String> good =
+        List.of(
+            "x",
+            tag + "-" + "y".repeat(199 - tag.length()),
+            "odd:name>with|pipes@at(round)[square]/slash*star?hash#100%&\"quote'" + tag,
+            "caf\u00e9-\u03b8-\u2014-\ud83d\ude42-" + tag);
+    assertEquals(200, good.get(1).length());
+    try (PrimeCore core = newCore()) {
+      List<Reader<Integer>> outs = new java.util.ArrayList<>();
+      List<EventBlock<Integer>> feeds = new java.util.ArrayList<>();
+      for (int i = 0; i < good.size(); i++) {
+        EventBlock<Integer> events = new EventBlock<>();
+        feeds.add(events);
+        int plus = i + 1;
+        String name = good.get(i);
+        outs.add(
+            core.source("s" + name.substring(1), events)
+                .then(core.chain(name, (Integer x) -> x + plus))
+                .reader());
+      }
+      assertTrue(core.serviceNames().containsAll(good), "the services: " + core.serviceNames());
+      List<String> bad =
+          List.of(
+              "",
+              "z".repeat(201),
+              "has space",
+              "tab\tbed",
+              "line\nbreak",
+              "em\u2003space",
+              "bell\u0007",
+              "{open",
+              "close}");
+      List<String> wrong = new java.util.ArrayList<>();
+      for (String name : bad) {
+        java.util.Map<String, org.junit.jupiter.api.function.Executable> calls =
+            new java.util.LinkedHashMap<>();
+        calls.put("chain", () -> core.chain(name, (Integer x) -> x));
+        calls.put("service", () -> core.service(name, () -> {}));
+        calls.put("timer", () -> core.timer(name, Duration.ofHours(1)));
+        for (java.util.Map.Entry<String, org.junit.jupiter.api.function.Executable> call :
+            calls.entrySet()) {
+          String what = "a " + call.getKey() + " named '" + name.replace("\n", "\\n") + "'";
+          try {
+            call.getValue().execute();
+            wrong.add(what + " was accepted");
+          } catch (IllegalArgumentException e) {
+            String message = String.valueOf(e.getMessage());
+            if (!message.contains("'" + name + "'") || !message.contains("1 to 200")) {
+              wrong.add(what + ": " + message);
+            }
+          } catch (Throwable t) {
+            wrong.add(what + " threw " + t);
+          }
+        }
+      }
+      assertEquals(List.of(), wrong, "each invalid name is refused, quoted, with the rule");
+      core.start();
+      for (int i = 0; i < good.size(); i++) {
+        feeds.get(i).publish(10);
+        assertEquals(10 + i + 1, takeOrFail(outs.get(i)), "the chain named '" + good.get(i) + "'");
+      }
+    }
+  }
+
+  /**
    * {@link CoreConfig.Builder}: each setting is checked where it is set, with a message naming
    * what is wrong: a name of 1 to 64 letters, digits, '.', '_' or '-', a source retention of at
    * least 1, a positive shutdown timeout, a zero or positive publish timeout, and no {@code null}
@@ -397,6 +475,111 @@ public interface LifecycleConformance extends ConformanceBase {
       assertTrue(allHeard.await(patience().toMillis(), TimeUnit.MILLISECONDS), "heard " + heard);
       assertEquals(List.of(1, 2, 3, 4, 5), heard, "the refused 99 reached no listener");
     }
+  }
+
+  /**
+   * {@link PrimeCore}: "a closed core throws {@link CoreClosedException}", and {@link
+   * PrimeCore#isStarted()} "stays true after {@link PrimeCore#close()}": on a started core that
+   * was closed, every declaration of its public API (chains, sources, links, templates,
+   * collectors, repeaters, combinators, timers, generic services, hooks, a new user of an
+   * isolated chain, a source's {@code then}, {@code filter}, {@code flatMap}, {@code listen},
+   * {@code withLatestFrom}, {@code sample} and readers) and {@code start()} throw {@link
+   * CoreClosedException} naming the core (its message says to create a new one), never another
+   * exception, and nothing is accepted.
+   */
+  @Test
+  default void everyDeclarationOnAClosedCoreThrowsCoreClosedExceptionNamingIt() {
+    PrimeCore core = newCore();
+    EventBlock<Integer> events = new EventBlock<>();
+    Source<Integer> source = core.source("numbers", events);
+    Source<Integer> other = core.source("others", new EventBlock<Integer>());
+    java.util.function.Supplier<Chain<Integer, Integer>> fresh =
+        new java.util.function.Supplier<>() {
+          private int made;
+
+          @Override
+          public Chain<Integer, Integer> get() {
+            return core.chain("made-" + made++, (Integer x) -> x);
+          }
+        };
+    List<Chain<Integer, Integer>> chains = new java.util.ArrayList<>();
+    for (int i = 0; i < 40; i++) {
+      chains.add(fresh.get());
+    }
+    java.util.Iterator<Chain<Integer, Integer>> given = chains.iterator();
+    dev.prime.Isolated<Integer, Integer> isolated = core.isolate(given.next());
+    core.start();
+    core.close();
+    assertTrue(core.isStarted(), "isStarted() stays true after close()");
+
+    java.util.Map<String, org.junit.jupiter.api.function.Executable> calls =
+        new java.util.LinkedHashMap<>();
+    calls.put("start()", core::start);
+    calls.put("chain(block)", () -> core.chain((Integer x) -> x));
+    calls.put("chain(name, block)", () -> core.chain("late", (Integer x) -> x));
+    calls.put("chain(name, pseudoname, block)", () -> core.chain("late", "Late", (Integer x) -> x));
+    calls.put("source(events)", () -> core.source(new EventBlock<Integer>()));
+    calls.put("source(name, events)", () -> core.source("late", new EventBlock<Integer>()));
+    calls.put(
+        "source(name, pseudoname, events)",
+        () -> core.source("late", "Late", new EventBlock<Integer>()));
+    calls.put("link(chain, chain)", () -> core.link(given.next(), given.next()));
+    calls.put("link(source, chain)", () -> core.link(source, given.next()));
+    calls.put("chain.then(chain)", () -> given.next().then(given.next()));
+    calls.put("chain.then(block)", () -> given.next().then((Integer x) -> x));
+    calls.put("chain.toBlock()", () -> given.next().toBlock());
+    calls.put("source.then(chain)", () -> source.then(given.next()));
+    calls.put("source.then(block)", () -> source.then((Integer x) -> x));
+    calls.put("source.filter", () -> source.filter(x -> true));
+    calls.put("source.flatMap", () -> source.flatMap(x -> List.of(x)));
+    calls.put("source.listen", () -> source.listen(x -> {}));
+    calls.put("source.withLatestFrom", () -> source.withLatestFrom(other));
+    calls.put("source.sample", () -> source.sample(Duration.ofSeconds(1)));
+    calls.put("source.reader()", source::reader);
+    calls.put("source.conflatedReader()", source::conflatedReader);
+    calls.put(
+        "ifThenElse", () -> core.ifThenElse((Integer x) -> x > 0, given.next(), given.next()));
+    calls.put("forEach", () -> core.forEach(given.next()));
+    calls.put("union of 2", () -> core.union(given.next(), given.next()));
+    calls.put("union of 3", () -> core.union(given.next(), given.next(), given.next()));
+    calls.put("fork", () -> core.fork(given.next(), new EventBlock<Integer>()));
+    calls.put("guard", () -> core.guard((Integer x) -> true, given.next(), (Integer x) -> x));
+    calls.put("isolate", () -> core.isolate(given.next()));
+    calls.put("isolated.newUser()", isolated::newUser);
+    calls.put("syncCollector", () -> core.syncCollector(source));
+    calls.put("asyncCollector", () -> core.asyncCollector(source));
+    calls.put(
+        "repeater(inner, decide)",
+        () -> core.repeater(given.next(), (input, output, collected) -> dev.prime.Repeat.stop(output)));
+    calls.put(
+        "repeater(inner, source, decide)",
+        () ->
+            core.repeater(
+                given.next(), source, (input, output, collected) -> dev.prime.Repeat.stop(output)));
+    calls.put("combineLatest", () -> core.combineLatest(source, other));
+    calls.put("zip", () -> core.zip(source, other));
+    calls.put("merge", () -> core.merge(source, other));
+    calls.put("timer", () -> core.timer("late-timer", Duration.ofSeconds(1)));
+    calls.put("service", () -> core.service("late-service", () -> {}));
+    calls.put("whenRunning", () -> core.whenRunning("late-hook", () -> {}, () -> {}));
+
+    List<String> wrong = new java.util.ArrayList<>();
+    for (java.util.Map.Entry<String, org.junit.jupiter.api.function.Executable> call :
+        calls.entrySet()) {
+      try {
+        call.getValue().execute();
+        wrong.add(call.getKey() + " was accepted");
+      } catch (CoreClosedException e) {
+        if (e.getMessage() == null || !e.getMessage().contains("'" + core.name() + "'")) {
+          wrong.add(call.getKey() + " threw a CoreClosedException saying " + e.getMessage());
+        }
+      } catch (Throwable t) {
+        wrong.add(call.getKey() + " threw " + t);
+      }
+    }
+    assertEquals(List.of(), wrong, "every declaration on a closed core throws CoreClosedException");
+    assertTrue(core.isStarted(), "isStarted() stays true after the refused start()");
+    assertNoThreadsLeft(core);
   }
 
   /**

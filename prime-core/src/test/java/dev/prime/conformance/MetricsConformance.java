@@ -110,6 +110,38 @@ public interface MetricsConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link Metrics}: a chain's "in = calls, out = non-null results": a chain whose block returns
+   * {@code null} for even inputs counts every call in and only its non-null results out, whether
+   * it runs linked to a source or is called through its {@code toBlock()}; a {@code null} is not
+   * a failure.
+   */
+  @Test
+  default void aChainCountsItsNullResultsInButNotOut() throws Exception {
+    List<Throwable> failures = Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core = meteredCore(failures)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> odd =
+          core.source("numbers", events)
+              .then(core.chain("linked", (Integer x) -> x % 2 == 0 ? null : x))
+              .reader();
+      Block<Integer, Integer> called =
+          core.chain("called", (Integer x) -> x % 2 == 0 ? null : x).toBlock();
+      core.start();
+      for (int i = 1; i <= 5; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 3, 5), takeOrFail(odd, 3));
+      for (int i = 1; i <= 4; i++) {
+        assertEquals(i % 2 == 0 ? null : i, called.process(i));
+      }
+      Metrics metrics = core.metrics();
+      assertCounts(metrics.service("linked"), "BlockChain", 5, 3, 0);
+      assertCounts(metrics.service("called"), "BlockChain", 4, 2, 0);
+      assertEquals(List.of(), failures);
+    }
+  }
+
   @Test
   default void failuresAreCountedWhenABlockThrows() throws Exception {
     int n = 10;

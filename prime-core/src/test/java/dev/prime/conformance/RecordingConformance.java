@@ -184,6 +184,145 @@ public interface RecordingConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link PrimeCore#chain(String, String, Block)} and {@link PrimeCore#source(String, String,
+   * EventBlock)}: a pseudoname is "1 to 120 characters, not only whitespace, no control
+   * characters". One of one character and one of 120 (spaces inside, any other character) are
+   * taken and name the recording; each outside the rule (empty, 121 characters, only whitespace, a
+   * tab, a control character, DEL) is refused by a chain and by a source with an {@link
+   * IllegalArgumentException} that says what a pseudoname may be, recording nothing.
+   */
+  @Test
+  default void pseudonamesAreTakenUpTo120CharactersAndOthersAreRefusedWithTheRule()
+      throws InterruptedException {
+    String longest = "Wheel odometry \u2014 caf\u00e9 ".repeat(5) + "x".repeat(10);
+    assertEquals(120, longest.length());
+    try (PrimeCore core = recordingCore(10)) {
+      List<String> bad =
+          List.of("", "y".repeat(121), " \t ", "tab\tbed", "bell\u0007", "del\u007f");
+      List<String> wrong = new java.util.ArrayList<>();
+      for (String pseudoname : bad) {
+        List<org.junit.jupiter.api.function.Executable> calls =
+            List.of(
+                () -> core.chain("planner", pseudoname, (Integer x) -> x),
+                () -> core.source("encoders", pseudoname, new EventBlock<Integer>()));
+        for (org.junit.jupiter.api.function.Executable call : calls) {
+          try {
+            call.execute();
+            wrong.add("'" + pseudoname + "' was accepted");
+          } catch (IllegalArgumentException e) {
+            if (e.getMessage() == null || !e.getMessage().contains("1 to 120")) {
+              wrong.add("'" + pseudoname + "': " + e.getMessage());
+            }
+          } catch (Throwable t) {
+            wrong.add("'" + pseudoname + "' threw " + t);
+          }
+        }
+      }
+      assertEquals(List.of(), wrong, "each invalid pseudoname is refused with the rule");
+      assertEquals(List.of(), core.topology().nodes(), "a refused declaration records nothing");
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Reader<Integer> reader =
+          core.source("encoders", "E", ticks)
+              .then(core.chain("planner", longest, (Integer x) -> x + 1))
+              .reader();
+      core.start();
+      ticks.publish(1);
+      assertEquals(2, takeOrFail(reader));
+      assertEquals(Optional.of(longest), core.recording().pseudoname("planner"));
+      assertEquals(Optional.of("E"), core.recording().pseudoname("encoders"));
+    }
+  }
+
+  /**
+   * {@link Recording}: a chain made of a block records "each non-null value its block returns",
+   * numbered per name: a chain whose block returns {@code null} for even inputs records only the
+   * odd outputs, numbered 0, 1, ..., whether it runs linked to a source or is called through its
+   * {@code toBlock()}; a {@code null} is neither recorded nor counted.
+   */
+  @Test
+  default void aChainRecordsEachNonNullValueItsBlockReturnsAndNoNull() throws InterruptedException {
+    try (PrimeCore core = recordingCore(10)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> odd =
+          core.source("numbers", events)
+              .then(core.chain("linked", (Integer x) -> x % 2 == 0 ? null : x))
+              .reader();
+      Block<Integer, Integer> called =
+          core.chain("called", (Integer x) -> x % 2 == 0 ? null : x).toBlock();
+      core.start();
+      for (int i = 1; i <= 6; i++) {
+        events.publish(i);
+      }
+      assertEquals(List.of(1, 3, 5), takeOrFail(odd, 3));
+      List<Integer> results = new ArrayList<>();
+      for (int i = 1; i <= 6; i++) {
+        results.add(called.process(i));
+      }
+      assertEquals(java.util.Arrays.asList(1, null, 3, null, 5, null), results);
+      Recording recording = core.recording();
+      for (String name : List.of("linked", "called")) {
+        List<RecordedValue<Integer>> entries = recording.getAllStamped(name);
+        assertEquals(
+            List.of(1, 3, 5), entries.stream().map(RecordedValue::value).toList(), name);
+        assertEquals(
+            List.of(0L, 1L, 2L), entries.stream().map(RecordedValue::sequence).toList(), name);
+        assertEquals(3, recording.recorded(name), name);
+        assertEquals(Optional.of(5), recording.tryGet(name), name);
+      }
+    }
+  }
+
+  /**
+   * {@link Recording#get(String, Duration)}: the timeout is "zero or positive" ({@link
+   * IllegalArgumentException} for a negative one), and a wait for a first value ends with {@link
+   * InterruptedException} "if the thread is interrupted while waiting"; {@link
+   * Recording#getRange(String, long, long)} refuses a range that is not {@code 0 <= from <= to}.
+   */
+  @Test
+  default void aRecordingGetHonoursInterruptionAndRefusesBadArguments() throws Exception {
+    try (PrimeCore core = recordingCore(10)) {
+      core.chain("idle", (Integer x) -> x);
+      core.start();
+      Recording recording = core.recording();
+      IllegalArgumentException negative =
+          assertThrows(
+              IllegalArgumentException.class, () -> recording.get("idle", Duration.ofMillis(-1)));
+      assertTrue(negative.getMessage().contains("zero or positive"), negative.getMessage());
+      assertThrows(IllegalArgumentException.class, () -> recording.getRange("idle", -1, 0));
+      CountDownLatch waiting = new CountDownLatch(1);
+      CompletableFuture<Throwable> ended = new CompletableFuture<>();
+      Thread getter =
+          new Thread(
+              () -> {
+                waiting.countDown();
+                try {
+                  recording.get("idle", patience().multipliedBy(3));
+                  ended.complete(null);
+                } catch (Throwable t) {
+                  ended.complete(t);
+                }
+              },
+              "kit-recording-getter");
+      getter.start();
+      assertTrue(waiting.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+      long began = System.nanoTime();
+      getter.interrupt();
+      Throwable thrown = ended.get(patience().toMillis(), TimeUnit.MILLISECONDS);
+      assertTrue(thrown instanceof InterruptedException, "the interrupted get threw " + thrown);
+      assertTrue(
+          Duration.ofNanos(System.nanoTime() - began).compareTo(patience()) < 0,
+          "ended by the interrupt, not by its timeout");
+      getter.join(patience().toMillis());
+      Thread.currentThread().interrupt();
+      try {
+        assertThrows(InterruptedException.class, () -> recording.get("idle", patience()));
+      } finally {
+        Thread.interrupted();
+      }
+    }
+  }
+
   @Test
   default void anUnknownNameListsTheRecordedOnes() {
     try (PrimeCore core = recordingCore(10)) {
