@@ -109,6 +109,21 @@ public interface MisuseConformance extends LoggingConformance {
       calls.put("chain(null, pseudoname, block)", () -> core.chain(null, "Free", (Integer x) -> x));
       givenNames.add("free-source");
       calls.put("source(name, pseudoname, null)", () -> core.source("free-source", "Free", null));
+      givenNames.add("free-chain-2");
+      calls.put(
+          "chain(name, null, block)", () -> core.chain("free-chain-2", null, (Integer x) -> x));
+      givenNames.add("free-source-2");
+      calls.put(
+          "source(name, null, events)",
+          () -> core.source("free-source-2", null, new EventBlock<Integer>()));
+      calls.put(
+          "source(null, pseudoname, events)",
+          () -> core.source(null, "Free", new EventBlock<Integer>()));
+      calls.put(
+          "repeater(chain, source, null)",
+          () ->
+              core.repeater(
+                  given.get(), source, (dev.prime.RepeaterBlock<Integer, Integer, Integer, Integer>) null));
 
       List<String> wrong = new ArrayList<>();
       for (Map.Entry<String, Executable> call : calls.entrySet()) {

@@ -122,6 +122,93 @@ public interface TemplateConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link Block}, "Nulls": "Chains pass {@code null} between blocks if a block returns it, on
+   * every media", also into and out of every template: an if/else chooses on a {@code null} and
+   * its branch gets it; each chain of a union gets it and a union's tuple holds a {@code null}
+   * output; a for-each's body gets a {@code null} element and its {@code null} output stays in the
+   * list; a guard's predicate and substitute get it; an isolated chain's user passes it both ways;
+   * a repeater's block sees its inner chain's {@code null} output and may go again with a {@code
+   * null} input. The same where the chain runs linked to a source (which publishes nothing only
+   * for a {@code null} the whole chain returns).
+   */
+  @Test
+  default void aNullPassesIntoAndOutOfEveryTemplate() throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      java.util.function.Function<String, Chain<Integer, Integer>> nullIfNegative =
+          name -> core.chain(name, (Integer x) -> x < 0 ? null : x);
+      Block<Integer, String> ifElse =
+          nullIfNegative
+              .apply("n-if")
+              .then(
+                  core.ifThenElse(
+                      (Integer x) -> x == null,
+                      core.chain("if-null", (Integer x) -> "null:" + x),
+                      core.chain("if-value", (Integer x) -> "value:" + x)))
+              .toBlock();
+      Block<Integer, Tuple2<String, Integer>> union =
+          nullIfNegative
+              .apply("n-union")
+              .then(
+                  core.union(
+                      core.chain("union-a", (Integer x) -> x == null ? "a:null" : "a:" + x),
+                      core.chain("union-b", (Integer x) -> x)))
+              .toBlock();
+      Block<List<Integer>, List<Integer>> forEach =
+          core.forEach(core.chain("each", (Integer x) -> x == null ? Integer.valueOf(-1) : x == 0 ? null : Integer.valueOf(2 * x)))
+              .toBlock();
+      Block<Integer, Integer> guard =
+          nullIfNegative
+              .apply("n-guard")
+              .then(
+                  core.guard(
+                      (Integer x) -> x != null,
+                      core.chain("guarded", (Integer x) -> x + 1),
+                      (Integer x) -> x == null ? -100 : -200))
+              .toBlock();
+      Isolated<Integer, Integer> shared =
+          core.isolate(core.chain("shared", (Integer x) -> x == null ? null : x * 10));
+      Block<Integer, Integer> isolated =
+          nullIfNegative.apply("n-isolated").then(shared.newUser()).toBlock();
+      Block<Integer, String> repeater =
+          core.repeater(
+                  core.chain("inner", (Integer x) -> x == null ? null : x - 1),
+                  (Integer input, Integer output, List<Void> collected) ->
+                      output == null
+                          ? Repeat.<Integer, String>stop("stopped on null after " + input)
+                          : output == 0 ? Repeat.<Integer, String>again(null) : Repeat.again(output))
+              .toBlock();
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<String> served =
+          core.source("numbers", events)
+              .then(
+                  nullIfNegative
+                      .apply("n-served")
+                      .then(
+                          core.ifThenElse(
+                              (Integer x) -> x == null,
+                              core.chain("served-null", (Integer x) -> "served null:" + x),
+                              core.chain("served-value", (Integer x) -> "served " + x))))
+              .reader();
+      core.start();
+
+      assertEquals("null:null", ifElse.process(-1));
+      assertEquals("value:4", ifElse.process(4));
+      assertEquals(new Tuple2<>("a:null", null), union.process(-1));
+      assertEquals(new Tuple2<>("a:5", 5), union.process(5));
+      assertEquals(
+          java.util.Arrays.asList(2, -1, null, 6), forEach.process(java.util.Arrays.asList(1, null, 0, 3)));
+      assertEquals(-100, guard.process(-1));
+      assertEquals(8, guard.process(7));
+      assertEquals(null, isolated.process(-1));
+      assertEquals(30, isolated.process(3));
+      assertEquals("stopped on null after null", repeater.process(2));
+      events.publish(-1);
+      events.publish(2);
+      assertEquals(List.of("served null:null", "served 2"), takeOrFail(served, 2));
+    }
+  }
+
   @Test
   default void guardSubstitutesWhenThePredicateFails() {
     try (PrimeCore core = newCore()) {

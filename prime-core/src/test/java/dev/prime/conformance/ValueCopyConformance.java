@@ -118,6 +118,67 @@ public interface ValueCopyConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.ValueCodec}, "Nulls": "Neither method sees {@code null}". With a codec
+   * that copies values across every service boundary ({@link #newCoreWithCodec}), a chain whose
+   * block returns {@code null} gives its synchronous caller {@code null}, a linked chain passes a
+   * {@code null} to its next chain (a service of its own on a media that does not fuse them), and
+   * a chain linked to a source publishes nothing for one: the codec
+   * is never given a {@code null} to encode.
+   */
+  @Test
+  default void theCodecNeverSeesANull() throws InterruptedException {
+    List<String> sawNull = Collections.synchronizedList(new ArrayList<>());
+    dev.prime.ValueCodec inner = copyCodec();
+    dev.prime.ValueCodec watching =
+        new dev.prime.ValueCodec() {
+          @Override
+          public byte[] encode(Object value) {
+            if (value == null) {
+              sawNull.add("encode(null)");
+              throw new IllegalArgumentException("the kit's codec was given null to encode");
+            }
+            return inner.encode(value);
+          }
+
+          @Override
+          public Object decode(byte[] bytes) {
+            if (bytes == null) {
+              sawNull.add("decode(null)");
+              throw new IllegalArgumentException("the kit's codec was given null to decode");
+            }
+            return inner.decode(bytes);
+          }
+
+          @Override
+          public String toString() {
+            return "null-watching " + inner;
+          }
+        };
+    try (PrimeCore core = newCoreWithCodec(CoreConfig.builder().copyValues(watching).build())) {
+      Block<Integer, Integer> nothing = core.chain("nothing", (Integer x) -> (Integer) null).toBlock();
+      Block<Integer, String> linked =
+          core.chain("maybe", (Integer x) -> x > 0 ? x : null)
+              .then(core.chain("show", (Integer x) -> x == null ? "none" : "v" + x))
+              .toBlock();
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<String> served =
+          core.source("numbers", events)
+              .then(
+                  core.chain("served-maybe", (Integer x) -> x > 0 ? x : null)
+                      .then(core.chain("served-show", (Integer x) -> x == null ? null : "s" + x)))
+              .reader();
+      core.start();
+      assertEquals(null, nothing.process(1));
+      assertEquals("none", linked.process(-1));
+      assertEquals("v2", linked.process(2));
+      events.publish(-1);
+      events.publish(4);
+      assertEquals("s4", takeOrFail(served));
+      assertEquals(List.of(), sawNull, "the codec was given a null");
+    }
+  }
+
   @Test
   default void aSyncCallCopiesItsInputAndResult() {
     try (PrimeCore core = copyingCore()) {
