@@ -1,6 +1,7 @@
 package dev.prime;
 
 import java.time.Instant;
+import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.function.BiConsumer;
 
@@ -68,14 +69,22 @@ final class Ticking implements Runnable {
     long count = 0;
     while (!Thread.currentThread().isInterrupted() && !core.isClosed()) {
       count++;
-      long due = due(origin, count);
+      long sinceOrigin;
+      long due;
+      try {
+        sinceOrigin = Math.multiplyExact(count, periodNanos);
+        due = Math.addExact(origin, sinceOrigin);
+      } catch (ArithmeticException pastTheClock) {
+        awaitTheEnd(); // this tick and every later one are due past the clock's last reading
+        return;
+      }
       if (!sleepUntil(clock, due, count)) {
         return;
       }
       if (!core.isHostedHere(name)) {
         continue; // another process took the hosting over: it ticks now
       }
-      Instant dueTime = time.plusNanos(count * periodNanos);
+      Instant dueTime = time.plusNanos(sinceOrigin);
       try {
         action.accept(count, dueTime);
       } catch (CoreClosedException e) {
@@ -129,15 +138,16 @@ final class Ticking implements Runnable {
   }
 
   /**
-   * When tick {@code count} is due: {@code count} periods after {@code origin}, or never ({@code
-   * Long.MAX_VALUE}) if that is past what the clock's long reading holds (a period of a century,
-   * from its third tick on), where the sum would overflow to a time long past.
+   * Waits until the loop must end (an interrupt: the core closing), for a tick due past the last
+   * reading the clock's long holds (a period of a century, from its third tick on): it is never
+   * due. It is not taken as due at {@code Long.MAX_VALUE}, which a {@link VirtualClock} advanced
+   * to its end reads: that would publish it, and every later tick, at once, stamped wrong.
    */
-  private long due(long origin, long count) {
+  private static void awaitTheEnd() {
     try {
-      return Math.addExact(origin, Math.multiplyExact(count, periodNanos));
-    } catch (ArithmeticException pastTheClock) {
-      return Long.MAX_VALUE;
+      new CountDownLatch(1).await(); // counted down by no one: only an interrupt ends it
+    } catch (InterruptedException e) {
+      // the core closes: the loop ends, as after an interrupted sleep
     }
   }
 

@@ -312,6 +312,36 @@ public interface CombinatorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link PrimeCore#timer}: a period is "positive, at most {@code Long.MAX_VALUE} nanoseconds",
+   * and "tick {@code n} is due {@code n} periods after the core starts". A timer of the longest
+   * period on a {@link VirtualClock} advanced to the last reading a clock holds ({@link
+   * VirtualClock#advance}: "at most {@code Long.MAX_VALUE} nanoseconds") publishes its first tick,
+   * stamped one period after the start, and no other: tick 2 is due past the end of the clock. A
+   * sampler of that period likewise publishes nothing that comes after its first period. Both end
+   * when the core closes.
+   */
+  @Test
+  default void aTimerOfTheLongestPeriodTicksOnceWhenTheClockReachesItsEnd()
+      throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    Instant origin = clock.now();
+    Duration longest = Duration.ofNanos(Long.MAX_VALUE);
+    PrimeCore core = newCore(CoreConfig.builder().clock(clock).build());
+    try (core) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Tick> ticks = core.timer("longest", longest).reader();
+      Reader<Integer> sampled = core.source("values", events).sample(longest).reader();
+      core.start();
+      clock.advance(longest);
+      assertEquals(new Tick(1, origin.plus(longest)), takeOrFail(ticks));
+      events.publish(2);
+      assertEquals(Optional.empty(), ticks.take(quiet()), "tick 2 is due past the clock's end");
+      assertEquals(Optional.empty(), sampled.take(quiet()), "period 2 ends past the clock's end");
+    }
+    awaitNoThreadsLeft(core); // the timer waiting for a tick that never comes ended at close
+  }
+
   @Test
   default void timerTicksOnTheSystemClockOnePeriodApart() throws InterruptedException {
     try (PrimeCore core = newCore()) {
