@@ -19,10 +19,12 @@ public interface ErrorHandler {
    *     linked to a source, the chain's name (not the name of the source it makes); for a linked
    *     chain, the innermost chain that failed; for a filter, flat-map or listener, its service
    *     name ({@code filter(source)}, ...); for a generic service, the name it was declared with
-   * @param input the value being processed (never {@code null}): the value the service took from
-   *     its source. Media that fuse linked chains into one service (Liberty, Radiant) give the value
-   *     that entered the linked chain; Optimus, which runs each chain as a service of its own, the
-   *     value that entered the failing chain. For a generic service, the {@link
+   * @param input the value being processed: the value the service took from its source, never
+   *     {@code null}, as sources carry none. Media that fuse linked chains into one service
+   *     (Liberty, Radiant) give the value that entered the linked chain; Optimus, which runs each
+   *     chain as a service of its own, the value that entered the failing chain, which is {@code
+   *     null} when the chain before it returned {@code null} (chains pass {@code null} between
+   *     blocks, see {@link Block}). For a generic service, the {@link
    *     GenericService.Step} that failed. For a value the core's codec could not decode (see
    *     {@code error}), the bytes it could not decode (Optimus: the value's envelope)
    * @param error the block's (or generic service's step's) own throwable, never a {@link

@@ -76,6 +76,54 @@ public interface ErrorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link dev.prime.ErrorHandler#handle}: the input is the value that entered the linked chain on
+   * a media that fuses linked chains, the value that entered the failing chain on one that runs
+   * each chain as a service of its own ({@link #servicesOfLinkedChain}). The second of two linked
+   * chains on a source gets a {@code null} from the first (chains pass {@code null} between
+   * blocks) and throws on it: the handler gets the failing chain's name, the block's own exception
+   * and, as input, the value published (fused) or that {@code null} (one service per chain), and
+   * the service goes on.
+   */
+  @Test
+  default void theErrorHandlerGetsTheInputOfTheLinkedOrOfTheFailingChainEvenANull()
+      throws InterruptedException {
+    List<String> reports = new CopyOnWriteArrayList<>();
+    CountDownLatch reported = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder()
+            .errorHandler(
+                (service, input, error) -> {
+                  reports.add(service + " on " + input + ": " + error.getMessage());
+                  reported.countDown();
+                })
+            .build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> out =
+          core.source("numbers", events)
+              .then(
+                  core.chain("maybe", (Integer x) -> x > 0 ? x : null)
+                      .then(
+                          core.chain(
+                              "strict",
+                              (Integer x) -> {
+                                if (x == null) {
+                                  throw new Boom("got null");
+                                }
+                                return x * 10;
+                              })))
+              .reader();
+      core.start();
+      events.publish(-5);
+      events.publish(2);
+      assertEquals(20, takeOrFail(out), "the service goes on");
+      assertTrue(reported.await(patience().toMillis(), TimeUnit.MILLISECONDS), "reported");
+      String input = servicesOfLinkedChain(2) == 1 ? "-5" : "null";
+      assertEquals(List.of("strict on " + input + ": got null"), reports);
+    }
+  }
+
   @Test
   default void asyncFailureGoesToTheErrorHandlerAndTheServiceGoesOn() throws InterruptedException {
     CopyOnWriteArrayList<Object> failedInputs = new CopyOnWriteArrayList<>();
