@@ -1,6 +1,7 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
@@ -405,6 +406,56 @@ public interface CombinatorConformance extends ConformanceBase {
           laterTick.await(patience().toMillis(), TimeUnit.MILLISECONDS),
           "the timer goes on after a tick it could not publish");
     }
+  }
+
+  /**
+   * {@link Tick#count()} and {@link PrimeCore#timer}: the timer numbers its ticks 1, 2, ... and
+   * never skips a number as it catches up, but "a tick whose publish fails ... is not retried": a
+   * listener of the timer sees the counts in order, without the ones whose publish failed (each
+   * told to the error handler with its count), so those are gaps in what it sees.
+   */
+  @Test
+  default void aTickThatCannotBePublishedIsAGapInTheCountsItsListenerSees()
+      throws InterruptedException {
+    BlockingQueue<List<Object>> failures = new LinkedBlockingQueue<>();
+    CountDownLatch release = new CountDownLatch(1);
+    AtomicLong failedTick = new AtomicLong(Long.MAX_VALUE);
+    CountDownLatch laterTick = new CountDownLatch(1);
+    List<Long> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config = shortPublishCollectingFailures(failures);
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, 2)) {
+      core.timer("beat", Duration.ofMillis(10))
+          .listen(
+              tick -> {
+                seen.add(tick.count());
+                if (tick.count() > failedTick.get()) {
+                  laterTick.countDown();
+                }
+                try {
+                  release.await(); // stuck until the test lets it go: its input fills up
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              });
+      core.start();
+      try {
+        List<Object> failure = failures.poll(patience().toMillis(), TimeUnit.MILLISECONDS);
+        assertTrue(failure != null, "no tick failed within " + patience());
+        failedTick.set((Long) failure.get(1));
+      } finally {
+        release.countDown();
+      }
+      assertTrue(
+          laterTick.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "the timer goes on after a tick it could not publish");
+    }
+    List<Long> heard = List.copyOf(seen);
+    assertTrue(heard.size() >= 2, "heard " + heard);
+    for (int i = 1; i < heard.size(); i++) {
+      assertTrue(heard.get(i - 1) < heard.get(i), "counts in order: " + heard);
+    }
+    assertFalse(heard.contains(failedTick.get()), "the failed tick is a gap: " + heard);
+    assertEquals(1L, heard.get(0), "the first tick is 1");
   }
 
   /**
