@@ -3,6 +3,7 @@ package dev.prime.conformance;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNull;
+import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
@@ -320,6 +321,56 @@ public interface RecordingConformance extends ConformanceBase {
       } finally {
         Thread.interrupted();
       }
+    }
+  }
+
+  /**
+   * {@link RecordedValue#value()}: "the value, as published or returned (not a copy)", also where
+   * values are copied across services ({@link #newCoreWithCodec}): the recording of an event source
+   * holds the very object published, and that of a chain made of a block the very object its block
+   * returned, whether the chain runs linked to a source or is called through its {@code
+   * toBlock()}.
+   */
+  @Test
+  default void theRecordingHoldsTheVeryObjectsPublishedAndReturned() throws InterruptedException {
+    List<Object> returned = java.util.Collections.synchronizedList(new ArrayList<>());
+    try (PrimeCore core =
+        newCoreWithCodec(
+            CoreConfig.builder()
+                .recording(RecordingOptions.ring(10))
+                .copyValues(copyCodec())
+                .build())) {
+      EventBlock<ArrayList<Integer>> events = new EventBlock<>();
+      Reader<ArrayList<Integer>> out =
+          core.source("lists", events)
+              .then(
+                  core.chain(
+                      "grown",
+                      (ArrayList<Integer> list) -> {
+                        ArrayList<Integer> grown = new ArrayList<>(list);
+                        grown.add(0);
+                        returned.add(grown);
+                        return grown;
+                      }))
+              .reader();
+      Block<Integer, ArrayList<Integer>> called =
+          core.chain(
+                  "called",
+                  (Integer x) -> {
+                    ArrayList<Integer> made = new ArrayList<>(List.of(x));
+                    returned.add(made);
+                    return made;
+                  })
+              .toBlock();
+      core.start();
+      ArrayList<Integer> published = new ArrayList<>(List.of(7));
+      events.publish(published);
+      assertEquals(List.of(7, 0), takeOrFail(out));
+      assertEquals(List.of(3), called.process(3));
+      Recording recording = core.recording();
+      assertSame(published, recording.getAll("lists").get(0), "the very object published");
+      assertSame(returned.get(0), recording.getAll("grown").get(0), "the very object returned");
+      assertSame(returned.get(1), recording.getAll("called").get(0), "the very object returned");
     }
   }
 
