@@ -398,6 +398,48 @@ public interface AwkwardConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link QueueFullException}: "nothing of that publish was published", also where the full
+   * service is one of several on the source: a publish refused because a stuck chain's input is
+   * full reaches neither another chain linked to the same source, whose input has room, nor a
+   * plain reader of the source; the values before and after it reach both, in order.
+   */
+  @Test
+  default void aPublishRefusedForOneFullServiceReachesNoOtherServiceNorReader()
+      throws InterruptedException {
+    int capacity = 2;
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CoreConfig config = CoreConfig.builder().publishTimeout(Duration.ofMillis(200)).build();
+    try (PrimeCore core = newCoreWithServiceInputCapacity(config, capacity)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("numbers", events);
+      source.then(stuckChain(core, "held", inside, release));
+      Reader<Integer> free = source.then(core.chain("free", (Integer x) -> x)).reader();
+      Reader<Integer> plain = source.reader();
+      core.start();
+      try {
+        events.publish(0);
+        assertTrue(inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "0 is held");
+        assertEquals(0, takeOrFail(free));
+        assertEquals(0, takeOrFail(plain));
+        for (int i = 1; i <= capacity; i++) {
+          events.publish(i);
+          assertEquals(i, takeOrFail(free), "the free chain keeps up");
+          assertEquals(i, takeOrFail(plain), "the plain reader keeps up");
+        }
+        QueueFullException refused =
+            assertThrows(QueueFullException.class, () -> events.publish(999));
+        assertEquals("held", refused.serviceName(), refused.getMessage());
+      } finally {
+        release.countDown();
+      }
+      events.publish(-1); // a sentinel, once the held input has room
+      assertEquals(-1, takeOrFail(free), "the refused 999 reached no other service");
+      assertEquals(-1, takeOrFail(plain), "nor a plain reader");
+    }
+  }
+
   @Test
   default void manyChainsOnOneSource() throws InterruptedException {
     int chains = 8;
