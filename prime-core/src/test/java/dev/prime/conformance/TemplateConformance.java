@@ -323,6 +323,64 @@ public interface TemplateConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link Isolated#newUser()} "creates a chain for one more user of the shared chain", also on a
+   * started core, where "services declared after start() start at once": a user made after the
+   * start and called, and one made after the start and linked to a source, share the chain with a
+   * user made before, never inside it together with the earlier user, and each gets its results.
+   */
+  @Test
+  default void anIsolatedChainTakesNewUsersAfterTheStart() throws Exception {
+    try (PrimeCore core = newCore()) {
+      CountDownLatch entered = new CountDownLatch(1);
+      CountDownLatch release = new CountDownLatch(1);
+      AtomicInteger inside = new AtomicInteger();
+      AtomicInteger overlaps = new AtomicInteger();
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  "late-shared",
+                  (Integer x) -> {
+                    if (inside.incrementAndGet() > 1) {
+                      overlaps.incrementAndGet();
+                    }
+                    try {
+                      if (x == 1) {
+                        entered.countDown();
+                        release.await(patience().toMillis(), TimeUnit.MILLISECONDS);
+                      }
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                    } finally {
+                      inside.decrementAndGet();
+                    }
+                    return x * 10;
+                  }));
+      Block<Integer, Integer> early = isolated.newUser().toBlock();
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> requests = core.source("requests", events);
+      core.start();
+      Block<Integer, Integer> late = isolated.newUser().toBlock();
+      Reader<Integer> linked = requests.then(isolated.newUser()).reader();
+      ExecutorService pool = Executors.newFixedThreadPool(2);
+      try {
+        Future<Integer> holder = pool.submit(() -> early.process(1));
+        assertTrue(entered.await(patience().toMillis(), TimeUnit.MILLISECONDS));
+        Future<Integer> waiter = pool.submit(() -> late.process(2));
+        events.publish(3);
+        release.countDown();
+        assertEquals(10, holder.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+        assertEquals(20, waiter.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+        assertEquals(30, takeOrFail(linked));
+        assertEquals(40, late.process(4));
+      } finally {
+        release.countDown();
+        pool.shutdownNow();
+      }
+      assertEquals(0, overlaps.get(), "the users were never inside together");
+    }
+  }
+
   @Test
   default void syncCollectorReturnsTheNextValueEachCall() throws Exception {
     try (PrimeCore core = newCore()) {
