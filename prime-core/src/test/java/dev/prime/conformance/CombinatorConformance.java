@@ -266,6 +266,39 @@ public interface CombinatorConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * {@link Source#sample}: "Periods count from the core's start (from this call, on a started
+   * core, as a timer's do)". A sampler declared on a started core, 3.5 periods after the start by a
+   * {@link VirtualClock}, publishes nothing for the periods before its declaration: a value it took
+   * is published when one period has passed since the declaration, not at the start's fourth
+   * period.
+   */
+  @Test
+  default void aSamplerDeclaredOnAStartedCoreCountsItsPeriodsFromItsDeclaration()
+      throws InterruptedException {
+    VirtualClock clock = new VirtualClock();
+    CoreConfig config = CoreConfig.builder().clock(clock).metrics(true).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> values = core.source("values", events);
+      core.start();
+      clock.advance(Duration.ofMillis(3_500));
+      Reader<Integer> sampled = values.sample(Duration.ofSeconds(1)).reader();
+      events.publish(7);
+      long deadline = System.nanoTime() + patience().toNanos();
+      CountDownLatch never = new CountDownLatch(1);
+      while (core.metrics().service("sample(values)").valuesIn() < 1
+          && System.nanoTime() < deadline) {
+        never.await(5, TimeUnit.MILLISECONDS); // a bounded pause until the sampler took 7
+      }
+      assertEquals(1, core.metrics().service("sample(values)").valuesIn(), "the sampler took 7");
+      clock.advance(Duration.ofMillis(999)); // past the start's fourth period, not one since
+      assertEquals(Optional.empty(), sampled.take(quiet()), "no period ended since the declaration");
+      clock.advance(Duration.ofMillis(1));
+      assertEquals(7, takeOrFail(sampled), "one period after the declaration");
+    }
+  }
+
   @Test
   default void timerTicksExactlyOnAVirtualClock() throws InterruptedException {
     VirtualClock clock = new VirtualClock();

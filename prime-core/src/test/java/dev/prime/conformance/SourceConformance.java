@@ -339,6 +339,60 @@ public interface SourceConformance extends ConformanceBase {
   }
 
   /**
+   * {@link Source#conflatedReader()} is a {@link Reader}, with the reader's lifecycle: its {@code
+   * close()} wakes a {@code take()} blocked in it with {@link IllegalStateException} ("reader
+   * closed"), after which every call but {@code close()} throws that, and {@code close()} is
+   * idempotent; when the core closes, an open conflated reader's reads throw {@link
+   * CoreClosedException}, and its {@code close()} throws nothing.
+   */
+  @Test
+  default void aConflatedReaderHasTheReadersLifecycle() throws Exception {
+    PrimeCore core = newCore();
+    try (core) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("numbers", events);
+      Reader<Integer> closing = source.conflatedReader();
+      Reader<Integer> open = source.conflatedReader();
+      core.start();
+      events.publish(1);
+      assertEquals(1, takeOrFail(closing));
+      CompletableFuture<Integer> blocked = takeOnAnotherThread(closing);
+      closing.close();
+      closing.close(); // idempotent
+      ExecutionException woken =
+          assertThrows(
+              ExecutionException.class,
+              () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
+      assertTrue(
+          woken.getCause() instanceof IllegalStateException
+              && !(woken.getCause() instanceof CoreClosedException)
+              && String.valueOf(woken.getCause().getMessage()).contains("reader closed"),
+          "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
+      List<Executable> calls =
+          List.of(
+              closing::take,
+              () -> closing.take(Duration.ofMillis(10)),
+              closing::poll,
+              closing::drain,
+              closing::missed);
+      for (Executable call : calls) {
+        IllegalStateException e = assertThrows(IllegalStateException.class, call);
+        assertTrue(String.valueOf(e.getMessage()).contains("reader closed"), e.getMessage());
+      }
+      events.publish(2);
+      assertEquals(2, takeOrFail(open), "the other conflated reader reads on");
+      core.close();
+      List<Executable> onClosedCore =
+          List.of(open::take, () -> open.take(Duration.ofMillis(10)), open::poll, open::drain);
+      for (Executable call : onClosedCore) {
+        assertThrows(CoreClosedException.class, call);
+      }
+      open.close(); // on a closed core too: no exception
+    }
+    ConformanceBase.assertNoThreadsLeft(core);
+  }
+
+  /**
    * {@link EventBlock#publish(Object)}: a {@code null} is refused with a {@link
    * NullPointerException} that says sources carry no nulls and to publish an {@code Optional} or
    * a sentinel instead.
