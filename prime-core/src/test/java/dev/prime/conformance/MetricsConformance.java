@@ -330,6 +330,53 @@ public interface MetricsConformance extends ConformanceBase {
     assertCounts(metrics.service("numbers"), "EventSource", 3, 3, 0);
   }
 
+  /**
+   * {@link Metrics}: a template chain's "processing = the time of each call (a template's includes
+   * its parts')": an if/else whose chosen branch takes at least 5 ms, and a for-each over such a
+   * body, each time every call at least as long as the part they ran, and in total at least the
+   * total of their part.
+   */
+  @Test
+  default void aTemplatesProcessingTimeIncludesItsParts() throws Exception {
+    long sleepMillis = 5;
+    long least = TimeUnit.MILLISECONDS.toNanos(sleepMillis);
+    Block<Integer, Integer> work =
+        x -> {
+          try {
+            Thread.sleep(sleepMillis); // the work whose time is measured
+          } catch (InterruptedException e) {
+            Thread.currentThread().interrupt();
+          }
+          return x;
+        };
+    try (PrimeCore core = meteredCore(Collections.synchronizedList(new ArrayList<>()))) {
+      Block<Integer, Integer> choose =
+          core.ifThenElse(
+                  (Integer x) -> x > 0,
+                  core.chain("slow-branch", work),
+                  core.chain("fast-branch", (Integer x) -> x))
+              .toBlock();
+      Block<List<Integer>, List<Integer>> each =
+          core.forEach(core.chain("slow-body", work)).toBlock();
+      core.start();
+      for (int i = 1; i <= 3; i++) {
+        assertEquals(i, choose.process(i));
+      }
+      assertEquals(List.of(1, 2), each.process(List.of(1, 2)));
+      Metrics metrics = core.metrics();
+      ProcessingTimes ifElse = metrics.service("if(slow-branch|fast-branch)").processing();
+      ProcessingTimes branch = metrics.service("slow-branch").processing();
+      ProcessingTimes forEach = metrics.service("forEach(slow-body)").processing();
+      ProcessingTimes body = metrics.service("slow-body").processing();
+      assertEquals(3, ifElse.count(), ifElse.toString());
+      assertEquals(1, forEach.count(), forEach.toString());
+      assertTrue(ifElse.totalNanos() >= branch.totalNanos(), ifElse + " includes " + branch);
+      assertTrue(ifElse.totalNanos() >= 3 * least, ifElse.toString());
+      assertTrue(forEach.totalNanos() >= body.totalNanos(), forEach + " includes " + body);
+      assertTrue(forEach.maxNanos() >= 2 * least, forEach.toString());
+    }
+  }
+
   @Test
   default void theHistogramTimesEveryValue() throws Exception {
     long sleepMillis = 5;
