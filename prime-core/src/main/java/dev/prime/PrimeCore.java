@@ -919,8 +919,9 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * The services of this core's diagram that this process runs, in declaration order: every
-   * chain made of a block, every template chain and every filter, flat-map and listener (see
-   * {@link dev.prime.topology.TopologyNode}); linked chains and sources are not services. The
+   * chain made of a block, every template chain, every filter, flat-map and listener, and every
+   * combinator, timer and generic service (see {@link dev.prime.topology.TopologyNode}); linked
+   * chains and sources are not services. The
    * same declarations give the same names on every media; a media that spreads services over
    * processes (Optimus) leaves out those hosted elsewhere.
    *

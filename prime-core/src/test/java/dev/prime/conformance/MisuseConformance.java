@@ -158,6 +158,44 @@ public interface MisuseConformance extends LoggingConformance {
   }
 
   /**
+   * {@link PrimeCore#serviceNames()}: "in declaration order: every chain made of a block, every
+   * template chain and every filter, flat-map and listener; linked chains and sources are not
+   * services", and every combinator, timer and generic service, each "a service of this core":
+   * a core declaring one of each kind lists exactly those, in the order they were declared.
+   */
+  @Test
+  default void serviceNamesListEveryKindOfServiceInDeclarationOrder() {
+    try (PrimeCore core = newCore()) {
+      Source<Integer> a = core.source("a", new EventBlock<Integer>());
+      Source<Integer> b = core.source("b", new EventBlock<Integer>());
+      a.then(core.chain("double", (Integer x) -> 2 * x).then(core.chain("inc", (Integer x) -> x + 1)));
+      core.union(core.chain("left", (Integer x) -> x), core.chain("right", (Integer x) -> x));
+      a.filter(x -> x > 0);
+      a.flatMap(x -> List.of(x));
+      a.listen(x -> {});
+      core.zip(a, b);
+      core.timer("beat", Duration.ofHours(1));
+      core.service("driver", () -> Thread.sleep(patience().toMillis()));
+      a.sample(Duration.ofHours(1));
+      assertEquals(
+          List.of(
+              "double",
+              "inc",
+              "left",
+              "right",
+              "union(left|right)",
+              "filter(a)",
+              "flatMap(a)",
+              "listen(a)",
+              "zip(a|b)",
+              "beat",
+              "driver",
+              "sample(a)"),
+          List.copyOf(core.serviceNames()));
+    }
+  }
+
+  /**
    * A name is unique among a core's chains, sources and services of every kind (architecture,
    * <i>Generic services</i>, "In the diagram": "Its name is unique among the core's chains,
    * sources and services"; the topology model names each node once): a chain, an event source, a
