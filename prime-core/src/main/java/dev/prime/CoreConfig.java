@@ -169,14 +169,14 @@ public final class CoreConfig {
     private Builder() {}
 
     /**
-     * @param name 1 to 64 letters, digits, '.', '_' or '-'; {@code null} for a generated name
+     * @param name 1 to 64 ASCII letters, digits, '.', '_' or '-'; {@code null} for a generated name
      * @return this builder
      * @throws IllegalArgumentException if {@code name} is not {@code null} and not such a name
      */
     public Builder name(String name) {
       if (name != null && !name.matches("[A-Za-z0-9._-]{1,64}")) {
         throw new IllegalArgumentException(
-            "core name '" + name + "' is invalid: use 1 to 64 letters, digits, '.', '_' or '-'");
+            "core name '" + name + "' is invalid: use 1 to 64 ASCII letters, digits, '.', '_' or '-'");
       }
       this.name = name;
       return this;

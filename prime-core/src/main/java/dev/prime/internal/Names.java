@@ -101,7 +101,9 @@ public final class Names {
     }
     for (int i = 0; i < name.length(); i++) {
       char c = name.charAt(i);
-      if (Character.isWhitespace(c) || Character.isISOControl(c) || c == '{' || c == '}') {
+      if (Character.isWhitespace(c)
+          || Character.isSpaceChar(c) // the no-break spaces, which isWhitespace lets through
+          || Character.isISOControl(c) || c == '{' || c == '}') {
         return false;
       }
     }

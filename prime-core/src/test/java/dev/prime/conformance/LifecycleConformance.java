@@ -329,6 +329,8 @@ public interface LifecycleConformance extends ConformanceBase {
               "tab\tbed",
               "line\nbreak",
               "em\u2003space",
+              "no\u00a0break",
+              "narrow\u202fno-break",
               "bell\u0007",
               "{open",
               "close}");
@@ -366,7 +368,7 @@ public interface LifecycleConformance extends ConformanceBase {
 
   /**
    * {@link CoreConfig.Builder}: each setting is checked where it is set, with a message naming
-   * what is wrong: a name of 1 to 64 letters, digits, '.', '_' or '-', a source retention of at
+   * what is wrong: a name of 1 to 64 ASCII letters, digits, '.', '_' or '-', a source retention of at
    * least 1, a positive shutdown timeout, a zero or positive publish timeout, and no {@code null}
    * error handler, timeout or clock. A core takes the longest name of every allowed character
    * and runs under it.
