@@ -464,8 +464,15 @@ public abstract class PrimeCore implements AutoCloseable {
    * set) or gives up another way (a call timeout on a media that has one), and with {@link
    * CoreClosedException} when the core closes; the calls behind it keep their order. A call that
    * already runs is not stopped. A block of the shared chain must not call the shared chain
-   * (through any user): that call would wait for itself. Where blocks run on the caller's thread
-   * (Liberty, Radiant) it fails at once with {@link IllegalStateException}.
+   * (through any user): that call would wait for itself. On every media it fails at once with
+   * {@link IllegalStateException}, and the shared chain serves the next call: on Liberty and
+   * Radiant wherever the call is made on the caller's thread; on Optimus where it is made on the
+   * thread of a service that runs only for the shared chain (its own, a linked chain's each, and
+   * those of the chains it consumed: a template's parts, a repeater's chain), in whichever process
+   * hosts it. A call made on another thread on its behalf (on Optimus, the service of a chain its
+   * block calls through a block it was given, or of another core's chain isolated here) cannot be
+   * seen: it waits until its call timeout, an interrupt or {@link #close()} (docs/architecture.md,
+   * <i>Errors</i>).
    *
    * @param chain the shared chain
    * @param <I> input type

@@ -339,15 +339,15 @@ public interface InterruptConformance extends ConformanceBase {
   /**
    * A block of an isolated chain that calls the same isolated chain (through another user) on
    * the thread that runs it would wait for itself: misuse, which never hangs (architecture,
-   * <i>Errors</i>). Where blocks run on the caller's thread the inner call fails at once with an
-   * {@link IllegalStateException} that says so, the outer call fails with it, and the chain
-   * serves the next call.
+   * <i>Errors</i>). On every media the inner call fails at once with an {@link
+   * IllegalStateException} that says so (on Optimus it is made on the thread of the isolated
+   * chain's service, in the process that hosts it), the outer call fails with it, and the chain
+   * serves the next call. What a media cannot see (a call handed to another thread) is not
+   * promised.
    */
   @Test
   default void anIsolatedChainCalledFromInsideItselfFailsInsteadOfWaitingForItself()
       throws InterruptedException {
-    org.junit.jupiter.api.Assumptions.assumeTrue(
-        blocksRunOnTheCallersThread(), "blocks run on the caller's thread");
     AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
     PrimeCore core = newCore();
     try {
@@ -356,23 +356,101 @@ public interface InterruptConformance extends ConformanceBase {
               core.chain(
                   "counter",
                   (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0));
-      Block<Integer, Integer> outer = isolated.newUser().toBlock();
-      inner.set(isolated.newUser().toBlock());
-      core.start();
-      assertEquals(0, outer.process(0), "a call that does not re-enter");
-      Caller reentering = new Caller("reentering", () -> outer.process(1));
-      Throwable failure = reentering.awaitFailure(patience());
-      Throwable cause = failure;
-      while (cause != null && !(cause instanceof IllegalStateException)) {
-        cause = cause.getCause();
-      }
-      assertInstanceOf(IllegalStateException.class, cause, "the inner call's failure: " + failure);
-      assertTrue(
-          cause.getMessage().contains("from inside itself"), "says what is wrong: " + cause);
-      assertEquals(0, inner.get().process(0), "the isolated chain serves the next call");
+      assertAFailedCallFromInsideItself(core, isolated, inner);
     } finally {
       core.close();
     }
+  }
+
+  /**
+   * As above, the call made by the later chain of a linked isolated chain (on Optimus a service
+   * of its own, on a thread of its own).
+   */
+  @Test
+  default void aLinkedIsolatedChainCalledFromItsLaterChainFailsInsteadOfWaitingForItself()
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
+    PrimeCore core = newCore();
+    try {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.link(
+                  core.chain("take", (Integer x) -> x),
+                  core.chain(
+                      "count", (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0)));
+      assertAFailedCallFromInsideItself(core, isolated, inner);
+    } finally {
+      core.close();
+    }
+  }
+
+  /**
+   * As above, the call made by a chain a template isolated chain was made of (on Optimus a
+   * service of its own that the template's service calls).
+   */
+  @Test
+  default void anIsolatedTemplateCalledFromOneOfItsChainsFailsInsteadOfWaitingForItself()
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
+    PrimeCore core = newCore();
+    try {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.ifThenElse(
+                  (Integer x) -> x > 0,
+                  core.chain("count", (Integer x) -> inner.get().process(x - 1) + 1),
+                  core.chain("zero", (Integer x) -> 0)));
+      assertAFailedCallFromInsideItself(core, isolated, inner);
+    } finally {
+      core.close();
+    }
+  }
+
+  /**
+   * As above, the call made by the chain an isolated repeater runs (on Optimus a service of its
+   * own that the repeater's service calls, round after round).
+   */
+  @Test
+  default void anIsolatedRepeaterCalledFromItsChainFailsInsteadOfWaitingForItself()
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
+    PrimeCore core = newCore();
+    try {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.repeater(
+                  core.chain(
+                      "round", (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0),
+                  (Integer in, Integer out, List<Void> none) -> Repeat.stop(out)));
+      assertAFailedCallFromInsideItself(core, isolated, inner);
+    } finally {
+      core.close();
+    }
+  }
+
+  /**
+   * Calls {@code isolated} through a new user with 0 (no re-entry) and with 1 (its block calls
+   * {@code inner}, set here to another user): the second fails with the inner call's
+   * IllegalStateException, and the chain then serves the next call.
+   */
+  private void assertAFailedCallFromInsideItself(
+      PrimeCore core,
+      Isolated<Integer, Integer> isolated,
+      AtomicReference<Block<Integer, Integer>> inner)
+      throws InterruptedException {
+    Block<Integer, Integer> outer = isolated.newUser().toBlock();
+    inner.set(isolated.newUser().toBlock());
+    core.start();
+    assertEquals(0, outer.process(0), "a call that does not re-enter");
+    Caller reentering = new Caller("reentering", () -> outer.process(1));
+    Throwable failure = reentering.awaitFailure(patience());
+    Throwable cause = failure;
+    while (cause != null && !(cause instanceof IllegalStateException)) {
+      cause = cause.getCause();
+    }
+    assertInstanceOf(IllegalStateException.class, cause, "the inner call's failure: " + failure);
+    assertTrue(cause.getMessage().contains("from inside itself"), "says what is wrong: " + cause);
+    assertEquals(0, inner.get().process(0), "the isolated chain serves the next call");
   }
 
   /**

@@ -16,6 +16,7 @@ import dev.prime.GenericServiceLoop
 import dev.prime.SourceCompiler
 import dev.prime.internal.Deadlines.boundedNanos
 import dev.prime.internal.RateLimitedLog
+import dev.prime.topology.Topology
 import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.CoroutineName
@@ -219,6 +220,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val allSlots = ConcurrentLinkedQueue<CallerSlot>()
     private val slotNumbers = AtomicInteger()
     private val publishers = ConcurrentLinkedQueue<RedisSession>()
+    /** The services of each chain bound for calls ([bindForCalls]), by chain name. */
+    private val calledServices = ConcurrentHashMap<String, List<String>>()
+
+    /** The remote calls made whose [SelfCalls] are not looked for yet ([resolveSelfCalls]). */
+    private val unresolvedCalls = ConcurrentLinkedQueue<RemoteCall<*, *>>()
+
+    /** Which thread runs a request's block in each service now, by service name ([SelfCalls]). */
+    private val serviceThreads = ConcurrentHashMap<String, ServiceThread>()
     private val failures = Collections.synchronizedMap(object : LinkedHashMap<Long, Throwable>() {
         override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, Throwable>?) = size > FAILURES_KEPT
     })
@@ -499,6 +508,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     override fun onStart() {
         declaredTypes.check(name(), codec)
+        resolveSelfCalls()
         withSession { session -> CommandCheck.check(session, keys, name(), redisUrl) }
         beginLiveness()
         checkCodecAgreement()
@@ -699,9 +709,51 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** The queue limit of [service] (`null`: not a service of this topology). */
     internal fun queueLimitOf(service: String?): Int = service?.let(queueLimits::get) ?: queueLimit
 
+    /**
+     * Binds [stages] for calls and returns the remote call to the first. A call to a user of an
+     * isolated chain of this core also refuses a call from inside that chain ([SelfCalls]); which
+     * calls are such is read from the topology at [start], or at once after it.
+     */
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
         bind(stages, null, counted = false)
-        return RemoteCall(this, chainName, keys.serviceInput(stages.first().name))
+        calledServices[chainName] = stages.map { it.name }
+        val first = stages.first().name
+        val call = RemoteCall<I, O>(this, chainName, first, keys.serviceInput(first))
+        unresolvedCalls += call
+        if (isStarted) resolveSelfCalls() // else start() does
+        return call
+    }
+
+    /** The holder of the thread that runs a request's block in [service] now ([SelfCalls]). */
+    internal fun serviceThread(service: String): ServiceThread = serviceThreads.computeIfAbsent(service, ::ServiceThread)
+
+    /**
+     * Gives each remote call made since the last time whose first service is a user of an isolated
+     * chain the [SelfCalls] of that chain's services in this core ([servicesRunFor]). An isolated
+     * chain of another core (its block is that core's) has none here.
+     */
+    private fun resolveSelfCalls() {
+        if (unresolvedCalls.isEmpty()) return
+        val topology = topology()
+        while (true) {
+            val call = unresolvedCalls.poll() ?: return
+            val user = topology.node(call.firstService).orElse(null) as? TopologyNode.IsolatedUser ?: continue
+            val services = LinkedHashSet<String>().also { servicesRunFor(user.shared(), topology, it) }
+            if (services.isNotEmpty()) call.selfCalls = SelfCalls(user.shared(), services.map(::serviceThread))
+        }
+    }
+
+    /**
+     * Adds to [into] the services that run only for chain [node] when it is called: its own (each
+     * chain of a linked chain), and those of the chains it consumed and calls (a template's parts,
+     * a repeater's chain), down to the blocks. Not another isolated chain's (its users' calls come
+     * from anywhere), nor a source's.
+     */
+    private fun servicesRunFor(node: String, topology: Topology, into: MutableSet<String>) {
+        calledServices[node]?.let(into::addAll)
+        val chain = topology.node(node).orElse(null) ?: return
+        if (!chain.isChain() || chain is TopologyNode.IsolatedUser) return
+        for (part in chain.parts()) servicesRunFor(part.node(), topology, into)
     }
 
     /** Records a reader the program opened on [source] in the topology. */

@@ -16,11 +16,21 @@ import java.nio.channels.ClosedByInterruptException
 internal class RemoteCall<I, O>(
     private val core: OptimusCore,
     private val chainName: String,
+    /** The chain's first service, the one the call goes to. */
+    val firstService: String,
     private val input: ByteArray,
 ) : Block<I, O> {
+    /**
+     * Set if [firstService] is a user of an isolated chain of this core ([OptimusCore.bindForCalls]):
+     * refuses a call from inside that chain. Read once per call; `null` for every other chain.
+     */
+    @Volatile
+    var selfCalls: SelfCalls? = null
+
     override fun process(value: I): O {
         core.checkOpen()
         core.checkStarted("calling chain '$chainName'")
+        selfCalls?.check(chainName)
         val payload = core.encode(value)
         // the deadline counts from here: a thread's first call records its reply list within it too
         val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }

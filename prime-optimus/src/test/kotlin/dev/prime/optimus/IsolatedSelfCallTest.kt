@@ -1,0 +1,89 @@
+package dev.prime.optimus
+
+import dev.prime.Block
+import dev.prime.ChainFailedException
+import dev.prime.CoreConfig
+import dev.prime.PrimeException
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertInstanceOf
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import java.time.Duration
+import java.util.concurrent.atomic.AtomicReference
+
+/**
+ * A block of an isolated chain that calls the same isolated chain through another user
+ * ([SelfCalls]): refused at once where the call is made on the thread of the chain's service,
+ * wherever the users run; a call made on another service's thread on the chain's behalf waits,
+ * as any call for a busy isolated chain, until the call timeout.
+ */
+class IsolatedSelfCallTest {
+
+    /**
+     * The users run in one process, the isolated chain's service in another: the block's call is
+     * made in the process that runs the chain's service, which refuses it at once; the caller's
+     * process gets the failure's text.
+     */
+    @Test
+    fun aCallFromInsideItselfIsRefusedWhereTheIsolatedChainRunsWhereverItsUsersRun() {
+        val config = named()
+        OptimusCore.builder().config(config).redis(TestRedis.url).hosts("counter@1", "counter@2").build().use { users ->
+            OptimusCore.builder().config(config).redis(TestRedis.url).hosts("counter").build().use { shared ->
+                val (outer, _) = users.counter()
+                shared.counter()
+                users.start()
+                shared.start()
+                assertEquals(0, outer.process(0), "a call that does not re-enter")
+                val began = System.nanoTime()
+                val failure = assertThrows(ChainFailedException::class.java) { outer.process(1) }
+                assertTrue(
+                    System.nanoTime() - began < Duration.ofSeconds(10).toNanos(),
+                    "refused at once, not by the call timeout of 60 s",
+                )
+                assertEquals("counter", failure.chainName(), failure.toString())
+                val remote = assertInstanceOf(RemoteFailureException::class.java, failure.cause)
+                assertTrue("IllegalStateException" in remote.message!!, remote.message)
+                assertTrue("called from inside itself" in remote.message!!, remote.message)
+                assertEquals(0, outer.process(0), "the isolated chain serves the next call")
+            }
+        }
+    }
+
+    /**
+     * The isolated chain's block calls another chain, whose block calls the isolated chain: that
+     * call runs on the other chain's service thread, which cannot know it is made on the isolated
+     * chain's behalf. It waits, and the outer call ends by its call timeout; the calls that waited
+     * end by theirs, give up, and the isolated chain then serves the next call.
+     */
+    @Test
+    fun aCallFromInsideItselfThroughAnotherServiceEndsByTheCallTimeout() {
+        val timeout = Duration.ofSeconds(2)
+        OptimusCore.builder().config(named()).redis(TestRedis.url).callTimeout(timeout).build().use { core ->
+            val user = AtomicReference<Block<Int, Int>>()
+            val relay = core.chain("relay") { x: Int -> user.get().process(x) }.toBlock()
+            val isolated = core.isolate(core.chain("counter") { x: Int -> if (x > 0) relay.process(x - 1) + 1 else 0 })
+            val outer = isolated.newUser().toBlock()
+            user.set(isolated.newUser().toBlock())
+            core.start()
+            val began = System.nanoTime()
+            val failure = assertThrows(PrimeException::class.java) { outer.process(1) }
+            val took = Duration.ofNanos(System.nanoTime() - began)
+            assertTrue("did not reply within $timeout" in failure.message!!, failure.toString())
+            assertTrue(took >= timeout, "ended by the call timeout, after $took")
+            // the inner calls end by their own timeouts a moment later; the next call waits for that
+            assertEquals(0, outer.process(0), "the isolated chain serves the next call")
+        }
+    }
+
+    /** The kit's re-entering counter, declared in [this] core: its two users' blocks. */
+    private fun OptimusCore.counter(): Pair<Block<Int, Int>, Block<Int, Int>> {
+        val inner = AtomicReference<Block<Int, Int>>()
+        val isolated = isolate(chain("counter") { x: Int -> if (x > 0) inner.get().process(x - 1) + 1 else 0 })
+        val outer = isolated.newUser().toBlock()
+        inner.set(isolated.newUser().toBlock())
+        return outer to inner.get()
+    }
+
+    private fun named(): CoreConfig = CoreConfig.builder().name("self-call-${System.nanoTime()}").build()
+}
