@@ -289,7 +289,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /** A source of this core publishing what [events] publishes. */
     internal fun <T> eventSource(name: String, events: EventBlock<T>): Source<T> {
-        val source = OptimusSource<T>(this, name)
+        val source = OptimusSource<T>(this, name, ofEvents = true)
         subscriptions += events.subscribe { value ->
             try {
                 publish(source.keys, listOf(Envelope.withId(valueEnvelope(value), ids.next())))
@@ -305,7 +305,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * output source, named [output], or `null` if they publish nothing (a listener).
      */
     internal fun serviceOn(source: OptimusSource<*>, stages: List<StageSpec>, output: String?): OptimusSource<Any>? {
-        val published = output?.let { OptimusSource<Any>(this, it) }
+        val published = output?.let { OptimusSource<Any>(this, it, ofEvents = false) }
         bindToSource(source, stages, published)
         return published
     }
@@ -314,10 +314,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Publishes [values] to [source] in one atomic step (one round trip), in order: the fast way
      * to feed a source at high rates, where [EventBlock.publish] costs a round trip per value.
      * All or nothing: if a service queue fed by the source has no room for all of them within
-     * [Builder.publishTimeout], none is published.
+     * [Builder.publishTimeout], none is published; a refused value (`null`, too large, of a type
+     * the codec does not allow) is found before anything is sent, so none is published then
+     * either.
      *
-     * @throws IllegalArgumentException if the source is not an Optimus source of this core, or a
-     *     value is `null` or of a type the codec does not allow
+     * [source] is the source of an [EventBlock] of this core ([dev.prime.PrimeCore.source]), as
+     * [EventBlock.publish] publishes to: the output of a service (a chain linked to a source, a
+     * filter, a flat-map) is only ever published by that service, and is refused.
+     *
+     * @throws IllegalArgumentException if the source is not an Optimus source of this core, or is
+     *     a service's output, or a value is `null` or of a type the codec does not allow
      * @throws ValueTooLargeException if a value encodes to more than [Builder.maxValueBytes]
      * @throws QueueFullException if a service queue stays too full for the values until the publish timeout
      * @throws RedisUnavailableException if Redis stays unreachable until the publish timeout
@@ -325,7 +331,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
-        val keys = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }.keys
+        val target = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }
+        require(target.ofEvents) {
+            "source '${source.name()}' of core '${name()}' is the output of a service (a chain linked to a source, a " +
+                "filter or a flat-map): only that service publishes to it. Publish to the event block's source that " +
+                "feeds it instead (the Source core.source(events) returned), with publishAll or EventBlock.publish"
+        }
+        val keys = target.keys
         val began = Instant.now()
         val beganNanos = System.nanoTime()
         val published = values.toList()

@@ -10,7 +10,12 @@ import dev.prime.MediaSource
  * publishes to (queues, never trimmed). Every process that declares the same topology has an equal
  * object for it; any of them can publish and read.
  */
-internal class OptimusSource<T>(private val core: OptimusCore, private val name: String) : MediaSource<T> {
+internal class OptimusSource<T>(
+    private val core: OptimusCore,
+    private val name: String,
+    /** Whether an [dev.prime.EventBlock] publishes to it (else a service does: [OptimusCore.publishAll] refuses it). */
+    val ofEvents: Boolean,
+) : MediaSource<T> {
     val keys = SourceKeys(
         name,
         core.keys.sourceLog(name),

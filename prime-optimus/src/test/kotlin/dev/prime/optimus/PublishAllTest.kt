@@ -6,10 +6,14 @@ import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import java.time.Duration
 import java.util.Optional
 import java.util.UUID
 
-/** `publishAll` refuses a null value and a source of another core with `IllegalArgumentException`, publishing nothing. */
+/**
+ * `publishAll` refuses a null value, a source of another core and a service's output with
+ * `IllegalArgumentException`, publishing nothing.
+ */
 class PublishAllTest {
 
     @Test
@@ -38,5 +42,36 @@ class PublishAllTest {
         }
     }
 
+    /**
+     * A source made by a service (a chain linked to a source, a filter) is published only by that
+     * service: `publishAll` to it is refused, says to publish to the event block's source, and
+     * publishes nothing.
+     */
+    @Test
+    fun aServicesOutputIsRefusedAndNothingIsPublished() {
+        TestRedis.core(named()).use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val doubled = numbers.then(core.chain("double") { x: Int -> 2 * x })
+            val even = numbers.filter { it % 2 == 0 }
+            val fromDoubled = doubled.reader()
+            val fromEven = even.reader()
+            core.start()
+            for (output in listOf(doubled, even)) {
+                val refused = assertThrows(IllegalArgumentException::class.java) { core.publishAll(output, listOf(100, 200)) }
+                val message = refused.message!!
+                assertTrue("'${output.name()}'" in message && "output of a service" in message, message)
+                assertTrue("event block's source" in message, "says how to fix it: $message")
+            }
+            core.publishAll(numbers, listOf(2))
+            assertEquals(4, fromDoubled.take(PATIENCE).orElseThrow(), "the refused values were not published")
+            assertEquals(2, fromEven.take(PATIENCE).orElseThrow(), "the refused values were not published")
+            assertEquals(emptyList<Int>(), fromDoubled.drain() + fromEven.drain())
+        }
+    }
+
     private fun named(): CoreConfig = CoreConfig.builder().name("publish-all-" + UUID.randomUUID()).build()
+
+    private companion object {
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
 }
