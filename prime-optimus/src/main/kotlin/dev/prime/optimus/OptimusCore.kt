@@ -316,7 +316,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * All or nothing: if a service queue fed by the source has no room for all of them within
      * [Builder.publishTimeout], none is published; a refused value (`null`, too large, of a type
      * the codec does not allow) is found before anything is sent, so none is published then
-     * either.
+     * either. An empty [values] publishes nothing and costs no round trip (it is still refused
+     * before [start], like any publish).
      *
      * [source] is the source of an [EventBlock] of this core ([dev.prime.PrimeCore.source]), as
      * [EventBlock.publish] publishes to: the output of a service (a chain linked to a source, a
@@ -327,7 +328,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * @throws ValueTooLargeException if a value encodes to more than [Builder.maxValueBytes]
      * @throws QueueFullException if a service queue stays too full for the values until the publish timeout
      * @throws RedisUnavailableException if Redis stays unreachable until the publish timeout
-     * @throws IllegalStateException if the core is not started yet
+     * @throws IllegalStateException if the core is not started yet, whatever [values] holds
+     * @throws CoreClosedException if the core is closed
      */
     public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
@@ -337,6 +339,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 "filter or a flat-map): only that service publishes to it. Publish to the event block's source that " +
                 "feeds it instead (the Source core.source(events) returned), with publishAll or EventBlock.publish"
         }
+        checkStarted("publishing to an Optimus source")
         val keys = target.keys
         val began = Instant.now()
         val beganNanos = System.nanoTime()

@@ -1,5 +1,6 @@
 package dev.prime.optimus
 
+import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import org.junit.jupiter.api.Assertions.assertEquals
@@ -12,7 +13,9 @@ import java.util.UUID
 
 /**
  * `publishAll` refuses a null value, a source of another core and a service's output with
- * `IllegalArgumentException`, publishing nothing.
+ * `IllegalArgumentException`, publishing nothing; an empty iterable publishes nothing; before
+ * `start()` it is refused with `IllegalStateException`, and after `close()` with
+ * `CoreClosedException`, whatever the values.
  */
 class PublishAllTest {
 
@@ -67,6 +70,32 @@ class PublishAllTest {
             assertEquals(2, fromEven.take(PATIENCE).orElseThrow(), "the refused values were not published")
             assertEquals(emptyList<Int>(), fromDoubled.drain() + fromEven.drain())
         }
+    }
+
+    /** An empty iterable publishes nothing once started, and is refused before start() as any publish. */
+    @Test
+    fun anEmptyIterablePublishesNothingAndIsRefusedBeforeStart() {
+        TestRedis.core(named()).use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val reader = numbers.reader()
+            val early = assertThrows(IllegalStateException::class.java) { core.publishAll(numbers, emptyList()) }
+            assertTrue("start()" in early.message!! && core.name() in early.message!!, early.message)
+            core.start()
+            core.publishAll(numbers, emptyList())
+            core.publishAll(numbers, listOf(1))
+            assertEquals(listOf(1), listOf(reader.take(PATIENCE).orElseThrow()) + reader.drain())
+        }
+    }
+
+    /** After close(), publishAll is refused with CoreClosedException, also for an empty iterable. */
+    @Test
+    fun aClosedCoreRefusesEveryPublishAll() {
+        val core = TestRedis.core(named())
+        val numbers = core.source("numbers", EventBlock<Int>())
+        core.start()
+        core.close()
+        assertThrows(CoreClosedException::class.java) { core.publishAll(numbers, listOf(1)) }
+        assertThrows(CoreClosedException::class.java) { core.publishAll(numbers, emptyList()) }
     }
 
     private fun named(): CoreConfig = CoreConfig.builder().name("publish-all-" + UUID.randomUUID()).build()
