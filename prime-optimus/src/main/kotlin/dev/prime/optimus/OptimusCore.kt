@@ -321,10 +321,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      *
      * [source] is the source of an [EventBlock] of this core ([dev.prime.PrimeCore.source]), as
      * [EventBlock.publish] publishes to: the output of a service (a chain linked to a source, a
-     * filter, a flat-map) is only ever published by that service, and is refused.
+     * filter, a flat-map) is only ever published by that service, and a combinator's output or a
+     * timer only by the core; they are refused.
      *
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or is
-     *     a service's output, or a value is `null` or of a type the codec does not allow
+     *     a service's, a combinator's or a timer's output, or a value is `null` or of a type the
+     *     codec does not allow
      * @throws ValueTooLargeException if a value encodes to more than [Builder.maxValueBytes]
      * @throws QueueFullException if a service queue stays too full for the values until the publish timeout
      * @throws RedisUnavailableException if Redis stays unreachable until the publish timeout
@@ -338,6 +340,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "source '${source.name()}' of core '${name()}' is the output of a service (a chain linked to a source, a " +
                 "filter or a flat-map): only that service publishes to it. Publish to the event block's source that " +
                 "feeds it instead (the Source core.source(events) returned), with publishAll or EventBlock.publish"
+        }
+        require(isProgramsEventSource(target)) {
+            "source '${source.name()}' of core '${name()}' is made by the core (a combinator such as withLatestFrom or " +
+                "sample, or a timer): only the core publishes to it. Publish to the event block's source that feeds " +
+                "it instead (the Source core.source(events) returned), with publishAll or EventBlock.publish"
         }
         checkStarted("publishing to an Optimus source")
         val keys = target.keys
@@ -360,6 +367,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             publishedTogether(source.name(), published, began, beganNanos, accepted)
         }
     }
+
+    /**
+     * Whether the event block that publishes to [source] is the program's: its node is an event
+     * source, not a combinator or a timer. Looked up in the topology at the first [publishAll] to it.
+     */
+    private fun isProgramsEventSource(source: OptimusSource<*>): Boolean = source.programsEvents
+        ?: (topology().node(source.name()).orElse(null) is TopologyNode.EventSource).also { source.programsEvents = it }
 
     // ------------------------------------------------------------------ generic services
 

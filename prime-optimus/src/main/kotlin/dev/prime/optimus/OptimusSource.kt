@@ -16,6 +16,14 @@ internal class OptimusSource<T>(
     /** Whether an [dev.prime.EventBlock] publishes to it (else a service does: [OptimusCore.publishAll] refuses it). */
     val ofEvents: Boolean,
 ) : MediaSource<T> {
+    /**
+     * Whether the event block that publishes to it is the program's (a source it declared), not
+     * the core's own (a combinator's output, a timer): `null` until [OptimusCore.publishAll] first
+     * looks it up in the topology.
+     */
+    @Volatile
+    var programsEvents: Boolean? = null
+
     val keys = SourceKeys(
         name,
         core.keys.sourceLog(name),

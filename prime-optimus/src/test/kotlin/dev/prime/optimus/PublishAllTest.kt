@@ -3,11 +3,14 @@ package dev.prime.optimus
 import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.Tick
+import dev.prime.Tuple2
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import java.time.Duration
+import java.time.Instant
 import java.util.Optional
 import java.util.UUID
 
@@ -69,6 +72,31 @@ class PublishAllTest {
             assertEquals(4, fromDoubled.take(PATIENCE).orElseThrow(), "the refused values were not published")
             assertEquals(2, fromEven.take(PATIENCE).orElseThrow(), "the refused values were not published")
             assertEquals(emptyList<Int>(), fromDoubled.drain() + fromEven.drain())
+        }
+    }
+
+    /**
+     * A source the core publishes to itself (a combinator's output, a timer) is refused the same
+     * way: no event block the program holds publishes to it.
+     */
+    @Test
+    fun aCombinatorsOrATimersOutputIsRefusedAndNothingIsPublished() {
+        TestRedis.core(named()).use { core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            val letters = core.source("letters", EventBlock<String>())
+            val latest = numbers.withLatestFrom(letters)
+            val ticks = core.timer("ticks", Duration.ofHours(1))
+            val fromLatest = latest.reader()
+            val fromTicks = ticks.reader()
+            core.start()
+            val refused = assertThrows(IllegalArgumentException::class.java) {
+                core.publishAll(latest, listOf(Tuple2(1, "a")))
+            }
+            assertTrue("'${latest.name()}'" in refused.message!! && "event block's source" in refused.message!!, refused.message)
+            val tick = assertThrows(IllegalArgumentException::class.java) { core.publishAll(ticks, listOf(Tick(1L, Instant.EPOCH))) }
+            assertTrue("'ticks'" in tick.message!!, tick.message)
+            assertEquals(Optional.empty<Tuple2<Int, String>>(), fromLatest.poll(), "the refused value was not published")
+            assertEquals(Optional.empty<Tick>(), fromTicks.poll(), "the refused tick was not published")
         }
     }
 
