@@ -8,7 +8,9 @@ import java.io.UncheckedIOException;
 import java.nio.channels.FileChannel;
 import java.nio.charset.StandardCharsets;
 import java.nio.file.Files;
+import java.nio.file.LinkOption;
 import java.nio.file.Path;
+import java.nio.file.StandardOpenOption;
 import java.util.ArrayList;
 import java.util.HashMap;
 import java.util.LinkedHashMap;
@@ -187,19 +189,11 @@ public final class McapWriter implements Closeable {
     // before anything is truncated or deleted: those are the files of a writer that holds the path
     this.lock = RecordingLock.acquire(path, "open an MCAP writer at", true);
     try {
+      // the earlier recording's rotated files go before its first file is overwritten: an open
+      // that fails on the way leaves that first file and the rotated files it has not reached
+      deleteEarlierRotatedFiles(path);
       openFile(path);
     } catch (IOException | RuntimeException e) {
-      releaseLock(e);
-      throw e;
-    }
-    try {
-      deleteEarlierRotatedFiles(path);
-    } catch (IOException | RuntimeException e) {
-      try {
-        file.abandon();
-      } catch (IOException closing) {
-        e.addSuppressed(closing);
-      }
       releaseLock(e);
       throw e;
     }
@@ -220,19 +214,44 @@ public final class McapWriter implements Closeable {
     }
   }
 
-  /** Deletes the rotated files of an earlier recording at {@code path}: not to be read as this one's. */
+  /**
+   * Deletes the rotated files of an earlier recording at {@code path}: not to be read as this
+   * one's. Refuses, having deleted nothing, if one of them is no file (a folder with its name:
+   * it could not be deleted); else deletes them from the last one back, so that one whose
+   * deletion fails leaves the earlier recording's files before it in place, a recording that
+   * {@link McapReader#recordingFiles} lists without a gap.
+   */
   private static void deleteEarlierRotatedFiles(Path path) throws IOException {
-    for (Path earlier : rotatedFilesIn(path).values()) {
-      try {
-        Files.deleteIfExists(earlier);
-      } catch (IOException e) {
-        throw new IOException(
-            "cannot delete " + earlier + ", a rotated file of an earlier recording at " + path
-                + " (a new writer there replaces that recording): " + e
-                + "; remove or move it, or write the recording to another path",
-            e);
+    List<Path> earlier = new ArrayList<>(rotatedFilesIn(path).values());
+    if (earlier.isEmpty()) {
+      return;
+    }
+    if (Files.isRegularFile(path) || Files.isDirectory(path)) {
+      // a first file that cannot be written (a folder, or not this user's to write) fails the
+      // open here, as its own open would, before anything is deleted; not a pipe, whose open
+      // would wait for a reader
+      FileChannel.open(path, StandardOpenOption.WRITE).close();
+    }
+    for (Path rotated : earlier) {
+      if (Files.isDirectory(rotated, LinkOption.NOFOLLOW_LINKS)) {
+        throw new IOException(cannotDelete(rotated, path, "it is a folder, not a file"));
       }
     }
+    for (int i = earlier.size() - 1; i >= 0; i--) {
+      Path rotated = earlier.get(i);
+      try {
+        Files.deleteIfExists(rotated);
+      } catch (IOException e) {
+        throw new IOException(cannotDelete(rotated, path, e.toString()), e);
+      }
+    }
+  }
+
+  private static String cannotDelete(Path rotated, Path path, String why) {
+    return "cannot delete " + rotated + ", a rotated file of an earlier recording at " + path
+        + " (a new writer there replaces that recording): " + why
+        + "; remove or move it, or write the recording to another path (the earlier recording's files"
+        + " before it, from " + path + " on, are left as they were)";
   }
 
   /**
@@ -254,7 +273,9 @@ public final class McapWriter implements Closeable {
    *
    * @param path the (first) file; created or overwritten. The rotated files of an earlier
    *     recording at this path ({@link #rotatedPath}{@code (path, n)}, n from 1) are deleted, so
-   *     that {@link McapReader#recordingFiles} lists this recording's files only
+   *     that {@link McapReader#recordingFiles} lists this recording's files only. They are deleted
+   *     before the first file is overwritten, from the last one back: an open that fails on one
+   *     leaves the earlier recording's first file and the rotated files before that one
    * @param options chunk size, rotation, queue
    * @return the writer
    * @throws IOException if the file cannot be created, or an earlier recording's file deleted, or

@@ -1,6 +1,7 @@
 package dev.prime.mcap;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 import static org.junit.jupiter.api.Assumptions.assumeTrue;
@@ -8,6 +9,7 @@ import static org.junit.jupiter.api.Assumptions.assumeTrue;
 import java.io.IOException;
 import java.nio.file.Files;
 import java.nio.file.Path;
+import java.util.Arrays;
 import java.util.List;
 import java.util.stream.Stream;
 import org.junit.jupiter.api.Test;
@@ -46,5 +48,56 @@ class WriterOpenFailureTest {
     assertEquals(List.of(), openDescriptorsOn(file), "the first file's output is closed");
     assertTrue(e.getMessage().contains(blocking.toString()), e.getMessage());
     assertTrue(e.getMessage().contains("earlier recording"), e.getMessage());
+  }
+
+  record Reading(int value) {}
+
+  /**
+   * An earlier recording at the path whose last rotated file cannot be deleted (a folder with its
+   * name: a failure root cannot bypass either) is left as it was, its first file included: a
+   * refused open does not leave a first file of its own beside the earlier recording's rotated
+   * files.
+   */
+  @Test
+  void anEarlierRecordingWithARotatedFileThatCannotBeDeletedIsLeftWhole() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous().chunkSize(1)
+        .rotateAtSize(1))) {
+      McapChannel<Reading> readings = earlier.channel("readings", Reading.class);
+      for (int i = 0; i < 2; i++) {
+        assertTrue(readings.write(i, i, i, new Reading(i)));
+      }
+    }
+    Path second = McapWriter.rotatedPath(file, 1);
+    assertTrue(Files.isRegularFile(second), "the earlier recording was rotated");
+    byte[] firstBefore = Files.readAllBytes(file);
+    byte[] secondBefore = Files.readAllBytes(second);
+    Path blocking = Files.createDirectory(McapWriter.rotatedPath(file, 2));
+    Files.writeString(blocking.resolve("notes.txt"), "a folder with the name of a rotated file");
+
+    IOException e = assertThrows(IOException.class, () -> McapWriter.open(file).close());
+
+    assertTrue(e.getMessage().contains(blocking.toString()), e.getMessage());
+    assertTrue(Arrays.equals(firstBefore, Files.readAllBytes(file)),
+        "the earlier recording's first file is not overwritten: " + e.getMessage());
+    assertTrue(Arrays.equals(secondBefore, Files.readAllBytes(second)),
+        "nor its rotated file deleted: " + e.getMessage());
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
+  }
+
+  /**
+   * A first file that cannot be opened to write (here a folder at its path) fails the open
+   * before the rotated files of an earlier recording there are deleted: they stay.
+   */
+  @Test
+  void aFirstFileThatCannotBeWrittenFailsTheOpenBeforeAnythingIsDeleted() throws Exception {
+    Path file = Files.createDirectory(dir.resolve("run.mcap"));
+    Path rotated = McapWriter.rotatedPath(file, 1);
+    Files.writeString(rotated, "an earlier recording's rotated file");
+
+    IOException e = assertThrows(IOException.class, () -> McapWriter.open(file).close());
+
+    assertTrue(Files.exists(rotated), "the earlier rotated file is not deleted for an open that fails: " + e);
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
   }
 }
