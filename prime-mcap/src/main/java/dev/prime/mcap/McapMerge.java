@@ -171,8 +171,9 @@ public final class McapMerge {
    *     one that returned survives a power cut; not one of the inputs
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
-   *     (or another merge), in this JVM or another process, is writing the output path: the
-   *     message names the path and that writer (see {@link McapWriter}, "One writer per path")
+   *     (or another merge), in this JVM or another process, is writing the output path, or a rotated
+   *     file of a recording there ({@code run-0001.mcap} for {@code run.mcap}): the message names
+   *     the path and that writer (see {@link McapWriter}, "One writer per path")
    * @throws McapFormatException if an input is not a well-formed, finished MCAP file
    * @throws IllegalArgumentException for no inputs, an input given twice, the output among the
    *     inputs, or a topic whose schema (or message encoding) differs between inputs
@@ -189,8 +190,9 @@ public final class McapMerge {
    * @param options the chunk size, and whether unfinished inputs are read
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
-   *     (or another merge), in this JVM or another process, is writing the output path: the
-   *     message names the path and that writer (see {@link McapWriter}, "One writer per path")
+   *     (or another merge), in this JVM or another process, is writing the output path, or a rotated
+   *     file of a recording there ({@code run-0001.mcap} for {@code run.mcap}): the message names
+   *     the path and that writer (see {@link McapWriter}, "One writer per path")
    * @throws McapFormatException if an input is not well-formed (or, without {@link
    *     Options#readUnfinished()}, not finished)
    * @throws IllegalArgumentException as {@link #merge(List, Path)}

@@ -100,7 +100,9 @@ import java.util.stream.Stream;
  * would overlap with the holder's: a writer, recorder or merge at {@code run-0001.mcap} while a
  * writer at {@code run.mcap} holds its recording (it rotates into that name, truncating it), and
  * a writer at {@code run.mcap} while one at {@code run-0001.mcap} is writing (it would delete
- * that file as an earlier recording's, then rotate into it). Writers at {@code run-0001.mcap} and
+ * that file as an earlier recording's, then rotate into it), or a merge ({@link McapMerge}) into
+ * {@code run.mcap} then ({@link McapReader#recordingFiles} would list the file being written as
+ * the second of the merge's recording). Writers at {@code run-0001.mcap} and
  * {@code run-0002.mcap} do not overlap, and may write at once. Across processes this is
  * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
  * releases it when its process dies, so the lock file a killed process leaves does not stop the

@@ -35,7 +35,9 @@ import java.util.stream.Stream;
  * recording at its path when it opens, and truncates each next one as it rotates ({@link
  * McapWriter#rotatedPath}). So a writer is also refused where its files and another holder's
  * overlap: at {@code run-0001.mcap} while a writer at {@code run.mcap} holds that recording, and
- * at {@code run.mcap} while a writer (or merge) holds {@code run-0001.mcap}. Each holder locks its
+ * at {@code run.mcap} while a writer (or merge) holds {@code run-0001.mcap}; and so is a merge
+ * into {@code run.mcap} then, whose output would be read as the first file of a recording whose
+ * second is still being written. Each holder locks its
  * own lock file first, then looks at the lock files of the overlapping paths (a lock it can take
  * there is no holder's: it is let go at once), so two of them opened at once cannot both miss
  * each other. In this JVM, taking and giving up holds is serialized, so that such a look never
@@ -74,7 +76,8 @@ final class RecordingLock {
    * @param first the recording's (first) file
    * @param action what the caller is about to do, for the refusal: "open an MCAP writer at"
    * @param rotatedFiles whether the caller also writes (and deletes) the rotated files of {@code
-   *     first} (a writer), or only {@code first} itself (a merge's output)
+   *     first} (a writer), or only {@code first} itself (a merge's output); either is refused while
+   *     a rotated file of {@code first} is held, which would be read as part of its recording
    * @throws IOException naming the path and the holder if another writer holds it, or holds a path
    *     whose files overlap with the caller's, or if the lock file cannot be made
    */
@@ -117,9 +120,6 @@ final class RecordingLock {
             + " process) first, or write to another path");
       }
     }
-    if (!rotatedFiles) {
-      return;
-    }
     Path folder = first.toAbsolutePath().getParent();
     if (folder == null || !Files.isDirectory(folder)) {
       return;
@@ -139,11 +139,15 @@ final class RecordingLock {
     for (Path file : rotated) {
       String holder = holderOf(file);
       if (holder != null) {
+        String why = rotatedFiles
+            ? "a writer at " + first + " deletes the rotated files of an earlier recording there and truncates"
+                + " them as it rotates, so the two would destroy each other's files"
+            : "McapReader.recordingFiles(" + first + ") would list that file, still being written, as part of"
+                + " the recording at " + first;
         throw new IOException("cannot " + action + " " + first + ": " + holder + " is writing " + file
             + ", which is rotated file " + McapWriter.rotationIndex(first, file) + " of a recording at " + first
-            + " (it holds " + lockPath(file) + "); a writer at " + first + " deletes the rotated files of an"
-            + " earlier recording there and truncates them as it rotates, so the two would destroy each other's"
-            + " files: close the other writer (or end its process) first, or write to another path");
+            + " (it holds " + lockPath(file) + "); " + why
+            + ": close the other writer (or end its process) first, or write to another path");
       }
     }
   }

@@ -241,6 +241,37 @@ class WriterLockTest {
     assertFalse(Files.exists(RecordingLock.lockPath(rotated)));
   }
 
+  /**
+   * A merge into {@code take.mcap} while a writer writes {@code take-0001.mcap} is refused naming
+   * that writer: {@link McapReader#recordingFiles} would list the live file as the second file of
+   * the merge's recording.
+   */
+  @Test
+  void aMergeIntoTheFirstFileOfARotatedFileBeingWrittenIsRefused() throws IOException {
+    Path input = dir.resolve("input.mcap");
+    try (McapWriter writer = McapWriter.open(input, McapWriterOptions.defaults().synchronous())) {
+      writer.channel("readings", Reading.class).write(1, 1, 0, new Reading(7));
+    }
+    Path file = dir.resolve("take.mcap");
+    Path rotated = McapWriter.rotatedPath(file, 1);
+    try (McapWriter live = McapWriter.open(rotated, McapWriterOptions.defaults().synchronous().chunkSize(1))) {
+      McapChannel<Reading> readings = live.channel("readings", Reading.class);
+      assertTrue(readings.write(1, 1, 0, new Reading(1)));
+
+      IOException refused = assertThrows(IOException.class, () -> McapMerge.merge(List.of(input), file),
+          () -> "merged while " + rotated + " is written; the merge's recording is now "
+              + McapReader.recordingFiles(file));
+
+      String message = refused.getMessage();
+      assertTrue(message.contains(rotated.toString()) && message.contains(file.toString()), message);
+      assertTrue(message.contains("pid " + ProcessHandle.current().pid()), "names the holder: " + message);
+      assertFalse(Files.exists(file), "the refused merge made no file");
+      assertTrue(readings.write(2, 2, 1, new Reading(2)), "the writer goes on");
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the refused merge leaves no lock file");
+    McapMerge.merge(List.of(input), dir.resolve("elsewhere.mcap"));
+  }
+
   /** Two rotated names of one recording overlap with it, not with each other: both are written at once. */
   @Test
   void writersAtTwoRotatedNamesOfOneRecordingWriteAtOnce() throws IOException {
