@@ -38,8 +38,9 @@ import java.util.stream.Stream;
  * at {@code run.mcap} while a writer (or merge) holds {@code run-0001.mcap}; and so is a merge
  * into {@code run.mcap} then, whose output would be read as the first file of a recording whose
  * second is still being written. Each holder locks its
- * own lock file first, then looks at the lock files of the overlapping paths (a lock it can take
- * there is no holder's: it is let go at once), so two of them opened at once cannot both miss
+ * own lock file first, then looks at the lock files of the overlapping paths, read only with a
+ * shared lock, so that another user's lock file can be looked at (a lock it can take there is no
+ * holder's: it is let go at once), so two of them opened at once cannot both miss
  * each other. In this JVM, taking and giving up holds is serialized, so that such a look never
  * closes a channel on a lock file that a writer of this JVM holds.
  *
@@ -162,16 +163,22 @@ final class RecordingLock {
     if (inThisJvm != null) {
       return "another writer in this JVM (" + inThisJvm + ")";
     }
+    // read only, with a shared lock: the look needs no right to write another user's lock file,
+    // and a holder's exclusive lock refuses a shared one as it does an exclusive one
     FileChannel channel;
     try {
-      channel = FileChannel.open(lockFile, StandardOpenOption.READ, StandardOpenOption.WRITE);
+      channel = FileChannel.open(lockFile, StandardOpenOption.READ);
     } catch (NoSuchFileException e) {
       return null;
+    } catch (IOException e) {
+      throw new IOException("cannot tell whether a writer is writing " + first + ": its lock file " + lockFile
+          + " cannot be read (" + e + "); if no writer is writing " + first + ", delete " + lockFile
+          + ", else make it readable to this user, or write to another path", e);
     }
     try (FileChannel open = channel) {
       FileLock lock;
       try {
-        lock = open.tryLock();
+        lock = open.tryLock(0, Long.MAX_VALUE, true);
       } catch (OverlappingFileLockException e) {
         lock = null; // another channel of this JVM holds it (not through this class)
       }
@@ -197,8 +204,19 @@ final class RecordingLock {
     try {
       for (int attempt = 1; ; attempt++) {
         Object before = fileKey(lockFile);
-        FileChannel channel = FileChannel.open(lockFile, StandardOpenOption.CREATE, StandardOpenOption.READ,
-            StandardOpenOption.WRITE);
+        FileChannel channel;
+        try {
+          channel = FileChannel.open(lockFile, StandardOpenOption.CREATE, StandardOpenOption.READ,
+              StandardOpenOption.WRITE);
+        } catch (NoSuchFileException e) {
+          throw e; // no folder: the writer's own file cannot be made either, and says so
+        } catch (IOException e) {
+          throw new IOException("cannot " + action + " " + first + ": its lock file " + lockFile
+              + " (which holds the recording for one writer) cannot be created or opened to read and write ("
+              + e + "); if no writer is writing " + first + ", delete " + lockFile + " (a writer of another"
+              + " user that was killed may have left it), else make the folder and that file writable to this"
+              + " user, or write to another path", e);
+        }
         try {
           FileLock lock;
           try {

@@ -272,6 +272,78 @@ class WriterLockTest {
     McapMerge.merge(List.of(input), dir.resolve("elsewhere.mcap"));
   }
 
+  /**
+   * The look at an overlapping path's lock file needs no right to write it: a lock file that
+   * cannot be opened to write (here a folder, which no writer can hold; for a user other than
+   * root, also another user's lock file) does not fail the open of a writer that finds no holder.
+   */
+  @Test
+  void aLockFileOfAnOverlappingPathThatCannotBeWrittenDoesNotFailTheLook() throws IOException {
+    Path file = dir.resolve("take.mcap");
+    Files.createDirectory(RecordingLock.lockPath(McapWriter.rotatedPath(file, 1)));
+
+    try (McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(writer.channel("readings", Reading.class).write(1, 1, 0, new Reading(1)));
+    }
+
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("readings"));
+    }
+  }
+
+  /**
+   * A writer whose own lock file cannot be opened to write (a folder with its name; for a user
+   * other than root, also another user's lock file) is refused saying which file and what to do.
+   */
+  @Test
+  void aLockFileThatCannotBeOpenedRefusesTheWriterSayingWhatToDo() throws IOException {
+    Path file = dir.resolve("take.mcap");
+    Path lockFile = Files.createDirectory(RecordingLock.lockPath(file));
+
+    IOException refused = assertThrows(IOException.class, () -> McapWriter.open(file).close());
+
+    String message = refused.getMessage();
+    assertTrue(message.contains("cannot open an MCAP writer at " + file) && message.contains("lock file " + lockFile),
+        message);
+    assertTrue(message.contains("delete " + lockFile), "says how to fix it: " + message);
+    assertFalse(Files.exists(file), "the refused writer made no file");
+  }
+
+  /**
+   * Another process writes {@code b-0001.mcap}, and its lock file is not writable to this user:
+   * a writer at {@code b.mcap} is still refused naming that process, not failed by the look.
+   * (Root writes any file: the test needs another user.)
+   */
+  @Test
+  void anotherProcesssLockFileThatCannotBeWrittenStillNamesItsHolder() throws Exception {
+    Path b = dir.resolve("b.mcap");
+    Path bRotated = McapWriter.rotatedPath(b, 1);
+    Process holder = startHolder(bRotated);
+    try {
+      try (BufferedReader out = new BufferedReader(new InputStreamReader(holder.getInputStream(), StandardCharsets.UTF_8))) {
+        assertEquals("WROTE 3", out.readLine(), "the other process writes");
+      }
+      Path lockFile = RecordingLock.lockPath(bRotated);
+      assertTrue(lockFile.toFile().setWritable(false, false));
+      assumeTrue(!Files.isWritable(lockFile), "this user (root) writes a file whatever its mode");
+
+      IOException refused = assertThrows(IOException.class, () -> McapWriter.open(b).close());
+
+      assertTrue(refused.getMessage().contains(bRotated.toString())
+          && refused.getMessage().contains("pid " + holder.pid()), refused.getMessage());
+
+      // one it cannot even read: it cannot tell, and says which file stops it and what to do
+      assertTrue(lockFile.toFile().setReadable(false, false));
+      IOException unread = assertThrows(IOException.class, () -> McapWriter.open(b).close());
+      assertTrue(unread.getMessage().contains("lock file " + lockFile) && unread.getMessage().contains("delete "
+          + lockFile), unread.getMessage());
+      assertFalse(Files.exists(b), "the refused writer made no file");
+    } finally {
+      holder.destroyForcibly();
+      assertTrue(holder.waitFor(30, TimeUnit.SECONDS), "the holder died");
+    }
+  }
+
   /** Two rotated names of one recording overlap with it, not with each other: both are written at once. */
   @Test
   void writersAtTwoRotatedNamesOfOneRecordingWriteAtOnce() throws IOException {
