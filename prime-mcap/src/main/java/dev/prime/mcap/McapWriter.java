@@ -103,7 +103,9 @@ import java.util.stream.Stream;
  * that file as an earlier recording's, then rotate into it), or a merge ({@link McapMerge}) into
  * {@code run.mcap} then ({@link McapReader#recordingFiles} would list the file being written as
  * the second of the merge's recording). Writers at {@code run-0001.mcap} and
- * {@code run-0002.mcap} do not overlap, and may write at once. Across processes this is
+ * {@code run-0002.mcap} do not overlap, and may write at once. A writer opened at a symbolic
+ * link holds the file it links to as well: a writer at {@code latest.mcap}, a link to {@code
+ * run.mcap}, is refused while {@code run.mcap} is written, and the other way round. Across processes this is
  * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
  * releases it when its process dies, so the lock file a killed process leaves does not stop the
  * next writer. A device or a pipe ({@code /dev/null}) is not held.

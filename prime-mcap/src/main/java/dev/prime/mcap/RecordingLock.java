@@ -44,6 +44,9 @@ import java.util.stream.Stream;
  * each other. In this JVM, taking and giving up holds is serialized, so that such a look never
  * closes a channel on a lock file that a writer of this JVM holds.
  *
+ * <p>A writer opened at a symbolic link writes the file it links to: it holds that file's path
+ * too ({@code <target>.lock}), so that writers at the file and at links to it refuse each other.
+ *
  * <p>A path that is a device or a pipe ({@code /dev/null}) is not held. Released by the writer
  * once its last file is finished: the lock file is deleted (while still
  * locked), then closed. A writer that took the lock file just before it was deleted sees that the
@@ -58,6 +61,11 @@ final class RecordingLock {
   private final Path lockFile;
   private final String holder;
   private final FileChannel channel;
+  /**
+   * The hold on the file a writer's path is a symbolic link to, taken with this one; null if none.
+   * Set and read under the class's lock.
+   */
+  private RecordingLock target;
 
   private RecordingLock(Path key, Path lockFile, String holder, FileChannel channel) {
     this.key = key;
@@ -92,6 +100,18 @@ final class RecordingLock {
       RecordingLock lock = take(first, action);
       try {
         refuseOverlaps(first, action, rotatedFiles);
+        // a writer writes through a symbolic link into the file it names (a merge replaces the
+        // link itself, and the file it named is left alone): that file is held too
+        Path linked = rotatedFiles ? linkTarget(first) : null;
+        if (linked != null) {
+          try {
+            lock.target = take(linked, action);
+            refuseOverlaps(linked, action, false);
+          } catch (IOException e) {
+            throw new IOException("cannot " + action + " " + first + ", a symbolic link to " + linked + ": "
+                + e.getMessage(), e);
+          }
+        }
       } catch (IOException | RuntimeException e) {
         try {
           lock.release();
@@ -276,8 +296,30 @@ final class RecordingLock {
         channel.close();
       } finally {
         HELD_IN_THIS_JVM.remove(key, holder);
+        if (target != null) {
+          target.releaseHeld();
+        }
       }
     }
+  }
+
+  /** The maximum number of symbolic links followed from a writer's path (Linux's own bound). */
+  private static final int MAX_LINKS = 40;
+
+  /**
+   * The file that {@code first} is a symbolic link to (followed through links to links, whether
+   * it exists yet or not), if its lock file is not {@code first}'s own; null if {@code first} is
+   * no link, or a loop of them (which the writer's open then fails on).
+   */
+  private static Path linkTarget(Path first) throws IOException {
+    Path path = first;
+    for (int links = 0; Files.isSymbolicLink(path); links++) {
+      if (links == MAX_LINKS) {
+        return null;
+      }
+      path = path.resolveSibling(Files.readSymbolicLink(path));
+    }
+    return path.equals(first) || key(lockPath(path)).equals(key(lockPath(first))) ? null : path;
   }
 
   private static IOException held(String action, Path first, Path lockFile, String holder) {

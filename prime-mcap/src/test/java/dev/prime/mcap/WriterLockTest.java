@@ -344,6 +344,55 @@ class WriterLockTest {
     }
   }
 
+  /**
+   * A symbolic link to a file being written names that file: a writer opened at the link is
+   * refused as one opened at the file itself, and leaves the file as it was.
+   */
+  @Test
+  void aWriterAtASymbolicLinkToAFileBeingWrittenIsRefused() throws IOException {
+    Path file = dir.resolve("run.mcap");
+    Path link = dir.resolve("latest.mcap");
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous().chunkSize(1);
+    try (McapWriter writer = McapWriter.open(file, options)) {
+      McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+      assertTrue(readings.write(1, 1, 0, new Reading(1)));
+      try {
+        Files.createSymbolicLink(link, file.getFileName());
+      } catch (UnsupportedOperationException | IOException e) {
+        assumeTrue(false, "no symbolic links here: " + e);
+      }
+      long sizeBefore = Files.size(file);
+
+      IOException refused = assertThrows(IOException.class, () -> McapWriter.open(link, options).close(),
+          () -> "opened at " + link + " while " + file + " is written; its size is now " + sizeOf(file));
+
+      String message = refused.getMessage();
+      assertTrue(message.contains(link.toString()) && message.contains(file.getFileName().toString()), message);
+      assertTrue(message.contains("pid " + ProcessHandle.current().pid()), "names the holder: " + message);
+      assertEquals(sizeBefore, Files.size(file), "the file being written is not truncated");
+      assertTrue(readings.write(2, 2, 1, new Reading(2)), "the writer goes on");
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(2, reader.messageCount("readings"));
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)));
+    assertFalse(Files.exists(RecordingLock.lockPath(link)), "the refused writer leaves no lock file");
+    try (McapWriter atLink = McapWriter.open(link, options)) {
+      assertEquals(List.of(link), atLink.files(), "a writer opens at the link once the file is free");
+      IOException atFile = assertThrows(IOException.class, () -> McapWriter.open(file, options).close());
+      assertTrue(atFile.getMessage().contains(file.toString()), atFile.getMessage());
+    }
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the writer at the link gave the file up");
+  }
+
+  private static String sizeOf(Path file) {
+    try {
+      return Long.toString(Files.size(file));
+    } catch (IOException e) {
+      return e.toString();
+    }
+  }
+
   /** Two rotated names of one recording overlap with it, not with each other: both are written at once. */
   @Test
   void writersAtTwoRotatedNamesOfOneRecordingWriteAtOnce() throws IOException {
