@@ -136,9 +136,10 @@ final class RecordingLock {
       if (holder != null) {
         throw new IOException("cannot " + action + " " + first + ": " + holder + " is writing the recording at "
             + recording + ", whose rotated file " + McapWriter.rotationIndex(recording, first) + " is " + first
-            + " (it holds " + lockPath(recording) + "); that writer truncates its rotated files as it rotates"
-            + " into them, so the two would destroy each other's files: close the other writer (or end its"
-            + " process) first, or write to another path");
+            + " (it holds " + lockPath(recording) + "); a writer there truncates its rotated files as it rotates"
+            + " into them (a merge there makes the recording's files anew), so the two would destroy each"
+            + " other's files: close the other writer or let the merge end (or end its process) first, or"
+            + " write to another path");
       }
     }
     Path folder = first.toAbsolutePath().getParent();
