@@ -285,13 +285,7 @@ public interface CombinatorConformance extends ConformanceBase {
       clock.advance(Duration.ofMillis(3_500));
       Reader<Integer> sampled = values.sample(Duration.ofSeconds(1)).reader();
       events.publish(7);
-      long deadline = System.nanoTime() + patience().toNanos();
-      CountDownLatch never = new CountDownLatch(1);
-      while (core.metrics().service("sample(values)").valuesIn() < 1
-          && System.nanoTime() < deadline) {
-        never.await(5, TimeUnit.MILLISECONDS); // a bounded pause until the sampler took 7
-      }
-      assertEquals(1, core.metrics().service("sample(values)").valuesIn(), "the sampler took 7");
+      awaitValuesIn(core, "sample(values)", 1); // the sampler took 7
       clock.advance(Duration.ofMillis(999)); // past the start's fourth period, not one since
       assertEquals(Optional.empty(), sampled.take(quiet()), "no period ended since the declaration");
       clock.advance(Duration.ofMillis(1));
@@ -352,8 +346,8 @@ public interface CombinatorConformance extends ConformanceBase {
    * period on a {@link VirtualClock} advanced to the last reading a clock holds ({@link
    * VirtualClock#advance}: "at most {@code Long.MAX_VALUE} nanoseconds") publishes its first tick,
    * stamped one period after the start, and no other: tick 2 is due past the end of the clock. A
-   * sampler of that period likewise publishes nothing that comes after its first period. Both end
-   * when the core closes.
+   * sampler of that period likewise publishes its first period's value and nothing of its
+   * second. Both end when the core closes.
    */
   @Test
   default void aTimerOfTheLongestPeriodTicksOnceWhenTheClockReachesItsEnd()
@@ -361,19 +355,33 @@ public interface CombinatorConformance extends ConformanceBase {
     VirtualClock clock = new VirtualClock();
     Instant origin = clock.now();
     Duration longest = Duration.ofNanos(Long.MAX_VALUE);
-    PrimeCore core = newCore(CoreConfig.builder().clock(clock).build());
+    PrimeCore core = newCore(CoreConfig.builder().clock(clock).metrics(true).build());
     try (core) {
       EventBlock<Integer> events = new EventBlock<>();
       Reader<Tick> ticks = core.timer("longest", longest).reader();
       Reader<Integer> sampled = core.source("values", events).sample(longest).reader();
       core.start();
+      events.publish(1);
+      awaitValuesIn(core, "sample(values)", 1); // 1 is in the first period, wherever it travels
       clock.advance(longest);
       assertEquals(new Tick(1, origin.plus(longest)), takeOrFail(ticks));
+      assertEquals(1, takeOrFail(sampled), "the first period ended");
       events.publish(2);
+      awaitValuesIn(core, "sample(values)", 2); // 2 is in the second period
       assertEquals(Optional.empty(), ticks.take(quiet()), "tick 2 is due past the clock's end");
       assertEquals(Optional.empty(), sampled.take(quiet()), "period 2 ends past the clock's end");
     }
     awaitNoThreadsLeft(core); // the timer waiting for a tick that never comes ended at close
+  }
+
+  /** Waits, bounded by {@link #patience()}, until the service named took {@code count} values. */
+  private void awaitValuesIn(PrimeCore core, String service, long count) throws InterruptedException {
+    long deadline = System.nanoTime() + patience().toNanos();
+    CountDownLatch never = new CountDownLatch(1);
+    while (core.metrics().service(service).valuesIn() < count && System.nanoTime() < deadline) {
+      never.await(5, TimeUnit.MILLISECONDS); // a bounded pause between two looks
+    }
+    assertEquals(count, core.metrics().service(service).valuesIn(), service + " took " + count + " values");
   }
 
   @Test
