@@ -168,7 +168,12 @@ public final class McapMerge {
    * @param output the merged file; created or overwritten once the merge is complete (it is
    *     written to {@code OUTPUT.partial} beside it first, forced to the storage device, then
    *     moved into place, and the folder forced): a merge that fails leaves it as it was, and
-   *     one that returned survives a power cut; not one of the inputs
+   *     one that returned survives a power cut; not one of the inputs. The output is a recording
+   *     of one file: the rotated files of an earlier recording at that path ({@code
+   *     run-0001.mcap}... for {@code run.mcap}) are deleted just before the move, from the last
+   *     one back, as a {@link McapWriter} opened there deletes them, so that {@link
+   *     McapReader#recordingFiles} lists the merge alone (a deletion that fails fails the merge,
+   *     the earlier recording left without a gap)
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
    *     (or another merge), in this JVM or another process, is writing the output path, or a rotated
@@ -176,7 +181,8 @@ public final class McapMerge {
    *     the path and that writer (see {@link McapWriter}, "One writer per path")
    * @throws McapFormatException if an input is not a well-formed, finished MCAP file
    * @throws IllegalArgumentException for no inputs, an input given twice, the output among the
-   *     inputs, or a topic whose schema (or message encoding) differs between inputs
+   *     inputs, an input that is a rotated file of a recording at the output, or a topic whose
+   *     schema (or message encoding) differs between inputs
    */
   public static Result merge(List<Path> inputs, Path output) throws IOException {
     return merge(inputs, output, Options.defaults());
@@ -239,6 +245,9 @@ public final class McapMerge {
           result = write(open.readers, channels, file, output);
           file.finish();
         }
+        // the output is a recording of one file: an earlier recording's rotated files at its path
+        // would be listed with it (McapReader.recordingFiles), so they go first, as a writer's do
+        McapWriter.deleteEarlierRotatedFiles(output);
         moveInPlace(partial, output);
         // the move is a change of the folder's entries: stored once the folder is forced
         Durability.forceFolderOf(output, opener);
@@ -328,6 +337,12 @@ public final class McapMerge {
       if (in.equals(out) || (Files.exists(output) && Files.exists(input) && Files.isSameFile(input, output))) {
         throw new IllegalArgumentException(
             "the output " + output + " is also an input: write the merge to another file");
+      }
+      if (McapWriter.rotationIndex(out, in) > 0 && out.getParent().equals(in.getParent())) {
+        throw new IllegalArgumentException(
+            "input " + input + " is rotated file " + McapWriter.rotationIndex(out, in) + " of a recording at "
+                + output + ", whose rotated files the merge deletes (the merge is the recording there"
+                + " now): write the merge to another file");
       }
       if (in.equals(partialPath(out))) {
         throw new IllegalArgumentException(

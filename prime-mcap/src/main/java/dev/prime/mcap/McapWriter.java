@@ -225,7 +225,7 @@ public final class McapWriter implements Closeable {
    * deletion fails leaves the earlier recording's files before it in place, a recording that
    * {@link McapReader#recordingFiles} lists without a gap.
    */
-  private static void deleteEarlierRotatedFiles(Path path) throws IOException {
+  static void deleteEarlierRotatedFiles(Path path) throws IOException {
     List<Path> earlier = new ArrayList<>(rotatedFilesIn(path).values());
     if (earlier.isEmpty()) {
       return;
@@ -253,7 +253,7 @@ public final class McapWriter implements Closeable {
 
   private static String cannotDelete(Path rotated, Path path, String why) {
     return "cannot delete " + rotated + ", a rotated file of an earlier recording at " + path
-        + " (a new writer there replaces that recording): " + why
+        + " (a new writer or merge there replaces that recording): " + why
         + "; remove or move it, or write the recording to another path (the earlier recording's files"
         + " before it, from " + path + " on, are left as they were)";
   }

@@ -329,6 +329,45 @@ class McapMergeTest {
     assertTrue(malformed.getMessage().contains("notes.txt"), malformed.getMessage());
   }
 
+  /**
+   * A merge's output is a recording of one file: the rotated files an earlier recording left at
+   * the output path are deleted (as a writer opened there deletes them), so that
+   * {@link McapReader#recordingFiles} lists the merge alone; an input that is one of them is
+   * refused before anything is written or deleted.
+   */
+  @Test
+  void aMergeIntoThePathOfARotatedRecordingReplacesThatRecording() throws Exception {
+    Path robot = robotFile(5);
+    Path out = dir.resolve("out.mcap");
+    try (McapWriter earlier =
+        McapWriter.open(out, McapWriterOptions.defaults().synchronous().chunkSize(1).rotateAtSize(1))) {
+      McapChannel<Pose> poses = earlier.channel("old", Pose.class);
+      for (int i = 0; i < 3; i++) {
+        assertTrue(poses.write(i, i, i, new Pose(i, i)));
+      }
+    }
+    List<Path> earlierFiles = McapReader.recordingFiles(out);
+    assertTrue(earlierFiles.size() >= 3, "the earlier recording rotated: " + earlierFiles);
+
+    Path rotatedInput = earlierFiles.get(1);
+    IllegalArgumentException refused =
+        assertThrows(IllegalArgumentException.class, () -> McapMerge.merge(List.of(robot, rotatedInput), out));
+    assertTrue(refused.getMessage().contains(rotatedInput.toString())
+        && refused.getMessage().contains("another file"), refused.getMessage());
+    assertEquals(earlierFiles, McapReader.recordingFiles(out), "a refused merge deletes nothing");
+
+    McapMerge.merge(List.of(robot), out);
+
+    assertEquals(List.of(out), McapReader.recordingFiles(out), "the merge is the recording at out.mcap");
+    for (Path file : earlierFiles.subList(1, earlierFiles.size())) {
+      assertFalse(Files.exists(file), file + " of the earlier recording is deleted");
+    }
+    try (McapReader reader = McapReader.open(out)) {
+      assertEquals(5, reader.messageCount("odometry"));
+      assertFalse(reader.channel("old").isPresent(), "nothing of the earlier recording");
+    }
+  }
+
   @Test
   void theCommandLineMergesAndReportsPerTopic() throws Exception {
     Path robot = robotFile(30);
