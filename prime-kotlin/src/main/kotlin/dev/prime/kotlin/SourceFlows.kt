@@ -3,8 +3,11 @@
 package dev.prime.kotlin
 
 import dev.prime.CoreClosedException
+import dev.prime.Reader
 import dev.prime.Source
 import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.currentCoroutineContext
+import kotlinx.coroutines.ensureActive
 import kotlinx.coroutines.flow.Flow
 import kotlinx.coroutines.flow.flow
 import kotlinx.coroutines.flow.flowOn
@@ -22,6 +25,14 @@ import kotlinx.coroutines.runInterruptible
  * is buffered between the reader's thread and the collector like any `flowOn` flow; apply
  * `buffer(...)` or `conflate()` to choose how.
  *
+ * Only the collector's cancellation and the core's close end the wait. An interrupt that is not
+ * the collector's cancellation (an interrupt flag that other code left set on the pooled thread
+ * the reader waits on) is nobody's request to this flow, and the collector could do nothing
+ * about it: the take it ends is retried (the interrupted take cleared the flag, and a value it
+ * did not hand out stays for the next one, as `Reader.take()` promises), so no value is lost and
+ * the flow does not end as if cancelled, which in a `launch` would end the collection without a
+ * word.
+ *
  * @return a flow of this source's values
  */
 public fun <T> Source<T>.asFlow(): Flow<T> = flow {
@@ -33,11 +44,30 @@ public fun <T> Source<T>.asFlow(): Flow<T> = flow {
     reader.use {
         while (true) {
             val next = try {
-                runInterruptible { reader.take() }
+                runInterruptible { takeOrInterrupted(reader) }
             } catch (_: CoreClosedException) {
                 return@flow
             }
-            emit(next)
+            if (next === Interrupted) {
+                currentCoroutineContext().ensureActive() // the collector's cancellation interrupted the take
+                continue // an interrupt that was not the collector's: take again
+            }
+            @Suppress("UNCHECKED_CAST")
+            emit(next as T)
         }
     }
 }.flowOn(Dispatchers.IO)
+
+/**
+ * The reader's next value, or [Interrupted] if an interrupt ended the take: `runInterruptible`
+ * would turn the [InterruptedException] into a cancellation whatever interrupted the thread, and
+ * only the collector's own cancellation may end the flow that way.
+ */
+private fun takeOrInterrupted(reader: Reader<*>): Any? = try {
+    reader.take()
+} catch (_: InterruptedException) {
+    Interrupted
+}
+
+/** What [takeOrInterrupted] returns for a take an interrupt ended (a reader never returns it). */
+private object Interrupted

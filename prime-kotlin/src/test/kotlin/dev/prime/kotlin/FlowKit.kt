@@ -3,13 +3,17 @@ package dev.prime.kotlin
 import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.Reader
+import dev.prime.Source
 import dev.prime.ValueCodec
+import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.TimeoutCancellationException
 import kotlinx.coroutines.async
 import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.channels.Channel
 import kotlinx.coroutines.flow.flow
+import kotlinx.coroutines.flow.first
 import kotlinx.coroutines.flow.flowOf
 import kotlinx.coroutines.flow.map
 import kotlinx.coroutines.flow.onEach
@@ -395,6 +399,29 @@ internal abstract class FlowKit(private val media: Media) {
         core.close()
     }
 
+    /**
+     * `Source.asFlow()`: only the collector's cancellation and the core's close end the reader's
+     * wait. An interrupt flag left set on the thread the reader takes on (set right before the
+     * first take, with nothing published, so the take must wait and meets it at once) is not the
+     * collector's cancellation: the take is retried and the flow emits the next value, rather
+     * than ending as if cancelled.
+     */
+    @Test
+    fun `a source's flow whose take meets a stray interrupt takes again and emits the next value`(): Unit = runBlocking {
+        media.newCore().use { core ->
+            val events = EventBlock<Int>()
+            val strayed = StrayFlagSource(core.source("numbers", events))
+            core.start()
+            val collecting = async(Dispatchers.IO) { runCatching { strayed.asFlow().first() } }
+            // nothing is published before the flow takes again after the stray interrupt, or ended
+            collecting.invokeOnCompletion { strayed.tookAgain.complete(Unit) }
+            withTimeout(WAIT_MILLIS) { strayed.tookAgain.await() }
+            events.publish(1)
+            val outcome = withTimeout(WAIT_MILLIS) { collecting.await() }
+            assertEquals(1, outcome.getOrNull(), "what the flow emitted after a stray interrupt (it ended with ${outcome.exceptionOrNull()})")
+        }
+    }
+
     /** A type no codec knows. */
     private class Unshippable
 
@@ -406,6 +433,27 @@ internal abstract class FlowKit(private val media: Media) {
         }
 
         override fun decode(bytes: ByteArray): Any = ByteBuffer.wrap(bytes).int
+    }
+
+    /**
+     * A real source whose reader's first take finds the thread's interrupt flag set, as other code
+     * on a pooled thread may leave it; [tookAgain] completes when the reader takes a second time.
+     */
+    private class StrayFlagSource<T>(private val real: Source<T>) : Source<T> by real {
+        val tookAgain = CompletableDeferred<Unit>()
+        private val takes = AtomicInteger()
+
+        override fun reader(): Reader<T> = StrayFlagReader(real.reader())
+
+        private inner class StrayFlagReader(private val reader: Reader<T>) : Reader<T> by reader {
+            override fun take(): T {
+                when (takes.incrementAndGet()) {
+                    1 -> Thread.currentThread().interrupt()
+                    2 -> tookAgain.complete(Unit)
+                }
+                return reader.take()
+            }
+        }
     }
 
     private companion object {
