@@ -44,10 +44,12 @@ public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBloc
  *
  * Failures go to the core's error handler under the source's name: a value that cannot be
  * published (such as a value an Optimus codec refuses) with that value as the input, after which
- * collection carries on with the next value; a failure of the flow itself with the flow as the
- * input, after which the source publishes nothing more. A cancellation the flow throws while the
- * core runs (a `withTimeout` in it that runs out) is such a failure. As everywhere in the core, an
- * error handler that throws is logged and ignored, and collection goes on.
+ * collection carries on with the next value (whatever the publish throws, an `Error` such as an
+ * `AssertionError` included, as for the core's services; only a `VirtualMachineError` ends the
+ * collection); a failure of the flow itself with the flow as the input, after which the source
+ * publishes nothing more. A cancellation the flow throws while the core runs (a `withTimeout` in
+ * it that runs out) is such a failure. As everywhere in the core, an error handler that throws is
+ * logged and ignored, and collection goes on.
  *
  * @param name the source's name, unique in this core
  * @param flow the values to publish, collected while the core runs
@@ -132,7 +134,9 @@ private class FlowFeed<T : Any>(
             flow.collect { value ->
                 try {
                     runInterruptible { events.publish(value) }
-                } catch (failure: Exception) {
+                } catch (fatal: VirtualMachineError) {
+                    throw fatal
+                } catch (failure: Throwable) { // an AssertionError of a codec too, as in the core's services
                     currentCoroutineContext().ensureActive() // the core closed during the publish
                     FailureReport.report(errors, name, value, failure)
                 }

@@ -400,6 +400,33 @@ internal abstract class FlowKit(private val media: Media) {
     }
 
     /**
+     * `PrimeCore.source(name, flow)`: a value whose publish throws an `Error` that is no
+     * `VirtualMachineError` (here a codec's `AssertionError`) is a value that cannot be published,
+     * as for the core's services (architecture, Errors): it goes to the error handler with that
+     * value and that error, and collection carries on with the next value.
+     */
+    @Test
+    fun `a value whose publish throws an Error that is no VirtualMachineError goes to the error handler and the flow carries on`(): Unit = runBlocking {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val config = CoreConfig.builder()
+            .copyValues(CheckingCodec)
+            .errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }
+            .build()
+        media.newCoreWithCodec(config).use { core ->
+            val source = core.source("sensor", flowOf(1, CheckingCodec.FAILS_ITS_CHECK, 3))
+            core.start()
+            source.reader().use { reader ->
+                val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("no failure reached the error handler")
+                assertEquals(CheckingCodec.FAILS_ITS_CHECK, failure.second, "the input the error handler got")
+                assertEquals("sensor", failure.first)
+                assertInstanceOf(AssertionError::class.java, failure.third, "what the error handler got")
+                assertEquals(listOf(1, 3), List(2) { reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+            }
+            assertEquals(null, failures.poll(), "one failure only")
+        }
+    }
+
+    /**
      * `Source.asFlow()`: only the collector's cancellation and the core's close end the reader's
      * wait. An interrupt flag left set on the thread the reader takes on (set right before the
      * first take, with nothing published, so the take must wait and meets it at once) is not the
@@ -433,6 +460,19 @@ internal abstract class FlowKit(private val media: Media) {
         }
 
         override fun decode(bytes: ByteArray): Any = ByteBuffer.wrap(bytes).int
+    }
+
+    /** A codec of `Int`s whose own check of a value fails with an [AssertionError], as a broken invariant would. */
+    private object CheckingCodec : ValueCodec {
+        /** The value whose check fails. */
+        const val FAILS_ITS_CHECK = -1
+
+        override fun encode(value: Any): ByteArray {
+            if (value == FAILS_ITS_CHECK) throw AssertionError("the codec's check of $value failed")
+            return IntsOnly.encode(value)
+        }
+
+        override fun decode(bytes: ByteArray): Any = IntsOnly.decode(bytes)
     }
 
     /**

@@ -2,9 +2,11 @@ package dev.prime.kotlin
 
 import dev.prime.CoreConfig
 import dev.prime.PrimeCore
+import dev.prime.ValueCodec
 import dev.prime.liberty.LibertyCore
 import dev.prime.optimus.EmbeddedRedis
 import dev.prime.optimus.FaultProxy
+import dev.prime.optimus.OptimusCodec
 import dev.prime.optimus.OptimusCore
 import dev.prime.radiant.RadiantCore
 import redis.clients.jedis.Jedis
@@ -13,6 +15,14 @@ import java.net.URI
 /** The media the kits of this module run on: each makes a new, not yet started core. */
 internal interface Media {
     fun newCore(config: CoreConfig = CoreConfig.defaults()): PrimeCore
+
+    /**
+     * A new core that turns every published value into bytes with [config]'s copy codec
+     * (`CoreConfig.Builder.copyValues`), so a codec's failure in a publish is seen on every media:
+     * Liberty and Radiant copy through it anyway; Optimus, which copies every value through its own
+     * codec, gets it as that codec.
+     */
+    fun newCoreWithCodec(config: CoreConfig): PrimeCore = newCore(config)
 
     /**
      * Whether a chain's block runs in a service that takes one call after the other (Optimus),
@@ -44,6 +54,9 @@ internal object Optimus : Media {
     override fun newCore(config: CoreConfig): PrimeCore =
         OptimusCore.builder().config(config).redis(redis.uri).build()
 
+    override fun newCoreWithCodec(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(redis.uri).codecOf(config).build()
+
     override val callsQueueAtTheService: Boolean get() = true
 
     override fun readersKept(core: PrimeCore, source: String): Long? =
@@ -58,4 +71,22 @@ internal object Optimus : Media {
 internal object OptimusSlowRedis : Media by Optimus {
     override fun newCore(config: CoreConfig): PrimeCore =
         OptimusCore.builder().config(config).redis(FaultProxy.slowLinkTo(Optimus.redis.uri)).build()
+
+    override fun newCoreWithCodec(config: CoreConfig): PrimeCore =
+        OptimusCore.builder().config(config).redis(FaultProxy.slowLinkTo(Optimus.redis.uri)).codecOf(config).build()
+}
+
+/** This builder with [config]'s copy codec as the core's codec. */
+private fun OptimusCore.Builder.codecOf(config: CoreConfig): OptimusCore.Builder =
+    codec(CopyCodec(requireNotNull(config.valueCopies()) { "newCoreWithCodec needs a config with copyValues(codec)" }))
+
+/** A copy codec of a test as an Optimus core's codec. */
+private class CopyCodec(private val codec: ValueCodec) : OptimusCodec {
+    override fun encode(value: Any): ByteArray = codec.encode(value)
+
+    override fun decode(bytes: ByteArray): Any = codec.decode(bytes)
+
+    override fun fingerprint(): String = "test:$codec"
+
+    override fun toString(): String = codec.toString()
 }
