@@ -51,6 +51,16 @@ public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBloc
  * it that runs out) is such a failure. As everywhere in the core, an error handler that throws is
  * logged and ignored, and collection goes on.
  *
+ * An interrupt flag on the collecting thread is not the core's close, which cancels the
+ * collection: a flag the flow's own code leaves set (a blocking call in it that restored the
+ * flag, as is customary) is cleared before the next publish, and one a publish leaves after it,
+ * as the core's services clear the flag a block leaves; so the value is published, and the flag
+ * reaches neither the flow's later code nor other work on [Dispatchers.IO]. A publish that ends
+ * with an [InterruptedException] while the core runs (a codec interrupted in a wait of its own)
+ * has failed like any other: the error handler gets that `InterruptedException`, the very object
+ * (not the cancellation `runInterruptible` would make of it), with the value as the input, and
+ * collection goes on.
+ *
  * @param name the source's name, unique in this core
  * @param flow the values to publish, collected while the core runs
  * @return a new source of this core
@@ -132,13 +142,16 @@ private class FlowFeed<T : Any>(
         val errors = core.config().errorHandler()
         try {
             flow.collect { value ->
+                Thread.interrupted() // a flag the flow's own code left: the core's close cancels, it does not interrupt here
                 try {
-                    runInterruptible { events.publish(value) }
+                    runInterruptible { publish(value) }
                 } catch (fatal: VirtualMachineError) {
                     throw fatal
                 } catch (failure: Throwable) { // an AssertionError of a codec too, as in the core's services
                     currentCoroutineContext().ensureActive() // the core closed during the publish
-                    FailureReport.report(errors, name, value, failure)
+                    FailureReport.report(errors, name, value, if (failure is InterruptedPublish) failure.cause else failure)
+                } finally {
+                    Thread.interrupted() // a flag the publish left (runInterruptible clears only the one it set)
                 }
             }
         } catch (fatal: VirtualMachineError) {
@@ -150,5 +163,25 @@ private class FlowFeed<T : Any>(
             }
             FailureReport.report(errors, name, flow, failure)
         }
+    }
+
+    /**
+     * Publishes [value], carrying an [InterruptedException] out of `runInterruptible` as an
+     * [InterruptedPublish]: `runInterruptible` turns it into a cancellation whatever interrupted
+     * the thread, and [collect] tells the core's close from a failure of the publish itself.
+     */
+    private fun publish(value: T) {
+        try {
+            events.publish(value)
+        } catch (interrupted: InterruptedException) { // a codec's own wait, thrown as Kotlin may
+            throw InterruptedPublish(interrupted)
+        }
+    }
+}
+
+/** An [InterruptedException] a publish threw, carried out of `runInterruptible` as it is. */
+private class InterruptedPublish(override val cause: InterruptedException) : RuntimeException(cause) {
+    private companion object {
+        private const val serialVersionUID: Long = 1L
     }
 }

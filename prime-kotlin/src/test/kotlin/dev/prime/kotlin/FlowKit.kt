@@ -37,6 +37,7 @@ import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicBoolean
 import java.util.concurrent.atomic.AtomicInteger
+import java.util.concurrent.atomic.AtomicReference
 
 /** Sources as flows and flows as sources, on one media. */
 internal abstract class FlowKit(private val media: Media) {
@@ -427,6 +428,43 @@ internal abstract class FlowKit(private val media: Media) {
     }
 
     /**
+     * `PrimeCore.source(name, flow)`: an interrupt flag on the collecting thread is not the core's
+     * close. A flag the flow's own code left set is cleared before the next publish, so that value
+     * is published (here a codec that waits for a pooled buffer would otherwise fail on it); a
+     * publish that ends with an `InterruptedException` while the core runs (a codec that
+     * interrupted its own thread) goes to the error handler as that `InterruptedException`, the
+     * very object, with the value, and collection carries on.
+     */
+    @Test
+    fun `a stray interrupt on the collecting thread loses no value, and a publish's InterruptedException reaches the error handler as it is`(): Unit = runBlocking {
+        val failures = ArrayBlockingQueue<Triple<String, Any, Throwable>>(4)
+        val codec = PooledBufferCodec()
+        val config = CoreConfig.builder()
+            .copyValues(codec)
+            .errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }
+            .build()
+        media.newCoreWithCodec(config).use { core ->
+            val interrupting = flow {
+                emit(1)
+                Thread.currentThread().interrupt() // as a blocking call that restored the flag would leave it
+                emit(2)
+                emit(PooledBufferCodec.INTERRUPTS_ITSELF)
+                emit(3)
+            }
+            val source = core.source("sensor", interrupting)
+            core.start()
+            source.reader().use { reader ->
+                val failure = failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("no failure reached the error handler")
+                assertEquals(PooledBufferCodec.INTERRUPTS_ITSELF, failure.second, "the input the error handler got (${failure.third})")
+                assertEquals("sensor", failure.first)
+                assertSame(codec.interrupted.get(), failure.third, "what the error handler got")
+                assertEquals(listOf(1, 2, 3), List(3) { reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+            }
+            assertEquals(null, failures.poll(), "one failure only")
+        }
+    }
+
+    /**
      * `Source.asFlow()`: only the collector's cancellation and the core's close end the reader's
      * wait. An interrupt flag left set on the thread the reader takes on (set right before the
      * first take, with nothing published, so the take must wait and meets it at once) is not the
@@ -473,6 +511,38 @@ internal abstract class FlowKit(private val media: Media) {
         }
 
         override fun decode(bytes: ByteArray): Any = IntsOnly.decode(bytes)
+    }
+
+    /**
+     * A codec of `Int`s that borrows its one buffer from a pool, waiting for it interruptibly (an
+     * interrupt flag makes it throw [InterruptedException]); for [INTERRUPTS_ITSELF] it interrupts
+     * its own thread first, and keeps the exception it then throws.
+     */
+    private class PooledBufferCodec : ValueCodec {
+        private val pool = ArrayBlockingQueue<ByteBuffer>(1).apply { add(ByteBuffer.allocate(Int.SIZE_BYTES)) }
+        val interrupted = AtomicReference<InterruptedException>()
+
+        override fun encode(value: Any): ByteArray {
+            require(value is Int) { "${value.javaClass.name} cannot be copied: only Int" }
+            if (value == INTERRUPTS_ITSELF) Thread.currentThread().interrupt()
+            val buffer = try {
+                pool.take()
+            } catch (e: InterruptedException) {
+                interrupted.set(e)
+                throw e
+            }
+            try {
+                return buffer.clear().putInt(value).array().copyOf()
+            } finally {
+                pool.add(buffer)
+            }
+        }
+
+        override fun decode(bytes: ByteArray): Any = ByteBuffer.wrap(bytes).int
+
+        companion object {
+            const val INTERRUPTS_ITSELF = -2
+        }
     }
 
     /**
