@@ -429,6 +429,32 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * As above, with the user the block calls made after the start ({@link Isolated#newUser} on a
+   * started core, which {@code TemplateConformance} checks serves calls): that user refuses the
+   * call from inside the chain at once too.
+   */
+  @Test
+  default void anIsolatedChainCalledFromInsideItselfThroughAUserMadeAfterTheStartFails()
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
+    PrimeCore core = newCore();
+    try {
+      Isolated<Integer, Integer> isolated =
+          core.isolate(
+              core.chain(
+                  "counter",
+                  (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0));
+      Block<Integer, Integer> outer = isolated.newUser().toBlock();
+      core.start();
+      inner.set(isolated.newUser().toBlock());
+      assertEquals(0, outer.process(0), "a call that does not re-enter");
+      assertAFailedReentry(outer, inner);
+    } finally {
+      core.close();
+    }
+  }
+
+  /**
    * Calls {@code isolated} through a new user with 0 (no re-entry) and with 1 (its block calls
    * {@code inner}, set here to another user): the second fails with the inner call's
    * IllegalStateException, and the chain then serves the next call.
@@ -442,6 +468,17 @@ public interface InterruptConformance extends ConformanceBase {
     inner.set(isolated.newUser().toBlock());
     core.start();
     assertEquals(0, outer.process(0), "a call that does not re-enter");
+    assertAFailedReentry(outer, inner);
+  }
+
+  /**
+   * Calls {@code outer} with 1, whose block calls {@code inner}, a user of the same isolated
+   * chain: the call fails with the inner call's IllegalStateException, and the chain then serves
+   * the next call.
+   */
+  private void assertAFailedReentry(
+      Block<Integer, Integer> outer, AtomicReference<Block<Integer, Integer>> inner)
+      throws InterruptedException {
     Caller reentering = new Caller("reentering", () -> outer.process(1));
     Throwable failure = reentering.awaitFailure(patience());
     Throwable cause = failure;
