@@ -39,6 +39,9 @@ internal class RunningRequest {
     /** The request's id (meaningful while [active]). */
     var id: Long = 0L
 
+    /** The service whose block runs for the request (meaningful while [active]; see [SelfCalls]). */
+    var service: String? = null
+
     /** Whether the thread runs a request's block now. */
     var active: Boolean = false
 }

@@ -225,9 +225,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /** The remote calls made whose [SelfCalls] are not looked for yet ([resolveSelfCalls]). */
     private val unresolvedCalls = ConcurrentLinkedQueue<RemoteCall<*, *>>()
-
-    /** Which thread runs a request's block in each service now, by service name ([SelfCalls]). */
-    private val serviceThreads = ConcurrentHashMap<String, ServiceThread>()
     private val failures = Collections.synchronizedMap(object : LinkedHashMap<Long, Throwable>() {
         override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, Throwable>?) = size > FAILURES_KEPT
     })
@@ -753,9 +750,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return call
     }
 
-    /** The holder of the thread that runs a request's block in [service] now ([SelfCalls]). */
-    internal fun serviceThread(service: String): ServiceThread = serviceThreads.computeIfAbsent(service, ::ServiceThread)
-
     /**
      * Gives each remote call made since the last time whose first service is a user of an isolated
      * chain the [SelfCalls] of that chain's services in this core ([servicesRunFor]). An isolated
@@ -768,7 +762,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             val call = unresolvedCalls.poll() ?: return
             val user = topology.node(call.firstService).orElse(null) as? TopologyNode.IsolatedUser ?: continue
             val services = LinkedHashSet<String>().also { servicesRunFor(user.shared(), topology, it) }
-            if (services.isNotEmpty()) call.selfCalls = SelfCalls(user.shared(), services.map(::serviceThread))
+            if (services.isNotEmpty()) call.selfCalls = SelfCalls(this, user.shared(), services)
         }
     }
 

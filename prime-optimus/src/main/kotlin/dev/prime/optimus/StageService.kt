@@ -100,9 +100,6 @@ internal class StageService(
     private var waitBehindStep = false
     private val recent = RecentIds()
 
-    /** Names the thread that runs a request's block here, for [SelfCalls]. */
-    private val thread = core.serviceThread(name)
-
     /** The ids of the step being handled, to skip a value delivered twice within it; cleared for every step. */
     private val stepIds = RecentIds(Int.MAX_VALUE)
     private val deadLetterLog = RateLimitedLog(StageService::class.java.name) // one key: this service
@@ -624,12 +621,11 @@ internal class StageService(
         try {
             var result: Any? = null
             running.id = envelope.id
+            running.service = name
             running.active = true
-            thread.running = Thread.currentThread()
             try {
                 logic.process(value) { result = it }
             } finally {
-                thread.running = null
                 running.active = false
                 clearOwnInterrupt()
             }
