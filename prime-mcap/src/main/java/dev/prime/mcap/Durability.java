@@ -29,7 +29,8 @@ final class Durability {
    *
    * @param file a file just finished, or moved into place
    * @param opener opens the folder
-   * @throws IOException if the folder cannot be opened or forced
+   * @throws IOException if the folder cannot be opened (the message says so and what to do) or
+   *     forced
    */
   static void forceFolderOf(Path file, OutputOpener opener) throws IOException {
     Path folder = file.toAbsolutePath().getParent();
@@ -41,6 +42,11 @@ final class Durability {
       channel = opener.openFolder(folder);
     } catch (UnsupportedOperationException e) {
       return; // a file system that makes no channels: nothing to force through
+    } catch (IOException e) {
+      // the JDK's own message is the folder's path alone (an AccessDeniedException, say)
+      throw new IOException("cannot open the folder " + folder + " to force its entry for " + file.getFileName()
+          + " to the storage device, so that it survives a power cut (the file itself is finished and forced): "
+          + e + "; give this user read access to the folder, or write to a folder it can read", e);
     }
     try (FileChannel open = channel) {
       open.force(true);

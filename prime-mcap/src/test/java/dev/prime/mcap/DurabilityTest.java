@@ -1,6 +1,8 @@
 package dev.prime.mcap;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
+import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import java.io.IOException;
@@ -8,6 +10,7 @@ import java.io.UncheckedIOException;
 import java.nio.ByteBuffer;
 import java.nio.channels.FileChannel;
 import java.nio.charset.StandardCharsets;
+import java.nio.file.AccessDeniedException;
 import java.nio.file.Files;
 import java.nio.file.Path;
 import java.nio.file.StandardOpenOption;
@@ -127,6 +130,45 @@ class DurabilityTest {
           name + " is forced after its last byte: " + events);
     }
     assertEquals(expected, forcesAndCloses(), "each file is forced, then its folder, as it is finished");
+  }
+
+  /**
+   * A folder that cannot be opened to be forced (as the JDK refuses one this user may not read)
+   * fails close() with an IOException that says which folder, why it was opened and what to do
+   * (the JDK's own says only the folder's path);
+   * the file itself is finished, and the path free again.
+   */
+  @Test
+  void aFolderThatCannotBeOpenedFailsCloseSayingWhatToDo() throws IOException {
+    Path file = dir.resolve("unreadable.mcap");
+    OutputOpener refusingFolders =
+        new OutputOpener() {
+          @Override
+          public FileChannel open(Path path) throws IOException {
+            return OutputOpener.FILES.open(path);
+          }
+
+          @Override
+          public FileChannel openFolder(Path folder) throws IOException {
+            throw new AccessDeniedException(folder.toString());
+          }
+        };
+    McapWriter writer = McapWriter.open(file, McapWriterOptions.defaults().synchronous(), refusingFolders);
+    McapChannel<Reading> readings = writer.channel("readings", Reading.class);
+    assertTrue(readings.write(1, 1, 1, new Reading(1)));
+    IOException failure = assertThrows(IOException.class, writer::close);
+    String message = failure.getMessage();
+    assertTrue(message.contains("cannot open the folder " + dir.toAbsolutePath()), message);
+    assertTrue(message.contains("unreadable.mcap") && message.contains("power cut"), "says why: " + message);
+    assertTrue(message.contains("read access"), "says what to do: " + message);
+    Throwable cause = failure;
+    while (cause != null && !(cause instanceof AccessDeniedException)) {
+      cause = cause.getCause();
+    }
+    assertInstanceOf(AccessDeniedException.class, cause, "the cause is kept: " + failure);
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("readings"), "the file itself is finished");
+    }
   }
 
   @Test
