@@ -23,7 +23,8 @@ final class Durability {
 
   /**
    * Forces the folder of {@code file}, so that the file's entry there (made or replaced) survives
-   * a power cut. Nothing is done on a platform that opens no folder, nor on a file system that
+   * a power cut: for a symbolic link, the folder of the file it leads to, whose entry writing
+   * through the link made, not the link's own, which the write left as it was. Nothing is done on a platform that opens no folder, nor on a file system that
    * makes no file channels ({@link UnsupportedOperationException}, as {@link
    * java.nio.file.spi.FileSystemProvider#newFileChannel} documents).
    *
@@ -33,7 +34,8 @@ final class Durability {
    *     forced
    */
   static void forceFolderOf(Path file, OutputOpener opener) throws IOException {
-    Path folder = file.toAbsolutePath().getParent();
+    Path written = fileAt(file);
+    Path folder = written.getParent();
     if (folder == null || !FOLDERS_OPEN) {
       return;
     }
@@ -44,7 +46,7 @@ final class Durability {
       return; // a file system that makes no channels: nothing to force through
     } catch (IOException e) {
       // the JDK's own message is the folder's path alone (an AccessDeniedException, say)
-      throw new IOException("cannot open the folder " + folder + " to force its entry for " + file.getFileName()
+      throw new IOException("cannot open the folder " + folder + " to force its entry for " + written.getFileName()
           + " to the storage device, so that it survives a power cut (the file itself is finished and forced): "
           + e + "; give this user read access to the folder, or write to a folder it can read", e);
     }
@@ -52,7 +54,16 @@ final class Durability {
       open.force(true);
     } catch (IOException e) {
       throw new IOException("cannot force the folder " + folder + " to the storage device, so that its entry for "
-          + file.getFileName() + " survives a power cut: " + e, e);
+          + written.getFileName() + " survives a power cut: " + e, e);
+    }
+  }
+
+  /** The file at {@code path}, where its links lead; the path itself if nothing is there to follow. */
+  private static Path fileAt(Path path) {
+    try {
+      return path.toRealPath();
+    } catch (IOException | SecurityException e) {
+      return path.toAbsolutePath(); // nothing there to follow: the file it names
     }
   }
 }

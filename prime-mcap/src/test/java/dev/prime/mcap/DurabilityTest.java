@@ -171,6 +171,38 @@ class DurabilityTest {
     }
   }
 
+  /**
+   * A writer opened at a symbolic link writes the file it links to, made in that file's folder
+   * (a link not yet pointing at a file): close() forces that folder, whose entry is new, not the
+   * link's, whose entry the writer did not change.
+   */
+  @Test
+  void aWriterAtASymbolicLinkForcesTheFolderOfTheFileItWrites() throws IOException {
+    Path real = Files.createDirectory(dir.resolve("real"));
+    Path links = Files.createDirectory(dir.resolve("links"));
+    Path link = Files.createSymbolicLink(links.resolve("latest.mcap"), real.resolve("run.mcap"));
+    List<Path> forcedFolders = Collections.synchronizedList(new ArrayList<>());
+    OutputOpener recording =
+        new OutputOpener() {
+          @Override
+          public FileChannel open(Path path) throws IOException {
+            return OutputOpener.FILES.open(path);
+          }
+
+          @Override
+          public FileChannel openFolder(Path folder) throws IOException {
+            forcedFolders.add(folder);
+            return OutputOpener.FILES.openFolder(folder);
+          }
+        };
+    try (McapWriter writer = McapWriter.open(link, McapWriterOptions.defaults().synchronous(), recording)) {
+      assertTrue(writer.channel("readings", Reading.class).write(1, 1, 1, new Reading(1)));
+    }
+    assertTrue(Files.isRegularFile(real.resolve("run.mcap"), java.nio.file.LinkOption.NOFOLLOW_LINKS),
+        "the file was made where the link points");
+    assertEquals(List.of(real.toRealPath()), forcedFolders, "the folder of the file written, not the link's");
+  }
+
   @Test
   void aMergeIsForcedBeforeItIsMovedIntoPlaceAndTheFolderAfter() throws IOException {
     Path input = dir.resolve("input.mcap");
