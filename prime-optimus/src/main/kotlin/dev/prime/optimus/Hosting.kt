@@ -41,6 +41,15 @@ public enum class Hosting {
      * gives back what it holds before its block returns). Duplicates that a producer
      * made (a publish retried after a lost reply) are skipped by value id downstream, within the
      * last 4,096 values a reader or single-hosted service saw, but may both be processed here.
+     *
+     * Not for a service that runs for an isolated chain (`core.isolate(chain)`: the chain's own
+     * service, each chain of a linked chain, a template's parts, a repeater's chain): its hosts
+     * would run the shared chain for two calls at once, which an isolated chain never does.
+     * `start()` refuses it with an `IllegalArgumentException` naming the service and the isolated
+     * chain (a user made after the start is refused at once); give such a service [EXCLUSIVE] or
+     * [ORDERED]. With those, a process runs it once at a time; only a host frozen or cut off longer
+     * than the lease may still be in a block when its successor takes over (its results are not
+     * stored). The users of an isolated chain may be unordered.
      */
     UNORDERED,
 }

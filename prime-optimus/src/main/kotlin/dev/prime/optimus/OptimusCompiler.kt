@@ -38,6 +38,7 @@ internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompil
 
     override fun block(chain: String, block: Block<*, *>): Stages {
         core.declaredTypes.note(chain, block) // checked against the codec at start
+        core.checkIsolatedUser(chain) // a user declared after start: its isolated chain's hosting
         return Stages(listOf(StageSpec(chain, core.chainLogic(block))))
     }
 

@@ -927,7 +927,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             minOf(RedisConnections.POLL_SECONDS, leaseTime.toMillis() / 3 / 1000.0),
         )
 
-    /** Refuses hosting modes for services the topology lacks, or that are not chains' services. */
+    /**
+     * Refuses hosting modes for services the topology lacks, or that are not chains' services, and
+     * [Hosting.UNORDERED] for the services that run for an isolated chain ([refuseUnorderedIsolatedChains]).
+     */
     private fun checkHostingModes() {
         val moded = sharedHosting.nonDefault
         val unknown = moded - topology().services()
@@ -940,6 +943,61 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "core '${name()}' is given Hosting.ORDERED or UNORDERED for $notChains: those are combinators, timers or generic " +
                 "services, which have one host at a time (Hosting.EXCLUSIVE); hosting modes apply to the services of chains"
         }
+        refuseUnorderedIsolatedChains(topology().nodes().filterIsInstance<TopologyNode.IsolatedUser>())
+    }
+
+    /**
+     * Refuses [Hosting.UNORDERED] for a service that runs for the isolated chain of one of [users]
+     * ([isolatedServices]): its competing hosts would each take a call at once, and `isolate()`
+     * promises the shared chain never runs for two calls at once. Read from the topology, so a
+     * process that hosts the isolated chain and none of its users refuses it too.
+     *
+     * @throws IllegalArgumentException naming the service, the isolated chain and the fix
+     */
+    private fun refuseUnorderedIsolatedChains(users: List<TopologyNode.IsolatedUser>) {
+        val unordered = sharedHosting.nonDefault.filterTo(HashSet()) { sharedHosting.modeOf(it) == Hosting.UNORDERED }
+        if (unordered.isEmpty() || users.isEmpty()) return
+        val topology = topology()
+        for (shared in users.mapTo(LinkedHashSet()) { it.shared() }) {
+            val service = isolatedServices(shared, topology).firstOrNull { it in unordered } ?: continue
+            throw IllegalArgumentException(
+                "core '${name()}' is given Hosting.UNORDERED for service '$service', which runs for isolated chain " +
+                    "'$shared' (core.isolate(...)): its hosts would each take a call at once, and an isolated chain never " +
+                    "runs for two calls at once. Give '$service' Hosting.EXCLUSIVE (the default: one host) or " +
+                    "Hosting.ORDERED (one active host, others standing by) in every process that hosts it",
+            )
+        }
+    }
+
+    /**
+     * A user of an isolated chain declared after [start]: refused as [start] refuses those declared
+     * before it ([refuseUnorderedIsolatedChains]), so the declaration fails and leaves nothing.
+     */
+    internal fun checkIsolatedUser(chain: String) {
+        if (!isStarted || sharedHosting.nonDefault.isEmpty()) return // start() checks those declared before it
+        val user = topology().node(chain).orElse(null) as? TopologyNode.IsolatedUser ?: return
+        refuseUnorderedIsolatedChains(listOf(user))
+    }
+
+    /**
+     * The services that run only for isolated chain [shared], read from the topology: the chain's
+     * own (a chain of a block, a template, another core's chain), each chain of a linked chain, and
+     * those of the chains it runs (a template's parts, a repeater's chain), down to the blocks; a
+     * user of another isolated chain is one, but not that chain's (its users guard it). Walked
+     * without recursion, for a linked chain of any length.
+     */
+    private fun isolatedServices(shared: String, topology: Topology): Set<String> {
+        val found = LinkedHashSet<String>()
+        val seen = HashSet<String>()
+        val next = ArrayDeque<String>().apply { add(shared) }
+        while (next.isNotEmpty()) {
+            val node = topology.node(next.removeLast()).orElse(null) ?: continue
+            if (!node.isChain() || !seen.add(node.name())) continue
+            if (node.isService()) found += node.name()
+            if (node is TopologyNode.IsolatedUser) continue
+            for (part in node.parts().asReversed()) next.addLast(part.node())
+        }
+        return found
     }
 
     /**
@@ -1326,6 +1384,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
          * - [Hosting.UNORDERED]: competing consumers: every host takes from the input at once, each
          *   into its own processing list; a dead host's list goes back to the input within about
          *   [leaseTime] (at once when it closes). A value's results are stored once; no order.
+         *   Refused at `start()` (an [IllegalArgumentException] naming the service, the isolated
+         *   chain and the fix) for a service that runs for an isolated chain (`isolate(chain)`: its
+         *   own, each chain of a linked chain, a template's parts, a repeater's chain), whose hosts
+         *   would run it for two calls at once; give those [Hosting.EXCLUSIVE] or [Hosting.ORDERED].
          *
          * Only chains' services take a mode (combinators, timers and generic services are exclusive).
          * Every process that hosts the service must give the same mode: `start()` of one that

@@ -10,9 +10,9 @@ package dev.prime.optimus
  * ([RemoteCall.selfCalls]); other calls hold none, so their check is a read of a `null` field.
  *
  * The thread's own record of the request it runs ([OptimusCore.runningRequest], which a service
- * sets around each request's block) says which service's block runs on it: a record of the
- * thread's own, so two runs of one service in this process (a new run of an unordered service
- * whose seat lapsed, started while the old run's block still runs) each see themselves.
+ * sets around each request's block) says which service's block runs on it. The services in
+ * [services] are never hosted unordered (`start()` refuses it), so a process runs each of them
+ * once at a time.
  *
  * What it cannot see: a call made on a thread that does not run one of those services, though on
  * the chain's behalf (the service of a chain its block calls through a block it was given, not

@@ -9,13 +9,7 @@ import org.junit.jupiter.api.Assertions.assertInstanceOf
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
-import redis.clients.jedis.Jedis
-import java.net.URI
-import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
-import java.util.concurrent.CountDownLatch
-import java.util.concurrent.TimeUnit
-import java.util.concurrent.atomic.AtomicInteger
 import java.util.concurrent.atomic.AtomicReference
 
 /**
@@ -80,86 +74,6 @@ class IsolatedSelfCallTest {
             // the inner calls end by their own timeouts a moment later; the next call waits for that
             assertEquals(0, outer.process(0), "the isolated chain serves the next call")
         }
-    }
-
-    /**
-     * An unordered isolated chain's service whose seat lapsed starts a new run while the old run's
-     * block still runs (it waits at most a lease time for it): the old block, which calls the
-     * isolated chain after the new run entered its block, is refused at once as well, although
-     * two runs of the service are in their blocks in this process.
-     */
-    @Test
-    fun aCallFromInsideItselfIsRefusedWhileANewRunOfAnUnorderedServiceRunsItsBlock() {
-        val name = "self-call-reseat-${System.nanoTime()}"
-        val patience = Duration.ofSeconds(20)
-        val entries = AtomicInteger()
-        val oldEntered = CountDownLatch(1)
-        val newEntered = CountDownLatch(1)
-        val oldCalled = CountDownLatch(1)
-        val oldCallFailure = AtomicReference<Throwable>()
-        val inner = AtomicReference<Block<Int, Int>>()
-        OptimusCore.builder()
-            .config(CoreConfig.builder().name(name).build())
-            .redis(TestRedis.url)
-            .leaseTime(Duration.ofSeconds(1)) // a heartbeat every third of it sees the lapse soon
-            .callTimeout(Duration.ofSeconds(3))
-            .hosting("counter", Hosting.UNORDERED)
-            .build().use { core ->
-                val isolated = core.isolate(
-                    core.chain("counter") { x: Int ->
-                        if (entries.incrementAndGet() == 1) {
-                            oldEntered.countDown()
-                            // the old run: its job is cancelled when the seat lapses; it waits on regardless
-                            awaitIgnoringInterrupts(newEntered, patience)
-                            try {
-                                inner.get().process(0)
-                            } catch (e: Exception) {
-                                oldCallFailure.set(e)
-                            } finally {
-                                oldCalled.countDown()
-                            }
-                        } else {
-                            newEntered.countDown()
-                            awaitIgnoringInterrupts(oldCalled, patience)
-                        }
-                        x
-                    },
-                )
-                val outer = isolated.newUser().toBlock()
-                inner.set(isolated.newUser().toBlock())
-                core.start()
-                val call = Thread { runCatching { outer.process(1) } }
-                call.start()
-                try {
-                    assertTrue(oldEntered.await(patience.toMillis(), TimeUnit.MILLISECONDS), "the first run entered the block")
-                    Jedis(URI(TestRedis.url)).use { jedis ->
-                        val keys = Keys(name)
-                        val instance = jedis.smembers(keys.serviceHosts("counter")).single().toString(UTF_8)
-                        jedis.del(keys.hostSeatLease("counter", instance)) // the seat lapses: a new run starts
-                    }
-                    assertTrue(newEntered.await(patience.toMillis(), TimeUnit.MILLISECONDS), "a new run entered the block")
-                    assertTrue(oldCalled.await(patience.toMillis(), TimeUnit.MILLISECONDS), "the old run's call ended")
-                    val failure = oldCallFailure.get()
-                    assertInstanceOf(IllegalStateException::class.java, failure, "refused at once: $failure")
-                    assertTrue("called from inside itself" in failure.message!!, failure.message)
-                } finally {
-                    call.join(patience.toMillis())
-                }
-            }
-    }
-
-    /** Waits for [latch] up to [patience], through interrupts (kept for after the wait). */
-    private fun awaitIgnoringInterrupts(latch: CountDownLatch, patience: Duration) {
-        val deadline = System.nanoTime() + patience.toNanos()
-        var interrupted = false
-        while (latch.count > 0 && System.nanoTime() < deadline) {
-            try {
-                latch.await(deadline - System.nanoTime(), TimeUnit.NANOSECONDS)
-            } catch (_: InterruptedException) {
-                interrupted = true
-            }
-        }
-        if (interrupted) Thread.currentThread().interrupt()
     }
 
     /** The kit's re-entering counter, declared in [this] core: its two users' blocks. */
