@@ -474,6 +474,14 @@ public abstract class PrimeCore implements AutoCloseable {
    * seen: it waits until its call timeout, an interrupt or {@link #close()} (docs/architecture.md,
    * <i>Errors</i>).
    *
+   * <p>On Optimus the shared chain runs as services of its own, each with one host at a time
+   * ({@code Hosting.UNORDERED} for any of them is refused at {@link #start()}). The turns are
+   * kept by each process for its own users: calls from users in one process never overlap; calls
+   * from users in several processes never overlap in a shared chain of one service, but a linked
+   * shared chain ({@code a.then(b)}) is several services, so one call may run in {@code b} while
+   * another runs in {@code a} (each service still runs one call at a time). Keep the users of a
+   * linked stateful chain in one process, or share state only within one chain of the link.
+   *
    * @param chain the shared chain
    * @param <I> input type
    * @param <O> output type

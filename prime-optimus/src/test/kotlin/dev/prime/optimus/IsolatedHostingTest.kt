@@ -126,6 +126,51 @@ class IsolatedHostingTest {
         }
     }
 
+    /**
+     * `PrimeCore.isolate` on Optimus: calls from users hosted in two processes never overlap in a
+     * shared chain of one service (its one host takes one call at a time), although each process
+     * keeps the turns of its own users only. The block waits (bounded) for a second call to enter
+     * beside it; none does.
+     */
+    @Test
+    fun usersInTwoProcessesNeverOverlapInASharedChainOfOneService() {
+        val name = "isolated-two-user-hosts-${System.nanoTime()}"
+        val inside = AtomicInteger()
+        val most = AtomicInteger()
+        val entered = AtomicInteger()
+        val second = CountDownLatch(2)
+        val block = Block<Int, Int> { x ->
+            most.accumulateAndGet(inside.incrementAndGet(), ::maxOf)
+            entered.incrementAndGet()
+            try {
+                second.countDown()
+                second.await(1, TimeUnit.SECONDS) // a second call entering beside this one ends the wait
+                x
+            } finally {
+                inside.decrementAndGet()
+            }
+        }
+        val cores = listOf(
+            core(name).hosts("counter").build(),
+            core(name).hosts("counter@1").build(),
+            core(name).hosts("counter@2").build(),
+            core(name).hosts(emptyList()).build(),
+        )
+        val pool = Executors.newFixedThreadPool(2)
+        try {
+            val users = cores.map { it.counter(block) }
+            cores.forEach { it.start() }
+            val (one, two) = users.last()
+            val calls: List<Future<Int>> = listOf(pool.submit<Int> { one.process(1) }, pool.submit<Int> { two.process(2) })
+            assertEquals(listOf(1, 2), calls.map { it.get(PATIENCE.toSeconds(), TimeUnit.SECONDS) })
+            assertEquals(2, entered.get(), "both calls ran")
+            assertEquals(1, most.get(), "calls in the shared chain at once")
+        } finally {
+            pool.shutdownNow()
+            cores.reversed().forEach { it.close() }
+        }
+    }
+
     private fun assertNamesServiceChainAndFix(message: String, service: String, chain: String) {
         assertTrue("'$service'" in message, "names the service: $message")
         assertTrue("isolated chain '$chain'" in message, "names the isolated chain: $message")
