@@ -1227,14 +1227,19 @@ public interface SourceConformance extends ConformanceBase {
   }
 
   /**
-   * Starts {@code reader.take()} on another thread and returns once that thread is about to call
-   * it (at most the kit's patience); an interrupt fails the future.
+   * Starts {@code reader.take()} on another thread and returns once that thread waits in it (in a
+   * park or a monitor), so that what the test does next meets a blocked take: at most the kit's
+   * patience for the thread to start, then at most 300 ms for it to wait (a media whose take waits
+   * in a socket read stays runnable, and then the bound passes). An interrupt fails the future.
    */
   private <T> CompletableFuture<T> takeOnAnotherThread(Reader<T> reader) throws InterruptedException {
     CountDownLatch calling = new CountDownLatch(1);
+    java.util.concurrent.atomic.AtomicReference<Thread> taker =
+        new java.util.concurrent.atomic.AtomicReference<>();
     CompletableFuture<T> taken =
         CompletableFuture.supplyAsync(
             () -> {
+              taker.set(Thread.currentThread());
               calling.countDown();
               try {
                 return reader.take();
@@ -1246,6 +1251,17 @@ public interface SourceConformance extends ConformanceBase {
     assertTrue(
         calling.await(patience().toMillis(), TimeUnit.MILLISECONDS),
         "the taking thread did not start");
+    long deadline = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(300);
+    CountDownLatch never = new CountDownLatch(1);
+    while (!taken.isDone() && System.nanoTime() < deadline) {
+      Thread.State state = taker.get().getState();
+      if (state == Thread.State.WAITING
+          || state == Thread.State.TIMED_WAITING
+          || state == Thread.State.BLOCKED) {
+        break;
+      }
+      never.await(1, TimeUnit.MILLISECONDS); // a bounded pause between two looks
+    }
     return taken;
   }
 }
