@@ -773,10 +773,27 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * from anywhere), nor a source's.
      */
     private fun servicesRunFor(node: String, topology: Topology, into: MutableSet<String>) {
-        calledServices[node]?.let(into::addAll)
-        val chain = topology.node(node).orElse(null) ?: return
-        if (!chain.isChain() || chain is TopologyNode.IsolatedUser) return
-        for (part in chain.parts()) servicesRunFor(part.node(), topology, into)
+        forEachNodeRunFor(node, topology) { name, _ -> calledServices[name]?.let(into::addAll) }
+    }
+
+    /**
+     * Gives [visit] each node that runs when chain [shared] is called, once, from [shared] down:
+     * the chain, each chain of a linked chain, the chains it runs (a template's parts, a repeater's
+     * chain), down to the blocks, with its topology node (`null` if the topology lacks it). A user
+     * of another isolated chain is visited but not walked into (its users' calls come from
+     * anywhere). Walked without recursion, for a linked chain of any length.
+     */
+    private inline fun forEachNodeRunFor(shared: String, topology: Topology, visit: (String, TopologyNode?) -> Unit) {
+        val seen = HashSet<String>()
+        val next = ArrayDeque<String>().apply { add(shared) }
+        while (next.isNotEmpty()) {
+            val name = next.removeLast()
+            if (!seen.add(name)) continue
+            val node = topology.node(name).orElse(null)
+            visit(name, node)
+            if (node == null || !node.isChain() || node is TopologyNode.IsolatedUser) continue
+            for (part in node.parts().asReversed()) next.addLast(part.node())
+        }
     }
 
     /** Records a reader the program opened on [source] in the topology. */
@@ -983,19 +1000,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * The services that run only for isolated chain [shared], read from the topology: the chain's
      * own (a chain of a block, a template, another core's chain), each chain of a linked chain, and
      * those of the chains it runs (a template's parts, a repeater's chain), down to the blocks; a
-     * user of another isolated chain is one, but not that chain's (its users guard it). Walked
-     * without recursion, for a linked chain of any length.
+     * user of another isolated chain is one, but not that chain's (its users guard it)
+     * ([forEachNodeRunFor]).
      */
     private fun isolatedServices(shared: String, topology: Topology): Set<String> {
         val found = LinkedHashSet<String>()
-        val seen = HashSet<String>()
-        val next = ArrayDeque<String>().apply { add(shared) }
-        while (next.isNotEmpty()) {
-            val node = topology.node(next.removeLast()).orElse(null) ?: continue
-            if (!node.isChain() || !seen.add(node.name())) continue
-            if (node.isService()) found += node.name()
-            if (node is TopologyNode.IsolatedUser) continue
-            for (part in node.parts().asReversed()) next.addLast(part.node())
+        forEachNodeRunFor(shared, topology) { _, node ->
+            if (node != null && node.isChain() && node.isService()) found += node.name()
         }
         return found
     }
