@@ -1204,9 +1204,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         withSession(what) { session ->
             var backoff: Backoff? = null
             while (true) {
-                val result = session.retryingUntil(deadline, what) { jedis ->
-                    if (source.view == null) source.refreshView(jedis, keys)
-                    step.execute(jedis, ack = 0, take = 0, strict = true)
+                val result = try {
+                    session.retryingUntil(deadline, what) { jedis ->
+                        if (source.view == null) source.refreshView(jedis, keys)
+                        step.execute(jedis, ack = 0, take = 0, strict = true)
+                    }
+                } catch (e: CoreClosedException) {
+                    // the wait between two attempts met the thread's interrupt flag on an open core:
+                    // not a close, and never a silent loss (an event source drops what a close ends)
+                    if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
+                    throw interruptedPublish(what, "to reach Redis again", mayBeStored = true).apply { initCause(e) }
                 }
                 when (result) {
                     is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
@@ -1215,13 +1222,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     is StepResult.Full -> {
                         val left = deadline - System.nanoTime()
                         if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
-                        if (Thread.currentThread().isInterrupted) throw interruptedPublish(what)
+                        if (Thread.currentThread().isInterrupted) throw interruptedPublish(what, FOR_ROOM, mayBeStored = false)
                         val wait = (backoff ?: Backoff().also { backoff = it }).next()
                         try {
                             connections.pauseInterruptibly(minOf(wait, (left + 999_999) / 1_000_000))
                         } catch (_: InterruptedException) {
                             Thread.currentThread().interrupt()
-                            throw interruptedPublish(what)
+                            throw interruptedPublish(what, FOR_ROOM, mayBeStored = false)
                         }
                     }
                 }
@@ -1230,9 +1237,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /** An interrupt ended a publish that waited for room: nothing was published, and the flag stays set. */
-    private fun interruptedPublish(what: String) = dev.prime.PrimeException(
-        "$what was interrupted while it waited for room in a service's queue; nothing was published (the thread's " +
-            "interrupt flag is kept)",
+    /**
+     * A publish that met its thread's interrupt flag while it waited [forWhat]: nothing was published, or, if an
+     * attempt's answer was lost with Redis ([mayBeStored]), all of it may have been, once (its ids skip a repeat).
+     */
+    private fun interruptedPublish(what: String, forWhat: String, mayBeStored: Boolean) = dev.prime.PrimeException(
+        "$what was interrupted while it waited $forWhat; " +
+            (if (mayBeStored) "it may not have been published (an attempt whose answer was lost may have stored it)" else "nothing was published") +
+            " (the thread's interrupt flag is kept)",
     )
 
     private fun queueFull(source: SourceKeys, full: StepResult.Full, count: Int): QueueFullException {
@@ -1535,6 +1547,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public companion object {
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
         private const val FAILURES_KEPT = 1024
+        private const val FOR_ROOM = "for room in a service's queue"
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
         private const val DELETE_KEYS_BATCH = 1_000

@@ -1,0 +1,46 @@
+package dev.prime.optimus
+
+import dev.prime.CoreClosedException
+import dev.prime.EventBlock
+import dev.prime.PrimeException
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import java.time.Duration
+
+/**
+ * A publish whose wait between attempts to reach Redis meets its thread's interrupt flag ends
+ * with a [PrimeException] that says so, the flag kept, on an open core: never in silence (the
+ * value would be lost without a word) and never as [CoreClosedException] (the core is open).
+ */
+class InterruptedPublishTest {
+
+    @Test
+    fun aPublishInterruptedWhileRedisIsUnreachableFailsSayingSoAndKeepsTheFlag() {
+        withProxiedReaderCore("interrupted-publish") { _, numbers, proxy, core ->
+            val events = EventBlock<Int>()
+            core.source("numbers", events)
+            core.start()
+            val reader = numbers.reader() // the same source, read through the publisher's core
+            proxy.refuse()
+            Thread.currentThread().interrupt()
+            val failure = try {
+                assertThrows(PrimeException::class.java) { events.publish(1) }
+            } finally {
+                assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
+            }
+            assertFalse(failure is CoreClosedException, "the core is open: $failure")
+            assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
+            assertTrue(failure.message!!.contains("'numbers'"), "names the source: ${failure.message}")
+            proxy.restore()
+            events.publish(2)
+            assertEquals(2, reader.take(PATIENCE).orElseThrow(), "the source publishes on")
+        }
+    }
+
+    private companion object {
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
+}
