@@ -34,7 +34,9 @@ import kotlin.coroutines.EmptyCoroutineContext
  * such as a [suspendingBlock] whose `withTimeout` ran out) is the block's failure, not the
  * call's cancellation: the call throws it as the cause of a [BlockCancelledException], so a
  * caller in a `launch` fails rather than ending without a word. (A chain's block reaches the
- * caller inside the media's `ChainFailedException`, which is no cancellation.)
+ * caller inside the media's `ChainFailedException`, which is no cancellation.) A block that
+ * interrupts its own thread leaves no flag on it: the thread that ran the block (a pooled
+ * thread, or with [EmptyCoroutineContext] the caller's) goes on with its flag cleared.
  *
  * @param input the input value
  * @param context where the block runs; [EmptyCoroutineContext] runs it on the caller's thread,
@@ -53,6 +55,11 @@ public suspend fun <I, O> Block<I, O>.processSuspending(
                 throw CarriedOut(interrupted)
             } catch (cancelled: CancellationException) {
                 throw CarriedOut(cancelled)
+            } finally {
+                // a flag the block set on its own thread stays with the block: the thread (a pooled
+                // one's next work) goes on without it, as a core's service clears it before its next
+                // value; a cancellation's own interrupt is recorded in the job, not in the flag
+                Thread.interrupted()
             }
         }
     } catch (cancelled: CancellationException) {

@@ -8,6 +8,7 @@ import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.TimeoutCancellationException
+import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.awaitCancellation
 import kotlinx.coroutines.cancel
 import kotlinx.coroutines.isActive
@@ -41,6 +42,43 @@ internal class ProcessSuspendingTest {
             assertTrue(isActive, "the calling coroutine was cancelled")
             assertInstanceOf(InterruptedException::class.java, failure, "what the call on $context threw")
             assertSame(interrupted, failure, "the block's own exception")
+        }
+    }
+
+    /**
+     * A block that interrupts its own thread and then returns (or throws) leaves no flag on the
+     * thread that ran it: the next coroutine that thread runs (a pooled thread's next work) starts
+     * without it, as a core's service clears the flag a block set before its next value.
+     */
+    @Test
+    fun `a block that interrupts its own thread leaves no flag on the thread that ran it`() {
+        // one thread that runs its tasks as they come and counts the tasks that left its flag set
+        // (a pooled thread's next work would start with it), clearing it to go on
+        val tasks = java.util.concurrent.LinkedBlockingQueue<Runnable>()
+        val flagsLeft = java.util.concurrent.atomic.AtomicInteger()
+        val stop = Runnable {}
+        val thread = Thread({
+            while (true) {
+                val task = tasks.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: break
+                if (task === stop) break
+                task.run()
+                if (Thread.interrupted()) flagsLeft.incrementAndGet()
+            }
+        }, "kit-one-thread").apply { isDaemon = true; start() }
+        val one = java.util.concurrent.Executor { tasks.put(it) }.asCoroutineDispatcher()
+        try {
+            runBlocking {
+                val returns = Block<Int, Int> { x -> Thread.currentThread().interrupt(); x }
+                val throws = Block<Int, Int> { Thread.currentThread().interrupt(); throw IllegalStateException("after") }
+                assertTrue(returns.processSuspending(7, one) == 7, "the block's value")
+                val failure = runCatching { throws.processSuspending(7, one) }.exceptionOrNull()
+                assertInstanceOf(IllegalStateException::class.java, failure, "the block's failure")
+                kotlinx.coroutines.withContext(one) {} // runs after the calls' tasks on that thread
+            }
+            assertTrue(flagsLeft.get() == 0, "tasks that left the thread's flag set: ${flagsLeft.get()}")
+        } finally {
+            tasks.put(stop)
+            thread.join(WAIT_MILLIS)
         }
     }
 
