@@ -348,18 +348,11 @@ public interface InterruptConformance extends ConformanceBase {
   @Test
   default void anIsolatedChainCalledFromInsideItselfFailsInsteadOfWaitingForItself()
       throws InterruptedException {
-    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
-    PrimeCore core = newCore();
-    try {
-      Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.chain(
-                  "counter",
-                  (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0));
-      assertAFailedCallFromInsideItself(core, isolated, inner);
-    } finally {
-      core.close();
-    }
+    assertAFailedCallFromInsideItself(
+        (core, inner) ->
+          core.chain(
+              "counter",
+              (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0));
   }
 
   /**
@@ -369,19 +362,12 @@ public interface InterruptConformance extends ConformanceBase {
   @Test
   default void aLinkedIsolatedChainCalledFromItsLaterChainFailsInsteadOfWaitingForItself()
       throws InterruptedException {
-    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
-    PrimeCore core = newCore();
-    try {
-      Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.link(
-                  core.chain("take", (Integer x) -> x),
-                  core.chain(
-                      "count", (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0)));
-      assertAFailedCallFromInsideItself(core, isolated, inner);
-    } finally {
-      core.close();
-    }
+    assertAFailedCallFromInsideItself(
+        (core, inner) ->
+          core.link(
+              core.chain("take", (Integer x) -> x),
+              core.chain(
+                  "count", (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0)));
   }
 
   /**
@@ -391,19 +377,12 @@ public interface InterruptConformance extends ConformanceBase {
   @Test
   default void anIsolatedTemplateCalledFromOneOfItsChainsFailsInsteadOfWaitingForItself()
       throws InterruptedException {
-    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
-    PrimeCore core = newCore();
-    try {
-      Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.ifThenElse(
-                  (Integer x) -> x > 0,
-                  core.chain("count", (Integer x) -> inner.get().process(x - 1) + 1),
-                  core.chain("zero", (Integer x) -> 0)));
-      assertAFailedCallFromInsideItself(core, isolated, inner);
-    } finally {
-      core.close();
-    }
+    assertAFailedCallFromInsideItself(
+        (core, inner) ->
+          core.ifThenElse(
+              (Integer x) -> x > 0,
+              core.chain("count", (Integer x) -> inner.get().process(x - 1) + 1),
+              core.chain("zero", (Integer x) -> 0)));
   }
 
   /**
@@ -413,19 +392,12 @@ public interface InterruptConformance extends ConformanceBase {
   @Test
   default void anIsolatedRepeaterCalledFromItsChainFailsInsteadOfWaitingForItself()
       throws InterruptedException {
-    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
-    PrimeCore core = newCore();
-    try {
-      Isolated<Integer, Integer> isolated =
-          core.isolate(
-              core.repeater(
-                  core.chain(
-                      "round", (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0),
-                  (Integer in, Integer out, List<Void> none) -> Repeat.stop(out)));
-      assertAFailedCallFromInsideItself(core, isolated, inner);
-    } finally {
-      core.close();
-    }
+    assertAFailedCallFromInsideItself(
+        (core, inner) ->
+          core.repeater(
+              core.chain(
+                  "round", (Integer x) -> x > 0 ? inner.get().process(x - 1) + 1 : 0),
+              (Integer in, Integer out, List<Void> none) -> Repeat.stop(out)));
   }
 
   /**
@@ -449,6 +421,24 @@ public interface InterruptConformance extends ConformanceBase {
       inner.set(isolated.newUser().toBlock());
       assertEquals(0, outer.process(0), "a call that does not re-enter");
       assertAFailedReentry(outer, inner);
+    } finally {
+      core.close();
+    }
+  }
+
+  /**
+   * On a new core, isolates the chain {@code shared} makes (whose block calls {@code inner}) and
+   * checks it as {@link #assertAFailedCallFromInsideItself(PrimeCore, Isolated, AtomicReference)}.
+   */
+  private void assertAFailedCallFromInsideItself(
+      java.util.function.BiFunction<
+              PrimeCore, AtomicReference<Block<Integer, Integer>>, Chain<Integer, Integer>>
+          shared)
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> inner = new AtomicReference<>();
+    PrimeCore core = newCore();
+    try {
+      assertAFailedCallFromInsideItself(core, core.isolate(shared.apply(core, inner)), inner);
     } finally {
       core.close();
     }

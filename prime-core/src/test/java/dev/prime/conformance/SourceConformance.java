@@ -348,48 +348,9 @@ public interface SourceConformance extends ConformanceBase {
   @Test
   default void aConflatedReaderHasTheReadersLifecycle() throws Exception {
     PrimeCore core = newCore();
-    try (core) {
-      EventBlock<Integer> events = new EventBlock<>();
-      Source<Integer> source = core.source("numbers", events);
-      Reader<Integer> closing = source.conflatedReader();
-      Reader<Integer> open = source.conflatedReader();
-      core.start();
-      events.publish(1);
-      assertEquals(1, takeOrFail(closing));
-      CompletableFuture<Integer> blocked = takeOnAnotherThread(closing);
-      closing.close();
-      closing.close(); // idempotent
-      ExecutionException woken =
-          assertThrows(
-              ExecutionException.class,
-              () -> blocked.get(patience().toMillis(), TimeUnit.MILLISECONDS));
-      assertTrue(
-          woken.getCause() instanceof IllegalStateException
-              && !(woken.getCause() instanceof CoreClosedException)
-              && String.valueOf(woken.getCause().getMessage()).contains("reader closed"),
-          "a take blocked at close() ends with IllegalStateException: " + woken.getCause());
-      List<Executable> calls =
-          List.of(
-              closing::take,
-              () -> closing.take(Duration.ofMillis(10)),
-              closing::poll,
-              closing::drain,
-              closing::missed);
-      for (Executable call : calls) {
-        IllegalStateException e = assertThrows(IllegalStateException.class, call);
-        assertTrue(String.valueOf(e.getMessage()).contains("reader closed"), e.getMessage());
-      }
-      events.publish(2);
-      assertEquals(2, takeOrFail(open), "the other conflated reader reads on");
-      core.close();
-      List<Executable> onClosedCore =
-          List.of(open::take, () -> open.take(Duration.ofMillis(10)), open::poll, open::drain);
-      for (Executable call : onClosedCore) {
-        assertThrows(CoreClosedException.class, call);
-      }
-      open.close(); // on a closed core too: no exception
-    }
-    ConformanceBase.assertNoThreadsLeft(core);
+    EventBlock<Integer> events = new EventBlock<>();
+    assertReadersLifecycle(
+        core, events, core.source("numbers", events), Source::conflatedReader, List.of(2));
   }
 
   /**
@@ -694,9 +655,24 @@ public interface SourceConformance extends ConformanceBase {
    */
   private void assertReadersLifecycle(PrimeCore core, EventBlock<Integer> events, Source<Integer> source)
       throws Exception {
+    assertReadersLifecycle(core, events, source, Source::reader, List.of(1, 2));
+  }
+
+  /**
+   * As {@link #assertReadersLifecycle(PrimeCore, EventBlock, Source)}, for the readers {@code
+   * reading} opens ({@link Source#reader()}, {@link Source#conflatedReader()}): the open one reads
+   * {@code theOtherReads} after the other closed.
+   */
+  private void assertReadersLifecycle(
+      PrimeCore core,
+      EventBlock<Integer> events,
+      Source<Integer> source,
+      java.util.function.Function<Source<Integer>, Reader<Integer>> reading,
+      List<Integer> theOtherReads)
+      throws Exception {
     try {
-      Reader<Integer> open = source.reader();
-      Reader<Integer> closing = source.reader();
+      Reader<Integer> open = reading.apply(source);
+      Reader<Integer> closing = reading.apply(source);
       core.start();
       events.publish(1);
       assertEquals(1, takeOrFail(closing));
@@ -727,9 +703,9 @@ public interface SourceConformance extends ConformanceBase {
         assertTrue(e.getMessage().contains("reader closed"), e.getMessage());
       }
       events.publish(2);
-      assertEquals(List.of(1, 2), takeOrFail(open, 2), "the other reader reads on");
+      assertEquals(theOtherReads, takeOrFail(open, theOtherReads.size()), "the other reader reads on");
       core.close();
-      assertThrows(CoreClosedException.class, source::reader);
+      assertThrows(CoreClosedException.class, () -> reading.apply(source));
       List<Executable> onClosedCore =
           List.of(open::take, () -> open.take(Duration.ofMillis(10)), open::poll, open::drain);
       for (Executable call : onClosedCore) {

@@ -330,11 +330,7 @@ public interface ValueCopyConformance extends ConformanceBase {
   @Test
   default void aZipsTuplesAreCopiedThroughTheCodec() throws InterruptedException {
     List<String> failures = Collections.synchronizedList(new ArrayList<>());
-    CoreConfig config =
-        CoreConfig.builder()
-            .copyValues(copyCodec())
-            .errorHandler((service, input, error) -> failures.add(service + ": " + error))
-            .build();
+    CoreConfig config = copyingCollectingFailures(failures);
     try (PrimeCore core = newCoreWithCodec(config)) {
       EventBlock<Integer> numbers = new EventBlock<>();
       EventBlock<String> names = new EventBlock<>();
@@ -370,11 +366,7 @@ public interface ValueCopyConformance extends ConformanceBase {
   @Test
   default void aTimersTicksAreCopiedThroughTheCodec() throws InterruptedException {
     List<String> failures = Collections.synchronizedList(new ArrayList<>());
-    CoreConfig config =
-        CoreConfig.builder()
-            .copyValues(copyCodec())
-            .errorHandler((service, input, error) -> failures.add(service + ": " + error))
-            .build();
+    CoreConfig config = copyingCollectingFailures(failures);
     try (PrimeCore core = newCoreWithCodec(config)) {
       Source<Tick> ticks = core.timer("ticks", Duration.ofMillis(20));
       Reader<Tick> reader = ticks.reader();
@@ -391,5 +383,16 @@ public interface ValueCopyConformance extends ConformanceBase {
     Unshippable made = new Unshippable();
     made.count = count;
     return made;
+  }
+
+  /**
+   * A config whose values all go through the kit's copy codec and whose error handler adds each
+   * failure to {@code failures} as "service: error".
+   */
+  private CoreConfig copyingCollectingFailures(List<String> failures) {
+    return CoreConfig.builder()
+        .copyValues(copyCodec())
+        .errorHandler((service, input, error) -> failures.add(service + ": " + error))
+        .build();
   }
 }
