@@ -1,5 +1,6 @@
 package dev.prime;
 
+import java.time.DateTimeException;
 import java.time.Instant;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
@@ -69,13 +70,14 @@ final class Ticking implements Runnable {
     long count = 0;
     while (!Thread.currentThread().isInterrupted() && !core.isClosed()) {
       count++;
-      long sinceOrigin;
       long due;
+      Instant dueTime;
       try {
-        sinceOrigin = Math.multiplyExact(count, periodNanos);
+        long sinceOrigin = Math.multiplyExact(count, periodNanos);
         due = Math.addExact(origin, sinceOrigin);
-      } catch (ArithmeticException pastTheClock) {
-        awaitTheEnd(); // this tick and every later one are due past the clock's last reading
+        dueTime = time.plusNanos(sinceOrigin);
+      } catch (ArithmeticException | DateTimeException pastTheClock) {
+        awaitTheEnd(); // this tick and every later one are due past what the clock can read
         return;
       }
       if (!sleepUntil(clock, due, count)) {
@@ -84,7 +86,6 @@ final class Ticking implements Runnable {
       if (!core.isHostedHere(name)) {
         continue; // another process took the hosting over: it ticks now
       }
-      Instant dueTime = time.plusNanos(sinceOrigin);
       try {
         action.accept(count, dueTime);
       } catch (CoreClosedException e) {
@@ -139,9 +140,10 @@ final class Ticking implements Runnable {
 
   /**
    * Waits until the loop must end (an interrupt: the core closing), for a tick due past the last
-   * reading the clock's long holds (a period of a century, from its third tick on): it is never
-   * due. It is not taken as due at {@code Long.MAX_VALUE}, which a {@link VirtualClock} advanced
-   * to its end reads: that would publish it, and every later tick, at once, stamped wrong.
+   * reading the clock's long holds (a period of a century, from its third tick on), or at a time
+   * past {@link Instant#MAX} (a clock whose {@code now()} starts near it): it is never due. It is
+   * not taken as due at {@code Long.MAX_VALUE}, which a {@link VirtualClock} advanced to its end
+   * reads: that would publish it, and every later tick, at once, stamped wrong.
    */
   private static void awaitTheEnd() {
     try {

@@ -374,6 +374,37 @@ public interface CombinatorConformance extends ConformanceBase {
     awaitNoThreadsLeft(core); // the timer waiting for a tick that never comes ended at close
   }
 
+  /**
+   * A tick due at a time no {@link Instant} holds (a clock started near {@link Instant#MAX}) is
+   * never due, as one past the clock's last reading: the timer's thread waits for the close
+   * rather than dying with the time's overflow.
+   */
+  @Test
+  default void aTimerWhoseNextTickFallsPastTheLastInstantWaitsForTheClose()
+      throws InterruptedException {
+    Instant origin = Instant.MAX.minusMillis(1500);
+    VirtualClock clock = new VirtualClock(origin);
+    Duration second = Duration.ofSeconds(1);
+    BlockingQueue<Throwable> died = new LinkedBlockingQueue<>();
+    Thread.UncaughtExceptionHandler before = Thread.getDefaultUncaughtExceptionHandler();
+    Thread.setDefaultUncaughtExceptionHandler((thread, error) -> died.add(error));
+    try {
+      PrimeCore core = newCore(CoreConfig.builder().clock(clock).build());
+      try (core) {
+        Reader<Tick> ticks = core.timer("last", second).reader();
+        core.start();
+        clock.advance(second);
+        assertEquals(new Tick(1, origin.plus(second)), takeOrFail(ticks));
+        clock.advance(second);
+        assertEquals(Optional.empty(), ticks.take(quiet()), "tick 2 falls past Instant.MAX");
+        assertEquals(List.of(), List.copyOf(died), "no thread of the core died");
+      }
+      awaitNoThreadsLeft(core);
+    } finally {
+      Thread.setDefaultUncaughtExceptionHandler(before);
+    }
+  }
+
   /** Waits, bounded by {@link #patience()}, until the service named took {@code count} values. */
   private void awaitValuesIn(PrimeCore core, String service, long count) throws InterruptedException {
     long deadline = System.nanoTime() + patience().toNanos();
