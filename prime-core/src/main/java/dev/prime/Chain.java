@@ -36,6 +36,12 @@ public interface Chain<I, O> {
    * block inside the chain reaches the caller as a {@link ChainFailedException} naming the chain.
    * For media whose chains are services (Optimus) the core must be started first.
    *
+   * <p>A block inside the chain that calls the returned block (recursion) recurses on Liberty and
+   * Radiant, where the call runs on the caller's thread; on Optimus, whose services take one
+   * request at a time, that call fails at once with an {@link IllegalStateException} (see the
+   * architecture's <i>Errors</i>). For recursion on every media, let the block call a method of
+   * its own.
+   *
    * @return a block that runs this chain
    * @throws ChainAlreadyUsedException if the chain was already consumed
    */

@@ -9,6 +9,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
 import dev.prime.Chain;
+import dev.prime.ChainFailedException;
 import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
@@ -423,6 +424,64 @@ public interface InterruptConformance extends ConformanceBase {
       assertAFailedReentry(outer, inner);
     } finally {
       core.close();
+    }
+  }
+
+  /**
+   * A chain whose block calls its own chain (recursion through the block {@code toBlock()} made)
+   * never waits for itself (architecture, <i>Errors</i>): where the whole call runs on the
+   * caller's thread (Liberty, Radiant) it recurses as a method would; where the chain is a service
+   * that takes one request at a time (Optimus), the inner call fails at once with an {@link
+   * IllegalStateException} that says so, the outer call with it, and the chain serves the next
+   * call.
+   */
+  @Test
+  default void aChainThatCallsItselfRecursesOnTheCallersThreadOrFailsAtOnce()
+      throws InterruptedException {
+    assertACallOfItsOwnChain(
+        (core, self) ->
+            core.chain("counter", (Integer x) -> x > 0 ? self.get().process(x - 1) + 1 : 0));
+  }
+
+  /** As above, a linked chain called by its later chain (on Optimus a service of its own). */
+  @Test
+  default void aLinkedChainCalledFromItsLaterChainRecursesOnTheCallersThreadOrFailsAtOnce()
+      throws InterruptedException {
+    assertACallOfItsOwnChain(
+        (core, self) ->
+            core.link(
+                core.chain("take", (Integer x) -> x),
+                core.chain(
+                    "count", (Integer x) -> x > 0 ? self.get().process(x - 1) + 1 : 0)));
+  }
+
+  /**
+   * On a new core, makes the block of the chain {@code recursive} makes (whose block calls {@code
+   * self}, set here to that very block), and calls it with 3: 3 where blocks run on the caller's
+   * thread, else a failure whose cause is the inner call's IllegalStateException; then with 0.
+   */
+  private void assertACallOfItsOwnChain(
+      java.util.function.BiFunction<
+              PrimeCore, AtomicReference<Block<Integer, Integer>>, Chain<Integer, Integer>>
+          recursive)
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> self = new AtomicReference<>();
+    try (PrimeCore core = newCore()) {
+      Block<Integer, Integer> chain = recursive.apply(core, self).toBlock();
+      self.set(chain);
+      core.start();
+      assertEquals(0, chain.process(0), "a call that does not recurse");
+      if (blocksRunOnTheCallersThread()) {
+        assertEquals(3, chain.process(3), "the chain recursed three times");
+      } else {
+        Caller recursing = new Caller("recursing", () -> chain.process(3));
+        Throwable failure = recursing.awaitFailure(patience());
+        assertInstanceOf(ChainFailedException.class, failure, "the outer call fails");
+        Throwable cause = failure.getCause();
+        assertInstanceOf(IllegalStateException.class, cause, "the inner call's failure: " + failure);
+        assertTrue(cause.getMessage().contains("from inside itself"), "says what is wrong: " + cause);
+      }
+      assertEquals(0, chain.process(0), "the chain serves the next call");
     }
   }
 

@@ -502,6 +502,26 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun runningRequest(): RunningRequest = runningRequests.get()
 
     /**
+     * Refuses a call to chain [chainName], whose own services are [services], made on a thread
+     * that runs a request's block of one of them (a chain that calls itself, or a linked chain
+     * called from its later chain): that service takes one request at a time (one host, one
+     * thread, unless it is [Hosting.UNORDERED]), so the call would wait for the request that makes
+     * it, until [Builder.callTimeout]. Costs a calling thread one thread-local read.
+     */
+    internal fun refuseCallThroughItself(chainName: String, services: Set<String>) {
+        val running = runningRequests.get()
+        if (!running.active) return
+        val service = running.service ?: return
+        if (service !in services || sharedHosting.modeOf(service) == Hosting.UNORDERED) return
+        throw IllegalStateException(
+            "chain '$chainName' was called from inside itself: the block of service '$service', which the call " +
+                "runs through, called it on the thread that runs it. On Optimus a service takes one request at a " +
+                "time, so the call would wait for itself. For recursion, let the block call a method of its own " +
+                "rather than its chain",
+        )
+    }
+
+    /**
      * Whether the caller of the request this service thread runs a block for gave up after the
      * service took it: its mark ([AbandonedCalls]) is in Redis. False on a thread that runs no
      * request (a value, a caller's own thread), and when Redis cannot tell now.
@@ -744,7 +764,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         bind(stages, null, counted = false)
         calledServices[chainName] = stages.map { it.name }
         val first = stages.first().name
-        val call = RemoteCall<I, O>(this, chainName, first, keys.serviceInput(first))
+        val call = RemoteCall<I, O>(this, chainName, first, stages.mapTo(LinkedHashSet()) { it.name }, keys.serviceInput(first))
         unresolvedCalls += call
         if (isStarted) resolveSelfCalls() // else start() does
         return call

@@ -18,6 +18,8 @@ internal class RemoteCall<I, O>(
     private val chainName: String,
     /** The chain's first service, the one the call goes to. */
     val firstService: String,
+    /** The chain's own services, [firstService] first: each chain of a linked chain. */
+    private val services: Set<String>,
     private val input: ByteArray,
 ) : Block<I, O> {
     /**
@@ -31,6 +33,7 @@ internal class RemoteCall<I, O>(
         core.checkOpen()
         core.checkStarted("calling chain '$chainName'")
         selfCalls?.check(chainName)
+        core.refuseCallThroughItself(chainName, services)
         val payload = core.encode(value)
         // the deadline counts from here: a thread's first call records its reply list within it too
         val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }
