@@ -19,6 +19,7 @@ import kotlinx.coroutines.flow.Flow
 import kotlinx.coroutines.job
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.runInterruptible
+import org.slf4j.LoggerFactory
 import java.time.Duration
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
@@ -45,11 +46,13 @@ public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBloc
  * Failures go to the core's error handler under the source's name: a value that cannot be
  * published (such as a value an Optimus codec refuses) with that value as the input, after which
  * collection carries on with the next value (whatever the publish throws, an `Error` such as an
- * `AssertionError` included, as for the core's services; only a `VirtualMachineError` ends the
- * collection); a failure of the flow itself with the flow as the input, after which the source
- * publishes nothing more. A cancellation the flow throws while the core runs (a `withTimeout` in
- * it that runs out) is such a failure. As everywhere in the core, an error handler that throws is
- * logged and ignored, and collection goes on.
+ * `AssertionError` included, as for the core's services); a failure of the flow itself with the
+ * flow as the input, after which the source publishes nothing more. A cancellation the flow
+ * throws while the core runs (a `withTimeout` in it that runs out) is such a failure. As
+ * everywhere in the core, an error handler that throws is logged and ignored, and collection goes
+ * on. A `VirtualMachineError` (from the flow or a publish) is neither: as for the core's
+ * services, it ends the collection, the error handler does not get it, and it is logged at ERROR
+ * as `the flow feeding source '<name>' of core '<core>' stops: <the error>`.
  *
  * An interrupt flag on the collecting thread is not the core's close, which cancels the
  * collection: a flag the flow's own code leaves set (a blocking call in it that restored the
@@ -79,6 +82,9 @@ private inline fun <T : Any> PrimeCore.feed(
     whenRunning(source.name(), feed::start, feed::stop)
     return source
 }
+
+/** Where a flow source that a `VirtualMachineError` ends says so, as the core's services do. */
+private val LOG = LoggerFactory.getLogger(FlowFeed::class.java)
 
 /** The [FlowFeed] whose collection runs on this thread, if any. */
 private val feeding = ThreadLocal<FlowFeed<*>>()
@@ -155,6 +161,7 @@ private class FlowFeed<T : Any>(
                 }
             }
         } catch (fatal: VirtualMachineError) {
+            LOG.error("the flow feeding source '{}' of core '{}' stops: {}", name, core.name(), fatal.toString())
             throw fatal
         } catch (failure: Throwable) {
             if (failure is CancellationException) {

@@ -6,6 +6,7 @@ import dev.prime.EventBlock
 import dev.prime.Reader
 import dev.prime.Source
 import dev.prime.ValueCodec
+import dev.prime.conformance.CapturedStderr
 import kotlinx.coroutines.CompletableDeferred
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.TimeoutCancellationException
@@ -426,6 +427,40 @@ internal abstract class FlowKit(private val media: Media) {
             assertEquals(null, failures.poll(), "one failure only")
         }
     }
+
+    /**
+     * `PrimeCore.source(name, flow)`: a `VirtualMachineError` the flow throws ends the collection,
+     * as it ends a core's service: never silently (an ERROR line names the source and the error),
+     * not through the error handler, and the core still closes.
+     */
+    @Test
+    fun `a VirtualMachineError from the flow ends the collection with an ERROR line naming the source`(): Unit = runBlocking {
+        val failures = ArrayBlockingQueue<Throwable>(4)
+        val config = CoreConfig.builder().errorHandler { _, _, error -> failures.add(error) }.build()
+        CapturedStderr().use { stderr ->
+            media.newCore(config).use { core ->
+                val source = core.source("deep", flow {
+                    emit(1)
+                    throw StackOverflowError("thrown by the flow")
+                })
+                source.reader().use { reader ->
+                    core.start()
+                    assertEquals(1, reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow())
+                    val deadline = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(WAIT_MILLIS)
+                    val pause = CountDownLatch(1)
+                    while (stderr.lines().none { it.isStopLineOf("deep") } && System.nanoTime() < deadline) {
+                        pause.await(5, TimeUnit.MILLISECONDS) // a bounded pause between two looks
+                    }
+                    val line = stderr.lines().firstOrNull { it.isStopLineOf("deep") }
+                    assertTrue(line != null && "thrown by the flow" in line, "the ERROR line: $line")
+                }
+            }
+        }
+        assertEquals(null, failures.poll(), "the error handler does not get it")
+    }
+
+    private fun String.isStopLineOf(source: String): Boolean =
+        "ERROR" in this && "the flow feeding source '$source'" in this && "stops: java.lang.StackOverflowError" in this
 
     /**
      * `PrimeCore.source(name, flow)`: an interrupt flag on the collecting thread is not the core's
