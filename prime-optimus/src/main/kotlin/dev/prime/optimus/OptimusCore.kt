@@ -845,6 +845,22 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * [System.nanoTime], `null`: no limit), else [RedisUnavailableException] naming the call to
      * [chainName].
      */
+    /**
+     * Runs [op], a step of a call to chain [chainName] that may wait between two attempts to reach
+     * Redis (an outage). That wait ends with [CoreClosedException] when the thread's interrupt flag
+     * is set: on an open core, the call fails instead with a [dev.prime.PrimeException] that says
+     * it was interrupted, as a wait for the reply does, the flag kept.
+     */
+    internal inline fun <T> reachingRedisFor(chainName: String, op: () -> T): T = try {
+        op()
+    } catch (e: CoreClosedException) {
+        if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
+        throw dev.prime.PrimeException(
+            "the call to chain '$chainName' was interrupted while it waited to reach Redis again; its request may " +
+                "have reached the service (the thread's interrupt flag is kept)",
+        ).apply { initCause(e) }
+    }
+
     internal fun borrowSlot(deadline: Long?, chainName: String): CallerSlot = idleSlots.poll() ?: newSlot(deadline, chainName)
 
     private fun newSlot(deadline: Long?, chainName: String): CallerSlot {

@@ -37,7 +37,7 @@ internal class RemoteCall<I, O>(
         val payload = core.encode(value)
         // the deadline counts from here: a thread's first call records its reply list within it too
         val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }
-        val slot = core.borrowSlot(deadline, chainName)
+        val slot = core.reachingRedisFor(chainName) { core.borrowSlot(deadline, chainName) }
         try {
             @Suppress("UNCHECKED_CAST")
             return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline) } as O
@@ -92,6 +92,12 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
     /** Calls the service of [chainName] with [payload]; gives up at [deadline] (a [System.nanoTime]; `null`: never). */
     fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?): Any? {
         val id = core.ids.next()
+        val reply = core.reachingRedisFor(chainName) { awaitReply(id, input, payload, chainName, deadline) }
+        return answer(reply, id)
+    }
+
+    /** Sends the request [id] and returns its reply (see [call]). */
+    private fun awaitReply(id: Long, input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?): Envelope {
         val request = Envelope.request(id, replyKey, payload)
         val what = "the call to service '$chainName'"
         var pending = try {
@@ -120,7 +126,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
             pending?.let { reply ->
                 pending = null
                 val envelope = Envelope.parse(reply)
-                if (envelope.id == id) return answer(envelope, id)
+                if (envelope.id == id) return envelope
                 session.retryingUntil(deadline, what) { it.lrem(replyKey, 1, reply) } // a late reply to an earlier call
             }
             if (Thread.currentThread().isInterrupted) {
