@@ -35,4 +35,5 @@ public interface MediaConformance
         ThreadNameConformance,
         RecordedKindsConformance,
         MeteredKindsConformance,
-        ConcurrentDeclarationConformance {}
+        ConcurrentDeclarationConformance,
+        CoreReleaseConformance {}
