@@ -36,4 +36,5 @@ public interface MediaConformance
         RecordedKindsConformance,
         MeteredKindsConformance,
         ConcurrentDeclarationConformance,
-        CoreReleaseConformance {}
+        CoreReleaseConformance,
+        BlockKindsConformance {}
