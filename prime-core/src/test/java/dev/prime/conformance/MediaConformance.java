@@ -37,4 +37,5 @@ public interface MediaConformance
         MeteredKindsConformance,
         ConcurrentDeclarationConformance,
         CoreReleaseConformance,
-        BlockKindsConformance {}
+        BlockKindsConformance,
+        UnusualNameConformance {}
