@@ -302,6 +302,9 @@ class FusionTest {
     assertTrue(trace[0].getClassName().equals(FusionTest.class.getName()), trace[0].toString());
     assertEquals(block.getClass().getName(), trace[1].getClassName(), List.of(trace).toString());
     assertEquals("process", trace[1].getMethodName());
+    assertEquals(
+        block.toString(), trace[1].getFileName(), "the frame names its chain: " + trace[1]);
+    assertTrue(block.toString().startsWith("fused Radiant chain '"), block.toString());
     assertEquals(block.getClass().getName(), e.getStackTrace()[0].getClassName(),
         "the wrapper is made in the fused class");
   }

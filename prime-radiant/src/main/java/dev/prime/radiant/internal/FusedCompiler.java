@@ -114,6 +114,7 @@ public final class FusedCompiler {
             .intercept(FixedValue.value(description + chainName + "'"))
             .visit(new AsmVisitorWrapper.ForDeclaredMethods().writerFlags(ClassWriter.COMPUTE_FRAMES))
             .visit(new StaticFieldsWriter(fields))
+            .visit(new SourceFileWriter(description + chainName + "'"))
             .make(TYPES)
             .getBytes();
 
