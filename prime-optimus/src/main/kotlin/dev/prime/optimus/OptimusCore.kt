@@ -841,11 +841,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
-     * An idle caller slot, or a new one, whose reply list is recorded by [deadline] (a call's; a
-     * [System.nanoTime], `null`: no limit), else [RedisUnavailableException] naming the call to
-     * [chainName].
-     */
-    /**
      * Runs [op], a step of a call to chain [chainName] that may wait between two attempts to reach
      * Redis (an outage). That wait ends with [CoreClosedException] when the thread's interrupt flag
      * is set: on an open core, the call fails instead with a [dev.prime.PrimeException] that says
@@ -861,6 +856,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         ).apply { initCause(e) }
     }
 
+    /**
+     * An idle caller slot, or a new one, whose reply list is recorded by [deadline] (a call's; a
+     * [System.nanoTime], `null`: no limit), else [RedisUnavailableException] naming the call to
+     * [chainName].
+     */
     internal fun borrowSlot(deadline: Long?, chainName: String): CallerSlot = idleSlots.poll() ?: newSlot(deadline, chainName)
 
     private fun newSlot(deadline: Long?, chainName: String): CallerSlot {
@@ -1272,7 +1272,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
 
-    /** An interrupt ended a publish that waited for room: nothing was published, and the flag stays set. */
     /**
      * A publish that met its thread's interrupt flag while it waited [forWhat]: nothing was published, or, if an
      * attempt's answer was lost with Redis ([mayBeStored]), all of it may have been, once (its ids skip a repeat).
