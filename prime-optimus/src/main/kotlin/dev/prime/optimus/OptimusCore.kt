@@ -389,35 +389,59 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     // ------------------------------------------------------------------ dead letters
 
-    /** The values service [service] gave up on, oldest first (see [DeadLetter]). */
+    /**
+     * The values service [service] gave up on, oldest first (see [DeadLetter]). While Redis is
+     * unreachable it waits for Redis.
+     *
+     * @throws dev.prime.PrimeException if the thread is interrupted while it waits for Redis (the flag is kept)
+     * @throws CoreClosedException if the core is closed
+     */
     public fun deadLetters(service: String): List<DeadLetter> {
         checkOpen()
-        return withSession { session -> session.retrying { it.lrange(keys.deadLetters(service), 0, -1) } }
-            .map { DeadLetter.decode(service, it) }
+        return interruptibleInOutage({ "reading the dead letters of service '$service'" }) {
+            withSession { session -> session.retrying { it.lrange(keys.deadLetters(service), 0, -1) } }
+        }.map { DeadLetter.decode(service, it) }
     }
 
     /**
      * How many dead letters of [service] were dropped, oldest first, to keep its list within
      * [Builder.deadLetterLimit] (since the topology's Redis data was created; [clearDeadLetters]
-     * does not reset it).
+     * does not reset it). While Redis is unreachable it waits for Redis.
+     *
+     * @throws dev.prime.PrimeException if the thread is interrupted while it waits for Redis (the flag is kept)
+     * @throws CoreClosedException if the core is closed
      */
     public fun trimmedDeadLetters(service: String): Long {
         checkOpen()
-        return withSession("read the dead-letter count of service '$service'") { session ->
-            session.retrying { it.get(keys.deadLettersTrimmed(service)) }
+        return interruptibleInOutage({ "reading how many dead letters of service '$service' were dropped" }) {
+            withSession("read the dead-letter count of service '$service'") { session ->
+                session.retrying { it.get(keys.deadLettersTrimmed(service)) }
+            }
         }?.toString(UTF_8)?.toLong() ?: 0L
     }
 
-    /** Deletes the dead letters of [service]; returns how many there were. */
+    /**
+     * Deletes the dead letters of [service]; returns how many there were. While Redis is
+     * unreachable it waits for Redis.
+     *
+     * @throws dev.prime.PrimeException if the thread is interrupted while it waits for Redis (the
+     *   flag is kept; an attempt whose answer was lost may have deleted them)
+     * @throws CoreClosedException if the core is closed
+     */
     public fun clearDeadLetters(service: String): Int {
         checkOpen()
-        return withSession { session ->
-            session.retrying { jedis ->
-                val transaction = jedis.multi()
-                val length = transaction.llen(keys.deadLetters(service))
-                transaction.del(keys.deadLetters(service))
-                transaction.exec()
-                length.get().toInt()
+        return interruptibleInOutage(
+            { "clearing the dead letters of service '$service'" },
+            "; an attempt whose answer was lost may have cleared them",
+        ) {
+            withSession { session ->
+                session.retrying { jedis ->
+                    val transaction = jedis.multi()
+                    val length = transaction.llen(keys.deadLetters(service))
+                    transaction.del(keys.deadLetters(service))
+                    transaction.exec()
+                    length.get().toInt()
+                }
             }
         }
     }
@@ -842,17 +866,24 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Runs [op], a step of a call to chain [chainName] that may wait between two attempts to reach
-     * Redis (an outage). That wait ends with [CoreClosedException] when the thread's interrupt flag
-     * is set: on an open core, the call fails instead with a [dev.prime.PrimeException] that says
-     * it was interrupted, as a wait for the reply does, the flag kept.
+     * Redis (an outage), as [interruptibleInOutage]: interrupted there on an open core, the call
+     * fails with a [dev.prime.PrimeException] that says so, as a wait for the reply does, the flag kept.
      */
-    internal inline fun <T> reachingRedisFor(chainName: String, op: () -> T): T = try {
+    internal inline fun <T> reachingRedisFor(chainName: String, op: () -> T): T =
+        interruptibleInOutage({ "the call to chain '$chainName'" }, "; its request may have reached the service", op)
+
+    /**
+     * Runs [op], which may wait between two attempts to reach Redis (an outage) on the caller's
+     * thread. That wait ends with [CoreClosedException] when the thread's interrupt flag is set: on
+     * an open core, [op] fails instead with a [dev.prime.PrimeException] saying that [what] was
+     * interrupted while it waited to reach Redis again (then [outcome]), the flag kept.
+     */
+    internal inline fun <T> interruptibleInOutage(what: () -> String, outcome: String = "", op: () -> T): T = try {
         op()
     } catch (e: CoreClosedException) {
         if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
         throw dev.prime.PrimeException(
-            "the call to chain '$chainName' was interrupted while it waited to reach Redis again; its request may " +
-                "have reached the service (the thread's interrupt flag is kept)",
+            "${what()} was interrupted while it waited to reach Redis again$outcome (the thread's interrupt flag is kept)",
         ).apply { initCause(e) }
     }
 
