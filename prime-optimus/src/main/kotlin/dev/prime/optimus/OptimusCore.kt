@@ -1271,16 +1271,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         withSession(what) { session ->
             var backoff: Backoff? = null
             while (true) {
-                val result = try {
+                // interrupted between two attempts on an open core: not a close, and never a silent
+                // loss (an event source drops what a close ends)
+                val result = interruptibleInOutage(
+                    { what },
+                    "; it may not have been published (an attempt whose answer was lost may have stored it)",
+                ) {
                     session.retryingUntil(deadline, what) { jedis ->
                         if (source.view == null) source.refreshView(jedis, keys)
                         step.execute(jedis, ack = 0, take = 0, strict = true)
                     }
-                } catch (e: CoreClosedException) {
-                    // the wait between two attempts met the thread's interrupt flag on an open core:
-                    // not a close, and never a silent loss (an event source drops what a close ends)
-                    if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
-                    throw interruptedPublish(what, "to reach Redis again", mayBeStored = true).apply { initCause(e) }
                 }
                 when (result) {
                     is StepResult.Stored -> return@withSession readerMisses.record(source, result.view, result.missed)
@@ -1289,13 +1289,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                     is StepResult.Full -> {
                         val left = deadline - System.nanoTime()
                         if (left <= 0 || envelopes.size > result.limit) throw queueFull(source, result, envelopes.size)
-                        if (Thread.currentThread().isInterrupted) throw interruptedPublish(what, FOR_ROOM, mayBeStored = false)
+                        if (Thread.currentThread().isInterrupted) throw interruptedPublish(what)
                         val wait = (backoff ?: Backoff().also { backoff = it }).next()
                         try {
                             connections.pauseInterruptibly(minOf(wait, (left + 999_999) / 1_000_000))
                         } catch (_: InterruptedException) {
                             Thread.currentThread().interrupt()
-                            throw interruptedPublish(what, FOR_ROOM, mayBeStored = false)
+                            throw interruptedPublish(what)
                         }
                     }
                 }
@@ -1304,13 +1304,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
-     * A publish that met its thread's interrupt flag while it waited [forWhat]: nothing was published, or, if an
-     * attempt's answer was lost with Redis ([mayBeStored]), all of it may have been, once (its ids skip a repeat).
+     * A publish that met its thread's interrupt flag while it waited for room in a service's queue:
+     * nothing was published. (Interrupted while it waited to reach Redis, it fails through
+     * [interruptibleInOutage]: all of it may have been published then, once, as its ids skip a repeat.)
      */
-    private fun interruptedPublish(what: String, forWhat: String, mayBeStored: Boolean) = dev.prime.PrimeException(
-        "$what was interrupted while it waited $forWhat; " +
-            (if (mayBeStored) "it may not have been published (an attempt whose answer was lost may have stored it)" else "nothing was published") +
-            " (the thread's interrupt flag is kept)",
+    private fun interruptedPublish(what: String) = dev.prime.PrimeException(
+        "$what was interrupted while it waited for room in a service's queue; nothing was published " +
+            "(the thread's interrupt flag is kept)",
     )
 
     private fun queueFull(source: SourceKeys, full: StepResult.Full, count: Int): QueueFullException {
@@ -1613,7 +1613,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public companion object {
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
         private const val FAILURES_KEPT = 1024
-        private const val FOR_ROOM = "for room in a service's queue"
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
         private const val DELETE_KEYS_BATCH = 1_000
