@@ -38,9 +38,11 @@ public interface Chain<I, O> {
    *
    * <p>A block inside the chain that calls the returned block (recursion) recurses on Liberty and
    * Radiant, where the call runs on the caller's thread; on Optimus, whose services take one
-   * request at a time, that call fails at once with an {@link IllegalStateException} (see the
-   * architecture's <i>Errors</i>). For recursion on every media, let the block call a method of
-   * its own.
+   * request at a time, that call, made on the thread that runs the block, fails at once with an
+   * {@link IllegalStateException}, unless the block's service is hosted {@code Hosting.UNORDERED}
+   * (another host may take it); a call the block hands to another thread waits until the call
+   * timeout (see the architecture's <i>Errors</i>). For recursion on every media, let the block
+   * call a method of its own.
    *
    * @return a block that runs this chain
    * @throws ChainAlreadyUsedException if the chain was already consumed
