@@ -576,7 +576,20 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     // ------------------------------------------------------------------ lifecycle
 
-    override fun onStart() {
+    /**
+     * Declares and claims in Redis what this process hosts and reads, then launches its services;
+     * it waits for Redis in an outage. Interrupted while it waits, it fails with a
+     * [dev.prime.PrimeException] that says so (the flag kept), not with the close's
+     * [CoreClosedException]: the core is open, but started only in part, so close it.
+     */
+    override fun onStart(): Unit = interruptibleInOutage(
+        { "start() of core '${name()}'" },
+        "; the core started only in part: close it and make a new one",
+    ) {
+        startHere()
+    }
+
+    private fun startHere() {
         declaredTypes.check(name(), codec)
         resolveSelfCalls()
         withSession { session -> CommandCheck.check(session, keys, name(), redisUrl) }

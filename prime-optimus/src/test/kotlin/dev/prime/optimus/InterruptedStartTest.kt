@@ -1,0 +1,44 @@
+package dev.prime.optimus
+
+import dev.prime.CoreClosedException
+import dev.prime.CoreConfig
+import dev.prime.PrimeException
+import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+
+/**
+ * A `start()` that waits for an unreachable Redis and meets its thread's interrupt flag ends with
+ * a [PrimeException] that says so and what to do, the flag kept: never as [CoreClosedException],
+ * since the core is open (and still closes).
+ */
+class InterruptedStartTest {
+
+    @Test
+    fun aStartInterruptedWhileRedisIsUnreachableFailsSayingSoAndKeepsTheFlag() {
+        val config = CoreConfig.builder().name("interrupted-start-${System.nanoTime()}").build()
+        EmbeddedRedis.start().use { redis ->
+            FaultProxy(redis.uri).use { proxy ->
+                val core = OptimusCore.builder().config(config).redis(proxy.url).build()
+                core.use {
+                    core.chain("double") { x: Int -> x * 2 }.toBlock()
+                    proxy.refuse()
+                    Thread.currentThread().interrupt()
+                    val failure = try {
+                        assertThrows(PrimeException::class.java) { core.start() }
+                    } finally {
+                        assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
+                    }
+                    assertFalse(failure is CoreClosedException, "the core is open: $failure")
+                    assertFalse(core.isClosed)
+                    assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
+                    assertTrue(failure.message!!.contains("'${core.name()}'"), "names the core: ${failure.message}")
+                    assertTrue(failure.message!!.contains("new one"), "says what to do: ${failure.message}")
+                    proxy.restore()
+                }
+                assertTrue(core.isClosed, "the core closes")
+            }
+        }
+    }
+}
