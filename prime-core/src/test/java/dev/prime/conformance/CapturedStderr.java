@@ -4,7 +4,10 @@ import java.io.ByteArrayOutputStream;
 import java.io.OutputStream;
 import java.io.PrintStream;
 import java.nio.charset.StandardCharsets;
+import java.time.Duration;
 import java.util.List;
+import java.util.Optional;
+import java.util.function.Predicate;
 import java.util.regex.Matcher;
 import java.util.regex.Pattern;
 
@@ -28,6 +31,7 @@ public final class CapturedStderr implements AutoCloseable {
           public void write(int b) {
             synchronized (copy) {
               copy.write(b);
+              copy.notifyAll();
             }
             original.write(b);
           }
@@ -36,6 +40,7 @@ public final class CapturedStderr implements AutoCloseable {
           public void write(byte[] bytes, int offset, int length) {
             synchronized (copy) {
               copy.write(bytes, offset, length);
+              copy.notifyAll();
             }
             original.write(bytes, offset, length);
           }
@@ -47,6 +52,31 @@ public final class CapturedStderr implements AutoCloseable {
   public List<String> lines() {
     synchronized (copy) {
       return copy.toString(StandardCharsets.UTF_8).lines().toList();
+    }
+  }
+
+  /**
+   * Waits until a captured line matches {@code wanted}, woken by each write rather than looking
+   * again at intervals, at most {@code timeout}.
+   *
+   * @param wanted what the line must satisfy
+   * @param timeout the longest wait
+   * @return the first matching line, or empty if none came within {@code timeout}
+   * @throws InterruptedException if the waiting thread is interrupted
+   */
+  public Optional<String> awaitLine(Predicate<String> wanted, Duration timeout)
+      throws InterruptedException {
+    long deadline = System.nanoTime() + timeout.toNanos();
+    synchronized (copy) {
+      while (true) {
+        Optional<String> line =
+            copy.toString(StandardCharsets.UTF_8).lines().filter(wanted).findFirst();
+        long left = deadline - System.nanoTime();
+        if (line.isPresent() || left <= 0) {
+          return line;
+        }
+        copy.wait(Math.max(1, left / 1_000_000));
+      }
     }
   }
 

@@ -446,12 +446,7 @@ internal abstract class FlowKit(private val media: Media) {
                 source.reader().use { reader ->
                     core.start()
                     assertEquals(1, reader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow())
-                    val deadline = System.nanoTime() + TimeUnit.MILLISECONDS.toNanos(WAIT_MILLIS)
-                    val pause = CountDownLatch(1)
-                    while (stderr.lines().none { it.isStopLineOf("deep") } && System.nanoTime() < deadline) {
-                        pause.await(5, TimeUnit.MILLISECONDS) // a bounded pause between two looks
-                    }
-                    val line = stderr.lines().firstOrNull { it.isStopLineOf("deep") }
+                    val line = stderr.awaitLine({ it.isStopLineOf("deep") }, Duration.ofMillis(WAIT_MILLIS)).orElse(null)
                     assertTrue(line != null && "thrown by the flow" in line, "the ERROR line: $line")
                 }
             }
