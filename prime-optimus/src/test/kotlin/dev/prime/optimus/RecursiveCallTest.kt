@@ -64,6 +64,36 @@ class RecursiveCallTest {
         }
     }
 
+    /**
+     * Two cores of one topology in one process: the host's block calls the chain through the other
+     * core's block, which keeps its own record of the requests its threads run, so the call is not
+     * refused. It waits, and the outer call ends by its call timeout; the inner one ends by its
+     * own a moment later, and the chain then serves the next call (docs/architecture.md, Errors).
+     */
+    @Test
+    fun aCallThroughAnotherCoreOfTheTopologyIsNotSeenAndEndsByTheCallTimeout() {
+        val config = named()
+        val timeout = Duration.ofSeconds(2)
+        OptimusCore.builder().config(config).redis(TestRedis.url).hosts(emptyList()).callTimeout(timeout).build().use { caller ->
+            OptimusCore.builder().config(config).redis(TestRedis.url).hosts("counter").callTimeout(timeout).build().use { host ->
+                val viaCaller = AtomicReference<Block<Int, Int>>()
+                val outer = caller.chain("counter") { x: Int -> x }.toBlock()
+                host.chain("counter") { x: Int -> if (x > 0) viaCaller.get().process(x - 1) + 1 else 0 }.toBlock()
+                viaCaller.set(outer)
+                caller.start()
+                host.start()
+                assertEquals(0, outer.process(0), "a call that does not recurse")
+                val began = System.nanoTime()
+                val failure = assertThrows(dev.prime.PrimeException::class.java) { outer.process(1) }
+                val took = Duration.ofNanos(System.nanoTime() - began)
+                assertTrue("did not reply within $timeout" in failure.message!!, failure.toString())
+                assertTrue(took >= timeout, "ended by the call timeout, after $took")
+                // the inner call ends by its own timeout a moment later; the next call waits for that
+                assertEquals(0, outer.process(0), "the chain serves the next call")
+            }
+        }
+    }
+
     /** Declares chain `counter`, whose block calls the block returned here with one less, down to 0. */
     private fun OptimusCore.counter(): Block<Int, Int> {
         val self = AtomicReference<Block<Int, Int>>()
