@@ -858,12 +858,19 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         recordReader(source.name())
     }
 
+    /**
+     * A new reader of [source], its list recorded as this instance's and registered with the
+     * source; it waits for Redis in an outage, and an interrupt there fails it as
+     * [interruptibleInOutage] says (a list recorded by then goes with the core's close).
+     */
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {
         checkOpen()
         val list = keys.reader(UUID.randomUUID().toString())
-        withSession("register a reader of source '${source.name()}'") { liveness.own(it, list, source.keys.readers) }
-        readers += source.keys to list
-        register(source.keys, list)
+        interruptibleInOutage({ "opening a reader of source '${source.name()}'" }, "; no reader was opened") {
+            withSession("register a reader of source '${source.name()}'") { liveness.own(it, list, source.keys.readers) }
+            readers += source.keys to list
+            register(source.keys, list)
+        }
         return OptimusReader(this, source.keys, list)
     }
 

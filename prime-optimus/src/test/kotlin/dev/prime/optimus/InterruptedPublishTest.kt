@@ -40,6 +40,30 @@ class InterruptedPublishTest {
         }
     }
 
+    /** Opening a reader also waits for Redis in an outage: interrupted there, the same kind of failure. */
+    @Test
+    fun openingAReaderInterruptedWhileRedisIsUnreachableFailsSayingSoAndKeepsTheFlag() {
+        withProxiedReaderCore("interrupted-reader") { publisher, published, proxy, core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            core.start()
+            proxy.refuse()
+            Thread.currentThread().interrupt()
+            val failure = try {
+                assertThrows(PrimeException::class.java) { numbers.reader() }
+            } finally {
+                assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
+            }
+            assertFalse(failure is CoreClosedException, "the core is open: $failure")
+            assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
+            assertTrue(failure.message!!.contains("'numbers'"), "names the source: ${failure.message}")
+            proxy.restore()
+            numbers.reader().use { reader ->
+                publisher.publishAll(published, listOf(3))
+                assertEquals(3, reader.take(PATIENCE).orElseThrow(), "a reader opened once Redis is back reads")
+            }
+        }
+    }
+
     private companion object {
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
