@@ -5,9 +5,6 @@ import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.PrimeException
 import org.junit.jupiter.api.Assertions.assertEquals
-import org.junit.jupiter.api.Assertions.assertFalse
-import org.junit.jupiter.api.Assertions.assertThrows
-import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import java.util.concurrent.Callable
 import java.util.concurrent.ExecutionException
@@ -40,15 +37,7 @@ class InterruptedCallTest {
 
     private fun assertInterruptedCall(proxy: FaultProxy, double: Block<Int, Int>) {
         proxy.refuse()
-        Thread.currentThread().interrupt()
-        val failure = try {
-            assertThrows(PrimeException::class.java) { double.process(1) }
-        } finally {
-            assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
-        }
-        assertFalse(failure is CoreClosedException, "the core is open: $failure")
-        assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
-        assertTrue(failure.message!!.contains("'double'"), "names the chain: ${failure.message}")
+        assertInterruptedInOutage("a call", "double") { double.process(1) }
         proxy.restore()
         assertEquals(6, double.process(3), "the chain is called on")
     }

@@ -1,12 +1,7 @@
 package dev.prime.optimus
 
-import dev.prime.CoreClosedException
 import dev.prime.EventBlock
-import dev.prime.PrimeException
 import org.junit.jupiter.api.Assertions.assertEquals
-import org.junit.jupiter.api.Assertions.assertFalse
-import org.junit.jupiter.api.Assertions.assertThrows
-import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import java.time.Duration
 
@@ -25,15 +20,7 @@ class InterruptedPublishTest {
             core.start()
             val reader = numbers.reader() // the same source, read through the publisher's core
             proxy.refuse()
-            Thread.currentThread().interrupt()
-            val failure = try {
-                assertThrows(PrimeException::class.java) { events.publish(1) }
-            } finally {
-                assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
-            }
-            assertFalse(failure is CoreClosedException, "the core is open: $failure")
-            assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
-            assertTrue(failure.message!!.contains("'numbers'"), "names the source: ${failure.message}")
+            assertInterruptedInOutage("a publish", "numbers") { events.publish(1) }
             proxy.restore()
             events.publish(2)
             assertEquals(2, reader.take(PATIENCE).orElseThrow(), "the source publishes on")
@@ -47,15 +34,7 @@ class InterruptedPublishTest {
             val numbers = core.source("numbers", EventBlock<Int>())
             core.start()
             proxy.refuse()
-            Thread.currentThread().interrupt()
-            val failure = try {
-                assertThrows(PrimeException::class.java) { numbers.reader() }
-            } finally {
-                assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
-            }
-            assertFalse(failure is CoreClosedException, "the core is open: $failure")
-            assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
-            assertTrue(failure.message!!.contains("'numbers'"), "names the source: ${failure.message}")
+            assertInterruptedInOutage("opening a reader", "numbers") { numbers.reader() }
             proxy.restore()
             numbers.reader().use { reader ->
                 publisher.publishAll(published, listOf(3))

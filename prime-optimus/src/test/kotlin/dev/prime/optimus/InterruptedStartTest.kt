@@ -1,10 +1,8 @@
 package dev.prime.optimus
 
-import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.PrimeException
 import org.junit.jupiter.api.Assertions.assertFalse
-import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 
@@ -24,16 +22,8 @@ class InterruptedStartTest {
                 core.use {
                     core.chain("double") { x: Int -> x * 2 }.toBlock()
                     proxy.refuse()
-                    Thread.currentThread().interrupt()
-                    val failure = try {
-                        assertThrows(PrimeException::class.java) { core.start() }
-                    } finally {
-                        assertTrue(Thread.interrupted(), "the flag is kept (and cleared here)")
-                    }
-                    assertFalse(failure is CoreClosedException, "the core is open: $failure")
+                    val failure = assertInterruptedInOutage("start()", core.name()) { core.start() }
                     assertFalse(core.isClosed)
-                    assertTrue(failure.message!!.contains("interrupted"), "says why: ${failure.message}")
-                    assertTrue(failure.message!!.contains("'${core.name()}'"), "names the core: ${failure.message}")
                     assertTrue(failure.message!!.contains("new one"), "says what to do: ${failure.message}")
                     proxy.restore()
                 }
