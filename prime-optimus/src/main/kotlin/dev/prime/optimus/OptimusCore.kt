@@ -887,10 +887,15 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /**
      * Runs [op], a step of a call to chain [chainName] that may wait between two attempts to reach
      * Redis (an outage), as [interruptibleInOutage]: interrupted there on an open core, the call
-     * fails with a [dev.prime.PrimeException] that says so, as a wait for the reply does, the flag kept.
+     * fails with a [dev.prime.PrimeException] that says so, as a wait for the reply does, the flag
+     * kept, and whether its request may have reached the service ([sent]: the step may have sent it).
      */
-    internal inline fun <T> reachingRedisFor(chainName: String, op: () -> T): T =
-        interruptibleInOutage({ "the call to chain '$chainName'" }, "; its request may have reached the service", op)
+    internal inline fun <T> reachingRedisFor(chainName: String, sent: Boolean, op: () -> T): T =
+        interruptibleInOutage(
+            { "the call to chain '$chainName'" },
+            if (sent) "; its request may have reached the service" else "; its request was not sent",
+            op,
+        )
 
     /**
      * Runs [op], which may wait between two attempts to reach Redis (an outage) on the caller's

@@ -37,7 +37,7 @@ internal class RemoteCall<I, O>(
         val payload = core.encode(value)
         // the deadline counts from here: a thread's first call records its reply list within it too
         val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }
-        val slot = core.reachingRedisFor(chainName) { core.borrowSlot(deadline, chainName) }
+        val slot = core.reachingRedisFor(chainName, sent = false) { core.borrowSlot(deadline, chainName) }
         try {
             @Suppress("UNCHECKED_CAST")
             return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline) } as O
@@ -92,7 +92,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
     /** Calls the service of [chainName] with [payload]; gives up at [deadline] (a [System.nanoTime]; `null`: never). */
     fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?): Any? {
         val id = core.ids.next()
-        val reply = core.reachingRedisFor(chainName) { awaitReply(id, input, payload, chainName, deadline) }
+        val reply = core.reachingRedisFor(chainName, sent = true) { awaitReply(id, input, payload, chainName, deadline) }
         return answer(reply, id)
     }
 

@@ -1,10 +1,10 @@
 package dev.prime.optimus
 
 import dev.prime.Block
-import dev.prime.CoreClosedException
 import dev.prime.CoreConfig
 import dev.prime.PrimeException
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import java.util.concurrent.Callable
 import java.util.concurrent.ExecutionException
@@ -22,7 +22,9 @@ class InterruptedCallTest {
     @Test
     fun aFirstCallInterruptedWhileRedisIsUnreachableFailsSayingSoAndKeepsTheFlag() {
         withCallerThroughProxy("interrupted-first-call") { proxy, double ->
-            assertInterruptedCall(proxy, double)
+            val failure = assertInterruptedCall(proxy, double)
+            // interrupted while it recorded its reply list, before it sent anything
+            assertTrue("its request was not sent" in failure.message!!, "says nothing was sent: ${failure.message}")
         }
     }
 
@@ -35,11 +37,12 @@ class InterruptedCallTest {
         }
     }
 
-    private fun assertInterruptedCall(proxy: FaultProxy, double: Block<Int, Int>) {
+    private fun assertInterruptedCall(proxy: FaultProxy, double: Block<Int, Int>): PrimeException {
         proxy.refuse()
-        assertInterruptedInOutage("a call", "double") { double.process(1) }
+        val failure = assertInterruptedInOutage("a call", "double") { double.process(1) }
         proxy.restore()
         assertEquals(6, double.process(3), "the chain is called on")
+        return failure
     }
 
     /**
