@@ -578,13 +578,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Declares and claims in Redis what this process hosts and reads, then launches its services;
-     * it waits for Redis in an outage. Interrupted while it waits, it fails with a
-     * [dev.prime.PrimeException] that says so (the flag kept), not with the close's
-     * [CoreClosedException]: the core is open, but started only in part, so close it.
+     * it waits for Redis in an outage, and for another process's host lease to lapse. Interrupted
+     * while it waits, it fails with a [dev.prime.PrimeException] that says so (the flag kept), not
+     * with the close's [CoreClosedException]: the core is open, but started only in part, so close it.
      */
     override fun onStart(): Unit = interruptibleInOutage(
         { "start() of core '${name()}'" },
         "; the core started only in part: close it and make a new one",
+        "for Redis (to reach it again, or for another process's host lease to lapse)",
     ) {
         startHere()
     }
@@ -894,21 +895,26 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         interruptibleInOutage(
             { "the call to chain '$chainName'" },
             if (sent) "; its request may have reached the service" else "; its request was not sent",
-            op,
+            op = op,
         )
 
     /**
      * Runs [op], which may wait between two attempts to reach Redis (an outage) on the caller's
      * thread. That wait ends with [CoreClosedException] when the thread's interrupt flag is set: on
      * an open core, [op] fails instead with a [dev.prime.PrimeException] saying that [what] was
-     * interrupted while it waited to reach Redis again (then [outcome]), the flag kept.
+     * interrupted while it waited [waitedFor] (then [outcome]), the flag kept.
      */
-    internal inline fun <T> interruptibleInOutage(what: () -> String, outcome: String = "", op: () -> T): T = try {
+    internal inline fun <T> interruptibleInOutage(
+        what: () -> String,
+        outcome: String = "",
+        waitedFor: String = "to reach Redis again",
+        op: () -> T,
+    ): T = try {
         op()
     } catch (e: CoreClosedException) {
         if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
         throw dev.prime.PrimeException(
-            "${what()} was interrupted while it waited to reach Redis again$outcome (the thread's interrupt flag is kept)",
+            "${what()} was interrupted while it waited $waitedFor$outcome (the thread's interrupt flag is kept)",
         ).apply { initCause(e) }
     }
 

@@ -31,4 +31,22 @@ class InterruptedStartTest {
             }
         }
     }
+
+    /** The same for a start() that waits for the host lease of a live process to lapse. */
+    @Test
+    fun aStartInterruptedWhileAnotherProcessHoldsItsServiceFailsSayingSoAndKeepsTheFlag() {
+        val config = CoreConfig.builder().name("interrupted-start-lease-${System.nanoTime()}").build()
+        OptimusCore.builder().config(config).redis(TestRedis.url).hosts("double").build().use { holder ->
+            holder.chain("double") { x: Int -> x * 2 }.toBlock()
+            holder.start()
+            val core = OptimusCore.builder().config(config).redis(TestRedis.url).hosts("double").build()
+            core.use {
+                core.chain("double") { x: Int -> x * 2 }.toBlock()
+                val failure = assertInterruptedInOutage("start()", core.name()) { core.start() }
+                assertTrue(failure.message!!.contains("host lease"), "says what it waited for: ${failure.message}")
+                assertFalse(core.isClosed)
+            }
+            assertTrue(core.isClosed, "the core closes")
+        }
+    }
 }
