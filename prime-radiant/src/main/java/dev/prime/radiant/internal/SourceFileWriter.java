@@ -1,13 +1,6 @@
 package dev.prime.radiant.internal;
 
-import net.bytebuddy.asm.AsmVisitorWrapper;
-import net.bytebuddy.description.field.FieldDescription;
-import net.bytebuddy.description.field.FieldList;
-import net.bytebuddy.description.method.MethodList;
-import net.bytebuddy.description.type.TypeDescription;
-import net.bytebuddy.implementation.Implementation;
 import net.bytebuddy.jar.asm.ClassVisitor;
-import net.bytebuddy.pool.TypePool;
 import net.bytebuddy.utility.OpenedClassReader;
 
 /**
@@ -16,7 +9,7 @@ import net.bytebuddy.utility.OpenedClassReader;
  * (Unknown Source)}. The class has no line numbers: there is no source to point into. Stateless
  * once built; thread-safe.
  */
-final class SourceFileWriter extends AsmVisitorWrapper.AbstractBase {
+final class SourceFileWriter extends ClassFileStep {
   private final String source;
 
   /**
@@ -27,16 +20,8 @@ final class SourceFileWriter extends AsmVisitorWrapper.AbstractBase {
   }
 
   @Override
-  public ClassVisitor wrap(
-      TypeDescription instrumentedType,
-      ClassVisitor classVisitor,
-      Implementation.Context implementationContext,
-      TypePool typePool,
-      FieldList<FieldDescription.InDefinedShape> declaredFields,
-      MethodList<?> methods,
-      int writerFlags,
-      int readerFlags) {
-    return new ClassVisitor(OpenedClassReader.ASM_API, classVisitor) {
+  ClassVisitor wrap(ClassVisitor next) {
+    return new ClassVisitor(OpenedClassReader.ASM_API, next) {
       @Override
       public void visit(
           int version,

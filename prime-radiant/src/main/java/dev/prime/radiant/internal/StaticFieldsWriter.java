@@ -1,16 +1,9 @@
 package dev.prime.radiant.internal;
 
-import net.bytebuddy.asm.AsmVisitorWrapper;
-import net.bytebuddy.description.field.FieldDescription;
-import net.bytebuddy.description.field.FieldList;
-import net.bytebuddy.description.method.MethodList;
-import net.bytebuddy.description.type.TypeDescription;
-import net.bytebuddy.implementation.Implementation;
 import net.bytebuddy.jar.asm.ClassVisitor;
 import net.bytebuddy.jar.asm.FieldVisitor;
 import net.bytebuddy.jar.asm.Opcodes;
 import net.bytebuddy.jar.asm.Type;
-import net.bytebuddy.pool.TypePool;
 import net.bytebuddy.utility.OpenedClassReader;
 
 /**
@@ -23,7 +16,7 @@ import net.bytebuddy.utility.OpenedClassReader;
  * a chain of 100,000 distinct blocks. The generated code refers to its fields by name only, so
  * ByteBuddy needs no description of them. Stateless once built; thread-safe.
  */
-final class StaticFieldsWriter extends AsmVisitorWrapper.AbstractBase {
+final class StaticFieldsWriter extends ClassFileStep {
   private final ConstantFields fields;
 
   StaticFieldsWriter(ConstantFields fields) {
@@ -31,16 +24,8 @@ final class StaticFieldsWriter extends AsmVisitorWrapper.AbstractBase {
   }
 
   @Override
-  public ClassVisitor wrap(
-      TypeDescription instrumentedType,
-      ClassVisitor classVisitor,
-      Implementation.Context implementationContext,
-      TypePool typePool,
-      FieldList<FieldDescription.InDefinedShape> declaredFields,
-      MethodList<?> methods,
-      int writerFlags,
-      int readerFlags) {
-    return new ClassVisitor(OpenedClassReader.ASM_API, classVisitor) {
+  ClassVisitor wrap(ClassVisitor next) {
+    return new ClassVisitor(OpenedClassReader.ASM_API, next) {
       @Override
       public void visitEnd() {
         for (ConstantFields.Field field : fields.all()) {
