@@ -157,7 +157,9 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
    *
    * @param registry the registry
    * @throws IllegalStateException if {@code registry} holds the meters of a node of this core
-   *     bound by another binder (the message names the node and the fix); nothing is registered
+   *     bound by another binder, or refuses one of the meters (it holds a meter of another type
+   *     under that name and tags, say); the message names the node and the fix, and nothing of
+   *     this binding is kept (no meter, no timing)
    */
   @Override
   public synchronized void bindTo(MeterRegistry registry) {
@@ -173,13 +175,21 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     existing.addAll(registry.getMeters());
     List<Bound> made = new ArrayList<>();
     for (ServiceMetrics service : metrics.services()) {
-      List<Meter> meters = register(registry, service);
+      List<Meter> meters = new ArrayList<>();
+      try {
+        register(registry, service, meters);
+      } catch (RuntimeException refused) {
+        undo(registry, existing, meters, made);
+        throw new IllegalStateException(
+            "cannot bind the meters of node '" + service.name() + "' of core '" + metrics.core()
+                + "' on " + metrics.media() + ": the registry refused one (" + refused.getMessage()
+                + "); nothing of this binding is kept: remove the meter in the way from the"
+                + " registry, or rename it (or the prime.service.* meters) with a meter filter,"
+                + " then bind again",
+            refused);
+      }
       if (meters.stream().anyMatch(existing::contains)) {
-        meters.stream().filter(meter -> !existing.contains(meter)).forEach(registry::remove);
-        for (Bound b : made) {
-          b.timing().close();
-          b.meters().forEach(registry::remove);
-        }
+        undo(registry, existing, meters, made);
         throw new IllegalStateException(
             "the registry already has the meters of node '" + service.name() + "' of core '"
                 + metrics.core() + "' on " + metrics.media() + ", bound by another PrimeMetrics:"
@@ -187,19 +197,41 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
                 + " cores bound to one registry distinct names");
       }
       Timer timer = (Timer) meters.get(meters.size() - 1);
-      Metrics.Subscription timing =
-          metrics.onProcessed(
-              service.name(), (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
+      Metrics.Subscription timing;
+      try {
+        timing =
+            metrics.onProcessed(
+                service.name(), (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
+      } catch (RuntimeException e) { // the node was forgotten meanwhile (a failed declaration)
+        undo(registry, existing, meters, made);
+        throw e;
+      }
       made.add(new Bound(registry, meters, timing));
     }
     bound.addAll(made);
   }
 
-  /** Registers the meters of one node, its timer last; {@return them} */
-  private List<Meter> register(MeterRegistry registry, ServiceMetrics service) {
+  /**
+   * Undoes a binding that cannot finish: removes the meters it registered for the node at hand
+   * (not those the registry had before it) and those of the nodes bound before, and stops their
+   * timing.
+   */
+  private static void undo(
+      MeterRegistry registry, Set<Meter> existing, List<Meter> meters, List<Bound> made) {
+    meters.stream().filter(meter -> !existing.contains(meter)).forEach(registry::remove);
+    for (Bound b : made) {
+      b.timing().close();
+      b.meters().forEach(registry::remove);
+    }
+  }
+
+  /**
+   * Registers the meters of one node, its timer last, adding each to {@code meters} as soon as it
+   * is registered (so that a registry refusing one leaves the list of those to remove).
+   */
+  private void register(MeterRegistry registry, ServiceMetrics service, List<Meter> meters) {
     String name = service.name();
     Tags tags = tagsOf(service);
-    List<Meter> meters = new ArrayList<>();
     meters.add(counter(registry, VALUES_IN, "values given to the node", tags, name,
         ServiceMetrics::valuesIn));
     meters.add(counter(registry, VALUES_OUT, "values the node gave out", tags, name,
@@ -220,7 +252,6 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
             .tags(tags)
             .publishPercentileHistogram()
             .register(registry));
-    return meters;
   }
 
   private Tags tagsOf(ServiceMetrics service) {

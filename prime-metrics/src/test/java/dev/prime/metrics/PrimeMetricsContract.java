@@ -12,6 +12,7 @@ import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.Source;
+import io.micrometer.core.instrument.Counter;
 import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.Meter;
 import io.micrometer.core.instrument.Tag;
@@ -460,6 +461,42 @@ abstract class PrimeMetricsContract {
       second.bindTo(registry);
       assertEquals(meters.size(), registry.getMeters().size(), "the second binds once the first is closed");
       second.close();
+    }
+  }
+
+  /**
+   * A registry that refuses one of a node's meters (it holds a meter of another type under that
+   * name and tags) fails the binding with a message that names the node and the fix, and keeps
+   * nothing of it: no meter of the nodes bound before, no timer timing values; once the meter in
+   * the way is gone, the binder binds and times each value once.
+   */
+  @Test
+  void aBindingTheRegistryRefusesHalfWayKeepsNothingAndSaysWhy() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().name("refused").metrics(true).build())) {
+      Block<Integer, Integer> first = core.chain("first", (Integer x) -> x).toBlock();
+      core.chain("second", (Integer x) -> x);
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      Counter inTheWay =
+          Counter.builder(PrimeMetrics.PROCESSING)
+              .tags("service", "second", "kind", "BlockChain", "media", media(), "core", "refused")
+              .register(registry);
+      PrimeMetrics binder = PrimeMetrics.of(core, Duration.ZERO);
+      IllegalStateException refused =
+          assertThrows(IllegalStateException.class, () -> binder.bindTo(registry));
+      assertTrue(refused.getMessage().contains("node 'second' of core 'refused'")
+              && refused.getMessage().contains("remove the meter in the way"),
+          refused.getMessage());
+      assertEquals(List.of(inTheWay), registry.getMeters(), "the refused binding left meters");
+      core.start();
+      assertEquals(1, first.process(1));
+
+      registry.remove(inTheWay);
+      binder.bindTo(registry);
+      assertEquals(2, first.process(2));
+      assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "first").timer().count(),
+          "the value after the binding, timed once");
+      binder.close();
+      assertEquals(List.of(), registry.getMeters(), "closing the binder removes its meters");
     }
   }
 
