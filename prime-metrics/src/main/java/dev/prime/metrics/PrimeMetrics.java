@@ -64,7 +64,9 @@ import java.util.function.ToDoubleFunction;
  * registry asks, from one snapshot of all nodes kept for {@linkplain #of(PrimeCore, Duration) a
  * refresh period} (1 s by default), so that a registry reading every meter of a large diagram
  * takes one snapshot, not one per meter (on Optimus a snapshot asks Redis for queue depths and
- * dead letters). {@link #close()} removes the meters and stops the timers' recording.
+ * dead letters). The meters of a node this process does not run now (on Optimus, a service
+ * another process runs, such as one this process stands by for) read NaN, from the same snapshot.
+ * {@link #close()} removes the meters and stops the timers' recording.
  *
  * <p>Thread-safe. The per-value cost with metrics on is the core's (see {@link Metrics}) plus one
  * {@link Timer#record(long, TimeUnit)} per value and bound registry.
@@ -174,6 +176,7 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     Set<Meter> existing = Collections.newSetFromMap(new IdentityHashMap<>());
     existing.addAll(registry.getMeters());
     List<Bound> made = new ArrayList<>();
+    List<String> names = new ArrayList<>();
     for (ServiceMetrics service : metrics.services()) {
       List<Meter> meters = new ArrayList<>();
       try {
@@ -207,8 +210,10 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
         throw e;
       }
       made.add(new Bound(registry, meters, timing));
+      names.add(service.name());
     }
     bound.addAll(made);
+    snapshots.cover(names);
   }
 
   /**

@@ -3,6 +3,7 @@ package dev.prime.metrics;
 import dev.prime.Metrics;
 import dev.prime.ServiceMetrics;
 import java.time.Duration;
+import java.util.Collection;
 import java.util.HashMap;
 import java.util.Map;
 import java.util.Objects;
@@ -13,8 +14,11 @@ import java.util.Objects;
  *
  * <p>Design note. Guarded by its monitor: a read older than the period takes a new snapshot of
  * every node under it (on Optimus a few Redis round trips per node), so concurrent reads wait
- * for that one snapshot rather than each taking their own. With a period of zero every read takes
- * a snapshot of its node only.
+ * for that one snapshot rather than each taking their own. A node missing from a snapshot of the
+ * period (no longer metered here: another Optimus process runs it now) reads as missing until
+ * the next one: were it to take a snapshot of its own, each read of its meters would take one.
+ * Only binding meters of a node the snapshot lacks ({@link #cover}) ends the period early. With a
+ * period of zero every read takes a snapshot of its node only.
  */
 final class SnapshotCache {
   private final Metrics metrics;
@@ -45,7 +49,7 @@ final class SnapshotCache {
       return metrics.names().contains(name) ? metrics.service(name) : null;
     }
     long now = System.nanoTime();
-    if (!taken || now - takenAt >= refreshNanos || !latest.containsKey(name)) {
+    if (!taken || now - takenAt >= refreshNanos) {
       Map<String, ServiceMetrics> all = new HashMap<>();
       for (ServiceMetrics service : metrics.services()) {
         all.put(service.name(), service);
@@ -55,5 +59,15 @@ final class SnapshotCache {
       taken = true;
     }
     return latest.get(name);
+  }
+
+  /**
+   * Meters of {@code names} were just bound: if the snapshot lacks one of them (declared after
+   * it was taken), the next read takes a new one.
+   */
+  synchronized void cover(Collection<String> names) {
+    if (taken && !latest.keySet().containsAll(names)) {
+      taken = false;
+    }
   }
 }

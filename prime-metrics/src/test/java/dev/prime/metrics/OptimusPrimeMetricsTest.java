@@ -1,15 +1,18 @@
 package dev.prime.metrics;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.Block;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import dev.prime.optimus.EmbeddedRedis;
 import dev.prime.optimus.FaultProxy;
+import dev.prime.optimus.Hosting;
 import dev.prime.optimus.OptimusCore;
 import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.simple.SimpleMeterRegistry;
@@ -127,6 +130,44 @@ class OptimusPrimeMetricsTest extends PrimeMetricsContract {
           Double.NaN, registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "same").gauge().value());
       assertEquals(
           Double.NaN, registry.get(PrimeMetrics.DEAD_LETTERS).tag("service", "same").gauge().value());
+    }
+  }
+
+  /**
+   * While another process runs a service this core hosts too (a standby of a {@link
+   * Hosting#ORDERED} one), the service is not metered here: its meters read NaN, and reading them
+   * takes no snapshot of its own, so the other meters are still served from the snapshot of the
+   * refresh period, as a registry reading every meter expects (on Optimus a snapshot asks Redis
+   * about every service).
+   */
+  @Test
+  void theMetersOfAServiceAnotherProcessRunsAreServedFromTheSnapshotToo() throws Exception {
+    CoreConfig config = CoreConfig.builder().name("standby").metrics(true).build();
+    try (EmbeddedRedis redis = EmbeddedRedis.start();
+        OptimusCore active =
+            OptimusCore.builder().config(config).redis(redis.getUri())
+                .hosts("ordered").hosting("ordered", Hosting.ORDERED).build();
+        OptimusCore standby =
+            OptimusCore.builder().config(config).redis(redis.getUri())
+                .hosting("ordered", Hosting.ORDERED).build()) {
+      Block<Integer, Integer> orderedOnActive = active.chain("ordered", (Integer x) -> x).toBlock();
+      active.chain("same", (Integer x) -> x).toBlock();
+      standby.chain("ordered", (Integer x) -> x).toBlock();
+      Block<Integer, Integer> same = standby.chain("same", (Integer x) -> x).toBlock();
+      active.start();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics.of(standby, Duration.ofHours(1)).bindTo(registry);
+      standby.start();
+      assertEquals(1, orderedOnActive.process(1), "the active process runs the ordered service");
+      assertFalse(standby.metrics().names().contains("ordered"), "not metered by the standby");
+
+      assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "same")); // the snapshot is taken
+      assertEquals(7, same.process(7));
+      assertEquals(Double.NaN, count(registry, PrimeMetrics.VALUES_IN, "ordered"));
+      assertEquals(Double.NaN,
+          registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "ordered").gauge().value());
+      assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "same"),
+          "served from the snapshot, also after reading the meters of the standby's service");
     }
   }
 }
