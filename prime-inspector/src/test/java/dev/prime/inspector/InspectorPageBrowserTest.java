@@ -9,6 +9,7 @@ import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.RecordingOptions;
+import dev.prime.Tick;
 import dev.prime.liberty.LibertyCore;
 import dev.prime.topology.TopologyNode;
 import java.net.URI;
@@ -225,6 +226,40 @@ class InspectorPageBrowserTest {
             "every level given is 5.0, so every point drawn lies at one height: " + level.asText());
         assertEquals("", chromium.evaluate(pointsOf("unknown")).asText(),
             "a field that was never a finite number has no point drawn");
+      }
+    }
+  }
+
+  /** The seconds back to which the plot reaches: its time axis' leftmost label, "-12.5 s". */
+  private static final String PLOTTED_SECONDS =
+      "(() => { const t = [...document.querySelectorAll('#plot text.tick')]"
+          + ".find(e => e.getAttribute('text-anchor') === 'start');"
+          + " return t ? Number(t.textContent.replace(/^-| s$/g, '')) : null; })()";
+
+  /**
+   * The plot keeps the last minute of recorded time however fast the values come: a name recorded
+   * a thousand times a second (the stream sends up to 300 values an event, two events a second)
+   * is plotted back to its first values after twelve seconds, not over its last few seconds only.
+   */
+  @Test
+  void aNameRecordedManyTimesASecondIsPlottedOverTheLastMinute() throws Exception {
+    try (PrimeCore core = new LibertyCore(recording())) {
+      core.timer("fast", Duration.ofMillis(1))
+          .then(core.chain("level", (Tick tick) -> (double) (tick.count() % 100)));
+      core.start();
+      try (PrimeInspector inspector = PrimeInspector.start(core);
+          HeadlessChromium chromium =
+              HeadlessChromium.open(URI.create(inspector.uri() + "#plot=level"), 1200, 800)) {
+        chromium.await(pointsOf("value"), p -> p.isTextual() && p.asText().split(" ").length >= 2,
+            PATIENCE, "level's values should be plotted");
+        long start = System.nanoTime();
+        JsonNode reach =
+            chromium.await(PLOTTED_SECONDS, s -> s.isNumber() && s.asDouble() >= 12,
+                Duration.ofSeconds(45),
+                "the plot should reach back 12 s once the page has received 12 s of values");
+        double streamed = (System.nanoTime() - start) / 1e9;
+        assertTrue(reach.asDouble() <= streamed + 1,
+            "the plot reaches back " + reach + " s, the page received values for " + streamed + " s");
       }
     }
   }

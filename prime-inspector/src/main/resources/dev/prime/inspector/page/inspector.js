@@ -5,7 +5,10 @@
 (function () {
   const SVG = 'http://www.w3.org/2000/svg';
   const WINDOW_MS = 60000; // the plot shows the last minute of recorded time
-  const MAX_POINTS = 3000; // per field
+  // Per field, points older than the window are dropped; the stream sends at most 300 values an
+  // event, two events a second, so a minute is at most 36000 of them (the cap bounds memory only).
+  const MAX_POINTS = 36000;
+  const MAX_DRAWN = 2400; // per line: more are thinned out evenly, the latest always drawn
   const MAX_FIELDS = 6; // drawn; the rest are named in the legend
   const COUNTER = /(^|\.)(step|seq|sequence|count|counter|tick)$/i; // start hidden
   const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#17becf'];
@@ -256,8 +259,13 @@
         }
         if (value === null) continue; // NaN or an infinity, which JSON has not: left out, not drawn as 0
         s.push([p.t, value]);
-        if (s.length > MAX_POINTS) s.splice(0, s.length - MAX_POINTS);
       }
+    }
+    for (const s of state.series.values()) {
+      let old = 0; // the points before the last minute of recorded time, and beyond the cap
+      while (old < s.length && s[old][0] < state.latest - WINDOW_MS) old++;
+      old = Math.max(old, s.length - MAX_POINTS);
+      if (old > 0) s.splice(0, old);
     }
     const dropped = v.dropped > 0 ? ` (${v.dropped} older values fell out of the recording's ring)` : '';
     $('plot-status').textContent = state.series.size === 0
@@ -305,7 +313,10 @@
     svg('line', { class: 'axis', x1: left, x2: width - right, y1: height - bottom, y2: height - bottom }, root);
     drawn.forEach((f, i) => {
       if (!state.hidden.has(f)) {
-        const pts = state.series.get(f).filter(([t]) => t >= x0).map(([t, v]) => `${X(t).toFixed(1)},${Y(v).toFixed(1)}`);
+        const inWindow = state.series.get(f).filter(([t]) => t >= x0);
+        const step = Math.ceil(inWindow.length / MAX_DRAWN);
+        const pts = inWindow.filter((_, k) => (inWindow.length - 1 - k) % step === 0)
+          .map(([t, v]) => `${X(t).toFixed(1)},${Y(v).toFixed(1)}`);
         svg('polyline', { class: 'series', points: pts.join(' '), stroke: COLORS[i], 'data-field': f, 'data-points': pts.length }, root);
       }
       const item = document.createElement('span');
