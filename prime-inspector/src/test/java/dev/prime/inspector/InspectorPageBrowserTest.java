@@ -11,6 +11,9 @@ import dev.prime.PrimeCore;
 import dev.prime.RecordingOptions;
 import dev.prime.Tick;
 import dev.prime.liberty.LibertyCore;
+import dev.prime.optimus.EmbeddedRedis;
+import dev.prime.optimus.Hosting;
+import dev.prime.optimus.OptimusCore;
 import dev.prime.topology.TopologyNode;
 import java.net.URI;
 import java.time.Duration;
@@ -262,6 +265,59 @@ class InspectorPageBrowserTest {
             "the plot reaches back " + reach + " s, the page received values for " + streamed + " s");
       }
     }
+  }
+
+  private static String drawnElsewhere(String name) {
+    return "(() => { const g = document.querySelector('#diagram g.node[data-name=\"" + name + "\"]');"
+        + " return g ? g.classList.contains('elsewhere') : null; })()";
+  }
+
+  private static OptimusCore orderedHost(String redis, String... hosts) {
+    OptimusCore.Builder builder =
+        OptimusCore.builder()
+            .config(CoreConfig.builder().name("pair").metrics(true).build())
+            .redis(redis)
+            .leaseTime(Duration.ofSeconds(1))
+            .hosting("ordered", Hosting.ORDERED);
+    OptimusCore core = (hosts.length == 0 ? builder : builder.hosts(hosts)).build();
+    core.source("numbers", new EventBlock<Integer>()).then(core.chain("ordered", (Integer x) -> x));
+    return core;
+  }
+
+  /**
+   * A service another process runs is drawn dashed, and drawn again when that changes: on the page
+   * of an Optimus standby of an ordered service, the service is drawn as hosted here once the
+   * standby has taken it over from the process that ran it.
+   */
+  @Test
+  void aServiceTakenOverFromAnotherProcessIsDrawnAgainAsHostedHere() throws Exception {
+    try (EmbeddedRedis redis = EmbeddedRedis.start();
+        OptimusCore standby = orderedHost(redis.getUri())) {
+      OptimusCore active = orderedHost(redis.getUri(), "ordered");
+      try {
+        active.start();
+        standby.start();
+        try (PrimeInspector inspector = PrimeInspector.start(standby);
+            HeadlessChromium chromium = HeadlessChromium.open(inspector.uri(), 1200, 800)) {
+          chromium.await(drawnElsewhere("ordered"), JsonNode::asBoolean, PATIENCE,
+              "'ordered' should be drawn dashed while the active process runs it");
+          active.close();
+          assertTrue(awaitHosted(standby, "ordered"), "the standby took 'ordered' over");
+          chromium.await(drawnElsewhere("ordered"), v -> v.isBoolean() && !v.asBoolean(), PATIENCE,
+              "'ordered' should be drawn as hosted here once the standby took it over");
+        }
+      } finally {
+        active.close();
+      }
+    }
+  }
+
+  private static boolean awaitHosted(PrimeCore core, String service) throws InterruptedException {
+    long deadline = System.nanoTime() + PATIENCE.toNanos();
+    while (!core.serviceNames().contains(service) && System.nanoTime() < deadline) {
+      Thread.sleep(10); // polling the core, bounded by the deadline
+    }
+    return core.serviceNames().contains(service);
   }
 
   private static long waitForRecorded(PrimeCore core, String name, long count) throws InterruptedException {

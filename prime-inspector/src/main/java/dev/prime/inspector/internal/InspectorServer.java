@@ -189,7 +189,11 @@ public final class InspectorServer implements AutoCloseable {
     Json json = new Json().beginObject();
     json.name("time").value(System.currentTimeMillis());
     json.name("started").value(core.isStarted()).name("closed").value(core.isClosed());
-    json.name("nodeCount").value(core.topology().nodes().size());
+    Topology topology = core.topology();
+    json.name("nodeCount").value(topology.nodes().size());
+    // with the node count, what tells the page to lay the diagram out again (a standby taking a
+    // service over)
+    json.name("hostedElsewhere").strings(List.copyOf(topology.hostedElsewhere()));
     json.name("nodes").beginObject();
     for (Map.Entry<String, NodeFigures> entry : sampled.entrySet()) {
       NodeFigures f = entry.getValue();
@@ -347,6 +351,7 @@ public final class InspectorServer implements AutoCloseable {
     json.name("figures").value(figures.description());
     json.name("period").value(PERIOD_MILLIS);
     json.name("nodeCount").value(topology.nodes().size()); // links too, as in the figures
+    json.name("hostedElsewhere").strings(List.copyOf(topology.hostedElsewhere()));
     DiagramLayout.of(topology).write(json);
     return json.endObject().toString();
   }

@@ -25,6 +25,7 @@
     latest: 0,
     events: null,
     nodeCount: -1,
+    elsewhere: '', // the services another process hosts, as the topology gave them (JSON)
     loading: false,
   };
 
@@ -50,6 +51,7 @@
       if (!answer.ok) throw new Error(await answer.text());
       state.topology = await answer.json();
       state.nodeCount = state.topology.nodeCount;
+      state.elsewhere = JSON.stringify(state.topology.hostedElsewhere);
       drawDiagram();
       fillChoice();
     } catch (e) {
@@ -172,8 +174,10 @@
     const running = f.closed ? 'closed' : f.started ? 'running' : 'not started';
     $('state').textContent = `${running} · updated ${new Date(f.time).toLocaleTimeString()}`;
     $('state').classList.remove('down');
-    if (f.nodeCount !== undefined && f.nodeCount !== state.nodeCount && !state.loading) {
-      loadTopology(); // declarations were added: lay the diagram out again
+    const redraw = (f.nodeCount !== undefined && f.nodeCount !== state.nodeCount)
+      || (f.hostedElsewhere !== undefined && JSON.stringify(f.hostedElsewhere) !== state.elsewhere);
+    if (redraw && !state.loading) {
+      loadTopology(); // declarations were added, or another process took a service or gave one up
       return;
     }
     for (const [name, g] of state.boxes) {
