@@ -175,7 +175,12 @@ public final class InspectorServer implements AutoCloseable {
     String json;
     try {
       json = figuresJson(figures.sample());
-    } catch (RuntimeException e) {
+    } catch (VirtualMachineError e) {
+      throw e; // the JVM itself is in trouble
+    } catch (Throwable e) {
+      // Whatever else: a periodic task that throws is never run again, and every page would go
+      // on showing its last figures as current. A media's gauges written in Kotlin may throw a
+      // checked exception no signature declares, and an error may pass (a class gone missing).
       json = new Json().beginObject()
           .name("time").value(System.currentTimeMillis())
           .name("error").value("the figures could not be read: " + e)
