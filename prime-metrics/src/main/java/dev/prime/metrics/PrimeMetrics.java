@@ -4,6 +4,7 @@ import dev.prime.CoreConfig;
 import dev.prime.Metrics;
 import dev.prime.PrimeCore;
 import dev.prime.ServiceMetrics;
+import dev.prime.topology.TopologyNode;
 import io.micrometer.core.instrument.FunctionCounter;
 import io.micrometer.core.instrument.Gauge;
 import io.micrometer.core.instrument.Meter;
@@ -14,8 +15,10 @@ import io.micrometer.core.instrument.binder.MeterBinder;
 import java.time.Duration;
 import java.util.ArrayList;
 import java.util.Collections;
+import java.util.HashSet;
 import java.util.IdentityHashMap;
 import java.util.List;
+import java.util.Map;
 import java.util.Objects;
 import java.util.Set;
 import java.util.concurrent.TimeUnit;
@@ -60,13 +63,15 @@ import java.util.function.ToDoubleFunction;
  * }</pre>
  *
  * <p>Bind once the diagram is declared (before or after {@link PrimeCore#start()}): nodes
- * declared later get no meters. The counters and gauges read the core's metrics when the
- * registry asks, from one snapshot of all nodes kept for {@linkplain #of(PrimeCore, Duration) a
- * refresh period} (1 s by default), so that a registry reading every meter of a large diagram
- * takes one snapshot, not one per meter (on Optimus a snapshot asks Redis for queue depths and
- * dead letters). The meters of a node this process does not run now (on Optimus, a service
- * another process runs, such as one this process stands by for) read NaN, from the same snapshot.
- * {@link #close()} removes the meters and stops the timers' recording.
+ * declared later get no meters. A service declared by then that this process does not run then
+ * (on Optimus, one another process runs, such as one this process stands by for) gets its meters
+ * at a read of the binder's meters once this process runs it. The counters and gauges read the
+ * core's metrics when the registry asks, from one snapshot of all nodes kept for {@linkplain
+ * #of(PrimeCore, Duration) a refresh period} (1 s by default), so that a registry reading every
+ * meter of a large diagram takes one snapshot, not one per meter (on Optimus a snapshot asks
+ * Redis for queue depths and dead letters). The meters of a node this process does not run now
+ * (on Optimus, a service another process runs, such as one this process stands by for) read NaN,
+ * from the same snapshot. {@link #close()} removes the meters and stops the timers' recording.
  *
  * <p>Thread-safe. The per-value cost with metrics on is the core's (see {@link Metrics}) plus one
  * {@link Timer#record(long, TimeUnit)} per value and bound registry.
@@ -100,6 +105,9 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
   private final Metrics metrics;
   private final SnapshotCache snapshots;
   private final List<Bound> bound = new ArrayList<>(); // guarded by this
+  /** Per bound registry, the nodes declared at binding that this process did not run then. */
+  private final Map<MeterRegistry, Set<String>> awaited = new IdentityHashMap<>(); // by this
+  private volatile long checkedAt = -1; // the snapshot generation bindNewlyRun last checked
 
   private PrimeMetrics(PrimeCore core, Duration refresh) {
     this.core = Objects.requireNonNull(core, "core must not be null");
@@ -178,52 +186,123 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
     List<Bound> made = new ArrayList<>();
     List<String> names = new ArrayList<>();
     for (ServiceMetrics service : metrics.services()) {
-      List<Meter> meters = new ArrayList<>();
       try {
-        register(registry, service, meters);
-      } catch (RuntimeException refused) {
-        undo(registry, existing, meters, made);
-        throw new IllegalStateException(
-            "cannot bind the meters of node '" + service.name() + "' of core '" + metrics.core()
-                + "' on " + metrics.media() + ": the registry refused one (" + refused.getMessage()
-                + "); nothing of this binding is kept: remove the meter in the way from the"
-                + " registry, or rename it (or the prime.service.* meters) with a meter filter,"
-                + " then bind again",
-            refused);
-      }
-      if (meters.stream().anyMatch(existing::contains)) {
-        undo(registry, existing, meters, made);
-        throw new IllegalStateException(
-            "the registry already has the meters of node '" + service.name() + "' of core '"
-                + metrics.core() + "' on " + metrics.media() + ", bound by another PrimeMetrics:"
-                + " bind one PrimeMetrics per core and registry (close the other first), or give"
-                + " cores bound to one registry distinct names");
-      }
-      Timer timer = (Timer) meters.get(meters.size() - 1);
-      Metrics.Subscription timing;
-      try {
-        timing =
-            metrics.onProcessed(
-                service.name(), (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
-      } catch (RuntimeException e) { // the node was forgotten meanwhile (a failed declaration)
-        undo(registry, existing, meters, made);
+        made.add(bindNode(registry, service, existing));
+      } catch (RuntimeException e) {
+        undo(registry, List.of(), made);
         throw e;
       }
-      made.add(new Bound(registry, meters, timing));
       names.add(service.name());
     }
     bound.addAll(made);
+    // The nodes declared now that this process does not run now (on Optimus, a service another
+    // process runs, such as one this process stands by for) get their meters once it does.
+    Set<String> later = new HashSet<>();
+    for (TopologyNode node : core.topology().nodes()) {
+      if (node.isService() && !names.contains(node.name())) {
+        later.add(node.name());
+      }
+    }
+    awaited.put(registry, later);
     snapshots.cover(names);
   }
 
   /**
-   * Undoes a binding that cannot finish: removes the meters it registered for the node at hand
-   * (not those the registry had before it) and those of the nodes bound before, and stops their
-   * timing.
+   * Registers the meters of one node and starts timing its values.
+   *
+   * @throws IllegalStateException if the registry refuses a meter or holds them already (another
+   *     binder's); the meters this call registered are removed
    */
-  private static void undo(
-      MeterRegistry registry, Set<Meter> existing, List<Meter> meters, List<Bound> made) {
-    meters.stream().filter(meter -> !existing.contains(meter)).forEach(registry::remove);
+  private Bound bindNode(MeterRegistry registry, ServiceMetrics service, Set<Meter> existing) {
+    List<Meter> meters = new ArrayList<>();
+    try {
+      register(registry, service, meters);
+    } catch (RuntimeException refused) {
+      undo(registry, notIn(existing, meters), List.of());
+      throw new IllegalStateException(
+          "cannot bind the meters of node '" + service.name() + "' of core '" + metrics.core()
+              + "' on " + metrics.media() + ": the registry refused one (" + refused.getMessage()
+              + "); nothing of this binding is kept: remove the meter in the way from the"
+              + " registry, or rename it (or the prime.service.* meters) with a meter filter,"
+              + " then bind again",
+          refused);
+    }
+    if (meters.stream().anyMatch(existing::contains)) {
+      undo(registry, notIn(existing, meters), List.of());
+      throw new IllegalStateException(
+          "the registry already has the meters of node '" + service.name() + "' of core '"
+              + metrics.core() + "' on " + metrics.media() + ", bound by another PrimeMetrics:"
+              + " bind one PrimeMetrics per core and registry (close the other first), or give"
+              + " cores bound to one registry distinct names");
+    }
+    Timer timer = (Timer) meters.get(meters.size() - 1);
+    try {
+      Metrics.Subscription timing =
+          metrics.onProcessed(
+              service.name(), (nanos, failed) -> timer.record(nanos, TimeUnit.NANOSECONDS));
+      return new Bound(registry, meters, timing);
+    } catch (RuntimeException e) { // the node was forgotten meanwhile (a failed declaration)
+      undo(registry, meters, List.of());
+      throw e;
+    }
+  }
+
+  /**
+   * Called after a meter read its node: once per snapshot, registers the meters of the nodes that
+   * were declared when a registry was bound and that this process runs now but did not then (an
+   * Optimus standby that took a service over). Not under the snapshots' monitor (see {@link
+   * #bindTo}, which takes it under this one's). A node whose meters the registry refuses is left
+   * without them, and said so in the log: a registry's read must not fail for it.
+   */
+  private void bindNewlyRun() {
+    long generation = snapshots.generation();
+    if (generation == checkedAt) {
+      return;
+    }
+    synchronized (this) {
+      if (generation == checkedAt) {
+        return;
+      }
+      checkedAt = generation;
+      if (awaited.values().stream().allMatch(Set::isEmpty)) {
+        return;
+      }
+      List<String> names = metrics.names();
+      List<String> adopted = new ArrayList<>();
+      for (Map.Entry<MeterRegistry, Set<String>> entry : awaited.entrySet()) {
+        MeterRegistry registry = entry.getKey();
+        for (String name : names) {
+          if (!entry.getValue().remove(name)) {
+            continue;
+          }
+          Set<Meter> existing = Collections.newSetFromMap(new IdentityHashMap<>());
+          existing.addAll(registry.getMeters());
+          try {
+            bound.add(bindNode(registry, metrics.service(name), existing));
+            adopted.add(name);
+          } catch (RuntimeException e) {
+            System.getLogger(PrimeMetrics.class.getName())
+                .log(System.Logger.Level.WARNING,
+                    "node '" + name + "' of core '" + metrics.core() + "' runs here now but gets"
+                        + " no meters: " + e.getMessage());
+          }
+        }
+      }
+      snapshots.cover(adopted);
+    }
+  }
+
+  /** {@return those of {@code meters} that {@code existing} does not hold} */
+  private static List<Meter> notIn(Set<Meter> existing, List<Meter> meters) {
+    return meters.stream().filter(meter -> !existing.contains(meter)).toList();
+  }
+
+  /**
+   * Undoes a binding that cannot finish: removes {@code meters}, the meters it registered for the
+   * node at hand, and those of the nodes bound before, and stops their timing.
+   */
+  private static void undo(MeterRegistry registry, List<Meter> meters, List<Bound> made) {
+    meters.forEach(registry::remove);
     for (Bound b : made) {
       b.timing().close();
       b.meters().forEach(registry::remove);
@@ -283,6 +362,7 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
             snapshots,
             unused -> {
               ServiceMetrics now = snapshots.service(service);
+              bindNewlyRun();
               return now == null ? Double.NaN : count.applyAsDouble(now);
             })
         .description(description)
@@ -303,6 +383,7 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
             snapshots,
             unused -> {
               ServiceMetrics now = snapshots.service(service);
+              bindNewlyRun();
               double v = now == null ? -1 : value.applyAsDouble(now);
               return v < 0 ? Double.NaN : v; // no longer metered here, or unknown now
             })
@@ -320,6 +401,7 @@ public final class PrimeMetrics implements MeterBinder, AutoCloseable {
       b.meters().forEach(b.registry()::remove);
     }
     bound.clear();
+    awaited.clear();
   }
 
   /** The meters of one node in one registry, and the listener that feeds its timer. */

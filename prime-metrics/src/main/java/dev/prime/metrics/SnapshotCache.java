@@ -26,6 +26,7 @@ final class SnapshotCache {
   private Map<String, ServiceMetrics> latest = Map.of(); // guarded by this
   private long takenAt; // guarded by this: System.nanoTime() of latest
   private boolean taken; // guarded by this
+  private volatile long generation; // snapshots taken so far
 
   SnapshotCache(Metrics metrics, Duration refresh) {
     this.metrics = metrics;
@@ -46,6 +47,7 @@ final class SnapshotCache {
    */
   synchronized ServiceMetrics service(String name) {
     if (refreshNanos == 0) {
+      generation++;
       return metrics.names().contains(name) ? metrics.service(name) : null;
     }
     long now = System.nanoTime();
@@ -57,8 +59,14 @@ final class SnapshotCache {
       latest = all;
       takenAt = now;
       taken = true;
+      generation++;
     }
     return latest.get(name);
+  }
+
+  /** {@return how many snapshots were taken so far: a new one may show nodes newly metered} */
+  long generation() {
+    return generation;
   }
 
   /**

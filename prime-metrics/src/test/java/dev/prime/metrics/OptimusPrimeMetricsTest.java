@@ -3,6 +3,7 @@ package dev.prime.metrics;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
+import static org.junit.jupiter.api.Assertions.assertNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Block;
@@ -168,6 +169,56 @@ class OptimusPrimeMetricsTest extends PrimeMetricsContract {
           registry.get(PrimeMetrics.QUEUE_DEPTH).tag("service", "ordered").gauge().value());
       assertEquals(0, count(registry, PrimeMetrics.VALUES_IN, "same"),
           "served from the snapshot, also after reading the meters of the standby's service");
+    }
+  }
+
+  /**
+   * Bound once the core runs, as the README binds it ({@code whenRunning}), a standby's binder
+   * gives the service it stands by for its meters once it has taken the service over from the
+   * process that ran it: they count and time what it processes here.
+   */
+  @Test
+  void aServiceTakenOverAfterBindingGetsItsMeters() throws Exception {
+    CoreConfig config = CoreConfig.builder().name("takeover").metrics(true).build();
+    try (EmbeddedRedis redis = EmbeddedRedis.start();
+        OptimusCore standby =
+            OptimusCore.builder().config(config).redis(redis.getUri())
+                .leaseTime(Duration.ofSeconds(1)).hosting("ordered", Hosting.ORDERED).build()) {
+      OptimusCore active =
+          OptimusCore.builder().config(config).redis(redis.getUri())
+              .leaseTime(Duration.ofSeconds(1)).hosts("ordered").hosting("ordered", Hosting.ORDERED)
+              .build();
+      try {
+        active.chain("ordered", (Integer x) -> x).toBlock();
+        Block<Integer, Integer> ordered = standby.chain("ordered", (Integer x) -> x).toBlock();
+        Block<Integer, Integer> same = standby.chain("same", (Integer x) -> x).toBlock();
+        SimpleMeterRegistry registry = new SimpleMeterRegistry();
+        PrimeMetrics binder = PrimeMetrics.of(standby, Duration.ZERO);
+        active.start();
+        standby.whenRunning("metrics", () -> binder.bindTo(registry), binder::close);
+        standby.start();
+        assertNull(registry.find(PrimeMetrics.VALUES_IN).tag("service", "ordered").functionCounter(),
+            "no meters while the active process runs it");
+
+        active.close();
+        long deadline = System.nanoTime() + PATIENCE.toNanos();
+        while (!standby.serviceNames().contains("ordered") && System.nanoTime() < deadline) {
+          Thread.sleep(10); // polling the core, bounded by the deadline
+        }
+        assertTrue(standby.serviceNames().contains("ordered"), "the standby took 'ordered' over");
+        assertEquals(5, ordered.process(5));
+        assertEquals(1, same.process(1));
+        assertEquals(1, count(registry, PrimeMetrics.VALUES_IN, "same")); // a read of the meters
+        assertNotNull(registry.find(PrimeMetrics.VALUES_IN).tag("service", "ordered").functionCounter(),
+            "the meters of the service the standby took over");
+        assertEquals(6, ordered.process(6));
+        assertEquals(standby.metrics().service("ordered").valuesIn(),
+            count(registry, PrimeMetrics.VALUES_IN, "ordered"));
+        assertEquals(1, registry.get(PrimeMetrics.PROCESSING).tag("service", "ordered").timer().count(),
+            "the value processed after its meters came, timed");
+      } finally {
+        active.close();
+      }
     }
   }
 }
