@@ -157,21 +157,22 @@ final class ServiceMeter {
     return count == null ? 0 : count.getAsLong();
   }
 
+  /**
+   * Reads the counters in the reverse of the order a value updates them (in, then its time and
+   * failure, then out), {@code in} last: a value a snapshot counts timed, failed or out is then
+   * counted in too, as {@link ServiceMetrics} promises (one in flight may show in {@code in}
+   * only, never the reverse).
+   */
   ServiceMetrics snapshot(String pseudoname, long deadLetters, long queueDepth, long missed) {
+    long valuesOut = out.sum();
+    long failed = failures.sum();
     long[] counts = new long[buckets.length()];
     for (int i = 0; i < counts.length; i++) {
       counts[i] = buckets.get(i);
     }
+    ProcessingTimes times = new ProcessingTimes(counts, totalNanos.sum(), maxNanos.get());
+    long valuesIn = in.sum();
     return new ServiceMetrics(
-        name,
-        pseudoname,
-        kind,
-        in.sum(),
-        out.sum(),
-        failures.sum(),
-        deadLetters,
-        queueDepth,
-        missed,
-        new ProcessingTimes(counts, totalNanos.sum(), maxNanos.get()));
+        name, pseudoname, kind, valuesIn, valuesOut, failed, deadLetters, queueDepth, missed, times);
   }
 }

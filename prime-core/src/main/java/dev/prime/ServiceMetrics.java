@@ -25,7 +25,8 @@ import java.util.Objects;
  * @param failures values on which the node's logic threw
  * @param deadLetters values the media set aside as dead letters (Optimus: the service's dead-letter
  *     list in Redis, counted for every process since the topology's Redis data was created,
- *     trimmed ones included); always 0 on media without dead letters (Liberty, Radiant)
+ *     trimmed ones included; {@code -1} while it cannot be read now: Redis unreachable, or the
+ *     core closed); always 0 on media without dead letters (Liberty, Radiant)
  * @param queueDepth values in the node's input queue that it has not finished now: those waiting
  *     and those it is processing (on Optimus, until the step that stores their results); {@code
  *     -1} where the media has no queue for the node (a chain on Liberty and Radiant runs in its

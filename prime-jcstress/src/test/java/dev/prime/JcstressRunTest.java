@@ -23,14 +23,14 @@ import org.junit.jupiter.api.Test;
  */
 class JcstressRunTest {
   /**
-   * The tests over Prime's classes: every {@code dev.prime.MemorySource*Stress} and {@code
-   * dev.prime.Isolate*Stress} class.
+   * The tests over Prime's classes: every {@code dev.prime.MemorySource*Stress}, {@code
+   * dev.prime.Isolate*Stress} and {@code dev.prime.ServiceMeter*Stress} class.
    */
-  static final String SUITE = "^dev\\.prime\\.(MemorySource|Isolate).*Stress$";
+  static final String SUITE = "^dev\\.prime\\.(MemorySource|Isolate|ServiceMeter).*Stress$";
 
   private static final String TOY_NAME = "dev.prime.selfcheck.UnlockedClaimToy";
 
-  private static final int SUITE_SIZE = 21;
+  private static final int SUITE_SIZE = 22;
 
   private static SortedSet<String> suite;
   private static Map<String, JcstressRun.Verdict> verdicts;
