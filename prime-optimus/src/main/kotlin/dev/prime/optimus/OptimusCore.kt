@@ -391,23 +391,25 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * The values service [service] gave up on, oldest first (see [DeadLetter]). While Redis is
-     * unreachable it waits for Redis.
+     * unreachable it waits for Redis, at most 10 s.
      *
+     * @throws RedisUnavailableException if Redis stays unreachable for 10 s
      * @throws dev.prime.PrimeException if the thread is interrupted while it waits for Redis (the flag is kept)
      * @throws CoreClosedException if the core is closed
      */
     public fun deadLetters(service: String): List<DeadLetter> {
         checkOpen()
         return interruptibleInOutage({ "reading the dead letters of service '$service'" }) {
-            withSession { session -> session.retrying { it.lrange(keys.deadLetters(service), 0, -1) } }
+            withSession { session -> session.retryingUntil(deadLettersDeadline(), "read the dead letters of service '$service'") { it.lrange(keys.deadLetters(service), 0, -1) } }
         }.map { DeadLetter.decode(service, it) }
     }
 
     /**
      * How many dead letters of [service] were dropped, oldest first, to keep its list within
      * [Builder.deadLetterLimit] (since the topology's Redis data was created; [clearDeadLetters]
-     * does not reset it). While Redis is unreachable it waits for Redis.
+     * does not reset it). While Redis is unreachable it waits for Redis, at most 10 s.
      *
+     * @throws RedisUnavailableException if Redis stays unreachable for 10 s
      * @throws dev.prime.PrimeException if the thread is interrupted while it waits for Redis (the flag is kept)
      * @throws CoreClosedException if the core is closed
      */
@@ -415,15 +417,19 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         checkOpen()
         return interruptibleInOutage({ "reading how many dead letters of service '$service' were dropped" }) {
             withSession("read the dead-letter count of service '$service'") { session ->
-                session.retrying { it.get(keys.deadLettersTrimmed(service)) }
+                session.retryingUntil(deadLettersDeadline(), "read the dead-letter count of service '$service'") {
+                    it.get(keys.deadLettersTrimmed(service))
+                }
             }
         }?.toString(UTF_8)?.toLong() ?: 0L
     }
 
     /**
      * Deletes the dead letters of [service]; returns how many there were. While Redis is
-     * unreachable it waits for Redis.
+     * unreachable it waits for Redis, at most 10 s.
      *
+     * @throws RedisUnavailableException if Redis stays unreachable for 10 s (an attempt whose answer
+     *   was lost may have deleted them)
      * @throws dev.prime.PrimeException if the thread is interrupted while it waits for Redis (the
      *   flag is kept; an attempt whose answer was lost may have deleted them)
      * @throws CoreClosedException if the core is closed
@@ -435,7 +441,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "; an attempt whose answer was lost may have cleared them",
         ) {
             withSession { session ->
-                session.retrying { jedis ->
+                session.retryingUntil(deadLettersDeadline(), "clear the dead letters of service '$service'") { jedis ->
                     val transaction = jedis.multi()
                     val length = transaction.llen(keys.deadLetters(service))
                     transaction.del(keys.deadLetters(service))
@@ -445,6 +451,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             }
         }
     }
+
+    /**
+     * When a read or deletion of dead letters that begins now gives up waiting for Redis: a tool or
+     * a dashboard that asks during an outage gets an answer or a [RedisUnavailableException], never
+     * a wait as long as the outage.
+     */
+    private fun deadLettersDeadline(): Long = System.nanoTime() + DEAD_LETTERS_TIMEOUT.toNanos()
 
     // ------------------------------------------------------------------ retiring a topology
 
@@ -1646,6 +1659,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
+        private val DEAD_LETTERS_TIMEOUT = Duration.ofSeconds(10)
         private const val DELETE_KEYS_BATCH = 1_000
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
         private val MAX_LEASE_TIME = Duration.ofHours(24)
