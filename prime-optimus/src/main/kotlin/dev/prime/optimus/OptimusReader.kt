@@ -125,9 +125,11 @@ internal class OptimusReader<T>(
      */
     override fun missed(): Long {
         checkUsable()
-        val what = "reading the missed count of a reader"
-        return core.withSession(what) { pooled ->
-            pooled.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, what) { it.get(missedKey) }
+        val what = "reading the missed count of a reader of source '${source.name}'"
+        return core.interruptibleInOutage({ what }) {
+            core.withSession(what) { pooled ->
+                pooled.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, what) { it.get(missedKey) }
+            }
         }?.let { String(it).toLong() } ?: 0L
     }
 

@@ -43,6 +43,21 @@ class InterruptedPublishTest {
         }
     }
 
+    /** A reader's missed() reads its count in Redis: interrupted while it waits for Redis, the same kind of failure. */
+    @Test
+    fun aReadersMissedCountInterruptedWhileRedisIsUnreachableFailsSayingSoAndKeepsTheFlag() {
+        withProxiedReaderCore("interrupted-missed") { _, _, proxy, core ->
+            val numbers = core.source("numbers", EventBlock<Int>())
+            core.start()
+            numbers.reader().use { reader ->
+                proxy.refuse()
+                assertInterruptedInOutage("a reader's missed()", "numbers") { reader.missed() }
+                proxy.restore()
+                assertEquals(0L, reader.missed(), "the reader works on once Redis is back")
+            }
+        }
+    }
+
     private companion object {
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
