@@ -303,7 +303,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     internal fun serviceOn(source: OptimusSource<*>, stages: List<StageSpec>, output: String?): OptimusSource<Any>? {
         val published = output?.let { OptimusSource<Any>(this, it, ofEvents = false) }
-        bindToSource(source, stages, published)
+        interruptibleInOutage({ "linking to source '${source.name()}'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+            bindToSource(source, stages, published)
+        }
         return published
     }
 
@@ -598,7 +600,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     override fun onStart(): Unit = interruptibleInOutage(
         { "start() of core '${name()}'" },
         "; the core started only in part: close it and make a new one",
-        "for Redis (to reach it again, or for another process's host lease to lapse)",
+        WAITED_FOR_REDIS_OR_LEASE,
     ) {
         startHere()
     }
@@ -659,7 +661,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     override fun hostOnCoreThreads(service: String) {
         if (!isHosted(service) || isClosed || service in hostLeases.services) return
-        claimHostLeases(listOf(service)) // refused: the declaration fails and is forgotten, nothing runs
+        // refused: the declaration fails and is forgotten, nothing runs
+        interruptibleInOutage({ "declaring '$service'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) { claimHostLeases(listOf(service)) }
     }
 
     override fun onClose() {
@@ -812,7 +815,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * calls are such is read from the topology at [start], or at once after it.
      */
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
-        bind(stages, null, counted = false)
+        interruptibleInOutage({ "declaring chain '$chainName'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+            bind(stages, null, counted = false)
+        }
         calledServices[chainName] = stages.map { it.name }
         val first = stages.first().name
         val call = RemoteCall<I, O>(this, chainName, first, stages.mapTo(LinkedHashSet()) { it.name }, keys.serviceInput(first))
@@ -1660,6 +1665,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
         private val DEAD_LETTERS_TIMEOUT = Duration.ofSeconds(10)
+
+        /** What start(), and a declaration after it, may wait for: Redis, or another process's host lease. */
+        private const val WAITED_FOR_REDIS_OR_LEASE = "for Redis (to reach it again, or for another process's host lease to lapse)"
         private const val DELETE_KEYS_BATCH = 1_000
         private val MIN_LEASE_TIME = Duration.ofMillis(300)
         private val MAX_LEASE_TIME = Duration.ofHours(24)
