@@ -545,7 +545,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * that runs a request's block of one of them (a chain that calls itself, or a linked chain
      * called from its later chain): that service takes one request at a time (one host, one
      * thread, unless it is [Hosting.UNORDERED]), so the call would wait for the request that makes
-     * it, until [Builder.callTimeout]. Costs a calling thread one thread-local read.
+     * it, until [Builder.callTimeout]. Costs a call one thread-local read (a thread's first also makes its record).
      */
     internal fun refuseCallThroughItself(chainName: String, services: Set<String>) {
         val running = runningRequests.get()

@@ -1,11 +1,9 @@
 package dev.prime.optimus
 
 import dev.prime.Block
-import dev.prime.ChainFailedException
 import dev.prime.CoreConfig
 import dev.prime.PrimeException
 import org.junit.jupiter.api.Assertions.assertEquals
-import org.junit.jupiter.api.Assertions.assertInstanceOf
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
@@ -34,18 +32,7 @@ class IsolatedSelfCallTest {
                 shared.counter()
                 users.start()
                 shared.start()
-                assertEquals(0, outer.process(0), "a call that does not re-enter")
-                val began = System.nanoTime()
-                val failure = assertThrows(ChainFailedException::class.java) { outer.process(1) }
-                assertTrue(
-                    System.nanoTime() - began < Duration.ofSeconds(10).toNanos(),
-                    "refused at once, not by the call timeout of 60 s",
-                )
-                assertEquals("counter", failure.chainName(), failure.toString())
-                val remote = assertInstanceOf(RemoteFailureException::class.java, failure.cause)
-                assertTrue("IllegalStateException" in remote.message!!, remote.message)
-                assertTrue("called from inside itself" in remote.message!!, remote.message)
-                assertEquals(0, outer.process(0), "the isolated chain serves the next call")
+                assertRefusedFromInsideItselfInAnotherProcess(outer, reentering = 1)
             }
         }
     }
