@@ -56,9 +56,11 @@ package dev.prime;
  *       InterruptedException} it caught): a service it runs in clears the flag afterwards and goes
  *       on while the core is open; only {@link PrimeCore#close()} ends a service. In a service,
  *       the blocks run after it on that thread see the flag until the service clears it, before
- *       its next value: on the in-memory media the rest of a linked chain, which a service runs
- *       as one function, as hand-written calls would; on every media the later parts of a
- *       template. (On Optimus each chain is a service of its own, on a thread of its own.) A
+ *       its next value: on the in-memory media the rest of a linked chain and the later parts of
+ *       a template, which a service runs as one function, as hand-written calls would. (On
+ *       Optimus each chain and each part of a template is a service of its own, on a thread of
+ *       its own; an {@code ifThenElse} condition that sets the flag on the template's thread
+ *       makes that value's call of its branch fail with a {@link PrimeException}.) A
  *       block called synchronously on the in-memory media runs on the caller's thread, whose
  *       flag it sets (the next blocks of the call see it too).
  * </ul>

@@ -939,6 +939,108 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * architecture.md (<i>Interrupts</i>): in a service, the blocks run after one that interrupted
+   * its own thread see the flag until the service clears it before its next value. Where a
+   * template runs its parts on its own thread (Liberty, Radiant), a union's second part sees its
+   * first part's flag, a for-each's second element the first's and the branch its condition's.
+   * Where each part is a service of its own (Optimus), every part starts without it, and a
+   * condition that sets it on the template's thread fails that value's call of its branch, as any
+   * wait of an interrupted thread: a {@code PrimeException} naming the branch goes to the error
+   * handler. On every media each value's first part starts without the flag and the services go
+   * on with the next value.
+   */
+  @Test
+  default void theLaterPartsOfATemplateSeeTheFlagWhereTheyRunOnItsThread()
+      throws InterruptedException {
+    List<String> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("restless-parts", events);
+      Reader<dev.prime.Tuple2<Integer, Integer>> unions =
+          source
+              .then(
+                  core.union(
+                      core.chain("union-first", (Integer x) -> flagging(seen, "union-first", x)),
+                      core.chain("union-second", (Integer x) -> flagging(seen, "union-second", x))))
+              .reader();
+      Reader<Integer> branches =
+          source
+              .then(
+                  core.ifThenElse(
+                      (Integer x) -> x == 1 ? flagging(seen, "condition", x) > 0 : x > 0,
+                      core.chain("then-branch", (Integer x) -> flagging(seen, "then-branch", x)),
+                      core.chain("else-branch", (Integer x) -> flagging(seen, "else-branch", x))))
+              .reader();
+      Reader<List<Integer>> elements =
+          source
+              .then(core.chain("pair", (Integer x) -> List.of(10 * x, 10 * x + 1)))
+              .then(core.forEach(core.chain("element", (Integer x) -> flagging(seen, "element", x))))
+              .reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      boolean oneThread = blocksRunOnTheCallersThread();
+      String later = oneThread ? " flagged" : "";
+      assertEquals(
+          List.of(new dev.prime.Tuple2<>(1, 1), new dev.prime.Tuple2<>(2, 2)),
+          takeOrFail(unions, 2),
+          "the union's service went on");
+      assertEquals(
+          List.of(List.of(10, 11), List.of(20, 21)),
+          takeOrFail(elements, 2),
+          "the for-each's service went on");
+      assertEquals(
+          oneThread ? List.of(1, 2) : List.of(2),
+          takeOrFail(branches, oneThread ? 2 : 1),
+          "the if-then-else's service went on");
+      assertEquals(
+          List.of(
+              "union-first 1",
+              "union-second 1" + later,
+              "union-first 2",
+              "union-second 2" + later),
+          seen.stream().filter(line -> line.startsWith("union")).toList(),
+          "what the union's parts saw");
+      assertEquals(
+          List.of("element 10", "element 11" + later, "element 20", "element 21" + later),
+          seen.stream().filter(line -> line.startsWith("element")).toList(),
+          "what the for-each's elements saw");
+      List<String> branchLines =
+          seen.stream().filter(line -> line.contains("branch")).distinct().sorted().toList();
+      if (oneThread) {
+        assertEquals(
+            List.of("then-branch 1 flagged", "then-branch 2"),
+            branchLines,
+            "the branch sees its condition's flag, and the next value starts without it");
+        assertEquals(List.of(), failures, "nothing failed");
+      } else {
+        assertTrue(
+            branchLines.stream().noneMatch(line -> line.endsWith("flagged")),
+            "a branch that ran started without the flag: " + branchLines);
+        assertEquals(1, failures.size(), "one failure, the call of the branch: " + failures);
+        PrimeException failure = assertInstanceOf(PrimeException.class, failures.get(0));
+        assertTrue(
+            failure.getMessage().contains("interrupted")
+                && failure.getMessage().contains("'then-branch'"),
+            "names the interrupted wait for the branch: " + failure.getMessage());
+      }
+    }
+  }
+
+  /**
+   * Notes in {@code seen} that {@code part} got {@code x}, and whether its thread's flag was set
+   * then, and interrupts its own thread; returns {@code x}.
+   */
+  private static Integer flagging(List<String> seen, String part, Integer x) {
+    seen.add(part + " " + x + (Thread.currentThread().isInterrupted() ? " flagged" : ""));
+    Thread.currentThread().interrupt();
+    return x;
+  }
+
   /** Interrupts the calling thread when {@code x} is {@code on}; returns {@code x}. */
   private static Integer interruptOn(int on, Integer x) {
     if (x == on) {
