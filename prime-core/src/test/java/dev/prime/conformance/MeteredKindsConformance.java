@@ -17,7 +17,9 @@ import java.time.Duration;
 import java.util.List;
 import java.util.Set;
 import java.util.TreeSet;
+import java.util.concurrent.BlockingQueue;
 import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.LinkedBlockingQueue;
 import java.util.concurrent.TimeUnit;
 import java.util.stream.Collectors;
 import org.junit.jupiter.api.Test;
@@ -102,6 +104,38 @@ public interface MeteredKindsConformance extends ConformanceBase {
       assertEquals(7, takeOrFail(late).count(), "the oldest retained tick");
       assertEquals(6, late.missed());
       ServiceMetrics metered = core.metrics().service("beat");
+      assertEquals(6, metered.missed(), metered.toString());
+    }
+  }
+
+  /**
+   * A combinator's {@code missed}, like a timer's, is what the plain readers of its source missed
+   * ({@link ServiceMetrics}): ten values merged with a retention of 4 and a reader of the merge
+   * that reads only after the tenth make the reader miss 6, and the merge's metrics say 6. Each
+   * value is published once the merge emitted the one before, as on Optimus the merge reads its
+   * inputs through readers that miss what falls more than the retention behind (architecture.md,
+   * <i>Combinators</i>, "Inputs").
+   */
+  @Test
+  default void aCombinatorCountsWhatTheReadersOfItsOutputMissed() throws InterruptedException {
+    CoreConfig config = CoreConfig.builder().metrics(true).sourceRetention(4).build();
+    try (PrimeCore core = newCore(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> merged =
+          core.merge(
+              core.source("numbers", events), core.source("others", new EventBlock<Integer>()));
+      Reader<Integer> late = merged.reader();
+      BlockingQueue<Integer> emitted = new LinkedBlockingQueue<>();
+      merged.listen(emitted::add);
+      core.start();
+      for (int i = 1; i <= 10; i++) {
+        events.publish(i);
+        assertEquals(
+            i, emitted.poll(patience().toMillis(), TimeUnit.MILLISECONDS), "value " + i + " merged");
+      }
+      assertEquals(List.of(7, 8, 9, 10), takeOrFail(late, 4), "the values the source retains");
+      assertEquals(6, late.missed(), "what the reader missed");
+      ServiceMetrics metered = core.metrics().service("merge(numbers|others)");
       assertEquals(6, metered.missed(), metered.toString());
     }
   }
