@@ -456,6 +456,38 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * A chain whose block calls its own chain without end (architecture, <i>Errors</i>, "A chain
+   * that calls itself"): where the call runs on the caller's thread (Liberty, Radiant) it recurses
+   * until the stack's limit, and the {@link StackOverflowError} reaches the caller unwrapped;
+   * where the chain is a service (Optimus), the inner call fails at once. Either way the chain
+   * then serves the next call.
+   */
+  @Test
+  default void aChainThatCallsItselfWithoutEndEndsAtTheStackLimitOrFailsAtOnce()
+      throws InterruptedException {
+    AtomicReference<Block<Integer, Integer>> self = new AtomicReference<>();
+    try (PrimeCore core = newCore()) {
+      Block<Integer, Integer> chain =
+          core.chain("endless", (Integer x) -> x == 0 ? 0 : self.get().process(x + 1) + 1)
+              .toBlock();
+      self.set(chain);
+      core.start();
+      Caller recursing = new Caller("endless-recursion", () -> chain.process(1));
+      Throwable failure = recursing.awaitFailure(patience());
+      if (blocksRunOnTheCallersThread()) {
+        assertInstanceOf(StackOverflowError.class, failure, "the stack's limit, unwrapped");
+      } else {
+        ChainFailedException outer =
+            assertInstanceOf(ChainFailedException.class, failure, "the outer call fails");
+        assertEquals("endless", outer.chainName(), "names the chain whose block made the call");
+        assertInstanceOf(
+            IllegalStateException.class, failure.getCause(), "the inner call's failure: " + failure);
+      }
+      assertEquals(0, chain.process(0), "the chain serves the next call");
+    }
+  }
+
+  /**
    * On a new core, makes the block of the chain {@code recursive} makes (whose block calls {@code
    * self}, set here to that very block), and calls it with 3: 3 where blocks run on the caller's
    * thread, else a failure whose cause is the inner call's IllegalStateException; then with 0.
