@@ -1,12 +1,14 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertNotNull;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
+import dev.prime.PrimeException;
 import dev.prime.Reader;
 import dev.prime.Source;
 import dev.prime.ValueCodec;
@@ -90,6 +92,42 @@ public interface CodecFailureConformance extends ConformanceBase {
         cause = cause.getCause();
       }
       assertNotNull(cause, "the codec's own exception is kept: " + failure.error());
+    }
+  }
+
+  /**
+   * What the error handler gets for a value the codec cannot decode is what {@link
+   * dev.prime.ErrorHandler} says, on every media: a {@link PrimeException} whose cause is the
+   * codec's own exception, and as the input the bytes that could not be decoded (a {@code
+   * byte[]}; on Optimus the value's envelope).
+   */
+  @Test
+  default void theHandlerGetsAPrimeExceptionCausedByTheCodecsAndTheBytes()
+      throws InterruptedException {
+    List<Failure> failures = new CopyOnWriteArrayList<>();
+    CoreConfig config =
+        CoreConfig.builder()
+            .copyValues(new ForgetfulCodec(copyCodec()))
+            .errorHandler((service, input, error) -> failures.add(new Failure(service, input, error)))
+            .build();
+    try (PrimeCore core = newCoreWithCodec(config)) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("codec-bytes", events);
+      Reader<Integer> doubled = source.then(core.chain("doubled", (Integer x) -> x * 2)).reader();
+      core.start();
+      events.publish(UNREADABLE);
+      events.publish(4);
+      assertEquals(8, takeOrFail(doubled), "the service went on");
+      assertEquals(1, failures.size(), "failures reported: " + failures);
+      Failure failure = failures.get(0);
+      assertInstanceOf(PrimeException.class, failure.error(), "the error");
+      assertInstanceOf(
+          IllegalStateException.class, failure.error().getCause(), "its cause: " + failure.error());
+      assertEquals(
+          "ForgetfulCodec forgot how to read " + UNREADABLE,
+          failure.error().getCause().getMessage(),
+          "the codec's own exception");
+      assertInstanceOf(byte[].class, failure.input(), "the input: the bytes not decoded");
     }
   }
 
