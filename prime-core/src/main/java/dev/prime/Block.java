@@ -59,8 +59,9 @@ package dev.prime;
  *       its next value: on the in-memory media the rest of a linked chain and the later parts of
  *       a template, which a service runs as one function, as hand-written calls would. (On
  *       Optimus each chain and each part of a template is a service of its own, on a thread of
- *       its own; an {@code ifThenElse} condition that sets the flag on the template's thread
- *       makes that value's call of its branch fail with a {@link PrimeException}.) A
+ *       its own; a call of a chain made on a service's thread with the flag set, such as an
+ *       {@code ifThenElse} condition's call of its branch, is made as if it were not set, and the
+ *       flag is set again after it.) A
  *       block called synchronously on the in-memory media runs on the caller's thread, whose
  *       flag it sets (the next blocks of the call see it too).
  * </ul>

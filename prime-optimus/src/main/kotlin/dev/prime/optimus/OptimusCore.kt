@@ -561,6 +561,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
+     * Clears the interrupt flag of the calling thread if it is one of this core's own (a service,
+     * a template, a listener) and the core is open, and says whether it did. Such a flag was left
+     * by a block (an `ifThenElse` condition, a block that interrupted itself before calling a
+     * chain): while the core is open only [close] ends a service, and the service clears the flag
+     * before its next value. A call of a chain made then is made without it, as on Liberty and
+     * Radiant, where the called blocks run inline and a call never waits for a reply; the caller
+     * sets the flag again after the call. A close that interrupts the thread meanwhile still ends
+     * the call: it closes the call's connections, and the flag it sets ends the wait.
+     */
+    internal fun clearFlagLeftByABlock(): Boolean {
+        val current = Thread.currentThread()
+        return current.isInterrupted && !isClosed && current in threads && Thread.interrupted()
+    }
+
+    /**
      * Whether the caller of the request this service thread runs a block for gave up after the
      * service took it: its mark ([AbandonedCalls]) is in Redis. False on a thread that runs no
      * request (a value, a caller's own thread), and when Redis cannot tell now.

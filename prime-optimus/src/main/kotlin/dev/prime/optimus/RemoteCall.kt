@@ -34,15 +34,21 @@ internal class RemoteCall<I, O>(
         core.checkStarted("calling chain '$chainName'")
         selfCalls?.check(chainName)
         core.refuseCallThroughItself(chainName, services)
-        val payload = core.encode(value)
-        // the deadline counts from here: a thread's first call records its reply list within it too
-        val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }
-        val slot = core.reachingRedisFor(chainName, sent = false) { core.borrowSlot(deadline, chainName) }
+        val flagLeft = core.clearFlagLeftByABlock()
         try {
-            @Suppress("UNCHECKED_CAST")
-            return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline) } as O
+            if (flagLeft) core.checkOpen() // the flag was the close's: the call fails as a closed core's
+            val payload = core.encode(value)
+            // the deadline counts from here: a thread's first call records its reply list within it too
+            val deadline = core.callTimeout?.let { System.nanoTime() + boundedNanos(it) }
+            val slot = core.reachingRedisFor(chainName, sent = false) { core.borrowSlot(deadline, chainName) }
+            try {
+                @Suppress("UNCHECKED_CAST")
+                return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline) } as O
+            } finally {
+                core.returnSlot(slot)
+            }
         } finally {
-            core.returnSlot(slot)
+            if (flagLeft) Thread.currentThread().interrupt()
         }
     }
 
