@@ -1105,7 +1105,9 @@ public abstract class PrimeCore implements AutoCloseable {
 
   /**
    * Stops every service, waiting at most {@link CoreConfig#shutdownTimeout()} for them, and
-   * releases the core's threads and connections. Idempotent.
+   * releases the core's threads and connections. Idempotent. It first closes the {@link
+   * #whenRunning} hooks, waiting (at most {@code shutdownTimeout}) for an {@code onStart} under way
+   * on another thread to return before running its {@code onClose}.
    *
    * <p>A {@code close()} that finds another under way on another thread waits until that one has
    * finished (at most twice {@code shutdownTimeout} plus 30 s), so a shutdown hook that closes a
@@ -1188,10 +1190,19 @@ public abstract class PrimeCore implements AutoCloseable {
    * as the input; a handler that throws is logged and ignored ({@link ErrorHandler}), so {@code
    * start()} and {@code close()} carry on whole.
    *
+   * <p>{@code onClose} always runs after {@code onStart} if that ran, whatever the interleaving:
+   * a {@code close()} that comes while {@code onStart} runs on another thread (in {@code start()},
+   * or in this call on a started core) waits for it to return, at most {@link
+   * CoreConfig#shutdownTimeout()}, then runs {@code onClose}, so that what {@code onStart} made
+   * (a metrics binder's meters) is gone when {@code close()} returns; a hook not yet started when
+   * the core closes never starts. A {@code close()} that cannot wait (called from {@code onStart}
+   * itself or from one of the core's own threads, interrupted, or past that bound) leaves {@code
+   * onClose} to the thread running {@code onStart}, which runs it as soon as {@code onStart}
+   * returns.
+   *
    * @param name names the work in the error handler, such as the source it feeds
    * @param onStart starts the work
-   * @param onClose stops it; may run before {@code onStart} finished if {@code close()} races
-   *     with this call on a started core
+   * @param onClose stops it; runs once, after {@code onStart} if that ran
    * @throws CoreClosedException if the core is closed
    */
   public final void whenRunning(String name, Runnable onStart, Runnable onClose) {

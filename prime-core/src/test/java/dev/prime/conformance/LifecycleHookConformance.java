@@ -14,6 +14,8 @@ import dev.prime.PrimeCore;
 import dev.prime.Reader;
 import java.time.Duration;
 import java.util.List;
+import java.util.Set;
+import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
@@ -307,6 +309,141 @@ public interface LifecycleHookConformance extends ConformanceBase {
           Boolean.TRUE,
           servedDuringOnStart.get(),
           "the service processed the value onStart published while onStart ran");
+    }
+  }
+  /**
+   * A close that comes while a hook's {@code onStart} runs (from {@code start()}) closes the hook
+   * after its start returned, and {@code close()} returns only then: what the start left (a
+   * metrics binder's meters, here a set standing for the registry) is gone when {@code close()}
+   * returns ({@link PrimeCore#whenRunning}).
+   */
+  @Test
+  default void aCloseWhileAHookStartsClosesItAfterItsStart() throws InterruptedException {
+    PrimeCore core = newCore();
+    HookRace race = new HookRace();
+    core.whenRunning("binder", race::onStart, race::onClose);
+    Thread starter = HookRace.thread(core::start, "kit-starter");
+    race.closeWhileStarting(core, this);
+    starter.join(patience().toMillis());
+    race.assertClosedAfterItsStart();
+    awaitNoThreadsLeft(core);
+  }
+
+  /**
+   * The same for a hook added to a started core, whose {@code onStart} runs on the adding thread:
+   * a close that comes meanwhile closes it after its start returned.
+   */
+  @Test
+  default void aCloseWhileAHookAddedLateStartsClosesItAfterItsStart() throws InterruptedException {
+    PrimeCore core = newCore();
+    core.start();
+    HookRace race = new HookRace();
+    Thread adder =
+        HookRace.thread(() -> core.whenRunning("binder", race::onStart, race::onClose), "kit-adder");
+    race.closeWhileStarting(core, this);
+    adder.join(patience().toMillis());
+    race.assertClosedAfterItsStart();
+    awaitNoThreadsLeft(core);
+  }
+
+  /**
+   * A hook's {@code onStart} that closes its core (a start that finds it cannot go on) returns,
+   * and its {@code onClose} runs after it, on the same thread, before {@code start()} returns;
+   * the hooks after it neither start nor stay open.
+   */
+  @Test
+  default void aHookThatClosesItsCoreFromItsOnStartIsClosedAfterIt() {
+    List<String> calls = new CopyOnWriteArrayList<>();
+    PrimeCore core = newCore();
+    core.whenRunning(
+        "quitter",
+        () -> {
+          calls.add("start begun");
+          core.close();
+          calls.add("start done");
+        },
+        () -> calls.add("close"));
+    core.whenRunning("next", () -> calls.add("next started"), () -> calls.add("next closed"));
+    core.start();
+    assertTrue(core.isClosed());
+    assertEquals(List.of("start begun", "next closed", "start done", "close"), calls);
+  }
+
+  /**
+   * A hook whose {@code onStart} waits for the test while a close comes, standing for a metrics
+   * binder: its start registers a meter, its close removes the meters. The test's loops are bound
+   * by the kit's patience.
+   */
+  final class HookRace {
+    final Set<String> registry = ConcurrentHashMap.newKeySet();
+    final List<String> calls = new CopyOnWriteArrayList<>();
+    final CountDownLatch starting = new CountDownLatch(1);
+    final CountDownLatch release = new CountDownLatch(1);
+    final CountDownLatch closedEarly = new CountDownLatch(1);
+    final CountDownLatch closeReturned = new CountDownLatch(1);
+    Duration patience = Duration.ofSeconds(20);
+
+    void onStart() {
+      calls.add("start begun");
+      starting.countDown();
+      try {
+        release.await(patience.toMillis(), TimeUnit.MILLISECONDS);
+      } catch (InterruptedException e) {
+        Thread.currentThread().interrupt();
+      }
+      registry.add("meter");
+      calls.add("start done");
+    }
+
+    void onClose() {
+      calls.add("close");
+      closedEarly.countDown();
+      registry.clear();
+    }
+
+    /**
+     * Once the hook's start runs, closes the core on another thread, lets the start finish once
+     * that close waits (or closed the hook already: the defect) and waits for it to return.
+     */
+    void closeWhileStarting(PrimeCore core, ConformanceBase kit) throws InterruptedException {
+      patience = kit.patience();
+      assertTrue(starting.await(patience.toMillis(), TimeUnit.MILLISECONDS), "the hook started");
+      Thread closer =
+          thread(
+              () -> {
+                core.close();
+                calls.add("close() returned with " + registry);
+                closeReturned.countDown();
+              },
+              "kit-closer");
+      long deadline = System.nanoTime() + patience.toNanos();
+      for (int i = 0; i < 100_000 && System.nanoTime() < deadline; i++) {
+        Thread.State state = closer.getState();
+        if (state == Thread.State.WAITING
+            || state == Thread.State.TIMED_WAITING
+            || state == Thread.State.TERMINATED
+            || closedEarly.await(1, TimeUnit.MILLISECONDS)) {
+          break; // the close waits for the start, or went past it
+        }
+      }
+      release.countDown();
+      assertTrue(closeReturned.await(patience.toMillis(), TimeUnit.MILLISECONDS), "close() returned");
+      closer.join(patience.toMillis());
+    }
+
+    void assertClosedAfterItsStart() {
+      assertEquals(
+          List.of("start begun", "start done", "close", "close() returned with []"),
+          calls,
+          "the hook's close runs after its start, and close() returns after both");
+      assertEquals(Set.of(), registry, "nothing the hook's start made is left after close()");
+    }
+
+    static Thread thread(Runnable action, String name) {
+      Thread thread = new Thread(action, name);
+      thread.setDaemon(true);
+      thread.start();
+      return thread;
     }
   }
 }
