@@ -18,7 +18,8 @@ import java.util.Objects;
  * period (no longer metered here: another Optimus process runs it now) reads as missing until
  * the next one: were it to take a snapshot of its own, each read of its meters would take one.
  * Only binding meters of a node the snapshot lacks ({@link #cover}) ends the period early. With a
- * period of zero every read takes a snapshot of its node only.
+ * period of zero every read takes a snapshot of its node only, and a node that is no longer
+ * metered here when it is taken reads as missing: a read never fails for a node that went away.
  */
 final class SnapshotCache {
   private final Metrics metrics;
@@ -48,7 +49,12 @@ final class SnapshotCache {
   synchronized ServiceMetrics service(String name) {
     if (refreshNanos == 0) {
       generation++;
-      return metrics.names().contains(name) ? metrics.service(name) : null;
+      // No look at the names first: the node may go away between that look and the snapshot.
+      try {
+        return metrics.service(name);
+      } catch (IllegalArgumentException gone) {
+        return null;
+      }
     }
     long now = System.nanoTime();
     if (!taken || now - takenAt >= refreshNanos) {
