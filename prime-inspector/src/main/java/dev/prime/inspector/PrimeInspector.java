@@ -49,7 +49,10 @@ import java.util.Objects;
  * /api/events} the figures as server-sent events, {@code /api/events/NAME} the same with the
  * values recorded under {@code NAME}; {@code /api/values/NAME} the latest values of {@code NAME}
  * as JSON. A name that is not a node of the core, or not recorded, gets 404 with a message that
- * says why; a name of the core asked for with recording off gets 409.
+ * says why; a name of the core asked for with recording off gets 409. An answer that fails
+ * unexpectedly (the core or the figures threw) gets 500 with a short plain body and is logged
+ * with its stack trace ({@link System.Logger} {@code dev.prime.inspector.internal.InspectorServer});
+ * the inspector goes on serving.
  *
  * <p><b>Threads.</b> One sampler thread and one thread per open page (at most 32), named {@code
  * prime-inspector-<core name>-...}, and the JDK server's dispatcher. {@link #close()} ends them

@@ -59,6 +59,7 @@ public final class InspectorServer implements AutoCloseable {
   private static final long CLOSE_WAIT_MILLIS = 5_000;
   private static final String EVENTS = "/api/events";
   private static final String VALUES = "/api/values/";
+  private static final System.Logger LOG = System.getLogger(InspectorServer.class.getName());
 
   private final PrimeCore core;
   private final LiveFigures figures;
@@ -226,40 +227,69 @@ public final class InspectorServer implements AutoCloseable {
     }
   }
 
-  private void handle(HttpExchange exchange) throws IOException {
+  private void handle(HttpExchange exchange) {
     try (exchange) {
-      if (!exchange.getRequestMethod().equals("GET")) {
-        exchange.getResponseHeaders().set("Allow", "GET");
-        text(exchange, 405, "the inspector answers GET only, not " + exchange.getRequestMethod());
-        return;
-      }
-      String path = exchange.getRequestURI().getRawPath();
-      Page page = pages.get(path);
-      if (page != null) {
-        send(exchange, 200, page.contentType(), page.bytes());
-      } else if (path.equals("/api/topology")) {
-        send(exchange, 200, "application/json", topologyJson().getBytes(StandardCharsets.UTF_8));
-      } else if (path.equals(EVENTS)) {
-        stream(exchange, null);
-      } else if (path.startsWith(EVENTS + "/")) {
-        String name = decode(exchange, path.substring(EVENTS.length() + 1));
-        if (name != null && plottable(exchange, name)) {
-          stream(exchange, name);
-        }
-      } else if (path.startsWith(VALUES)) {
-        String name = decode(exchange, path.substring(VALUES.length()));
-        if (name != null && plottable(exchange, name)) {
-          List<RecordedValue<Object>> values = recording.getAllStamped(name);
-          String json = valuesJson(name, values.subList(Math.max(0, values.size() - HISTORY), values.size()));
-          send(exchange, 200, "application/json", json.getBytes(StandardCharsets.UTF_8));
-        }
-      } else {
-        text(exchange, 404,
-            "the inspector has no page at " + path + "; it serves /, /api/topology, " + EVENTS
-                + ", " + EVENTS + "/NAME and " + VALUES + "NAME (NAME a recorded source or chain)");
+      try {
+        answer(exchange);
+      } catch (VirtualMachineError e) {
+        throw e; // the JVM itself is in trouble
+      } catch (RuntimeException | Error e) {
+        failed(exchange, e);
       }
     } catch (IOException e) {
       // the browser went away: nothing to answer
+    }
+  }
+
+  private void answer(HttpExchange exchange) throws IOException {
+    if (!exchange.getRequestMethod().equals("GET")) {
+      exchange.getResponseHeaders().set("Allow", "GET");
+      text(exchange, 405, "the inspector answers GET only, not " + exchange.getRequestMethod());
+      return;
+    }
+    String path = exchange.getRequestURI().getRawPath();
+    Page page = pages.get(path);
+    if (page != null) {
+      send(exchange, 200, page.contentType(), page.bytes());
+    } else if (path.equals("/api/topology")) {
+      send(exchange, 200, "application/json", topologyJson().getBytes(StandardCharsets.UTF_8));
+    } else if (path.equals(EVENTS)) {
+      stream(exchange, null);
+    } else if (path.startsWith(EVENTS + "/")) {
+      String name = decode(exchange, path.substring(EVENTS.length() + 1));
+      if (name != null && plottable(exchange, name)) {
+        stream(exchange, name);
+      }
+    } else if (path.startsWith(VALUES)) {
+      String name = decode(exchange, path.substring(VALUES.length()));
+      if (name != null && plottable(exchange, name)) {
+        List<RecordedValue<Object>> values = recording.getAllStamped(name);
+        String json = valuesJson(name, values.subList(Math.max(0, values.size() - HISTORY), values.size()));
+        send(exchange, 200, "application/json", json.getBytes(StandardCharsets.UTF_8));
+      }
+    } else {
+      text(exchange, 404,
+          "the inspector has no page at " + path + "; it serves /, /api/topology, " + EVENTS
+              + ", " + EVENTS + "/NAME and " + VALUES + "NAME (NAME a recorded source or chain)");
+    }
+  }
+
+  /**
+   * An answer failed unexpectedly (a bug, or a core or figures that threw): logs it and, if the
+   * answer had not begun, answers 500 with a short plain body; the server goes on serving.
+   */
+  private void failed(HttpExchange exchange, Throwable e) {
+    String what = exchange.getRequestMethod() + " " + exchange.getRequestURI().getRawPath();
+    LOG.log(System.Logger.Level.WARNING,
+        "the inspector of core '" + core.name() + "' could not answer " + what, e);
+    if (exchange.getResponseCode() != -1) {
+      return; // the answer had begun: closing the exchange ends it
+    }
+    try {
+      text(exchange, 500, "the inspector could not answer " + what + ": "
+          + e.getClass().getSimpleName() + " (its log has the details)");
+    } catch (IOException | RuntimeException gone) {
+      // the browser went away, or the exchange cannot answer any more: nothing more to do
     }
   }
 
