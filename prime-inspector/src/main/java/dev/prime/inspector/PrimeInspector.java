@@ -86,8 +86,9 @@ public final class PrimeInspector implements AutoCloseable {
    * @param core the core to show
    * @param address where to listen; port 0 picks a free port (see {@link #uri()})
    * @return the running inspector; close it when done
-   * @throws UncheckedIOException if the address cannot be bound (a port taken, an address not of
-   *     this machine, a host name not resolved); the message names the address and what to give
+   * @throws UncheckedIOException if the address cannot be bound (a port in use, a port below 1024
+   *     this process has no permission to bind, an address not of this machine, a host name not
+   *     resolved); the message names the address, says which it is and what to give
    * @throws NullPointerException if an argument is null
    */
   public static PrimeInspector start(PrimeCore core, InetSocketAddress address) {

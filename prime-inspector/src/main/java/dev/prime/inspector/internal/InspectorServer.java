@@ -18,6 +18,7 @@ import java.net.URI;
 import java.net.URLDecoder;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
+import java.util.Locale;
 import java.util.Map;
 import java.util.Objects;
 import java.util.Queue;
@@ -78,14 +79,6 @@ public final class InspectorServer implements AutoCloseable {
 
   private record Page(String contentType, byte[] bytes) {}
 
-  /**
-   * Starts serving a core.
-   *
-   * @param core the core to show
-   * @param figures where rates, latencies and errors come from
-   * @param address where to listen
-   * @throws UncheckedIOException if the address cannot be bound
-   */
   /** Whether {@code address} is the wildcard, a loopback or an address of an interface here. */
   private static boolean isOfThisMachine(InetAddress address) {
     if (address.isAnyLocalAddress() || address.isLoopbackAddress()) {
@@ -98,6 +91,14 @@ public final class InspectorServer implements AutoCloseable {
     }
   }
 
+  /**
+   * Starts serving a core.
+   *
+   * @param core the core to show
+   * @param figures where rates, latencies and errors come from
+   * @param address where to listen
+   * @throws UncheckedIOException if the address cannot be bound
+   */
   public InspectorServer(PrimeCore core, LiveFigures figures, InetSocketAddress address) {
     this.core = Objects.requireNonNull(core, "core");
     this.figures = Objects.requireNonNull(figures, "figures");
@@ -111,18 +112,7 @@ public final class InspectorServer implements AutoCloseable {
     try {
       bound = HttpServer.create(address, 0);
     } catch (IOException e) {
-      String fix;
-      if (address.isUnresolved()) {
-        fix = "the host name '" + address.getHostString() + "' is not resolved; give an address of"
-            + " this machine, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")";
-      } else if (!isOfThisMachine(address.getAddress())) {
-        fix = address.getAddress().getHostAddress() + " is not an address of this machine; give one"
-            + " of its addresses, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")";
-      } else {
-        fix = "is the port taken? port 0 picks a free one";
-      }
-      throw new UncheckedIOException(
-          "the inspector cannot listen on " + address + ": " + e.getMessage() + " (" + fix + ")", e);
+      throw cannotListen(address, e);
     }
     this.server = bound;
     String prefix = "prime-inspector-" + core.name();
@@ -138,6 +128,45 @@ public final class InspectorServer implements AutoCloseable {
       host = "[" + host + "]";
     }
     this.uri = URI.create("http://" + host + ":" + local.getPort() + "/");
+  }
+
+  /**
+   * {@return the exception that says why the inspector cannot listen on {@code address}, which
+   * refused with {@code e}, and what to give instead}
+   */
+  static UncheckedIOException cannotListen(InetSocketAddress address, IOException e) {
+    String fix;
+    if (address.isUnresolved()) {
+      fix = "the host name '" + address.getHostString() + "' is not resolved; give an address of"
+          + " this machine, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")";
+    } else if (!isOfThisMachine(address.getAddress())) {
+      fix = address.getAddress().getHostAddress() + " is not an address of this machine; give one"
+          + " of its addresses, like new InetSocketAddress(\"127.0.0.1\", " + address.getPort() + ")";
+    } else if (isRefusal(e, "permission denied", "access denied", "eacces")) {
+      fix = "no permission to listen on port " + address.getPort() + " of "
+          + address.getAddress().getHostAddress() + ": ports below 1024 need a privilege on most"
+          + " systems; give a port of 1024 or above (port 0 picks a free one), or let the JVM bind"
+          + " low ports (on Linux, the CAP_NET_BIND_SERVICE capability)";
+    } else if (isRefusal(e, "in use", "eaddrinuse")) {
+      fix = "port " + address.getPort() + " of " + address.getAddress().getHostAddress()
+          + " is in use by another program (or another inspector); stop it, or give another"
+          + " port (port 0 picks a free one)";
+    } else {
+      fix = "give another port, or port 0, which picks a free one";
+    }
+    return new UncheckedIOException(
+        "the inspector cannot listen on " + address + ": " + e.getMessage() + " (" + fix + ")", e);
+  }
+
+  /** Whether {@code e}'s message, the operating system's words, has one of {@code words}. */
+  private static boolean isRefusal(IOException e, String... words) {
+    String message = String.valueOf(e.getMessage()).toLowerCase(Locale.ROOT);
+    for (String word : words) {
+      if (message.contains(word)) {
+        return true;
+      }
+    }
+    return false;
   }
 
   /** {@return the page's address} */
