@@ -105,7 +105,13 @@ public final class PrimeInspector implements AutoCloseable {
     return new PrimeInspector(new InspectorServer(core, figures, address));
   }
 
-  /** {@return the page's address, like {@code http://127.0.0.1:41234/}} */
+  /**
+   * {@return the page's address, like {@code http://127.0.0.1:41234/}: the address it listens on,
+   * with the port picked for port 0; for an inspector on the wildcard address (every interface:
+   * {@code 0.0.0.0}, {@code ::}), which is no address to open, the loopback one ({@code
+   * 127.0.0.1}, or {@code [::1]} for {@code ::}), where this machine reaches the page; other
+   * machines reach it at an address of this machine with the same port}
+   */
   public URI uri() {
     return server.uri();
   }

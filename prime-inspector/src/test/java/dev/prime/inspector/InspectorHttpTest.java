@@ -183,6 +183,26 @@ class InspectorHttpTest {
     }
   }
 
+  /**
+   * An inspector bound to the wildcard address (every interface) gives the loopback address in
+   * its uri(), which this machine reaches, not the wildcard, which is no address to open.
+   */
+  @Test
+  void anInspectorOnTheWildcardAddressGivesALoopbackUri() throws Exception {
+    try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()))) {
+      for (String wildcard : List.of("0.0.0.0", "::")) {
+        try (PrimeInspector inspector =
+            PrimeInspector.start(core, new InetSocketAddress(InetAddress.getByName(wildcard), 0))) {
+          URI uri = inspector.uri();
+          assertTrue(
+              InetAddress.getByName(uri.getHost().replace("[", "").replace("]", "")).isLoopbackAddress(),
+              "bound to " + wildcard + ", the page's address is " + uri);
+          assertEquals(200, get(uri, "/api/topology").status(), "the page at " + uri);
+        }
+      }
+    }
+  }
+
   @Test
   void anUnresolvedAddressIsRefusedSayingWhatToGiveAndNoThreadIsLeft() throws Exception {
     try (PrimeCore core = DemoController.declaredOn(new LibertyCore(recording()))) {

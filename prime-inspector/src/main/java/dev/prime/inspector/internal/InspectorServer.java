@@ -10,12 +10,14 @@ import java.io.IOException;
 import java.io.InputStream;
 import java.io.OutputStream;
 import java.io.UncheckedIOException;
+import java.net.Inet6Address;
 import java.net.InetAddress;
 import java.net.InetSocketAddress;
 import java.net.NetworkInterface;
 import java.net.SocketException;
 import java.net.URI;
 import java.net.URLDecoder;
+import java.net.UnknownHostException;
 import java.nio.charset.StandardCharsets;
 import java.util.List;
 import java.util.Locale;
@@ -122,12 +124,33 @@ public final class InspectorServer implements AutoCloseable {
     server.createContext("/", this::handle);
     sampler.scheduleAtFixedRate(this::sample, 0, PERIOD_MILLIS, TimeUnit.MILLISECONDS);
     server.start();
-    InetSocketAddress local = server.getAddress();
-    String host = local.getAddress().getHostAddress();
+    this.uri = uriOf(address, server.getAddress());
+  }
+
+  /**
+   * {@return the page's address where the server listens on {@code local}, having been asked for
+   * {@code asked}: on the wildcard address (every interface), which is no address to open, the
+   * loopback one, 127.0.0.1, or [::1] where the IPv6 wildcard was asked for}
+   */
+  private static URI uriOf(InetSocketAddress asked, InetSocketAddress local) {
+    InetAddress address = local.getAddress();
+    if (address.isAnyLocalAddress() || asked.getAddress().isAnyLocalAddress()) {
+      byte[] loopback = new byte[asked.getAddress() instanceof Inet6Address ? 16 : 4];
+      if (loopback.length == 4) {
+        loopback[0] = 127;
+      }
+      loopback[loopback.length - 1] = 1;
+      try {
+        address = InetAddress.getByAddress(loopback);
+      } catch (UnknownHostException e) {
+        throw new IllegalStateException("a loopback address of " + loopback.length + " bytes", e);
+      }
+    }
+    String host = address.getHostAddress();
     if (host.contains(":")) {
       host = "[" + host + "]";
     }
-    this.uri = URI.create("http://" + host + ":" + local.getPort() + "/");
+    return URI.create("http://" + host + ":" + local.getPort() + "/");
   }
 
   /**
@@ -169,7 +192,10 @@ public final class InspectorServer implements AutoCloseable {
     return false;
   }
 
-  /** {@return the page's address} */
+  /**
+   * {@return the page's address: where the server listens, or the loopback address where it
+   * listens on the wildcard address}
+   */
   public URI uri() {
     return uri;
   }
