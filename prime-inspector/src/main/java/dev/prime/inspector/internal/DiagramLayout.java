@@ -123,20 +123,34 @@ public final class DiagramLayout {
       }
     }
     int n = drawn.size();
+    // The box a value enters and the one it leaves each node by: a link's are its first chain's
+    // entry and its second chain's exit, found once per node in declaration order (a link's
+    // chains come before it), so a deeply nested link costs no walk down it at each use.
+    Map<String, Integer> entry = new HashMap<>();
+    Map<String, Integer> exit = new HashMap<>();
+    for (TopologyNode node : topology.nodes()) {
+      if (node instanceof TopologyNode.Link link) {
+        entry.put(link.name(), entry.get(link.first()));
+        exit.put(link.name(), exit.get(link.second()));
+      } else {
+        entry.put(node.name(), index.get(node.name()));
+        exit.put(node.name(), index.get(node.name()));
+      }
+    }
     List<int[]> edges = new ArrayList<>();
     List<String> roles = new ArrayList<>();
     for (TopologyNode node : topology.nodes()) {
       if (node instanceof TopologyNode.Link link) {
-        addEdge(edges, roles, exit(topology, index, link.first()), entry(topology, index, link.second()), null);
+        addEdge(edges, roles, exit.get(link.first()), entry.get(link.second()), null);
       } else if (node instanceof TopologyNode.SourceLink link) {
-        addEdge(edges, roles, index.get(link.source()), entry(topology, index, link.chain()), null);
-        addEdge(edges, roles, exit(topology, index, link.chain()), index.get(link.name()), null);
+        addEdge(edges, roles, index.get(link.source()), entry.get(link.chain()), null);
+        addEdge(edges, roles, exit.get(link.chain()), index.get(link.name()), null);
       } else {
         for (TopologyNode.Part part : node.parts()) {
           if (part.flow() == TopologyNode.Flow.READS) {
-            addEdge(edges, roles, exit(topology, index, part.node()), index.get(node.name()), null);
+            addEdge(edges, roles, exit.get(part.node()), index.get(node.name()), null);
           } else {
-            addEdge(edges, roles, index.get(node.name()), entry(topology, index, part.node()), part.role());
+            addEdge(edges, roles, index.get(node.name()), entry.get(part.node()), part.role());
           }
         }
       }
@@ -243,22 +257,6 @@ public final class DiagramLayout {
   private static void addEdge(List<int[]> edges, List<String> roles, int from, int to, String role) {
     edges.add(new int[] {from, to});
     roles.add(role);
-  }
-
-  private static int entry(Topology topology, Map<String, Integer> index, String name) {
-    TopologyNode node = topology.node(name).orElseThrow();
-    while (node instanceof TopologyNode.Link link) {
-      node = topology.node(link.first()).orElseThrow();
-    }
-    return index.get(node.name());
-  }
-
-  private static int exit(Topology topology, Map<String, Integer> index, String name) {
-    TopologyNode node = topology.node(name).orElseThrow();
-    while (node instanceof TopologyNode.Link link) {
-      node = topology.node(link.second()).orElseThrow();
-    }
-    return index.get(node.name());
   }
 
   /** Longest-path layers over a topological order (Kahn's, ties in declaration order). */

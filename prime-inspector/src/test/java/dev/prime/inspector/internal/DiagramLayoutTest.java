@@ -2,10 +2,12 @@ package dev.prime.inspector.internal;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertTimeoutPreemptively;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.topology.Topology;
 import dev.prime.topology.TopologyNode;
+import java.time.Duration;
 import java.util.ArrayList;
 import java.util.HashMap;
 import java.util.List;
@@ -116,6 +118,70 @@ class DiagramLayoutTest {
     assertEquals(n, layout.boxes().size());
     assertEquals(n - 1, layout.arrows().size());
     assertEquals(n - 1, layout.boxes().get(n - 1).layer());
+  }
+
+  /**
+   * Deeply nested links, each level of them used: a right-nested chain ({@code
+   * c0.link(c1.link(c2...))}) whose every level a source is linked to (each level's exit is the
+   * last chain), and a left-nested one ({@code ((c0.link(c1)).link(c2))...}) whose every level a
+   * guard runs (each level's entry is the first chain). A layout that walks each level's links
+   * down to its entry or exit takes steps of the square of the depth: at this depth, minutes,
+   * past the test's bound; one that finds each node's entry and exit once lays them out in about
+   * a second.
+   */
+  @Test
+  void deeplyNestedLinksUsedAtEveryLevelLayOutInLinearTime() {
+    int depth = 100_000;
+    Duration bound = Duration.ofSeconds(60);
+
+    List<TopologyNode> right = new ArrayList<>();
+    right.add(new TopologyNode.EventSource("src"));
+    right.add(new TopologyNode.BlockChain("c" + depth));
+    String tail = "c" + depth;
+    for (int i = depth - 1; i >= 0; i--) {
+      right.add(new TopologyNode.BlockChain("c" + i));
+      right.add(new TopologyNode.Link("l" + i, "c" + i, tail));
+      right.add(new TopologyNode.SourceLink("s" + i, "src", "l" + i));
+      tail = "l" + i;
+    }
+    Topology rightNested = Topology.of(right, Set.of());
+    DiagramLayout rightLayout =
+        assertTimeoutPreemptively(bound, () -> DiagramLayout.of(rightNested), "right-nested links");
+    Map<String, String> rightNames = new HashMap<>();
+    rightLayout.boxes().forEach(box -> rightNames.put(box.id(), box.name()));
+    assertEquals(depth + depth * 2, rightLayout.arrows().size(), "a link's arrow, a source link's two");
+    int intoOutputs = 0;
+    for (DiagramLayout.Arrow arrow : rightLayout.arrows()) {
+      if (rightNames.get(arrow.to()).startsWith("s")) {
+        assertEquals("c" + depth, rightNames.get(arrow.from()), "each level's exit is the last chain");
+        intoOutputs++;
+      }
+    }
+    assertEquals(depth, intoOutputs);
+    assertEquals(depth + 2, byName(rightLayout).get("s0").layer());
+
+    List<TopologyNode> left = new ArrayList<>();
+    left.add(new TopologyNode.BlockChain("c0"));
+    String head = "c0";
+    for (int i = 1; i <= depth; i++) {
+      left.add(new TopologyNode.BlockChain("c" + i));
+      left.add(new TopologyNode.Link("l" + i, head, "c" + i));
+      left.add(new TopologyNode.Guard("g" + i, "l" + i));
+      head = "l" + i;
+    }
+    Topology leftNested = Topology.of(left, Set.of());
+    DiagramLayout leftLayout =
+        assertTimeoutPreemptively(bound, () -> DiagramLayout.of(leftNested), "left-nested links");
+    Map<String, String> leftNames = new HashMap<>();
+    leftLayout.boxes().forEach(box -> leftNames.put(box.id(), box.name()));
+    int runs = 0;
+    for (DiagramLayout.Arrow arrow : leftLayout.arrows()) {
+      if (arrow.role() != null) {
+        assertEquals("c0", leftNames.get(arrow.to()), "each level's entry is the first chain");
+        runs++;
+      }
+    }
+    assertEquals(depth, runs);
   }
 
   @Test
