@@ -67,6 +67,13 @@ public interface ChainCompiler<F> {
    * The block that runs a compiled chain: what {@link dev.prime.Chain#toBlock()} gives and what
    * a generic template calls its parts through.
    *
+   * <p>If it throws, it must leave nothing behind (a media that starts services for the chain
+   * stops and forgets those it started): the core then leaves the chain unused, so that the
+   * program can make the same {@code toBlock()} again once the cause is gone. A media that cannot
+   * undo what it began throws a {@link ChainAlreadyUsedException} naming {@code chain}, made with
+   * {@link ChainAlreadyUsedException#ChainAlreadyUsedException(String, String, Throwable)}, which
+   * says why; the chain then stays consumed.
+   *
    * @param chain the chain's name
    * @param form its compiled form
    * @return the block

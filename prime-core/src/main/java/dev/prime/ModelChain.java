@@ -42,7 +42,8 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
   }
 
   /**
-   * Consumes the chain and returns its block, under the core's declaration lock. If the core
+   * Consumes the chain and returns its block, under the core's declaration lock; if the media
+   * fails to make the block, the chain is unused again ({@link #unconsumeUnlessKept}). If the core
    * copies values ({@link CoreConfig#valueCopies()}) and the media does not already, the block
    * copies each input before the chain sees it and each result before the caller does: a call
    * crosses into the chain's service.
@@ -53,12 +54,31 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
         core,
         () -> {
           consume();
-          Block<I, O> block = partBlock();
+          Block<I, O> block;
+          try {
+            block = partBlock();
+          } catch (RuntimeException | Error failed) {
+            unconsumeUnlessKept(failed);
+            throw failed;
+          }
           ValueCodec copies = core.config().valueCopies();
           return copies == null || media.copiesValues()
               ? block
               : new CopyingBlock<>(name, block, copies);
         });
+  }
+
+  /**
+   * The media failed to make this chain's block ({@link ChainCompiler#toBlock}), which leaves
+   * nothing behind: the chain is unused again, so the same {@code toBlock()} can be made once the
+   * cause is gone. Unless the media said it could not undo what it began, by a {@link
+   * ChainAlreadyUsedException} naming this chain: the chain then stays consumed.
+   */
+  private void unconsumeUnlessKept(Throwable failed) {
+    if (failed instanceof ChainAlreadyUsedException kept && name.equals(kept.chainName())) {
+      return;
+    }
+    used.set(false);
   }
 
   /** This chain's compiled form if it is a {@code type}, else {@code null}; consumes nothing. */

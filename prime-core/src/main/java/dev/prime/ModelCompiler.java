@@ -156,6 +156,8 @@ final class ModelCompiler<F> {
    * Compiles a just recorded service of a source (a source link, filter, flat-map or listener),
    * consuming {@code chain} (a source link's; {@code null} for the other services): by the
    * media's {@link SourceCompiler} if the source is one of its own (in its form), else in memory.
+   * If that fails, the chain stays unused (the media left nothing behind), unless the media
+   * throws a {@link ChainAlreadyUsedException} naming it: it could not undo what it began.
    *
    * @return the source of its outputs; {@code null} for a listener
    */
@@ -172,10 +174,19 @@ final class ModelCompiler<F> {
     if (mediaOwn && metering != null && part == null) { // a filter, flat-map or listener
       logic = metering.service(node, logic).logic(); // (in memory, the service meters itself)
     }
-    Source<?> output =
-        mediaOwn
-            ? service(sources, node, logic, input, part == null ? null : part.form())
-            : memory.service(node, logic, input, part == null ? null : blockOf(part));
+    Source<?> output;
+    try {
+      output =
+          mediaOwn
+              ? service(sources, node, logic, input, part == null ? null : part.form())
+              : memory.service(node, logic, input, part == null ? null : blockOf(part));
+    } catch (ChainAlreadyUsedException kept) {
+      // the media could not undo what it began with the chain: it stays consumed (ModelChain)
+      if (part != null && part.own() != null && part.own().name().equals(kept.chainName())) {
+        part.claim();
+      }
+      throw kept;
+    }
     if (part != null) {
       part.claim();
     }

@@ -45,6 +45,11 @@ import org.slf4j.LoggerFactory;
  *       service it goes to the {@link ErrorHandler} and the service carries on (see {@link Block}
  *       for every kind of throwable).
  *   <li>A link or template that throws consumes nothing: every chain given to it stays usable.
+ *       More generally, a declaration that fails leaves the chain unused; it can be made again: a
+ *       {@link Chain#toBlock()}, a link of a chain to a source, a timer or a combinator that fails
+ *       after {@link #start()} (on Optimus, its wait for Redis interrupted, Redis unreachable, or
+ *       another process hosting the service) leaves nothing of it behind, so the same call works
+ *       once the cause is gone (see {@link Chain#toBlock()} for the one exception).
  *   <li>Every blocking wait (a reader's {@code take}, a sync collector, a caller waiting for an
  *       isolated chain, a repeater between rounds) ends when its thread is interrupted or the core
  *       closes. Where such a wait runs on a service's thread for a caller elsewhere (Optimus), it
@@ -815,6 +820,9 @@ public abstract class PrimeCore implements AutoCloseable {
    * null} are not published. On a source of the media's own ({@link SourceCompiler}) the media
    * compiles the service; otherwise it runs on a thread of this core and publishes to an in-memory
    * source.
+   *
+   * <p>A link that fails leaves the chain unused; it can be made again (as {@link
+   * Chain#toBlock()} says).
    *
    * @param source the input source (may belong to another core)
    * @param chain the chain

@@ -38,6 +38,11 @@ public interface SourceCompiler<S> {
    * TopologyNode.FlatMap} ({@link NodeLogic.Expand}) or a {@link TopologyNode.Listener} ({@link
    * NodeLogic.Listen}).
    *
+   * <p>If it throws, it must leave nothing behind, as {@link ChainCompiler#toBlock} must: the
+   * core then forgets the node and leaves {@code chain} unused, so that the same declaration can
+   * be made again once the cause is gone; a {@link ChainAlreadyUsedException} naming the chain
+   * says that the media could not undo what it began, and the chain stays consumed.
+   *
    * @param node the service's node
    * @param logic its logic
    * @param input the form of the source it reads

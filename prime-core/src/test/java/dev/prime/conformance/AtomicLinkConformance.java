@@ -15,8 +15,10 @@ import dev.prime.topology.Topology;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
 import java.util.List;
+import java.util.Optional;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicReference;
 import java.util.function.Function;
 import org.junit.jupiter.api.Test;
@@ -127,6 +129,56 @@ public interface AtomicLinkConformance extends ConformanceBase {
       core.start();
       assertEquals(2, chain.toBlock().process(1), "the chain is still usable");
     }
+  }
+
+  /**
+   * A declaration that fails leaves the chain unused; it can be made again: on a started core, a
+   * link of a chain to a source whose reader cannot be opened the first time fails, and the same
+   * link, of the same chain, works once the cause is gone, as a first link would.
+   */
+  @Test
+  default void aSourceLinkThatFailedAfterStartCanBeMadeAgain() throws Exception {
+    try (PrimeCore core = newCore();
+        PrimeCore other = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = other.source("numbers", events);
+      AtomicInteger opened = new AtomicInteger();
+      Source<Integer> flaky = failingFirstReader(numbers, opened);
+      other.start();
+      core.start();
+      Chain<Integer, Integer> chain = core.chain("retried", x -> x + 1);
+      IllegalStateException e =
+          assertThrows(IllegalStateException.class, () -> core.link(flaky, chain));
+      assertEquals("this source cannot be read yet", e.getMessage());
+      Reader<Integer> results = core.link(flaky, chain).reader();
+      assertEquals(2, opened.get(), "the link was made again");
+      events.publish(1);
+      assertEquals(
+          Optional.of(2), results.take(patience()), "the link made again runs the chain");
+    }
+  }
+
+  /** {@code source}, whose first reader cannot be opened; counts the readers asked for. */
+  static Source<Integer> failingFirstReader(Source<Integer> source, AtomicInteger opened) {
+    return new Source<>() {
+      @Override
+      public PrimeCore core() {
+        return source.core();
+      }
+
+      @Override
+      public String name() {
+        return "flaky";
+      }
+
+      @Override
+      public Reader<Integer> reader() {
+        if (opened.incrementAndGet() == 1) {
+          throw new IllegalStateException("this source cannot be read yet");
+        }
+        return source.reader();
+      }
+    };
   }
 
   @Test

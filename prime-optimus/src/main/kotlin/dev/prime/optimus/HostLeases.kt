@@ -135,6 +135,21 @@ internal class HostLeases(
     }
 
     /**
+     * Gives up the leases of [services], which a declaration that failed claimed: no longer
+     * renewed, and released in Redis once, if Redis answers (else each lapses within the lease
+     * time), so that another process can host them.
+     */
+    fun release(services: Collection<String>) {
+        if (services.isEmpty()) return
+        held -= services.toSet()
+        try {
+            RedisSession(connections).use { session -> session.once { release(it, services.toList()) } }
+        } catch (e: Exception) {
+            LOG.debug("could not release the host leases of {} at once (they lapse within {}): {}", services, leaseTime, e.toString())
+        }
+    }
+
+    /**
      * Forgets [service]'s lease, which a step of it found held by another instance; `false` if it
      * was not held any more (the heartbeat saw it first).
      */
@@ -170,6 +185,8 @@ internal class HostLeases(
     }
 
     private companion object {
+        val LOG: org.slf4j.Logger = org.slf4j.LoggerFactory.getLogger(HostLeases::class.java)
+
         /** Slack over the lease time when waiting for another's lease to lapse (timer and network jitter). */
         val CLAIM_MARGIN: Duration = Duration.ofMillis(200)
         const val MIN_WAIT_MS = 10L

@@ -69,7 +69,7 @@ internal class OptimusSourceCompiler(private val core: OptimusCore) : SourceComp
     override fun service(node: TopologyNode, logic: NodeLogic, input: OptimusSource<*>, chain: Any?): Source<*>? {
         val name = node.name()
         return when (node) {
-            is TopologyNode.SourceLink -> core.serviceOn(input, (chain as Stages).specs, name)
+            is TopologyNode.SourceLink -> core.serviceOn(input, (chain as Stages).specs, name, node.chain())
             is TopologyNode.Filter -> {
                 val predicate = (logic as NodeLogic.Condition).condition() as java.util.function.Predicate<Any?>
                 core.serviceOn(input, listOf(StageSpec(name, StageLogic { value, emit -> if (predicate.test(value)) emit(value) })), name)

@@ -301,10 +301,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Binds [stages] (one service, or a linked chain's services) to read [source]; returns their
      * output source, named [output], or `null` if they publish nothing (a listener).
      */
-    internal fun serviceOn(source: OptimusSource<*>, stages: List<StageSpec>, output: String?): OptimusSource<Any>? {
+    internal fun serviceOn(source: OptimusSource<*>, stages: List<StageSpec>, output: String?, chain: String = stages.first().name): OptimusSource<Any>? {
         val published = output?.let { OptimusSource<Any>(this, it, ofEvents = false) }
         interruptibleInOutage({ "linking to source '${source.name()}'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
-            bindToSource(source, stages, published)
+            bindToSource(chain, source, stages, published)
         }
         return published
     }
@@ -831,7 +831,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
         interruptibleInOutage({ "declaring chain '$chainName'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
-            bind(stages, null, counted = false)
+            bind(chainName, stages, null, counted = false)
         }
         calledServices[chainName] = stages.map { it.name }
         val first = stages.first().name
@@ -992,7 +992,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     private fun replyKey(slot: Int) = keys.reply("$instance:$slot")
 
-    private fun bindToSource(source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
+    private fun bindToSource(chain: String, source: OptimusSource<*>, stages: List<StageSpec>, output: OptimusSource<*>?) {
         val input = keys.serviceInput(stages.first().name)
         beginLiveness()
         // added before it is registered (see Redeclaration), taken back if the link fails: a
@@ -1001,27 +1001,105 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         declarations.bindings += binding
         try {
             register(source.keys, input, service = true)
-            bind(stages, output?.keys, counted = true)
+            bind(chain, stages, output?.keys, counted = true)
         } catch (e: Throwable) {
             declarations.bindings -= binding
             throw e
         }
     }
 
-    /** [counted]: the stages are fed by a source, so values reach their queues and are counted; else only calls do. */
-    private fun bind(stages: List<StageSpec>, output: SourceKeys?, counted: Boolean) {
-        stages.forEachIndexed { index, stage ->
-            val last = index == stages.size - 1
-            val service = StageService(
-                stage.name,
-                this,
-                stage.logic,
-                if (last) null else keys.serviceInput(stages[index + 1].name),
-                if (last) output else null,
-                counted,
+    /**
+     * Binds the services of chain [chain] and, once the core started, launches those hosted here.
+     * [counted]: the stages are fed by a source, so values reach their queues and are counted; else
+     * only calls do. On a started core it first claims the host leases of all of them that have
+     * one host at a time, so that one held by another process fails the binding before any runs.
+     * A binding that fails leaves nothing behind ([unbind]), so the declaration can be made again.
+     */
+    private fun bind(chain: String, stages: List<StageSpec>, output: SourceKeys?, counted: Boolean) {
+        val names = stages.map { it.name }
+        val leasesBefore = hostLeases.services
+        val notRunningBefore = names.filterTo(HashSet()) { it in notRunning }
+        val bound = ArrayList<String>(stages.size)
+        try {
+            if (isStarted && !isClosed) {
+                claimHostLeases(
+                    names.filter { isHosted(it) && it !in launched && it !in leasesBefore && sharedHosting.modeOf(it) == Hosting.EXCLUSIVE },
+                )
+            }
+            stages.forEachIndexed { index, stage ->
+                val last = index == stages.size - 1
+                val service = StageService(
+                    stage.name,
+                    this,
+                    stage.logic,
+                    if (last) null else keys.serviceInput(stages[index + 1].name),
+                    if (last) output else null,
+                    counted,
+                )
+                check(services.putIfAbsent(stage.name, service) == null) { "service '${stage.name}' is bound twice" }
+                bound += stage.name
+                if (isStarted) launchIfHosted(service)
+            }
+        } catch (e: Throwable) {
+            unbind(chain, names, bound, leasesBefore, notRunningBefore, e)
+            throw e
+        }
+    }
+
+    /**
+     * Takes back a binding of chain [chain] that failed ([failure]): cancels the runs it launched of
+     * [bound] (the stages it bound) and waits for them to end, at most the shutdown timeout, then
+     * forgets them, gives up the host leases it claimed for [names] and what it marked not running.
+     * A run that does not end in time still runs a block: then the services stay bound and the
+     * failure is a [dev.prime.ChainAlreadyUsedException] saying that the chain cannot be declared again.
+     */
+    private fun unbind(
+        chain: String,
+        names: List<String>,
+        bound: List<String>,
+        leasesBefore: Set<String>,
+        notRunningBefore: Set<String>,
+        failure: Throwable,
+    ) {
+        val runs = bound.mapNotNull { name -> hostedJobs.remove(name)?.also { it.cancel() } }
+        val claimed = names.filter { it in hostLeases.services && it !in leasesBefore }
+        val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
+        hostLeases.release(claimed) // a run still in its block then stores nothing (its steps are fenced)
+        if (stillRunning) {
+            throw dev.prime.ChainAlreadyUsedException(
+                chain,
+                "a service it had started here (of $bound) was still running a block ${config().shutdownTimeout()} after " +
+                    "it was stopped, so its services stay bound (${failure.message})",
+                failure,
             )
-            check(services.putIfAbsent(stage.name, service) == null) { "service '${stage.name}' is bound twice" }
-            if (isStarted) launchIfHosted(service)
+        }
+        for (name in bound) {
+            services.remove(name)
+            launched -= name
+        }
+        notRunning -= names.filterNot { it in notRunningBefore }.toSet()
+    }
+
+    /**
+     * Waits until every one of [runs] has ended, at most [nanos], without giving up on an interrupt
+     * (kept for the caller); whether one still runs.
+     */
+    private fun awaitEnded(runs: List<Job>, nanos: Long): Boolean {
+        if (runs.isEmpty()) return false
+        val ended = java.util.concurrent.CountDownLatch(runs.size)
+        runs.forEach { it.invokeOnCompletion { ended.countDown() } }
+        val deadline = System.nanoTime() + nanos
+        var interrupted = false
+        try {
+            while (true) {
+                try {
+                    return !ended.await((deadline - System.nanoTime()).coerceAtLeast(0), java.util.concurrent.TimeUnit.NANOSECONDS)
+                } catch (_: InterruptedException) {
+                    interrupted = true
+                }
+            }
+        } finally {
+            if (interrupted) Thread.currentThread().interrupt()
         }
     }
 

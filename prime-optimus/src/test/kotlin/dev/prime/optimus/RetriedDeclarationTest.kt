@@ -1,0 +1,100 @@
+package dev.prime.optimus
+
+import dev.prime.CoreConfig
+import dev.prime.EventBlock
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertNull
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import redis.clients.jedis.Jedis
+import java.net.URI
+import java.time.Duration
+
+/**
+ * A declaration after `start()` that hosts a service here and fails in the media (another process
+ * holds a service's host lease, or its wait for Redis in an outage is interrupted) leaves the chain
+ * unused and nothing of it bound: the same declaration, on the same chain, works once the cause is
+ * gone, as a first declaration would.
+ */
+class RetriedDeclarationTest {
+
+    private fun core(config: CoreConfig, redis: String = TestRedis.url): OptimusCore =
+        OptimusCore.builder().config(config).redis(redis).leaseTime(LEASE).build()
+
+    private fun config(name: String): CoreConfig = CoreConfig.builder().name("$name-${System.nanoTime()}").build()
+
+    /** The instance that holds [service]'s host lease in topology [topology], or `null`. */
+    private fun leaseHolder(topology: String, service: String): String? =
+        Jedis(URI(TestRedis.url)).use { it.get(Keys(topology).hostLease(service))?.toString(Charsets.UTF_8) }
+
+    @Test
+    fun aToBlockRefusedByAHostLeaseHeldElsewhereCanBeMadeAgain() {
+        val config = config("retried-to-block")
+        core(config).use { second ->
+            second.start()
+            val ab = second.chain("a") { x: Int -> x + 1 }.then(second.chain("b") { x: Int -> x * 10 })
+            core(config).use { holder ->
+                holder.chain("b") { x: Int -> x * 10 }.toBlock()
+                holder.start()
+                val refused = assertThrows(IllegalStateException::class.java) { ab.toBlock() }
+                assertTrue("already hosted by" in refused.message!! && "'b'" in refused.message!!, refused.message)
+                assertNull(leaseHolder(config.name()!!, "a"), "the refused toBlock() holds no host lease of 'a'")
+            }
+            val block = ab.toBlock()
+            assertEquals(20, block.process(1), "the same toBlock() works once the other host is gone")
+        }
+    }
+
+    @Test
+    fun aSourceLinkRefusedByAHostLeaseHeldElsewhereCanBeMadeAgain() {
+        val config = config("retried-link")
+        core(config).use { second ->
+            val events = EventBlock<Int>()
+            val numbers = second.source("numbers", events)
+            second.start()
+            val ab = second.chain("a") { x: Int -> x + 1 }.then(second.chain("b") { x: Int -> x * 10 })
+            core(config).use { holder ->
+                holder.chain("b") { x: Int -> x * 10 }.toBlock()
+                holder.start()
+                val refused = assertThrows(IllegalStateException::class.java) { second.link(numbers, ab) }
+                assertTrue("already hosted by" in refused.message!! && "'b'" in refused.message!!, refused.message)
+            }
+            val results = second.link(numbers, ab).reader()
+            events.publish(1)
+            assertEquals(20, results.take(PATIENCE).orElseThrow(), "the same link works once the other host is gone")
+        }
+    }
+
+    @Test
+    fun declarationsInterruptedInAnOutageCanBeMadeAgainOnceRedisIsBack() {
+        val config = config("retried-interrupted")
+        EmbeddedRedis.start().use { redis ->
+            FaultProxy(redis.uri).use { proxy ->
+                core(config, proxy.url).use { core ->
+                    val events = EventBlock<Int>()
+                    val numbers = core.source("numbers", events)
+                    core.start()
+                    proxy.refuse()
+                    val late = core.chain("late") { x: Int -> x + 1 }
+                    assertInterruptedInOutage("toBlock() after start()", "late") { late.toBlock() }
+                    val linked = core.chain("linked") { x: Int -> x * 2 }
+                    assertInterruptedInOutage("a link after start()", "numbers") { numbers.then(linked) }
+                    assertInterruptedInOutage("a timer after start()", "tick") { core.timer("tick", Duration.ofMillis(20)) }
+                    proxy.restore()
+                    assertEquals(2, late.toBlock().process(1), "the same toBlock() works once Redis is back")
+                    val doubled = numbers.then(linked).reader()
+                    events.publish(4)
+                    assertEquals(8, doubled.take(PATIENCE).orElseThrow(), "the same link works once Redis is back")
+                    val ticks = core.timer("tick", Duration.ofMillis(20)).reader()
+                    assertEquals(1L, ticks.take(PATIENCE).orElseThrow().count(), "the same timer ticks once Redis is back")
+                }
+            }
+        }
+    }
+
+    private companion object {
+        val LEASE: Duration = Duration.ofSeconds(1)
+        val PATIENCE: Duration = Duration.ofSeconds(20)
+    }
+}
