@@ -386,7 +386,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (!isHosted(name)) return // another process runs it
         val loop = GenericServiceLoop(name, service, config().errorHandler()) { isClosed || name in notRunning }
         genericServices[name] = loop
-        if (isStarted) launchHosted(name) { runInterruptible { loop.run() } }
+        if (!isStarted) return
+        val wasRunning = name !in notRunning
+        try {
+            launchHosted(name) { runInterruptible { loop.run() } }
+        } catch (e: Throwable) {
+            // the declaration fails and is forgotten: nothing of it stays, so it can be made again
+            genericServices.remove(name, loop)
+            if (wasRunning) notRunning -= name
+            throw e
+        }
     }
 
     // ------------------------------------------------------------------ dead letters

@@ -2,6 +2,7 @@ package dev.prime.optimus
 
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
+import dev.prime.GenericService
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertNull
 import org.junit.jupiter.api.Assertions.assertThrows
@@ -10,6 +11,8 @@ import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
 import java.net.URI
 import java.time.Duration
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
 
 /**
  * A declaration after `start()` that hosts a service here and fails in the media (another process
@@ -63,6 +66,26 @@ class RetriedDeclarationTest {
             val results = second.link(numbers, ab).reader()
             events.publish(1)
             assertEquals(20, results.take(PATIENCE).orElseThrow(), "the same link works once the other host is gone")
+        }
+    }
+
+    @Test
+    fun aGenericServiceRefusedByAHostLeaseHeldElsewhereCanBeDeclaredAgain() {
+        val config = config("retried-service")
+        core(config).use { second ->
+            second.start()
+            core(config).use { holder ->
+                holder.service("poller", GenericService { Thread.sleep(10) })
+                holder.start()
+                val refused = assertThrows(IllegalStateException::class.java) {
+                    second.service("poller", GenericService { Thread.sleep(10) })
+                }
+                assertTrue("already hosted by" in refused.message!! && "'poller'" in refused.message!!, refused.message)
+            }
+            val worked = CountDownLatch(1)
+            second.service("poller", GenericService { worked.countDown(); Thread.sleep(10) })
+            assertTrue(worked.await(PATIENCE.toMillis(), TimeUnit.MILLISECONDS), "the service declared again runs")
+            assertTrue("poller" in second.serviceNames(), "and runs here: ${second.serviceNames()}")
         }
     }
 
