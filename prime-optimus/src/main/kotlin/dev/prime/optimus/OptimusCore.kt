@@ -380,7 +380,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Runs a generic service only if this process hosts it ([Builder.hosts]): like every service it
      * has one host at a time (a host lease, claimed at [start]), so of several processes that
      * declare it exactly one runs it. It runs on a thread of this core; [close], or losing its host
-     * lease, interrupts it.
+     * lease, interrupts it. Declared after [start], it claims its lease at once (waiting for Redis in
+     * an outage: interrupted there, a [dev.prime.PrimeException] that says so, the flag kept); a
+     * declaration that fails leaves nothing behind, so it can be made again.
      */
     override fun runGenericService(name: String, service: GenericService) {
         if (!isHosted(name)) return // another process runs it
@@ -389,7 +391,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (!isStarted) return
         val wasRunning = name !in notRunning
         try {
-            launchHosted(name) { runInterruptible { loop.run() } }
+            interruptibleInOutage({ "declaring generic service '$name'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+                launchHosted(name) { runInterruptible { loop.run() } }
+            }
         } catch (e: Throwable) {
             // the declaration fails and is forgotten: nothing of it stays, so it can be made again
             genericServices.remove(name, loop)

@@ -116,6 +116,27 @@ class RetriedDeclarationTest {
         }
     }
 
+    @Test
+    fun aGenericServiceInterruptedInAnOutageFailsSayingSoAndCanBeDeclaredAgain() {
+        val config = config("retried-interrupted-service")
+        EmbeddedRedis.start().use { redis ->
+            FaultProxy(redis.uri).use { proxy ->
+                core(config, proxy.url).use { core ->
+                    core.start()
+                    proxy.refuse()
+                    assertInterruptedInOutage("a generic service after start()", "poller") {
+                        core.service("poller", GenericService { Thread.sleep(10) })
+                    }
+                    assertTrue(core.isStarted && !core.isClosed, "the core is still open")
+                    proxy.restore()
+                    val worked = CountDownLatch(1)
+                    core.service("poller", GenericService { worked.countDown(); Thread.sleep(10) })
+                    assertTrue(worked.await(PATIENCE.toMillis(), TimeUnit.MILLISECONDS), "the service declared again runs")
+                }
+            }
+        }
+    }
+
     private companion object {
         val LEASE: Duration = Duration.ofSeconds(1)
         val PATIENCE: Duration = Duration.ofSeconds(20)
