@@ -81,6 +81,22 @@ public interface ChainCompiler<F> {
   Block<?, ?> toBlock(String chain, F form);
 
   /**
+   * Takes back the block {@link #toBlock} made for {@code chain} as a part of a declaration that
+   * then failed (a template whose other part failed, for instance): that block will never be
+   * called, and the chain stays unused, so a media that started services for it stops and forgets
+   * them, as a {@code toBlock} that fails does. Also called for a part whose block was not made
+   * (then there is nothing to take back).
+   *
+   * @param chain the part's chain name
+   * @param form its compiled form
+   * @return whether nothing of the block is left (the default); {@code false} if the media could
+   *     not take it back, and the chain then stays consumed
+   */
+  default boolean discard(String chain, F form) {
+    return true;
+  }
+
+  /**
    * Whether this media's blocks already copy every input and result (as a media that carries
    * them between processes does), so that {@link dev.prime.CoreConfig#valueCopies()} adds
    * nothing.

@@ -180,12 +180,13 @@ final class ModelCompiler<F> {
           mediaOwn
               ? service(sources, node, logic, input, part == null ? null : part.form())
               : memory.service(node, logic, input, part == null ? null : blockOf(part));
-    } catch (ChainAlreadyUsedException kept) {
-      // the media could not undo what it began with the chain: it stays consumed (ModelChain)
-      if (part != null && part.own() != null && part.own().name().equals(kept.chainName())) {
-        part.claim();
+    } catch (RuntimeException | Error failed) {
+      // a block made of the chain for an in-memory service is taken back; the media may have
+      // said that it could not undo what it began with the chain: it then stays consumed
+      if (part != null) {
+        discardParts(java.util.Collections.singletonList(part), failed);
       }
-      throw kept;
+      throw failed;
     }
     if (part != null) {
       part.claim();
@@ -260,11 +261,36 @@ final class ModelCompiler<F> {
         compiled.set(i, part(parts[i], partNodes.get(i), model));
       }
     }
-    F form = compile(node, logic, compiled);
+    F form;
+    try {
+      form = compile(node, logic, compiled);
+    } catch (RuntimeException | Error failed) {
+      discardParts(compiled, failed);
+      throw failed;
+    }
     for (Part<F> part : compiled) {
       part.claim();
     }
     return new ModelChain<>(core, name, form, media);
+  }
+
+  /**
+   * A declaration that took {@code parts} failed: the media takes back the blocks it made of this
+   * core's parts ({@link ChainCompiler#discard}), which stay unused, so the declaration can be
+   * made again; a part the media could not take back, or whose own {@code toBlock} said it could
+   * not undo what it began ({@link ChainAlreadyUsedException} naming it), is consumed.
+   */
+  private void discardParts(List<Part<F>> parts, Throwable failed) {
+    for (Part<F> part : parts) {
+      if (part == null || part.own() == null) {
+        continue;
+      }
+      String chain = part.own().name();
+      boolean kept = failed instanceof ChainAlreadyUsedException used && chain.equals(used.chainName());
+      if (!media.discard(chain, part.form()) || kept) {
+        part.claim();
+      }
+    }
   }
 
   /**

@@ -50,6 +50,9 @@ internal class OptimusChainCompiler(private val core: OptimusCore) : ChainCompil
     /** A remote call to the chain's first service, its services bound now. */
     override fun toBlock(chain: String, form: Stages): Block<*, *> = core.bindForCalls<Any?, Any?>(chain, form.specs)
 
+    /** The services [toBlock] bound for a part of a declaration that failed, stopped and forgotten. */
+    override fun discard(chain: String, form: Stages): Boolean = core.unbindForCalls(chain)
+
     /** A call already encodes its input and result: [dev.prime.CoreConfig.valueCopies] adds nothing. */
     override fun copiesValues(): Boolean = true
 }

@@ -855,6 +855,36 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
+     * Takes back the services [bindForCalls] bound for chain [chainName], whose block was made for
+     * a part of a declaration that then failed (a template whose other part was refused): cancels
+     * their runs and waits for them, at most the shutdown timeout, releases their host leases and
+     * forgets them, so the chain, left unused, can be declared again. `false` if a run still runs
+     * a block then: its services stay bound (a second run beside it would go on under the same
+     * instance), and the chain stays consumed. `true` if nothing was bound for it.
+     */
+    internal fun unbindForCalls(chainName: String): Boolean {
+        val names = calledServices[chainName] ?: return true
+        val runs = names.mapNotNull { name -> hostedJobs.remove(name)?.also { it.cancel() } }
+        val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
+        hostLeases.release(names.filter { it in hostLeases.services }) // a run still in its block stores nothing
+        if (stillRunning) {
+            LOG.warn(
+                "core '{}': a declaration that took chain '{}' failed, and a service of it (of {}) was still running a " +
+                    "block {} after it was stopped: its services stay bound, and the chain cannot be declared again",
+                name(), chainName, names, config().shutdownTimeout(),
+            )
+            return false
+        }
+        calledServices.remove(chainName)
+        for (name in names) {
+            services.remove(name)
+            launched -= name
+            notRunning -= name
+        }
+        return true
+    }
+
+    /**
      * Gives each remote call made since the last time whose first service is a user of an isolated
      * chain the [SelfCalls] of that chain's services in this core ([servicesRunFor]). An isolated
      * chain of another core (its block is that core's) has none here.

@@ -70,6 +70,26 @@ class RetriedDeclarationTest {
     }
 
     @Test
+    fun aTemplateRefusedByAHostLeaseHeldElsewhereForOnePartCanBeMadeAgain() {
+        val config = config("retried-template")
+        core(config).use { second ->
+            second.start()
+            val a = second.chain("a") { x: Int -> x + 1 }
+            val b = second.chain("b") { x: Int -> x * 10 }
+            core(config).use { holder ->
+                holder.chain("b") { x: Int -> x * 10 }.toBlock()
+                holder.start()
+                val refused = assertThrows(IllegalStateException::class.java) { second.ifThenElse({ x: Int -> x > 0 }, a, b) }
+                assertTrue("already hosted by" in refused.message!! && "'b'" in refused.message!!, refused.message)
+                assertNull(leaseHolder(config.name()!!, "a"), "the refused template holds no host lease of its part 'a'")
+            }
+            val chosen = second.ifThenElse({ x: Int -> x > 0 }, a, b).toBlock()
+            assertEquals(2, chosen.process(1), "the same template works once the other host is gone")
+            assertEquals(-10, chosen.process(-1), "both of its parts")
+        }
+    }
+
+    @Test
     fun aGenericServiceRefusedByAHostLeaseHeldElsewhereCanBeDeclaredAgain() {
         val config = config("retried-service")
         core(config).use { second ->
