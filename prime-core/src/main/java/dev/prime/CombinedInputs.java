@@ -1,6 +1,7 @@
 package dev.prime;
 
 import dev.prime.internal.ServiceThreads;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.function.Consumer;
 
@@ -28,8 +29,8 @@ final class CombinedInputs {
   private CombinedInputs() {}
 
   /**
-   * Opens a reader on every source and starts (or schedules, before {@code start()}) one service
-   * thread per input.
+   * Opens a reader on every source and then starts (or schedules, before {@code start()}) one
+   * service thread per input; if a reader cannot be opened, nothing runs.
    *
    * @param core the core that runs the combinator
    * @param threads its service threads
@@ -44,9 +45,10 @@ final class CombinedInputs {
       List<? extends Source<?>> sources,
       InputStep step) {
     Object lock = new Object();
+    List<Reader<?>> readers = openAll(name, sources);
     for (int i = 0; i < sources.size(); i++) {
       int input = i;
-      Reader<?> reader = inputReader(name, sources.get(i));
+      Reader<?> reader = readers.get(i);
       Consumer<Object> accept =
           value -> {
             synchronized (lock) {
@@ -57,6 +59,30 @@ final class CombinedInputs {
       // a core closed unstarted holds no publisher of another core up
       threads.add(thread, thread, hostedOnly(core, name, reader, accept), reader::close);
     }
+  }
+
+  /**
+   * Opens a reader on every input before any thread starts: if one cannot be opened, those opened
+   * are closed and nothing runs, so the failed declaration leaves no input thread behind (one would
+   * go on feeding the combinator's output, and its name would refuse the declaration made again).
+   */
+  private static List<Reader<?>> openAll(String name, List<? extends Source<?>> sources) {
+    List<Reader<?>> readers = new ArrayList<>(sources.size());
+    try {
+      for (Source<?> source : sources) {
+        readers.add(inputReader(name, source));
+      }
+    } catch (RuntimeException | Error failed) {
+      for (Reader<?> opened : readers) {
+        try {
+          opened.close();
+        } catch (RuntimeException closing) {
+          failed.addSuppressed(closing);
+        }
+      }
+      throw failed;
+    }
+    return readers;
   }
 
   /**

@@ -47,6 +47,35 @@ public interface CombinatorConformance extends ConformanceBase {
     return Duration.ofMillis(300);
   }
 
+  /**
+   * A declaration that fails leaves nothing behind and can be made again: on a started core, a
+   * merge whose second input's reader cannot be opened fails, runs nothing of it (no service of
+   * its first input), and the same merge made again publishes each value once.
+   */
+  @Test
+  default void aMergeThatFailedAfterStartLeavesNothingRunningAndCanBeMadeAgain()
+      throws InterruptedException {
+    try (PrimeCore core = newCore();
+        PrimeCore other = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = core.source("numbers", events);
+      EventBlock<Integer> otherEvents = new EventBlock<>();
+      Source<Integer> others = other.source("others", otherEvents);
+      AtomicInteger opened = new AtomicInteger();
+      Source<Integer> flaky = AtomicLinkConformance.failingFirstReader(others, opened);
+      other.start();
+      core.start();
+      IllegalStateException e =
+          assertThrows(IllegalStateException.class, () -> core.merge(numbers, flaky));
+      assertEquals("this source cannot be read yet", e.getMessage());
+      Reader<Integer> merged = core.merge(numbers, flaky).reader();
+      events.publish(1);
+      assertEquals(Optional.of(1), merged.take(patience()), "the merge made again runs");
+      assertEquals(
+          Optional.empty(), merged.take(quiet()), "each value once: nothing of the failed merge runs");
+    }
+  }
+
   @Test
   default void combineLatestPairsEachNewValueWithTheLatestOfTheOtherOnceBothHaveOne()
       throws InterruptedException {
