@@ -116,29 +116,32 @@ final class Combinators {
           long nanos = checkedPeriod(period);
           List<Source<?>> inputs = checked(source);
           String name = core.topologyRecorder().combinator("sample", inputs);
-          hostIfStarted(name);
-          EventBlock<Object> events = new EventBlock<>();
-          Source<Object> out = core.newSource(name, events);
-          AtomicReference<Object> latest = new AtomicReference<>();
-          CombinedInputs.run(
-              core,
-              threads,
+          return hosted(
               name,
-              inputs,
-              core.model().combinator(name, (input, value) -> latest.set(value)));
-          schedule(
-              name + " clock",
-              new Ticking(
-                  core,
-                  name,
-                  nanos,
-                  (count, time) -> {
-                    Object value = latest.getAndSet(null);
-                    if (value != null) {
-                      events.publish(value);
-                    }
-                  }));
-          return typed(out);
+              () -> {
+                EventBlock<Object> events = new EventBlock<>();
+                Source<Object> out = core.newSource(name, events);
+                AtomicReference<Object> latest = new AtomicReference<>();
+                CombinedInputs.run(
+                    core,
+                    threads,
+                    name,
+                    inputs,
+                    core.model().combinator(name, (input, value) -> latest.set(value)));
+                schedule(
+                    name + " clock",
+                    new Ticking(
+                        core,
+                        name,
+                        nanos,
+                        (count, time) -> {
+                          Object value = latest.getAndSet(null);
+                          if (value != null) {
+                            events.publish(value);
+                          }
+                        }));
+                return typed(out);
+              });
         });
   }
 
@@ -149,13 +152,17 @@ final class Combinators {
           long nanos = checkedPeriod(period);
           core.ensureOpen();
           String claimed = core.topologyRecorder().timer(name, period);
-          hostIfStarted(claimed);
-          EventBlock<Tick> events = new EventBlock<>();
-          Source<Tick> out = core.newSource(claimed, events);
-          schedule(
+          return hosted(
               claimed,
-              new Ticking(core, claimed, nanos, (count, time) -> events.publish(new Tick(count, time))));
-          return out;
+              () -> {
+                EventBlock<Tick> events = new EventBlock<>();
+                Source<Tick> out = core.newSource(claimed, events);
+                schedule(
+                    claimed,
+                    new Ticking(
+                        core, claimed, nanos, (count, time) -> events.publish(new Tick(count, time))));
+                return out;
+              });
         });
   }
 
@@ -180,22 +187,37 @@ final class Combinators {
 
   /**
    * Takes the hosting of a combinator or timer declared on a started core (before the start,
-   * {@code start()} takes it): on a media that spreads services over processes, its host lease.
+   * {@code start()} takes it): on a media that spreads services over processes, its host lease;
+   * then makes it. If making it fails, the hosting taken is given up again ({@link
+   * PrimeCore#unhostOnCoreThreads}): the failed declaration leaves nothing behind.
    */
-  private void hostIfStarted(String service) {
-    if (core.isStarted()) {
+  private <T> T hosted(String service, Supplier<T> make) {
+    boolean hosting = core.isStarted();
+    if (hosting) {
       core.hostOnCoreThreads(service);
+    }
+    try {
+      return make.get();
+    } catch (RuntimeException | Error failed) {
+      if (hosting) {
+        core.unhostOnCoreThreads(service);
+      }
+      throw failed;
     }
   }
 
   /** The output source of a combinator and its input services. */
   private <R> Source<R> combine(String name, List<Source<?>> inputs, Pairing pairing) {
-    hostIfStarted(name);
-    EventBlock<Object> events = new EventBlock<>();
-    Source<Object> out = core.newSource(name, events);
-    CombinedInputs.InputStep step = (input, value) -> pairing.accept(input, value, events::publish);
-    CombinedInputs.run(core, threads, name, inputs, core.model().combinator(name, step));
-    return typed(out);
+    return hosted(
+        name,
+        () -> {
+          EventBlock<Object> events = new EventBlock<>();
+          Source<Object> out = core.newSource(name, events);
+          CombinedInputs.InputStep step =
+              (input, value) -> pairing.accept(input, value, events::publish);
+          CombinedInputs.run(core, threads, name, inputs, core.model().combinator(name, step));
+          return typed(out);
+        });
   }
 
   /** The output source, typed as the combinator's values (which it carries only). */

@@ -1019,6 +1019,16 @@ public abstract class PrimeCore implements AutoCloseable {
   protected void hostOnCoreThreads(String service) {}
 
   /**
+   * Called when the declaration of a combinator or timer for which {@link #hostOnCoreThreads}
+   * returned failed after it (an input's reader could not be opened, for instance): a media gives
+   * up the hosting it took for it (Optimus: releases the host lease), so that the failed
+   * declaration leaves nothing behind and can be made again. Nothing by default. Must not throw.
+   *
+   * @param service the combinator's or timer's name in the diagram
+   */
+  protected void unhostOnCoreThreads(String service) {}
+
+  /**
    * Whether the caller of the call this thread runs a block for has given up on it (it was
    * interrupted, or its timeout passed). Called on a service's thread while a block waits for an
    * {@linkplain #isolate isolated chain}, about every 50 ms, and once when its turn comes after a

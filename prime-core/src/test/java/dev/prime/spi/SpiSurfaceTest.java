@@ -38,6 +38,7 @@ class SpiSurfaceTest {
                 "publishedTogether",
                 "runGenericService",
                 "hostOnCoreThreads",
+                "unhostOnCoreThreads",
                 "isHostedHere",
                 "callerGaveUp",
                 "isOwnThread",

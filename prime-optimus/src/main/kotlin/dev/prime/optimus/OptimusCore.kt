@@ -259,6 +259,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val leaseTime: Duration = settings.leaseTime
     private val sharedHosting = SharedHosting(keys, instance, settings.leaseTime, settings.hostingModes)
     private val hostedJobs = ConcurrentHashMap<String, Job>()
+
+    /** The combinators and timers whose host lease [hostOnCoreThreads] claimed after start. */
+    private val coreThreadClaims: MutableSet<String> = ConcurrentHashMap.newKeySet()
     private val notRunning: MutableSet<String> = ConcurrentHashMap.newKeySet() // hosted, but refused or taken over
     private val declarations = Redeclaration(
         keys, name(), instance, codec.fingerprint(), hostLeases,
@@ -691,6 +694,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (!isHosted(service) || isClosed || service in hostLeases.services) return
         // refused: the declaration fails and is forgotten, nothing runs
         interruptibleInOutage({ "declaring '$service'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) { claimHostLeases(listOf(service)) }
+        coreThreadClaims += service
+    }
+
+    /**
+     * The declaration of combinator or timer [service] failed after [hostOnCoreThreads] claimed its
+     * host lease: the lease is released, so that another process may host it (and this one again,
+     * when the declaration is made again).
+     */
+    override fun unhostOnCoreThreads(service: String) {
+        if (coreThreadClaims.remove(service)) hostLeases.release(listOf(service))
     }
 
     override fun onClose() {

@@ -3,6 +3,9 @@ package dev.prime.optimus
 import dev.prime.CoreConfig
 import dev.prime.EventBlock
 import dev.prime.GenericService
+import dev.prime.Reader
+import dev.prime.Source
+import dev.prime.Tuple2
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertNull
 import org.junit.jupiter.api.Assertions.assertThrows
@@ -13,6 +16,7 @@ import java.net.URI
 import java.time.Duration
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicInteger
 
 /**
  * A declaration after `start()` that hosts a service here and fails in the media (another process
@@ -87,6 +91,29 @@ class RetriedDeclarationTest {
             assertEquals(2, chosen.process(1), "the same template works once the other host is gone")
             assertEquals(-10, chosen.process(-1), "both of its parts")
         }
+    }
+
+    @Test
+    fun aCombinatorThatFailedAfterClaimingItsHostLeaseReleasesItAndCanBeMadeAgain() {
+        val config = config("retried-combinator")
+        core(config).use { core -> core(config("retried-combinator-other")).use { other ->
+            val events = EventBlock<Int>()
+            val numbers = core.source("numbers", events)
+            val opened = AtomicInteger()
+            val flaky = object : Source<Int> { // another core's source, whose first reader fails
+                override fun core() = other
+                override fun name() = "flaky"
+                override fun reader(): Reader<Int> =
+                    if (opened.incrementAndGet() == 1) throw IllegalStateException("this source cannot be read yet") else numbers.reader()
+            }
+            core.start()
+            val refused = assertThrows(IllegalStateException::class.java) { core.combineLatest(numbers, flaky) }
+            assertEquals("this source cannot be read yet", refused.message)
+            assertNull(leaseHolder(config.name()!!, "combineLatest(numbers|flaky)"), "the failed combinator holds no host lease")
+            val pairs = core.combineLatest(numbers, flaky).reader()
+            events.publish(3)
+            assertEquals(Tuple2(3, 3), pairs.take(PATIENCE).orElseThrow(), "the same combinator works when made again")
+        } }
     }
 
     @Test
