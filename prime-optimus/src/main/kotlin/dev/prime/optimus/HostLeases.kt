@@ -46,12 +46,13 @@ internal class HostLeases(
 
     /**
      * Claims the leases of [services], waiting up to one lease time for leases of other instances
-     * to lapse.
+     * to lapse, for `start()`, or for [declaration] (what was declared after `start()`, such as
+     * "chain 'a>b' declared after start()").
      *
      * @throws IllegalStateException naming each service another live instance still hosts (the
      *     leases claimed by this call are released again)
      */
-    fun claim(services: Collection<String>, coreName: String) {
+    fun claim(services: Collection<String>, coreName: String, declaration: String? = null) {
         if (services.isEmpty()) return
         val started = System.nanoTime()
         val deadline = started + leaseTime.toNanos() + CLAIM_MARGIN.toNanos()
@@ -84,11 +85,18 @@ internal class HostLeases(
                     }
                     if (claimed.isNotEmpty()) session.retrying { release(it, claimed) }
                     val waited = Duration.ofNanos(System.nanoTime() - started).toMillis()
+                    val advice = "A service has one host at a time: remove it from hosts(...) of one of the " +
+                        "processes, or stop the other one (the lease of a killed host lapses within the lease time, " +
+                        "${leaseTime.toMillis()} ms)"
                     throw IllegalStateException(
-                        "core '$coreName' cannot start: $described, which kept its host lease during the $waited ms " +
-                            "start() waited. A service has one host at a time: remove it from hosts(...) of one of the " +
-                            "processes, or stop the other one (the lease of a killed host lapses within the lease time, " +
-                            "${leaseTime.toMillis()} ms)",
+                        if (declaration == null) {
+                            "core '$coreName' cannot start: $described, which kept its host lease during the $waited ms " +
+                                "start() waited. $advice"
+                        } else {
+                            "core '$coreName' cannot host $declaration: $described, which kept its host lease during " +
+                                "the $waited ms the declaration waited. $advice. The declaration left nothing behind: it " +
+                                "can be made again, on the same chain, once the other host is gone"
+                        },
                     )
                 }
                 val wait = (soonest + 1).coerceIn(MIN_WAIT_MS, ceilMillis(left))

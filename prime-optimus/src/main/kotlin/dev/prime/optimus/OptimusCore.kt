@@ -693,7 +693,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     override fun hostOnCoreThreads(service: String) {
         if (!isHosted(service) || isClosed || service in hostLeases.services) return
         // refused: the declaration fails and is forgotten, nothing runs
-        interruptibleInOutage({ "declaring '$service'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) { claimHostLeases(listOf(service)) }
+        interruptibleInOutage({ "declaring '$service'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+            claimHostLeases(listOf(service), "'$service' declared after start()")
+        }
         coreThreadClaims += service
     }
 
@@ -1080,6 +1082,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             if (isStarted && !isClosed) {
                 claimHostLeases(
                     names.filter { isHosted(it) && it !in launched && it !in leasesBefore && sharedHosting.modeOf(it) == Hosting.EXCLUSIVE },
+                    "chain '$chain' declared after start()",
                 )
             }
             stages.forEachIndexed { index, stage ->
@@ -1173,7 +1176,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
         if (name !in hostLeases.services) {
             try {
-                claimHostLeases(listOf(name))
+                claimHostLeases(listOf(name), "service '$name' declared after start()")
             } catch (e: RuntimeException) {
                 launched -= name
                 if (e is IllegalStateException) notRunning += name
@@ -1188,9 +1191,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         withSession("register this process's liveness lease") { liveness.begin() }
     }
 
-    /** Claims the host leases of [services] (waiting up to one lease time for others' to lapse). */
-    private fun claimHostLeases(services: List<String>) {
-        withSession("claim the host leases of $services") { hostLeases.claim(services, name()) }
+    /**
+     * Claims the host leases of [services] (waiting up to one lease time for others' to lapse), for
+     * start(), or for [declaration] made after it (its refusal then names it).
+     */
+    private fun claimHostLeases(services: List<String>, declaration: String? = null) {
+        withSession("claim the host leases of $services") { hostLeases.claim(services, name(), declaration) }
     }
 
     /** The fence [service]'s steps check: its host lease must hold this instance's id. */

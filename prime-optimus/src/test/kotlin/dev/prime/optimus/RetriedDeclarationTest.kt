@@ -45,6 +45,7 @@ class RetriedDeclarationTest {
                 holder.chain("b") { x: Int -> x * 10 }.toBlock()
                 holder.start()
                 val refused = assertThrows(IllegalStateException::class.java) { ab.toBlock() }
+                assertDeclarationRefused(refused)
                 assertTrue("already hosted by" in refused.message!! && "'b'" in refused.message!!, refused.message)
                 assertNull(leaseHolder(config.name()!!, "a"), "the refused toBlock() holds no host lease of 'a'")
             }
@@ -65,6 +66,7 @@ class RetriedDeclarationTest {
                 holder.chain("b") { x: Int -> x * 10 }.toBlock()
                 holder.start()
                 val refused = assertThrows(IllegalStateException::class.java) { second.link(numbers, ab) }
+                assertDeclarationRefused(refused)
                 assertTrue("already hosted by" in refused.message!! && "'b'" in refused.message!!, refused.message)
             }
             val results = second.link(numbers, ab).reader()
@@ -84,6 +86,7 @@ class RetriedDeclarationTest {
                 holder.chain("b") { x: Int -> x * 10 }.toBlock()
                 holder.start()
                 val refused = assertThrows(IllegalStateException::class.java) { second.ifThenElse({ x: Int -> x > 0 }, a, b) }
+                assertDeclarationRefused(refused)
                 assertTrue("already hosted by" in refused.message!! && "'b'" in refused.message!!, refused.message)
                 assertNull(leaseHolder(config.name()!!, "a"), "the refused template holds no host lease of its part 'a'")
             }
@@ -127,6 +130,7 @@ class RetriedDeclarationTest {
                 val refused = assertThrows(IllegalStateException::class.java) {
                     second.service("poller", GenericService { Thread.sleep(10) })
                 }
+                assertDeclarationRefused(refused)
                 assertTrue("already hosted by" in refused.message!! && "'poller'" in refused.message!!, refused.message)
             }
             val worked = CountDownLatch(1)
@@ -182,6 +186,12 @@ class RetriedDeclarationTest {
                 }
             }
         }
+    }
+
+    /** A refusal of a declaration after start() says so, not that the core cannot start. */
+    private fun assertDeclarationRefused(refused: IllegalStateException) {
+        assertTrue("declared after start()" in refused.message!! && "cannot start" !in refused.message!!, refused.message)
+        assertTrue("can be made again" in refused.message!!, "says it can be made again: ${refused.message}")
     }
 
     private companion object {
