@@ -47,12 +47,13 @@ internal class HostLeases(
     /**
      * Claims the leases of [services], waiting up to one lease time for leases of other instances
      * to lapse, for `start()`, or for [declaration] (what was declared after `start()`, such as
-     * "chain 'a>b' declared after start()").
+     * "chain 'a>b' declared after start()"; [ofAChain]: it is a chain's, which stays unused when
+     * refused, so its refusal says that the same chain can be declared again).
      *
      * @throws IllegalStateException naming each service another live instance still hosts (the
      *     leases claimed by this call are released again)
      */
-    fun claim(services: Collection<String>, coreName: String, declaration: String? = null) {
+    fun claim(services: Collection<String>, coreName: String, declaration: String? = null, ofAChain: Boolean = false) {
         if (services.isEmpty()) return
         val started = System.nanoTime()
         val deadline = started + leaseTime.toNanos() + CLAIM_MARGIN.toNanos()
@@ -95,7 +96,7 @@ internal class HostLeases(
                         } else {
                             "core '$coreName' cannot host $declaration: $described, which kept its host lease during " +
                                 "the $waited ms the declaration waited. $advice. The declaration left nothing behind: it " +
-                                "can be made again, on the same chain, once the other host is gone"
+                                "can be made again${if (ofAChain) ", on the same chain," else ""} once the other host is gone"
                         },
                     )
                 }

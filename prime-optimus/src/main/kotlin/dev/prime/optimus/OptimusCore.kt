@@ -1083,6 +1083,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 claimHostLeases(
                     names.filter { isHosted(it) && it !in launched && it !in leasesBefore && sharedHosting.modeOf(it) == Hosting.EXCLUSIVE },
                     "chain '$chain' declared after start()",
+                    ofAChain = true,
                 )
             }
             stages.forEachIndexed { index, stage ->
@@ -1193,10 +1194,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Claims the host leases of [services] (waiting up to one lease time for others' to lapse), for
-     * start(), or for [declaration] made after it (its refusal then names it).
+     * start(), or for [declaration] made after it (its refusal then names it, and says that the same
+     * chain can be declared again if [ofAChain]).
      */
-    private fun claimHostLeases(services: List<String>, declaration: String? = null) {
-        withSession("claim the host leases of $services") { hostLeases.claim(services, name(), declaration) }
+    private fun claimHostLeases(services: List<String>, declaration: String? = null, ofAChain: Boolean = false) {
+        withSession("claim the host leases of $services") { hostLeases.claim(services, name(), declaration, ofAChain) }
     }
 
     /** The fence [service]'s steps check: its host lease must hold this instance's id. */

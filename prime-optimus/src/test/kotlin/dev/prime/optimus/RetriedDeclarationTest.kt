@@ -188,6 +188,27 @@ class RetriedDeclarationTest {
         }
     }
 
+    @Test
+    fun theRefusalOfAServiceOrTimerDeclaredAfterStartSpeaksOfNoChain() {
+        val config = config("retried-timer-or-service")
+        core(config).use { second ->
+            second.start()
+            core(config).use { holder ->
+                holder.service("poller", GenericService { Thread.sleep(10) })
+                holder.timer("tick", Duration.ofMillis(50))
+                holder.start()
+                val service = assertThrows(IllegalStateException::class.java) {
+                    second.service("poller", GenericService { Thread.sleep(10) })
+                }
+                val timer = assertThrows(IllegalStateException::class.java) { second.timer("tick", Duration.ofMillis(50)) }
+                for (refused in listOf(service, timer)) {
+                    assertDeclarationRefused(refused)
+                    assertTrue("chain" !in refused.message!!, "a generic service or a timer is no chain: ${refused.message}")
+                }
+            }
+        }
+    }
+
     /** A refusal of a declaration after start() says so, not that the core cannot start. */
     private fun assertDeclarationRefused(refused: IllegalStateException) {
         assertTrue("declared after start()" in refused.message!! && "cannot start" !in refused.message!!, refused.message)
