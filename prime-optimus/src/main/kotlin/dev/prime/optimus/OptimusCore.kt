@@ -872,14 +872,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /**
      * Takes back the services [bindForCalls] bound for chain [chainName], whose block was made for
      * a part of a declaration that then failed (a template whose other part was refused): cancels
-     * their runs and waits for them, at most the shutdown timeout, releases their host leases and
+     * their runs ([stopRun]) and waits for them, at most the shutdown timeout, releases their host leases and
      * forgets them, so the chain, left unused, can be declared again. `false` if a run still runs
      * a block then: its services stay bound (a second run beside it would go on under the same
      * instance), and the chain stays consumed. `true` if nothing was bound for it.
      */
     internal fun unbindForCalls(chainName: String): Boolean {
         val names = calledServices[chainName] ?: return true
-        val runs = names.mapNotNull { name -> hostedJobs.remove(name)?.also { it.cancel() } }
+        val runs = names.mapNotNull { name -> stopRun(name) }
         val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
         hostLeases.release(names.filter { it in hostLeases.services }) // a run still in its block stores nothing
         if (stillRunning) {
@@ -1108,7 +1108,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Takes back a binding of chain [chain] that failed ([failure]): cancels the runs it launched of
-     * [bound] (the stages it bound) and waits for them to end, at most the shutdown timeout, then
+     * [bound] (the stages it bound; [stopRun]) and waits for them to end, at most the shutdown timeout, then
      * forgets them, gives up the host leases it claimed for [names] and what it marked not running.
      * A run that does not end in time still runs a block: then the services stay bound and the
      * failure is a [dev.prime.ChainAlreadyUsedException] saying that the chain cannot be declared again.
@@ -1121,7 +1121,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         notRunningBefore: Set<String>,
         failure: Throwable,
     ) {
-        val runs = bound.mapNotNull { name -> hostedJobs.remove(name)?.also { it.cancel() } }
+        val runs = bound.mapNotNull { name -> stopRun(name) }
         val claimed = names.filter { it in hostLeases.services && it !in leasesBefore }
         val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
         hostLeases.release(claimed) // a run still in its block then stores nothing (its steps are fenced)
@@ -1138,6 +1138,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             launched -= name
         }
         notRunning -= names.filterNot { it in notRunningBefore }.toSet()
+    }
+
+    /**
+     * Cancels the run of [service] launched here, if any, for a declaration that failed, and wakes
+     * it from a wait for input in Redis, which a cancellation does not end ([StageService.wake]):
+     * an idle run then ends at once, and only a run still in a block outlasts the shutdown timeout.
+     * Returns the run, to wait for.
+     */
+    private fun stopRun(service: String): Job? = hostedJobs.remove(service)?.also {
+        it.cancel()
+        services[service]?.wake()
     }
 
     /**

@@ -116,14 +116,31 @@ internal class StageService(
     /** The codec's session this service decodes its inputs and encodes its outputs with, for its whole run. */
     private val held = core.holdCodec()
 
+    /** The session of this run's loop while it runs: what [wake] closes the connection of. */
+    @Volatile private var running: RedisSession? = null
+
     suspend fun run() {
         try {
-            RedisSession(core.connections).use { session -> loop(session) }
+            RedisSession(core.connections).use { session ->
+                running = session
+                loop(session)
+            }
         } finally {
+            running = null
             held?.close()
             refusedSteps.close()
             deadLetterLog.flush() // the dead letters counted since the last line
         }
+    }
+
+    /**
+     * Wakes this run, just cancelled, from a blocking take: a cancellation does not end a Jedis
+     * call, which would end only when the take's wait in Redis is over (up to a second, or a
+     * third of the lease); closing the connection under it ends it at once, and the run then ends.
+     * What it took stays in its processing list, as after a broken connection.
+     */
+    fun wake() {
+        running?.abort()
     }
 
     private suspend fun loop(session: RedisSession) {
@@ -163,6 +180,7 @@ internal class StageService(
                 throw e
             } catch (e: Throwable) {
                 if (core.connections.isClosed) return
+                currentCoroutineContext().ensureActive() // a cancelled run woken by [wake]: no outage
                 if (outage.isNew(e)) {
                     if (e is JedisDataException && RedisPermissions.isRefusal(e)) {
                         LOG.error("service '{}' {}; retrying", name, describeFailure(e))

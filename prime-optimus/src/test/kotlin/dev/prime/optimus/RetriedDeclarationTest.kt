@@ -97,6 +97,29 @@ class RetriedDeclarationTest {
     }
 
     @Test
+    fun aTemplateRefusedForOnePartWhileItsOtherPartWaitsIdleForInputCanBeMadeAgain() {
+        // a shutdown timeout shorter than an idle service's wait for input in Redis (a second with
+        // this lease): the refused template's other part, which runs no block, is still taken back
+        val config = CoreConfig.builder().name("retried-idle-part-${System.nanoTime()}")
+            .shutdownTimeout(Duration.ofMillis(200)).build()
+        val idleCore = { OptimusCore.builder().config(config).redis(TestRedis.url).leaseTime(Duration.ofSeconds(3)).build() }
+        idleCore().use { second ->
+            second.start()
+            val a = second.chain("a") { x: Int -> x + 1 }
+            val b = second.chain("b") { x: Int -> x * 10 }
+            idleCore().use { holder ->
+                holder.chain("b") { x: Int -> x * 10 }.toBlock()
+                holder.start()
+                val refused = assertThrows(IllegalStateException::class.java) { second.ifThenElse({ x: Int -> x > 0 }, a, b) }
+                assertDeclarationRefused(refused)
+            }
+            val chosen = second.ifThenElse({ x: Int -> x > 0 }, a, b).toBlock()
+            assertEquals(2, chosen.process(1), "the same template works once the other host is gone")
+            assertEquals(-10, chosen.process(-1), "both of its parts")
+        }
+    }
+
+    @Test
     fun aCombinatorThatFailedAfterClaimingItsHostLeaseReleasesItAndCanBeMadeAgain() {
         val config = config("retried-combinator")
         core(config).use { core -> core(config("retried-combinator-other")).use { other ->
