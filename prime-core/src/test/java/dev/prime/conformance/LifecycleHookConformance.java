@@ -19,6 +19,7 @@ import java.util.concurrent.ConcurrentHashMap;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicBoolean;
 import java.util.concurrent.atomic.AtomicReference;
 import org.junit.jupiter.api.Test;
 
@@ -367,6 +368,62 @@ public interface LifecycleHookConformance extends ConformanceBase {
     core.start();
     assertTrue(core.isClosed());
     assertEquals(List.of("start begun", "next closed", "start done", "close"), calls);
+  }
+
+  /**
+   * A {@code close()} from one of the core's own threads (a generic service) while a hook's
+   * {@code onStart} runs on the starting thread does not wait for that start, which may itself
+   * wait for the service: it returns, and the hook's {@code onClose} runs on the starting thread as
+   * its {@code onStart} returns ({@link PrimeCore#whenRunning}). The shutdown timeout is far above
+   * the kit's patience, so a close that waited for the start would outlast the start's own wait.
+   */
+  @Test
+  default void aCloseFromAServiceWhileAHookStartsLeavesTheHooksCloseToItsStart()
+      throws InterruptedException {
+    List<String> calls = new CopyOnWriteArrayList<>();
+    CountDownLatch starting = new CountDownLatch(1);
+    CountDownLatch closeReturned = new CountDownLatch(1);
+    AtomicBoolean closing = new AtomicBoolean();
+    Duration patience = patience();
+    PrimeCore core =
+        newCore(CoreConfig.builder().shutdownTimeout(patience.multipliedBy(3)).build());
+    try {
+      core.service(
+          "stopper",
+          () -> {
+            if (closing.getAndSet(true)) {
+              return; // closed once; the service stops with its core
+            }
+            if (starting.await(patience.toMillis(), TimeUnit.MILLISECONDS)) {
+              core.close();
+              calls.add("close() returned");
+            }
+            closeReturned.countDown();
+          });
+      core.whenRunning(
+          "waiter",
+          () -> {
+            calls.add("start begun");
+            starting.countDown();
+            try {
+              if (!closeReturned.await(patience.toMillis(), TimeUnit.MILLISECONDS)) {
+                calls.add("close() waited for the start");
+              }
+            } catch (InterruptedException e) {
+              Thread.currentThread().interrupt();
+            }
+            calls.add("start done");
+          },
+          () -> calls.add("close"));
+      core.start();
+      assertEquals(
+          List.of("start begun", "close() returned", "start done", "close"),
+          calls,
+          "close() from the service returned while the hook started, and the hook closed after");
+      assertTrue(core.isClosed());
+    } finally {
+      core.close();
+    }
   }
 
   /**
