@@ -81,6 +81,20 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
     used.set(false);
   }
 
+  /**
+   * Takes back the block {@link #toBlock()} made of this chain for a declaration of another core
+   * (a template taking this chain as a part) that then failed, under that declaration's locks
+   * (which include this core's): this core's media takes it back ({@link ChainCompiler#discard})
+   * and the chain is unused again, so the declaration can be made again; if the media cannot, the
+   * chain stays consumed. (Its {@code toBlock()} returned: a failure that names a chain is about
+   * another one, perhaps of the same name in the declaring core.)
+   */
+  void giveBack() {
+    if (media.discard(name, form)) {
+      used.set(false);
+    }
+  }
+
   /** This chain's compiled form if it is a {@code type}, else {@code null}; consumes nothing. */
   <T> T formOf(Class<T> type) {
     return type.isInstance(form) ? type.cast(form) : null;

@@ -256,13 +256,13 @@ final class ModelCompiler<F> {
     for (int i = 0; i < parts.length; i++) {
       compiled.add(ownPart(parts[i], partNodes.get(i)));
     }
-    for (int i = 0; i < parts.length; i++) {
-      if (compiled.get(i) == null) {
-        compiled.set(i, part(parts[i], partNodes.get(i), model));
-      }
-    }
     F form;
     try {
+      for (int i = 0; i < parts.length; i++) {
+        if (compiled.get(i) == null) {
+          compiled.set(i, part(parts[i], partNodes.get(i), model));
+        }
+      }
       form = compile(node, logic, compiled);
     } catch (RuntimeException | Error failed) {
       discardParts(compiled, failed);
@@ -278,27 +278,42 @@ final class ModelCompiler<F> {
    * A declaration that took {@code parts} failed: the media takes back the blocks it made of this
    * core's parts ({@link ChainCompiler#discard}), which stay unused, so the declaration can be
    * made again; a part the media could not take back, or whose own {@code toBlock} said it could
-   * not undo what it began ({@link ChainAlreadyUsedException} naming it), is consumed.
+   * not undo what it began ({@link ChainAlreadyUsedException} naming it), is consumed. A chain of
+   * another core (or of this core in another form), taken through its {@code toBlock()}, is given
+   * back to its core the same way ({@link ModelChain#giveBack}).
    */
   private void discardParts(List<Part<F>> parts, Throwable failed) {
     for (Part<F> part : parts) {
-      if (part == null || part.own() == null) {
+      if (part == null) {
+        continue;
+      }
+      if (part.taken() != null) {
+        part.taken().giveBack();
+        continue;
+      }
+      if (part.own() == null) {
         continue;
       }
       String chain = part.own().name();
-      boolean kept = failed instanceof ChainAlreadyUsedException used && chain.equals(used.chainName());
-      if (!media.discard(chain, part.form()) || kept) {
+      if (!media.discard(chain, part.form()) || isKept(chain, failed)) {
         part.claim();
       }
     }
   }
 
+  /** Whether {@code failed} says that the media could not undo what it began with {@code chain}. */
+  private static boolean isKept(String chain, Throwable failed) {
+    return failed instanceof ChainAlreadyUsedException used && chain.equals(used.chainName());
+  }
+
   /**
    * A compiled part: its node, its form, this core's chain it is (claimed once the node is
-   * compiled; {@code null} for another chain, consumed when taken), and the block a generic
-   * template calls.
+   * compiled; {@code null} for another chain, consumed when taken), the block a generic template
+   * calls, and the chain taken through its {@code toBlock()} for it, which a declaration that
+   * fails gives back ({@code null} for this core's own, or a chain made by hand).
    */
-  private record Part<F>(String node, F form, ModelChain<?, ?, ?> own, Block<?, ?> foreign) {
+  private record Part<F>(
+      String node, F form, ModelChain<?, ?, ?> own, Block<?, ?> foreign, ModelChain<?, ?, ?> taken) {
     Block<?, ?> block() {
       return own != null ? own.partBlock() : foreign;
     }
@@ -316,7 +331,7 @@ final class ModelCompiler<F> {
     if (chain.core() == core && chain instanceof ModelChain<?, ?, ?> mine) {
       F form = mine.formOf(media.form());
       if (form != null) {
-        return new Part<>(node, form, mine, null);
+        return new Part<>(node, form, mine, null, null);
       }
     }
     return null;
@@ -336,11 +351,19 @@ final class ModelCompiler<F> {
     NodeLogic logic = model.logic(node);
     Chain<?, ?> other = logic instanceof NodeLogic.OtherChain foreign ? foreign.chain() : chain;
     Block<?, ?> block = other.toBlock();
-    TopologyNode partNode = model.node(node);
-    if (partNode instanceof TopologyNode.ForeignChain) { // this core's own chains are metered
-      block = metered(partNode, block);
+    ModelChain<?, ?, ?> taken = other instanceof ModelChain<?, ?, ?> chainOfACore ? chainOfACore : null;
+    try {
+      TopologyNode partNode = model.node(node);
+      if (partNode instanceof TopologyNode.ForeignChain) { // this core's own chains are metered
+        block = metered(partNode, block);
+      }
+      return new Part<>(node, media.foreign(node, block), null, block, taken);
+    } catch (RuntimeException | Error failed) {
+      if (taken != null) {
+        taken.giveBack();
+      }
+      throw failed;
     }
-    return new Part<>(node, media.foreign(node, block), null, block);
   }
 
   /**

@@ -158,6 +158,34 @@ public interface AtomicLinkConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * The same for a chain of another core, which the link takes through its {@code toBlock()}: a
+   * link that fails leaves that chain unused too, and the same link works once the cause is gone.
+   */
+  @Test
+  default void aSourceLinkOfAnotherCoresChainThatFailedLeavesThatChainUnused() throws Exception {
+    try (PrimeCore core = newCore();
+        PrimeCore other = newCore();
+        PrimeCore owner = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> numbers = other.source("numbers", events);
+      AtomicInteger opened = new AtomicInteger();
+      Source<Integer> flaky = failingFirstReader(numbers, opened);
+      Chain<Integer, Integer> chain = owner.chain("owned", x -> x + 1);
+      owner.start();
+      other.start();
+      core.start();
+      IllegalStateException e =
+          assertThrows(IllegalStateException.class, () -> core.link(flaky, chain));
+      assertEquals("this source cannot be read yet", e.getMessage());
+      Reader<Integer> results = core.link(flaky, chain).reader();
+      assertEquals(2, opened.get(), "the link was made again");
+      events.publish(1);
+      assertEquals(
+          Optional.of(2), results.take(patience()), "the link made again runs the other core's chain");
+    }
+  }
+
   /** {@code source}, whose first reader cannot be opened; counts the readers asked for. */
   static Source<Integer> failingFirstReader(Source<Integer> source, AtomicInteger opened) {
     return new Source<>() {

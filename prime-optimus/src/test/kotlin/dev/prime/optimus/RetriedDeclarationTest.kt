@@ -120,6 +120,30 @@ class RetriedDeclarationTest {
     }
 
     @Test
+    fun aTemplateRefusedForOnePartLeavesItsPartOfAnotherCoreUnused() {
+        val config = config("retried-foreign-part")
+        val otherConfig = config("retried-foreign-part-other")
+        core(otherConfig).use { other ->
+            other.start()
+            val x = other.chain("x") { v: Int -> v + 1 }
+            core(config).use { second ->
+                second.start()
+                val b = second.chain("b") { v: Int -> v * 10 }
+                core(config).use { holder ->
+                    holder.chain("b") { v: Int -> v * 10 }.toBlock()
+                    holder.start()
+                    val refused = assertThrows(IllegalStateException::class.java) { second.ifThenElse({ v: Int -> v > 0 }, x, b) }
+                    assertDeclarationRefused(refused)
+                    assertNull(leaseHolder(otherConfig.name()!!, "x"), "the other core runs nothing for the refused template")
+                }
+                val chosen = second.ifThenElse({ v: Int -> v > 0 }, x, b).toBlock()
+                assertEquals(2, chosen.process(1), "the same template, with the other core's chain, works once the other host is gone")
+                assertEquals(-10, chosen.process(-1), "both of its parts")
+            }
+        }
+    }
+
+    @Test
     fun aCombinatorThatFailedAfterClaimingItsHostLeaseReleasesItAndCanBeMadeAgain() {
         val config = config("retried-combinator")
         core(config).use { core -> core(config("retried-combinator-other")).use { other ->
