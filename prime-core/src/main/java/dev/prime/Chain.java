@@ -45,8 +45,8 @@ public interface Chain<I, O> {
    * call a method of its own.
    *
    * <p>A declaration that fails leaves the chain unused; it can be made again. A {@code
-   * toBlock()} that throws (on Optimus, after {@code start()}: its wait for Redis interrupted,
-   * Redis unreachable, or another process hosting one of the chain's services) stopped and forgot
+   * toBlock()} that throws (on Optimus, after {@code start()}: its wait for Redis through an
+   * outage interrupted, or another process hosting one of the chain's services) stopped and forgot
    * whatever it began, so the same call on this chain works once the cause is gone. Only where the
    * media could not undo it (a service it started did not stop in time) does it throw a {@link
    * ChainAlreadyUsedException} that says so, and the chain stays consumed.

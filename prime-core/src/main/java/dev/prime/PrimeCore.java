@@ -47,9 +47,9 @@ import org.slf4j.LoggerFactory;
  *   <li>A link or template that throws consumes nothing: every chain given to it stays usable.
  *       More generally, a declaration that fails leaves the chain unused; it can be made again: a
  *       {@link Chain#toBlock()}, a link of a chain to a source, a timer or a combinator that fails
- *       after {@link #start()} (on Optimus, its wait for Redis interrupted, Redis unreachable, or
- *       another process hosting the service) leaves nothing of it behind, so the same call works
- *       once the cause is gone (see {@link Chain#toBlock()} for the one exception).
+ *       after {@link #start()} (on Optimus, which waits for Redis through an outage: that wait
+ *       interrupted, or another process hosting the service) leaves nothing of it behind, so the
+ *       same call works once the cause is gone (see {@link Chain#toBlock()} for the one exception).
  *   <li>Every blocking wait (a reader's {@code take}, a sync collector, a caller waiting for an
  *       isolated chain, a repeater between rounds) ends when its thread is interrupted or the core
  *       closes. Where such a wait runs on a service's thread for a caller elsewhere (Optimus), it
@@ -1128,10 +1128,10 @@ public abstract class PrimeCore implements AutoCloseable {
    * on another thread to return before running its {@code onClose}.
    *
    * <p>A {@code close()} that finds another under way on another thread waits until that one has
-   * finished (at most twice {@code shutdownTimeout} plus 30 s), so a shutdown hook that closes a
-   * core the program is closing does not let the JVM exit half-way through. It returns at once
-   * when called from one of the core's own threads (a service, a listener), which the first close
-   * may be waiting for, or from within the first close (an {@code onClose} of {@link
+   * finished (at most three times {@code shutdownTimeout} plus 30 s), so a shutdown hook that
+   * closes a core the program is closing does not let the JVM exit half-way through. It returns
+   * at once when called from one of the core's own threads (a service, a listener), which the
+   * first close may be waiting for, or from within the first close (an {@code onClose} of {@link
    * #whenRunning}); an interrupt ends its wait and stays set.
    */
   @Override
@@ -1172,7 +1172,8 @@ public abstract class PrimeCore implements AutoCloseable {
     }
     long shutdownMillis =
         TimeUnit.NANOSECONDS.toMillis(Deadlines.boundedNanos(config.shutdownTimeout()));
-    long bound = 2 * shutdownMillis + CLOSE_WAIT_SLACK_MILLIS;
+    // the first close may wait a shutdownTimeout for a hook's start, then for services and media
+    long bound = 3 * shutdownMillis + CLOSE_WAIT_SLACK_MILLIS;
     try {
       if (!closed.await(bound, TimeUnit.MILLISECONDS)) {
         LOG.warn(

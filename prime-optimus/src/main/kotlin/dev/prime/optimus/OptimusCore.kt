@@ -580,11 +580,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Clears the interrupt flag of the calling thread if it is one of this core's own (a service,
      * a template, a listener) and the core is open, and says whether it did. Such a flag was left
      * by a block (an `ifThenElse` condition, a block that interrupted itself before calling a
-     * chain): while the core is open only [close] ends a service, and the service clears the flag
-     * before its next value. A call of a chain made then is made without it, as on Liberty and
-     * Radiant, where the called blocks run inline and a call never waits for a reply; the caller
-     * sets the flag again after the call. A close that interrupts the thread meanwhile still ends
-     * the call: it closes the call's connections, and the flag it sets ends the wait.
+     * chain): while the core is open, the services clear the flag before their next value, and
+     * only [close] ends them, or, for a generic service, the loss of its host lease to another
+     * process (it is interrupted then, and finishes a call it is making before it stops; what it
+     * stores is fenced by the lease). A call of a chain made then is made without the flag, as on
+     * Liberty and Radiant, where the called blocks run inline and a call never waits for a reply;
+     * the caller sets the flag again after the call. A close that interrupts the thread meanwhile
+     * still ends the call: it closes the call's connections, and the flag it sets ends the wait.
      */
     internal fun clearFlagLeftByABlock(): Boolean {
         val current = Thread.currentThread()
