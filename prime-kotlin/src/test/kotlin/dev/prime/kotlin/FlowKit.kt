@@ -140,6 +140,41 @@ internal abstract class FlowKit(private val media: Media) {
     }
 
     /**
+     * `PrimeCore.source(name, flow)`: once its flow has completed, or failed, the source publishes
+     * nothing more, and stays: it does not complete, so its readers wait on (a take times out
+     * rather than ending as at a close), and a reader made afterwards gets the values the source
+     * retains.
+     */
+    @Test
+    fun `a source whose flow completed or failed publishes nothing more and stays`() = runBlocking {
+        val failures = ArrayBlockingQueue<Throwable>(4)
+        val config = CoreConfig.builder().errorHandler { _, _, error -> failures.add(error) }.build()
+        media.newCore(config).use { core ->
+            val done = core.source("done", flowOf(1, 2))
+            val failed = core.source("failed", flow { emit(10); throw IllegalStateException("sensor unplugged") })
+            val doneReader = done.reader()
+            val failedReader = failed.reader()
+            core.start()
+            assertEquals(listOf(1, 2), List(2) { doneReader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() })
+            assertEquals(10, failedReader.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow())
+            assertInstanceOf(
+                IllegalStateException::class.java,
+                failures.poll(WAIT_MILLIS, TimeUnit.MILLISECONDS) ?: error("the failed flow never reached the error handler"),
+            )
+            for ((name, reader) in listOf("done" to doneReader, "failed" to failedReader)) {
+                // a completed source would end the take with CoreClosedException; this one stays
+                assertEquals(Optional.empty<Int>(), reader.take(Duration.ofMillis(NOT_BEFORE_MILLIS)), "$name: nothing more")
+            }
+            done.reader().use { late ->
+                assertEquals(listOf(1, 2), List(2) { late.take(Duration.ofMillis(WAIT_MILLIS)).orElseThrow() }, "a later reader")
+                assertEquals(Optional.empty<Int>(), late.take(Duration.ofMillis(NOT_BEFORE_MILLIS)), "a later reader: nothing more")
+            }
+            doneReader.close()
+            failedReader.close()
+        }
+    }
+
+    /**
      * A value of the flow that cannot be published (a codec refuses it) goes to the core's error
      * handler under the source's name with that value as the input, and collection carries on
      * with the next value (`PrimeCore.source(name, flow)`; README, Kotlin).
