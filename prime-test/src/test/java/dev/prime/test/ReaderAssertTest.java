@@ -104,6 +104,22 @@ class ReaderAssertTest {
   }
 
   @PrimeTest
+  void fewerValuesThanCountedFailAfterTheTimeoutSayingWhichWasMissing(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+    publish(1);
+    long start = System.nanoTime();
+
+    String message = failure(() -> assertThat(reader).within(SHORT).emitsCount(2));
+
+    long waited = TimeUnit.NANOSECONDS.toMillis(System.nanoTime() - start);
+    assertMatches(
+        "expected value 2 of 2 more within 300 ms but no value came; waited \\d+ ms"
+            + " \\(values taken by this assertion: \\[1\\]\\)",
+        message);
+    assertTrue(waited >= 300 && waited < 300 + 5_000, "waited " + waited + " ms");
+  }
+
+  @PrimeTest
   void aValueThatDoesNotMatchFailsNamingTheCondition(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(4);
