@@ -157,7 +157,14 @@ class McapRecorderTest {
       assertTrue(dropped >= published - queue, "dropped " + dropped);
       assertEquals(published + 1, recorder.writtenCount() + dropped);
       output[0].release();
-      recorder.close();
+      List<String> warnings;
+      try (RecorderWarnings logged = new RecorderWarnings()) {
+        recorder.close();
+        warnings = logged.lines();
+      }
+      assertEquals(1, warnings.size(), "the WARNING line of the close: " + warnings);
+      assertTrue(warnings.get(0).contains("dropped " + dropped + " (the writer could not keep up"),
+          warnings.get(0));
       try (McapReader reader = McapReader.open(file)) {
         assertEquals(published + 1 - dropped, reader.messageCount("ticks"));
         Map<String, String> loss = reader.metadata(McapWriter.LOSS_METADATA).get(0);
@@ -260,6 +267,44 @@ class McapRecorderTest {
     }
   }
 
+  /**
+   * A value whose message is larger than the writer's queue byte bound could never be queued: the
+   * recorder counts it as unwritable (not as dropped), says so in the WARNING line of its close,
+   * and writes the values before and after it.
+   */
+  @Test
+  void aValueLargerThanTheQueuesByteBoundIsUnwritableNotDroppedAndTheOthersAreWritten()
+      throws Exception {
+    Path file = dir.resolve("large.mcap");
+    try (PrimeCore core = core(4); RecorderWarnings logged = new RecorderWarnings()) {
+      EventBlock<String> words = new EventBlock<>();
+      core.source("words", words);
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(
+              core.recording(), file, McapWriterOptions.defaults().queue(16, 512));
+      try (recorder) {
+        words.publish("before");
+        words.publish("x".repeat(2_000)); // recorded on this thread (Liberty) before publish returns
+        words.publish("after");
+        assertEquals(1, recorder.unwritableCount(), "the value larger than the byte bound");
+        assertEquals(0, recorder.droppedCount(), "nothing dropped");
+        assertEquals(2, recorder.writtenCount(), "the values before and after it");
+      }
+      List<String> warnings = logged.lines();
+      assertEquals(1, warnings.size(), warnings.toString());
+      String warning = warnings.get(0);
+      assertTrue(warning.contains("dropped 0") && warning.contains("could not write 1"), warning);
+      assertTrue(warning.contains("larger than the writer's queue byte bound of 512 bytes"), warning);
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(
+          List.of("before", "after"),
+          reader.messages("words", String.class).map(TypedMessage::value).toList());
+      assertEquals("0", reader.metadata(McapWriter.LOSS_METADATA).get(0).get("dropped_messages"));
+    }
+  }
+
   @Test
   void synchronousOptionsAreRefusedWithTheFix() throws Exception {
     try (PrimeCore core = core(2)) {
@@ -269,6 +314,38 @@ class McapRecorderTest {
               () -> RecordingMcap.stream(
                   core.recording(), dir.resolve("x.mcap"), McapWriterOptions.defaults().synchronous()));
       assertTrue(e.getMessage().contains("queue"), e.getMessage());
+    }
+  }
+
+  /** The WARNING lines {@link McapRecorder} logs while this is open. */
+  private static final class RecorderWarnings extends Handler implements AutoCloseable {
+    private final Logger log = Logger.getLogger(McapRecorder.class.getName());
+    private final List<String> lines = Collections.synchronizedList(new ArrayList<>());
+
+    RecorderWarnings() {
+      log.addHandler(this);
+    }
+
+    /** {@return the lines logged so far} */
+    List<String> lines() {
+      synchronized (lines) {
+        return List.copyOf(lines);
+      }
+    }
+
+    @Override
+    public void publish(LogRecord record) {
+      if (record.getLevel() == Level.WARNING) {
+        lines.add(record.getMessage());
+      }
+    }
+
+    @Override
+    public void flush() {}
+
+    @Override
+    public void close() {
+      log.removeHandler(this);
     }
   }
 }
