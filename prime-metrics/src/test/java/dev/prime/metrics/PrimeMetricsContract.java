@@ -465,6 +465,52 @@ abstract class PrimeMetricsContract {
   }
 
   /**
+   * A second core whose name, media and nodes are those of a core bound to a registry would share
+   * its meters: its binder is refused there with the fix, registers nothing and times nothing; a
+   * core of another name binds beside the first, and the second binds once the first binder is
+   * closed.
+   */
+  @Test
+  void aCoreWithTheNameMediaAndNodesOfACoreBoundThereIsRefused() throws Exception {
+    try (PrimeCore first = newCore(CoreConfig.builder().name("twin").metrics(true).build());
+        PrimeCore second = newCore(CoreConfig.builder().name("twin").metrics(true).build());
+        PrimeCore other = newCore(CoreConfig.builder().name("other").metrics(true).build())) {
+      Block<Integer, Integer> firstSame = first.chain("same", (Integer x) -> x).toBlock();
+      Block<Integer, Integer> secondSame = second.chain("same", (Integer x) -> x).toBlock();
+      other.chain("same", (Integer x) -> x);
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics firstBinder = PrimeMetrics.of(first, Duration.ZERO);
+      firstBinder.bindTo(registry);
+      List<Meter> meters = List.copyOf(registry.getMeters());
+      PrimeMetrics secondBinder = PrimeMetrics.of(second, Duration.ZERO);
+      IllegalStateException refused =
+          assertThrows(IllegalStateException.class, () -> secondBinder.bindTo(registry),
+              "a binder of another core named 'twin' on the registry");
+      assertTrue(refused.getMessage().contains("node 'same' of core 'twin'")
+              && refused.getMessage().contains("give cores bound to one registry distinct names"),
+          refused.getMessage());
+      assertEquals(meters, registry.getMeters(), "the refused binder registered nothing");
+      first.start();
+      second.start();
+      assertEquals(2, secondSame.process(2));
+      Timer timer = registry.get(PrimeMetrics.PROCESSING).tags("service", "same", "core", "twin").timer();
+      assertEquals(0, timer.count(), "the refused binder times nothing");
+      assertEquals(1, firstSame.process(1));
+      assertEquals(1, timer.count(), "the first core's value, timed once");
+
+      PrimeMetrics otherBinder = PrimeMetrics.of(other, Duration.ZERO);
+      otherBinder.bindTo(registry);
+      assertEquals(2 * meters.size(), registry.getMeters().size(), "a core of another name binds beside it");
+      otherBinder.close();
+
+      firstBinder.close();
+      secondBinder.bindTo(registry);
+      assertEquals(meters.size(), registry.getMeters().size(), "the second binds once the first is closed");
+      secondBinder.close();
+    }
+  }
+
+  /**
    * A registry that refuses one of a node's meters (it holds a meter of another type under that
    * name and tags) fails the binding with a message that names the node and the fix, and keeps
    * nothing of it: no meter of the nodes bound before, no timer timing values; once the meter in
