@@ -14,6 +14,7 @@ import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertInstanceOf
+import org.junit.jupiter.api.Assertions.assertSame
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
@@ -218,6 +219,42 @@ internal abstract class SuspendingCallKit(private val media: Media) {
             assertEquals(-1, failure.second)
             assertInstanceOf(BlockCancelledException::class.java, failure.third, "what the error handler got")
             assertInstanceOf(TimeoutCancellationException::class.java, failure.third.cause, "the logic's timeout")
+            assertEquals(null, failures.poll(), "one failure only")
+        }
+    }
+
+    /**
+     * A chain's plain block that lets a cancellation of its own out (a cancelled `Future` it waited
+     * for): a call that nobody cancelled fails with the media's [ChainFailedException] naming the
+     * chain, whose cause is that very cancellation, so the `launch` that made it fails rather than
+     * ending without a word; in a service the error handler gets it with the input, and each goes
+     * on with the next value.
+     */
+    @Test
+    fun `a chain's plain block that throws a cancellation of its own fails the call and goes to the error handler`() = runBlocking {
+        val own = java.util.concurrent.CancellationException("the block's own: a cancelled Future it waited for")
+        val failures = ArrayBlockingQueue<Triple<String, Any?, Throwable>>(4)
+        val config = CoreConfig.builder().errorHandler { service, input, error -> failures.add(Triple(service, input, error)) }.build()
+        media.newCore(config).use { core ->
+            val logic = { x: Int -> if (x < 0) throw own else x + 1 }
+            val block = core.chain("cancelling", logic).toBlock()
+            val events = EventBlock<Int>()
+            val reader = core.source("numbers", events).then(core.chain("cancelling-service", logic)).reader()
+            core.start()
+
+            val failure = failureOfLaunch { block.processSuspending(-1) }
+            assertInstanceOf(ChainFailedException::class.java, failure, "what the launch failed with")
+            assertEquals("cancelling", (failure as ChainFailedException).chainName())
+            assertSame(own, failure.cause, "the block's own cancellation")
+            assertEquals(3, block.processSuspending(2))
+
+            events.publish(-1)
+            events.publish(1)
+            assertEquals(2, reader.take(Duration.ofSeconds(WAIT_SECONDS)).orElseThrow(), "the value after the failed one")
+            val reported = failures.poll(WAIT_SECONDS, TimeUnit.SECONDS) ?: error("the block's cancellation never reached the error handler")
+            assertEquals("cancelling-service", reported.first)
+            assertEquals(-1, reported.second)
+            assertSame(own, reported.third, "what the error handler got")
             assertEquals(null, failures.poll(), "one failure only")
         }
     }
