@@ -352,6 +352,30 @@ abstract class PrimeMetricsContract {
   }
 
   /**
+   * Nodes declared after the binding get no meters (bind once the diagram is declared), before
+   * the start and after it, and do not disturb the meters of those declared before.
+   */
+  @Test
+  void nodesDeclaredAfterTheBindingGetNoMeters() throws Exception {
+    try (PrimeCore core = newCore(CoreConfig.builder().metrics(true).build())) {
+      Block<Integer, Integer> early = core.chain("early", (Integer x) -> x).toBlock();
+      SimpleMeterRegistry registry = new SimpleMeterRegistry();
+      PrimeMetrics binder = PrimeMetrics.of(core, Duration.ZERO);
+      binder.bindTo(registry);
+      List<Meter> meters = List.copyOf(registry.getMeters());
+      Block<Integer, Integer> beforeStart = core.chain("before-start", (Integer x) -> x + 1).toBlock();
+      core.start();
+      Block<Integer, Integer> afterStart = core.chain("after-start", (Integer x) -> x + 2).toBlock();
+      assertEquals(1, early.process(1));
+      assertEquals(2, beforeStart.process(1));
+      assertEquals(3, afterStart.process(1));
+      assertEquals(1, count(registry, PrimeMetrics.VALUES_IN, "early"));
+      assertEquals(meters, registry.getMeters(), "the nodes declared after the binding got meters");
+      binder.close();
+    }
+  }
+
+  /**
    * The timer asks for a percentile histogram, so a registry that publishes aggregable
    * percentiles (Prometheus, ...) gets its buckets.
    */
