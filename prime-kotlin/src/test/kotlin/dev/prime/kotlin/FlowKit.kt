@@ -437,6 +437,36 @@ internal abstract class FlowKit(private val media: Media) {
     }
 
     /**
+     * `PrimeCore.source(name, flow)`: an error handler that closes the core when the flow fails
+     * (it runs on the flow's collection) is not held up waiting for that collection to end.
+     */
+    @Test
+    fun `an error handler that closes the core on the flow's failure is not held up waiting for the flow`() {
+        val closing = AtomicReference<dev.prime.PrimeCore>()
+        val closedItself = CountDownLatch(1)
+        val config = CoreConfig.builder()
+            .shutdownTimeout(Duration.ofMillis(WAIT_MILLIS * 2))
+            .errorHandler { _, _, _ ->
+                closing.get().close()
+                closedItself.countDown()
+            }
+            .build()
+        val core = media.newCore(config)
+        closing.set(core)
+        core.source("failing", flow<Int> {
+            emit(1)
+            throw IllegalStateException("sensor unplugged")
+        })
+        core.start()
+        assertTrue(
+            closedItself.await(WAIT_MILLIS, TimeUnit.MILLISECONDS),
+            "the error handler's close() of the core did not return",
+        )
+        assertTrue(core.isClosed, "the core is closed")
+        core.close()
+    }
+
+    /**
      * `PrimeCore.source(name, flow)`: a value whose publish throws an `Error` that is no
      * `VirtualMachineError` (here a codec's `AssertionError`) is a value that cannot be published,
      * as for the core's services (architecture, Errors): it goes to the error handler with that
