@@ -284,6 +284,24 @@ class RoundTripTest {
     assertTrue(arrayList.getMessage().contains("declare collections as List"), arrayList.getMessage());
   }
 
+  /** A {@link Pose} without its {@code theta}. */
+  record Planar(double x, double y) {}
+
+  /** A primitive component missing from a message's JSON is an error when read, not a zero. */
+  @Test
+  void aPrimitiveComponentMissingFromTheJsonIsAnErrorNotAZero() throws IOException {
+    Path file = dir.resolve("missing.mcap");
+    try (McapWriter writer = McapWriter.open(file)) {
+      writer.channel("pose", Planar.class).write(1, 1, 0, new Planar(1, 2));
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      IllegalArgumentException e = assertThrows(IllegalArgumentException.class,
+          () -> reader.messages("pose", Pose.class).collect(Collectors.toList()),
+          "a Pose read from JSON without theta");
+      assertTrue(e.getMessage().contains("is not a " + ValueType.of(Pose.class).name()), e.getMessage());
+    }
+  }
+
   @Test
   void decodingIntoTheWrongTypeSaysWhich() throws IOException {
     Path file = dir.resolve("wrong.mcap");
