@@ -17,7 +17,10 @@ import kotlinx.coroutines.runInterruptible
  * The values of this source as a cold [Flow]. Each collection makes a new reader, which starts at
  * the oldest value the source retains, and emits every value in order; the flow completes
  * normally when the source's core closes (also if it was closed before the collection began).
- * Values the core still held for the reader when it closed are not emitted.
+ * Values the core still held for the reader when it closed are not emitted. A collection begun
+ * before the core's `start()` reads as the media's readers do then: on Liberty and Radiant it
+ * waits for the start and emits from it; Optimus refuses a read before `start()`, so there the
+ * collection fails at once with that `IllegalStateException`.
  *
  * The reader waits in a blocking `take()` on [Dispatchers.IO], without polling; cancelling the
  * collector interrupts that wait (Liberty and Radiant wake at once, a network media within its

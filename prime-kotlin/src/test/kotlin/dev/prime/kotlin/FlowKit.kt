@@ -80,6 +80,36 @@ internal abstract class FlowKit(private val media: Media) {
         }
     }
 
+    /**
+     * `Source.asFlow()` collected before the core's start: where the media lets a read wait for
+     * the start (Liberty, Radiant), the flow emits once the core runs; where it refuses reads before
+     * `start()` (Optimus), the collection fails at once with that `IllegalStateException`.
+     */
+    @Test
+    fun `a source's flow collected before the start waits for it or fails at once as the media's reads do`() = runBlocking {
+        media.newCore().use { core ->
+            val events = EventBlock<Int>()
+            val source = core.source("numbers", events)
+            if (media.refusesReadsBeforeStart) {
+                val began = System.nanoTime()
+                val failure = assertThrows<IllegalStateException> {
+                    runBlocking { withTimeout(WAIT_MILLIS) { source.asFlow().first() } }
+                }
+                val millis = (System.nanoTime() - began) / 1_000_000
+                assertTrue(failure.message!!.contains("start()"), failure.message)
+                assertTrue(millis < PROMPT_MILLIS * 4, "the collection failed after $millis ms")
+                core.start()
+                events.publish(5)
+                assertEquals(5, withTimeout(WAIT_MILLIS) { source.asFlow().first() }, "a collection after the start")
+            } else {
+                val first = async(Dispatchers.IO) { source.asFlow().first() }
+                core.start()
+                events.publish(5)
+                assertEquals(5, withTimeout(WAIT_MILLIS) { first.await() })
+            }
+        }
+    }
+
     @Test
     fun `a flow feeds a source from the core's start, on every reader`() = runBlocking {
         media.newCore().use { core ->

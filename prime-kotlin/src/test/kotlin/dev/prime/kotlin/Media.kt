@@ -37,6 +37,9 @@ internal interface Media {
      * (Liberty and Radiant: readers share one ring of retained values).
      */
     fun readersKept(core: PrimeCore, source: String): Long? = null
+
+    /** Whether a read before `start()` fails at once with `IllegalStateException` (Optimus) rather than waiting for the start. */
+    val refusesReadsBeforeStart: Boolean get() = false
 }
 
 internal object Liberty : Media {
@@ -58,6 +61,8 @@ internal object Optimus : Media {
         OptimusCore.builder().config(config).redis(redis.uri).codecOf(config).build()
 
     override val callsQueueAtTheService: Boolean get() = true
+
+    override val refusesReadsBeforeStart: Boolean get() = true
 
     override fun readersKept(core: PrimeCore, source: String): Long? =
         Jedis(URI(redis.uri)).use { it.scard("prime:{${core.name()}}:src:$source:readers") }
