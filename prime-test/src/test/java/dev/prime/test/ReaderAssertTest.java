@@ -155,6 +155,21 @@ class ReaderAssertTest {
   }
 
   @PrimeTest
+  void emitsNothingWithinZeroLooksOnlyAtWhatIsThereNow(PrimeCore core) {
+    Reader<Integer> reader = numbers(core);
+    publish(4); // in the reader's reach once publish returns, on every media
+
+    assertMatches(
+        "expected no value within 0 ms but got 4 " + AFTER
+            + " \\(values taken by this assertion: \\[4\\]\\)",
+        failure(() -> assertThat(reader).emitsNothingWithin(Duration.ZERO)));
+    long start = System.nanoTime();
+    assertThat(reader).emitsNothingWithin(Duration.ZERO);
+    long waited = TimeUnit.NANOSECONDS.toMillis(System.nanoTime() - start);
+    assertTrue(waited < 5_000, "nothing there: it returned after " + waited + " ms");
+  }
+
+  @PrimeTest
   void emitsNothingWithinFailsWhenTheReaderCompletes(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     core.close();
