@@ -97,8 +97,13 @@ public final class McapWriterOptions {
   /**
    * @param name the Header's library field (the writer's name and version, for debugging)
    * @return a copy with this library name
+   * @throws NullPointerException if {@code name} is null (give "" for no name)
    */
   public McapWriterOptions library(String name) {
+    if (name == null) {
+      throw new NullPointerException(
+          "library must not be null: give the writer's name and version, or \"\" for none");
+    }
     return new McapWriterOptions(chunkSize, rotateAtSize, queueMessages, queueBytes, name);
   }
 

@@ -100,4 +100,23 @@ class WriterOpenFailureTest {
     assertTrue(Files.exists(rotated), "the earlier rotated file is not deleted for an open that fails: " + e);
     assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
   }
+
+  /**
+   * A null library name is bad input: it is refused where it is given, naming the option, so no
+   * writer opens with it and the recording at the path stays as it was.
+   */
+  @Test
+  void aNullLibraryNameIsRefusedWhereItIsGivenAndTheRecordingAtThePathStays() throws IOException {
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(earlier.channel("ticks", Integer.class).write(1, 1, 1, 7));
+    }
+    NullPointerException refused =
+        assertThrows(NullPointerException.class,
+            () -> McapWriter.open(file, McapWriterOptions.defaults().library(null)).close());
+    assertTrue(String.valueOf(refused.getMessage()).contains("library"), String.valueOf(refused.getMessage()));
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("ticks"), "the recording at the path stays");
+    }
+  }
 }
