@@ -481,6 +481,21 @@ public final class McapWriter implements Closeable {
    * @throws IllegalStateException if the writer is closed
    */
   public void metadata(String name, Map<String, String> pairs) {
+    checkMetadata(name, pairs);
+    Map<String, String> copy = new TreeMap<>(pairs);
+    synchronized (definitions) {
+      if (closed) {
+        throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
+      }
+      metadata.add(Map.entry(name, copy));
+    }
+  }
+
+  /**
+   * Refuses a Metadata record that {@link #metadata} would refuse, as it would; for callers that
+   * must refuse it before a writer opens (and replaces the recording at its path).
+   */
+  static void checkMetadata(String name, Map<String, String> pairs) {
     Objects.requireNonNull(name, "name");
     Objects.requireNonNull(pairs, "pairs");
     if (name.isEmpty() || name.equals(LOSS_METADATA)) {
@@ -493,13 +508,6 @@ public final class McapWriter implements Closeable {
       requireUnicode(key, "key of Metadata record '" + name + "'");
       requireUnicode(value, "value of '" + key + "' in Metadata record '" + name + "'");
     });
-    Map<String, String> copy = new TreeMap<>(pairs);
-    synchronized (definitions) {
-      if (closed) {
-        throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
-      }
-      metadata.add(Map.entry(name, copy));
-    }
   }
 
   /**

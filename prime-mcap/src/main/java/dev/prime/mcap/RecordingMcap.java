@@ -112,11 +112,7 @@ public final class RecordingMcap {
               + " the disk; use McapWriterOptions.defaults() (or .queue(messages, bytes)), not"
               + " synchronous()");
     }
-    if (metadata.containsKey(PROCESS_METADATA)) {
-      throw new IllegalArgumentException(
-          "the Metadata record '" + PROCESS_METADATA + "' is written by RecordingMcap itself;"
-              + " give your records other names");
-    }
+    checkMetadata(metadata);
     return new McapRecorder(recording, path, options, types, metadata, opener);
   }
 
@@ -187,11 +183,7 @@ public final class RecordingMcap {
     Objects.requireNonNull(path, "path must not be null");
     Objects.requireNonNull(types, "types must not be null");
     Objects.requireNonNull(metadata, "metadata must not be null");
-    if (metadata.containsKey(PROCESS_METADATA)) {
-      throw new IllegalArgumentException(
-          "the Metadata record '" + PROCESS_METADATA + "' is written by RecordingMcap itself;"
-              + " give your records other names");
-    }
+    checkMetadata(metadata);
     for (String name : types.keySet()) {
       if (!recording.names().contains(name)) {
         throw new IllegalArgumentException(
@@ -242,6 +234,19 @@ public final class RecordingMcap {
       }
     }
     return written;
+  }
+
+  /**
+   * Refuses, before a writer opens and replaces the recording at the path, Metadata records that
+   * RecordingMcap writes itself or that the writer would refuse.
+   */
+  private static void checkMetadata(Map<String, Map<String, String>> metadata) {
+    if (metadata.containsKey(PROCESS_METADATA)) {
+      throw new IllegalArgumentException(
+          "the Metadata record '" + PROCESS_METADATA + "' is written by RecordingMcap itself;"
+              + " give your records other names");
+    }
+    metadata.forEach(McapWriter::checkMetadata);
   }
 
   /**

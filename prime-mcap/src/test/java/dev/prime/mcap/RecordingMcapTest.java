@@ -129,4 +129,44 @@ class RecordingMcapTest {
               Map.of(McapWriter.LOSS_METADATA, Map.of())));
     }
   }
+
+  /**
+   * A Metadata record name the writer refuses (empty, or its own loss report's) is refused by
+   * {@link RecordingMcap#write} and {@link RecordingMcap#stream} before the file at the path is
+   * replaced: the recording already there stays.
+   */
+  @Test
+  void aMetadataNameTheWriterRefusesIsRefusedBeforeTheRecordingAtThePathIsReplaced() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(earlier.channel("earlier", Integer.class).write(1, 1, 1, 7));
+    }
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(4)).build())) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      core.source("ticks", ticks);
+      core.start();
+      ticks.publish(1);
+      for (String name : List.of(McapWriter.LOSS_METADATA, "")) {
+        Map<String, Map<String, String>> metadata = Map.of(name, Map.of("goal", "2,1"));
+        IllegalArgumentException written =
+            assertThrows(IllegalArgumentException.class,
+                () -> RecordingMcap.write(core.recording(), file, Map.of(), metadata), "write, '" + name + "'");
+        assertTrue(written.getMessage().contains("was '" + name + "'"), written.getMessage());
+        assertEarlierRecordingStays(file);
+        IllegalArgumentException streamed =
+            assertThrows(IllegalArgumentException.class,
+                () -> RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults(), Map.of(), metadata)
+                    .close(),
+                "stream, '" + name + "'");
+        assertTrue(streamed.getMessage().contains("was '" + name + "'"), streamed.getMessage());
+        assertEarlierRecordingStays(file);
+      }
+    }
+  }
+
+  private static void assertEarlierRecordingStays(Path file) throws Exception {
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(1, reader.messageCount("earlier"), "the recording at the path stays");
+    }
+  }
 }
