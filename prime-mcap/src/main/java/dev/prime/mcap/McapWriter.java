@@ -515,7 +515,7 @@ public final class McapWriter implements Closeable {
    * unpaired UTF-16 surrogate. Encoding it would write {@code ?} in its place, so that the file
    * would name the topic (or metadata) otherwise than the caller did, and two such topics alike.
    */
-  private static void requireUnicode(String text, String what) {
+  static void requireUnicode(String text, String what) {
     Objects.requireNonNull(text, () -> "a " + what + " is null");
     for (int i = 0; i < text.length(); i++) {
       char c = text.charAt(i);

@@ -98,12 +98,15 @@ public final class McapWriterOptions {
    * @param name the Header's library field (the writer's name and version, for debugging)
    * @return a copy with this library name
    * @throws NullPointerException if {@code name} is null (give "" for no name)
+   * @throws IllegalArgumentException if {@code name} has an unpaired surrogate (not Unicode text,
+   *     which MCAP's UTF-8 strings cannot hold)
    */
   public McapWriterOptions library(String name) {
     if (name == null) {
       throw new NullPointerException(
           "library must not be null: give the writer's name and version, or \"\" for none");
     }
+    McapWriter.requireUnicode(name, "library");
     return new McapWriterOptions(chunkSize, rotateAtSize, queueMessages, queueBytes, name);
   }
 

@@ -119,4 +119,17 @@ class WriterOpenFailureTest {
       assertEquals(1, reader.messageCount("ticks"), "the recording at the path stays");
     }
   }
+
+  /**
+   * A library name MCAP's UTF-8 strings cannot hold (an unpaired surrogate) is refused where it is
+   * given, as a topic or a Metadata name is, rather than written into every Header as {@code ?}.
+   */
+  @Test
+  void aLibraryNameThatIsNotUnicodeTextIsRefusedWhereItIsGiven() {
+    IllegalArgumentException refused =
+        assertThrows(IllegalArgumentException.class,
+            () -> McapWriterOptions.defaults().library("robot\uD800"));
+    assertTrue(refused.getMessage().contains("library") && refused.getMessage().contains("unpaired surrogate"),
+        refused.getMessage());
+  }
 }
