@@ -63,7 +63,11 @@ public interface Reader<T> extends AutoCloseable {
   Optional<T> take(Duration timeout) throws InterruptedException;
 
   /**
-   * Returns the next value if one is available now; never blocks.
+   * Returns the next value if one is available now; never waits for one to be published. Where
+   * the source is in another process (Optimus: in Redis), it asks there once if this reader holds
+   * no value it read before, so it takes a round trip; while that source is unreachable it throws
+   * the media's exception ({@code RedisUnavailableException}) within about a second rather than
+   * wait for a reconnect, once it has handed out the values this reader had already read.
    *
    * @return the next value, or empty
    * @throws CoreClosedException if the core is closed
@@ -72,7 +76,11 @@ public interface Reader<T> extends AutoCloseable {
   Optional<T> poll();
 
   /**
-   * Returns every value available now, oldest first, possibly none; never blocks.
+   * Returns every value available now, oldest first, possibly none; never waits for one to be
+   * published. Where the source is in another process, it reads there as {@link #poll()} does;
+   * while that source is unreachable it returns the values this reader had already read, if any
+   * (the next read then throws if the outage lasts), else throws the media's exception within
+   * about a second.
    *
    * @return a new list, which the caller may change (the reader keeps no reference to it)
    * @throws CoreClosedException if the core is closed

@@ -52,7 +52,7 @@ class ReaderDrainOutageTest {
             val began = System.nanoTime()
             assertThrows(RedisUnavailableException::class.java) { reader.poll() }
             val millis = (System.nanoTime() - began) / 1_000_000
-            assertTrue(millis < 1_000, "the poll with nothing in hand threw after $millis ms")
+            assertTrue(millis < 2_000, "the poll with nothing in hand threw after $millis ms, not about a second")
             proxy.restore()
             publisher.publishAll(numbers, (101..110).toList())
             repeat(10) { received += reader.take(Duration.ofSeconds(10)).orElseThrow() }
