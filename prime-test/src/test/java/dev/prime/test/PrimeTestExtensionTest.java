@@ -13,6 +13,7 @@ import dev.prime.Reader;
 import dev.prime.liberty.LibertyCore;
 import dev.prime.optimus.EmbeddedRedis;
 import dev.prime.optimus.OptimusCore;
+import dev.prime.optimus.RedisUnavailableException;
 import dev.prime.radiant.RadiantCore;
 import java.io.IOException;
 import java.lang.annotation.Retention;
@@ -564,6 +565,42 @@ class PrimeTestExtensionTest {
     } finally {
       LeavesASecondCoreOpen.LEFT_OPEN.forEach(PrimeCore::close);
       LeavesASecondCoreOpen.LEFT_OPEN.clear();
+    }
+  }
+
+  static class LosesItsRedis {
+    static EmbeddedRedis redis;
+
+    @PrimeTest(media = Media.OPTIMUS)
+    void passes(PrimeCore core) {
+      core.source("numbers", new EventBlock<Integer>()).reader();
+      core.start();
+      redis.close(); // gone for good: the run's keys cannot be deleted after it
+    }
+  }
+
+  /**
+   * PrimeTest: the run fails with a RedisUnavailableException if Redis cannot be reached for 10 s
+   * when its keys are deleted.
+   */
+  @Test
+  void anOptimusRunWhoseKeysCannotBeDeletedBecauseRedisIsGoneFailsWithRedisUnavailable() {
+    try (EmbeddedRedis redis = EmbeddedRedis.start()) {
+      LosesItsRedis.redis = redis;
+      long began = System.nanoTime();
+      EngineExecutionResults results =
+          EngineTestKit.engine("junit-jupiter")
+              .configurationParameter("prime.test.redis", redis.getUri())
+              .selectors(selectClass(LosesItsRedis.class))
+              .execute();
+      long seconds = Duration.ofNanos(System.nanoTime() - began).toSeconds();
+
+      results.testEvents().assertStatistics(s -> s.failed(1));
+      Throwable thrown = failure(results.testEvents().failed().stream().findFirst().orElseThrow());
+      assertInstanceOf(RedisUnavailableException.class, thrown, "the run's failure: " + thrown);
+      assertTrue(seconds >= 9, "it tried for about 10 s, not " + seconds + " s");
+    } finally {
+      LosesItsRedis.redis = null;
     }
   }
 
