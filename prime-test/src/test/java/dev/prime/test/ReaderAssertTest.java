@@ -1,5 +1,9 @@
 package dev.prime.test;
 
+import static dev.prime.test.Media.LIBERTY;
+import static dev.prime.test.Media.OPTIMUS;
+import static dev.prime.test.Media.OPTIMUS_SLOW_LINK;
+import static dev.prime.test.Media.RADIANT;
 import static dev.prime.test.ReaderAssert.assertThat;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertThrows;
@@ -15,7 +19,10 @@ import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.function.Executable;
 import org.opentest4j.AssertionFailedError;
 
-/** {@link ReaderAssert} on a real source of every media, each run with its own core. */
+/**
+ * {@link ReaderAssert} on a real source of every media, Optimus also over a slow link, each run with
+ * its own core.
+ */
 class ReaderAssertTest {
   private static final Duration SHORT = Duration.ofMillis(300);
   private static final String AFTER = "after \\d+ ms";
@@ -44,7 +51,7 @@ class ReaderAssertTest {
     assertTrue(message.matches(regex), "message:\n" + message + "\ndoes not match:\n" + regex);
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void everyStepPassesOnWhatTheReaderEmits(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1, 2, 3, 4, 5, 6, 7, 8);
@@ -62,7 +69,7 @@ class ReaderAssertTest {
     assertEquals(List.of(1, 2, 3, 4, 5, 6, 7, 8), steps.taken());
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void emitsWaitsForValuesPublishedLater(PrimeCore core) throws InterruptedException {
     Reader<Integer> reader = numbers(core);
     Thread publisher = publishingOnAnotherThread(1, 2);
@@ -71,7 +78,7 @@ class ReaderAssertTest {
     publisher.join(10_000);
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void anotherValueFailsShowingTheExpectedTheActualTheTimeAndWhatCameBefore(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1, 7);
@@ -87,7 +94,7 @@ class ReaderAssertTest {
     assertEquals(7, error.getActual().getValue());
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void valuesThatDoNotComeInTimeFailAfterTheTimeoutSayingHowLongItWaited(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1);
@@ -103,7 +110,7 @@ class ReaderAssertTest {
     assertTrue(waited >= 300 && waited < 300 + 5_000, "waited " + waited + " ms");
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void fewerValuesThanCountedFailAfterTheTimeoutSayingWhichWasMissing(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1);
@@ -119,7 +126,7 @@ class ReaderAssertTest {
     assertTrue(waited >= 300 && waited < 300 + 5_000, "waited " + waited + " ms");
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void aValueThatDoesNotMatchFailsNamingTheCondition(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(4);
@@ -130,7 +137,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).emitsMatching("an odd number", x -> x % 2 == 1)));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void assertionsOnAValueFailWithTheirMessageAndTheValue(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(3);
@@ -143,7 +150,7 @@ class ReaderAssertTest {
         message);
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void emitsNothingWithinFailsOnAValueShowingIt(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1, 9);
@@ -154,7 +161,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).emits(1).emitsNothingWithin(SHORT)));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void emitsNothingWithinZeroLooksOnlyAtWhatIsThereNow(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(4); // in the reader's reach once publish returns, on every media
@@ -169,7 +176,7 @@ class ReaderAssertTest {
     assertTrue(waited < 5_000, "nothing there: it returned after " + waited + " ms");
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void emitsNothingWithinFailsWhenTheReaderCompletes(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     core.close();
@@ -180,7 +187,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).emitsNothingWithin(SHORT)));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void skipsUntilFailsWhenNoValueMatchesInTime(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1, 2);
@@ -191,7 +198,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).within(SHORT).skipsUntil("the goal", x -> x > 2)));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void completesWhenTheCoreIsClosed(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     core.close();
@@ -199,7 +206,7 @@ class ReaderAssertTest {
     assertThat(reader).completes();
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void completesWhenTheCoreIsClosedWhileItWaits(PrimeCore core) throws InterruptedException {
     Reader<Integer> reader = numbers(core);
     CountDownLatch asserting = new CountDownLatch(1);
@@ -225,7 +232,7 @@ class ReaderAssertTest {
     closer.join(10_000);
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void completesFailsOnAValueThatCameFirst(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(5);
@@ -236,7 +243,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).completes()));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void completesFailsWhenTheCoreStaysOpen(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
 
@@ -246,7 +253,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).within(SHORT).completes()));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void aValueStepSaysSoWhenTheReaderCompletedInstead(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     core.close();
@@ -257,7 +264,7 @@ class ReaderAssertTest {
         failure(() -> assertThat(reader).emits(1)));
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void completesWhenTheCoreIsClosedThoughValuesWereLeftUnread(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1, 2);
@@ -267,7 +274,7 @@ class ReaderAssertTest {
     assertThat(reader).completes();
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void withinZeroCountsOnlyTheValuesAlreadyThere(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     publish(1);
@@ -284,7 +291,7 @@ class ReaderAssertTest {
     assertTrue(waited < 5_000, "waited " + waited + " ms");
   }
 
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void emitsNothingWithinWaitsAllOfItsTimeWhateverTheTimeout(PrimeCore core) {
     Reader<Integer> reader = numbers(core);
     long start = System.nanoTime();
@@ -301,7 +308,7 @@ class ReaderAssertTest {
    * ReaderAssert#emitsNothingWithin(Duration)} fails on a value that comes with an {@link
    * AssertionFailedError}, as they do with any other.
    */
-  @PrimeTest
+  @PrimeTest(media = {LIBERTY, RADIANT, OPTIMUS, OPTIMUS_SLOW_LINK})
   void aTimeoutAsLongAsADurationHoldsWaitsForTheValues(PrimeCore core) throws InterruptedException {
     Reader<Integer> reader = numbers(core);
     Duration longest = Duration.ofSeconds(Long.MAX_VALUE);
