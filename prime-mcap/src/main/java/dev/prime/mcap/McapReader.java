@@ -19,6 +19,7 @@ import java.util.Iterator;
 import java.util.LinkedHashSet;
 import java.util.List;
 import java.util.Map;
+import java.util.Objects;
 import java.util.Optional;
 import java.util.Set;
 import java.util.SortedMap;
@@ -82,6 +83,7 @@ public final class McapReader implements Closeable {
    * @return the reader
    * @throws IOException if the file cannot be read
    * @throws McapFormatException if it is not a well-formed MCAP file
+   * @throws NullPointerException if {@code path} is null
    */
   public static McapReader open(Path path) throws IOException {
     FileChannel file = openFile(path);
@@ -114,6 +116,7 @@ public final class McapReader implements Closeable {
    * @return the reader
    * @throws IOException if the file cannot be read
    * @throws McapFormatException if it is not MCAP or its Header is malformed
+   * @throws NullPointerException if {@code path} is null
    */
   public static McapReader openUnfinished(Path path) throws IOException {
     FileChannel file = openFile(path);
@@ -133,6 +136,7 @@ public final class McapReader implements Closeable {
    * with an IOException saying only "Is a directory".
    */
   private static FileChannel openFile(Path path) throws IOException {
+    Objects.requireNonNull(path, "path must not be null: give the MCAP file to read");
     if (Files.isDirectory(path)) {
       throw new FileSystemException(
           path.toString(), null, "a directory, where an MCAP file is expected: give the path of the file");
@@ -153,6 +157,7 @@ public final class McapReader implements Closeable {
    * @throws UncheckedIOException if the folder could not be listed to look for later files
    */
   public static List<Path> recordingFiles(Path first) {
+    Objects.requireNonNull(first, "first must not be null: give the path the writer was opened with");
     List<Path> files = new ArrayList<>();
     int index = 0;
     while (Files.exists(McapWriter.rotatedPath(first, index))) {
@@ -883,6 +888,7 @@ public final class McapReader implements Closeable {
    *     is not a {@code T}
    */
   public <T> Stream<TypedMessage<T>> messages(String topic, ValueType<T> type) {
+    Objects.requireNonNull(type, "type must not be null: give the values' type to decode them into");
     return messages(topic).map(m -> new TypedMessage<>(topic, m.sequence(), m.logTime(), m.publishTime(), m.decode(type)));
   }
 

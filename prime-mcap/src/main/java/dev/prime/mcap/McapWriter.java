@@ -304,6 +304,7 @@ public final class McapWriter implements Closeable {
    * @return {@code first} for 0, else {@code first} with {@code -NNNN} before its extension
    */
   public static Path rotatedPath(Path first, int index) {
+    Objects.requireNonNull(first, "first must not be null: give the path the writer was opened with");
     if (index < 0) {
       throw new IllegalArgumentException("rotation index must not be negative, was " + index);
     }
@@ -427,6 +428,7 @@ public final class McapWriter implements Closeable {
   public <T> McapChannel<T> channel(String topic, ValueType<T> type, Map<String, String> metadata) {
     Objects.requireNonNull(topic, "topic");
     Objects.requireNonNull(type, "type");
+    Objects.requireNonNull(metadata, "metadata must not be null: give Map.of() for none");
     if (topic.isEmpty()) {
       throw new IllegalArgumentException("an MCAP topic must not be empty");
     }

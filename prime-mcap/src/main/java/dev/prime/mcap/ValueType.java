@@ -11,6 +11,7 @@ import dev.prime.mcap.internal.JsonSchemaGenerator;
 import java.lang.reflect.ParameterizedType;
 import java.lang.reflect.Type;
 import java.nio.charset.StandardCharsets;
+import java.util.Objects;
 
 /**
  * The Java type of the values on one MCAP channel, with the JSON Schema that describes them.
@@ -91,8 +92,10 @@ public abstract class ValueType<T> {
    * @param <T> the type
    * @return its value type
    * @throws IllegalArgumentException if the type is not supported (the message says which part)
+   * @throws NullPointerException if {@code type} is null
    */
   public static <T> ValueType<T> of(Class<T> type) {
+    Objects.requireNonNull(type, "type must not be null: give the values' class");
     if (type.getTypeParameters().length > 0) {
       throw new IllegalArgumentException(
           type.getName() + " is generic: name its type arguments with new ValueType<"
@@ -105,8 +108,10 @@ public abstract class ValueType<T> {
    * @param type any {@link Type} (for instance a record component's generic type)
    * @return its value type
    * @throws IllegalArgumentException if the type is not supported (the message says which part)
+   * @throws NullPointerException if {@code type} is null
    */
   public static ValueType<?> ofType(Type type) {
+    Objects.requireNonNull(type, "type must not be null: give the values' type");
     return new Plain<>(type);
   }
 
