@@ -42,12 +42,27 @@ public final class McapChannel<T> {
    */
   public boolean write(long logTimeNanos, long publishTimeNanos, long sequence, T value) {
     Objects.requireNonNull(value, () -> "a value written to MCAP channel '" + topic + "' is null");
+    checkTimes(topic, logTimeNanos, publishTimeNanos);
+    return writer.submit(this, sequence, logTimeNanos, publishTimeNanos, type.toJson(value));
+  }
+
+  /** Refuses a negative time, as {@link #write} does. */
+  static void checkTimes(String topic, long logTimeNanos, long publishTimeNanos) {
     if (logTimeNanos < 0 || publishTimeNanos < 0) {
       throw new IllegalArgumentException(
           "MCAP times are unsigned nanoseconds: log time " + logTimeNanos + " and publish time "
               + publishTimeNanos + " on '" + topic + "' must not be negative");
     }
-    return writer.submit(this, sequence, logTimeNanos, publishTimeNanos, type.toJson(value));
+  }
+
+  /**
+   * Writes a message whose value is encoded already ({@link ValueType#toJson} of this channel's
+   * type), its times checked with {@link #checkTimes} already: for a caller that encodes every
+   * value before the writer opens, so that a value that cannot be written fails before the path
+   * is touched.
+   */
+  boolean writeJson(long logTimeNanos, long publishTimeNanos, long sequence, byte[] json) {
+    return writer.submit(this, sequence, logTimeNanos, publishTimeNanos, json);
   }
 
   /** @return the channel's id in the files */

@@ -429,14 +429,7 @@ public final class McapWriter implements Closeable {
     Objects.requireNonNull(topic, "topic");
     Objects.requireNonNull(type, "type");
     Objects.requireNonNull(metadata, "metadata must not be null: give Map.of() for none");
-    if (topic.isEmpty()) {
-      throw new IllegalArgumentException("an MCAP topic must not be empty");
-    }
-    requireUnicode(topic, "topic");
-    metadata.forEach((key, value) -> {
-      requireUnicode(key, "metadata key of topic '" + topic + "'");
-      requireUnicode(value, "metadata value of '" + key + "' on topic '" + topic + "'");
-    });
+    checkChannel(topic, metadata);
     synchronized (definitions) {
       if (closed) {
         throw new IllegalStateException("MCAP writer for " + firstPath + " is closed");
@@ -467,6 +460,22 @@ public final class McapWriter implements Closeable {
       channelsByTopic.put(topic, channel);
       return channel;
     }
+  }
+
+  /**
+   * Refuses a channel's topic or metadata that {@link #channel(String, ValueType, Map)} would
+   * refuse, as it would; for callers that must refuse it before a writer opens (and replaces the
+   * recording at its path).
+   */
+  static void checkChannel(String topic, Map<String, String> metadata) {
+    if (topic.isEmpty()) {
+      throw new IllegalArgumentException("an MCAP topic must not be empty");
+    }
+    requireUnicode(topic, "topic");
+    metadata.forEach((key, value) -> {
+      requireUnicode(key, "metadata key of topic '" + topic + "'");
+      requireUnicode(value, "metadata value of '" + key + "' on topic '" + topic + "'");
+    });
   }
 
   /**

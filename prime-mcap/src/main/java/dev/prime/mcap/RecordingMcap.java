@@ -170,8 +170,11 @@ public final class RecordingMcap {
    * @throws IOException if the file cannot be written
    * @throws IllegalArgumentException if {@code types} names a name that is not recorded, a
    *     channel's type cannot be made from its first value's class, a name with no type given has
-   *     values of more than one class (refused before the file is opened), or a metadata name is
-   *     reserved or empty
+   *     values of more than one class, a value does not fit the type given for its name (or its
+   *     wall-clock time is before 1970), a recorded name or pseudoname is not Unicode text (an
+   *     unpaired surrogate, which MCAP's UTF-8 strings cannot hold), or a metadata name is
+   *     reserved or empty: each is refused before the file at the path is touched, so a file
+   *     already there stays as it was
    */
   public static long write(
       Recording recording,
@@ -201,35 +204,51 @@ public final class RecordingMcap {
       }
     }
     all.sort(Comparator.comparing(RecordedValue::wallTime));
-    // every channel's type, checked before the file at the path is replaced
+    // Everything the writer would refuse is refused here, before the file at the path is
+    // replaced: every channel's type, topic and metadata, and every value, encoded now (the
+    // writer then writes those bytes) with its time.
+    ProcessIdentity process = ProcessIdentity.current();
     Map<String, ValueType<Object>> channelTypes = new LinkedHashMap<>();
+    Map<String, Map<String, String>> channelMetadata = new LinkedHashMap<>();
     byName.forEach((name, entries) -> {
       channelTypes.put(name, type(name, types.get(name), entries.get(0)));
       if (!types.containsKey(name)) {
         requireOneClass(name, entries);
       }
+      Map<String, String> pairs = channelMetadata(recording, name, process);
+      McapWriter.checkChannel(name, pairs);
+      channelMetadata.put(name, pairs);
     });
+    List<byte[]> encoded = new ArrayList<>(all.size());
+    long[] times = new long[all.size()];
+    for (int i = 0; i < all.size(); i++) {
+      RecordedValue<Object> entry = all.get(i);
+      ValueType<Object> type = channelTypes.get(entry.service());
+      try {
+        times[i] = epochNanos(entry.wallTime());
+        McapChannel.checkTimes(entry.service(), times[i], times[i]);
+        encoded.add(type.toJson(entry.value()));
+      } catch (IllegalArgumentException | ArithmeticException e) {
+        throw new IllegalArgumentException(
+            "value " + entry.sequence() + " recorded under '" + entry.service() + "' ("
+                + entry.value().getClass().getName() + ", at " + entry.wallTime() + ") cannot be"
+                + " written as " + type.name() + ": " + e.getMessage() + "; give a type its values"
+                + " fit in RecordingMcap.write(recording, path, types), or none to type the channel"
+                + " by its first value's class",
+            e);
+      }
+    }
     long written = 0;
-    ProcessIdentity process = ProcessIdentity.current();
     try (McapWriter writer = McapWriter.open(path, McapWriterOptions.defaults().synchronous())) {
       writer.metadata(PROCESS_METADATA, process.metadata());
       metadata.forEach(writer::metadata);
       Map<String, McapChannel<Object>> channels = new LinkedHashMap<>();
       channelTypes.forEach(
-          (name, type) -> channels.put(name, writer.channel(name, type, channelMetadata(recording, name, process))));
-      for (RecordedValue<Object> entry : all) {
-        long time = epochNanos(entry.wallTime());
-        McapChannel<Object> channel = channels.get(entry.service());
-        try {
-          if (channel.write(time, time, entry.sequence(), entry.value())) {
-            written++;
-          }
-        } catch (IllegalArgumentException e) {
-          throw new IllegalArgumentException(
-              "value " + entry.sequence() + " recorded under '" + entry.service() + "' ("
-                  + entry.value().getClass().getName() + ") cannot be written as "
-                  + channel.type().name() + ": " + e.getMessage(),
-              e);
+          (name, type) -> channels.put(name, writer.channel(name, type, channelMetadata.get(name))));
+      for (int i = 0; i < all.size(); i++) {
+        RecordedValue<Object> entry = all.get(i);
+        if (channels.get(entry.service()).writeJson(times[i], times[i], entry.sequence(), encoded.get(i))) {
+          written++;
         }
       }
     }

@@ -12,9 +12,11 @@ import dev.prime.RecordedValue;
 import dev.prime.Recording;
 import dev.prime.RecordingOptions;
 import dev.prime.liberty.LibertyCore;
+import java.nio.file.Files;
 import java.nio.file.Path;
 import java.time.Duration;
 import java.time.Instant;
+import java.util.Arrays;
 import java.util.List;
 import java.util.Map;
 import org.junit.jupiter.api.Test;
@@ -161,6 +163,53 @@ class RecordingMcapTest {
         assertTrue(streamed.getMessage().contains("was '" + name + "'"), streamed.getMessage());
         assertEarlierRecordingStays(file);
       }
+    }
+  }
+
+  /**
+   * What the writer would refuse while writing (a given channel type the recorded values do not
+   * fit, a recorded name or pseudoname MCAP's UTF-8 strings cannot hold) is refused by {@link
+   * RecordingMcap#write} before the path is touched: the file already there stays, byte for byte.
+   */
+  @Test
+  void whatTheWriterWouldRefuseIsRefusedBeforeTheFileAtThePathIsTouched() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(earlier.channel("earlier", Integer.class).write(1, 1, 1, 7));
+    }
+    byte[] before = Files.readAllBytes(file);
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(4)).build())) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      EventBlock<Integer> odd = new EventBlock<>();
+      EventBlock<Integer> named = new EventBlock<>();
+      core.source("ticks", ticks);
+      core.source("odd\uD800", odd);
+      core.source("named", "pseudo\uDC00", named);
+      core.start();
+      ticks.publish(1);
+
+      IllegalArgumentException misfit = assertThrows(IllegalArgumentException.class,
+          () -> RecordingMcap.write(core.recording(), file, Map.of("ticks", ValueType.of(Pose.class))));
+      assertTrue(misfit.getMessage().contains("'ticks'") && misfit.getMessage().contains(Pose.class.getName()),
+          misfit.getMessage());
+      assertTrue(Arrays.equals(before, Files.readAllBytes(file)), "the file at the path stays: " + misfit.getMessage());
+
+      odd.publish(2);
+      IllegalArgumentException topic =
+          assertThrows(IllegalArgumentException.class, () -> RecordingMcap.write(core.recording(), file));
+      assertTrue(topic.getMessage().contains("unpaired surrogate"), topic.getMessage());
+      assertTrue(Arrays.equals(before, Files.readAllBytes(file)), "the file at the path stays: " + topic.getMessage());
+    }
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(4)).build())) {
+      EventBlock<Integer> named = new EventBlock<>();
+      core.source("named", "pseudo\uDC00", named);
+      core.start();
+      named.publish(3);
+      IllegalArgumentException pseudoname =
+          assertThrows(IllegalArgumentException.class, () -> RecordingMcap.write(core.recording(), file));
+      assertTrue(pseudoname.getMessage().contains("unpaired surrogate"), pseudoname.getMessage());
+      assertTrue(Arrays.equals(before, Files.readAllBytes(file)),
+          "the file at the path stays: " + pseudoname.getMessage());
     }
   }
 
