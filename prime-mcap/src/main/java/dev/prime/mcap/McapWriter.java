@@ -261,30 +261,48 @@ public final class McapWriter implements Closeable {
   /**
    * Opens a writer with {@link McapWriterOptions#defaults()}.
    *
-   * @param path the (first) file; created or overwritten, and the rotated files of an earlier
-   *     recording at this path deleted (see {@link #open(Path, McapWriterOptions)})
+   * @param path the (first) file; created or replaced, and the rotated files of an earlier
+   *     recording at this path deleted (see {@link #open(Path, McapWriterOptions)}, which says in
+   *     what order, and what a failed open leaves)
    * @return the writer
    * @throws IOException if the file cannot be created, or an earlier recording's file deleted, or
-   *     another writer (in this JVM or another process) is writing the recording at the path: the
-   *     message names the path and that writer (see "One writer per path" in the class description)
+   *     its Header written, or another writer (in this JVM or another process) is writing the
+   *     recording at the path: the message names the path and that writer (see "One writer per
+   *     path" in the class description)
    */
   public static McapWriter open(Path path) throws IOException {
     return open(path, McapWriterOptions.defaults());
   }
 
   /**
-   * Opens a writer.
+   * Opens a writer. Opening replaces the recording at {@code path}, in this order:
    *
-   * @param path the (first) file; created or overwritten. The rotated files of an earlier
-   *     recording at this path ({@link #rotatedPath}{@code (path, n)}, n from 1) are deleted, so
-   *     that {@link McapReader#recordingFiles} lists this recording's files only. They are deleted
-   *     before the first file is overwritten, from the last one back: an open that fails on one
-   *     leaves the earlier recording's first file and the rotated files before that one
+   * <ol>
+   *   <li>what can be checked without touching it: the options (where they are given), that no
+   *       writer holds the path (see "One writer per path" in the class description), and, if
+   *       an earlier recording there has rotated files, that its first file can be opened to
+   *       write and none of those files is a folder. A failure here leaves every file as it was;
+   *   <li>the rotated files of an earlier recording at this path ({@link #rotatedPath}{@code
+   *       (path, n)}, n from 1) are deleted, so that {@link McapReader#recordingFiles} lists this
+   *       recording's files only, from the last one back: an open that fails on one leaves the
+   *       earlier recording's first file and the rotated files before that one;
+   *   <li>the first file is opened: created, or truncated to nothing (a file that cannot be opened
+   *       to write, such as one without write permission, fails here as it was, untruncated);
+   *   <li>its magic and Header are written. An I/O error here (a full disk, a failing device),
+   *       which no check can foresee, fails the open: a file the open created is removed, so the
+   *       path is as it was; a file that was there is left truncated (empty, or with part of the
+   *       Header; not an MCAP file), what it held gone. The exception says which.
+   * </ol>
+   *
+   * To keep an earlier recording, open the writer at another path (or move the recording first).
+   *
+   * @param path the (first) file; created, or truncated and overwritten (see above)
    * @param options chunk size, rotation, queue
    * @return the writer
    * @throws IOException if the file cannot be created, or an earlier recording's file deleted, or
-   *     another writer (in this JVM or another process) is writing the recording at the path: the
-   *     message names the path and that writer (see "One writer per path" in the class description)
+   *     its Header written, or another writer (in this JVM or another process) is writing the
+   *     recording at the path: the message names the path and that writer (see "One writer per
+   *     path" in the class description)
    */
   public static McapWriter open(Path path, McapWriterOptions options) throws IOException {
     return open(path, options, OutputOpener.FILES);
@@ -693,7 +711,16 @@ public final class McapWriter implements Closeable {
     file.addChannel(channelId, schemaId, channel.topic(), MESSAGE_ENCODING, channelMetadata.get(channelId));
   }
 
+  /**
+   * Opens (creates, or truncates) a file and writes its magic and Header. Everything that can be
+   * checked is checked before (the options where they are given, the path's holder, the earlier
+   * recording's rotated files, and by the open itself the file's permission): a failure here is
+   * an I/O error writing the Header, after the truncation. It fails saying what became of the
+   * file: one the open created is removed, so the path is as it was; one that existed is left
+   * truncated (empty, or with part of the Header), what it held gone.
+   */
   private void openFile(Path path) throws IOException {
+    boolean existed = Files.exists(path, LinkOption.NOFOLLOW_LINKS);
     FileChannel channel = opener.open(path);
     try {
       // a device or a pipe (/dev/null) cannot be forced
@@ -705,7 +732,24 @@ public final class McapWriter implements Closeable {
       } catch (IOException closing) {
         e.addSuppressed(closing);
       }
-      throw e;
+      if (!(e instanceof IOException failed)) {
+        throw e;
+      }
+      if (!existed) {
+        try {
+          Files.deleteIfExists(path);
+        } catch (IOException deleting) {
+          failed.addSuppressed(deleting);
+        }
+      }
+      throw new IOException(
+          "could not write the MCAP Header of " + path + ": " + failed.getMessage() + "; "
+              + (existed
+                  ? "the file was truncated as it was opened, so what it held before is gone and it"
+                      + " is left empty (or with part of the Header): not an MCAP file"
+                  : "the file the open created is removed")
+              + "; free the disk (or fix the device) and open the writer again",
+          failed);
     }
     files.add(path);
   }

@@ -7,6 +7,8 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import static org.junit.jupiter.api.Assumptions.assumeTrue;
 
 import java.io.IOException;
+import java.nio.ByteBuffer;
+import java.nio.channels.FileChannel;
 import java.nio.file.Files;
 import java.nio.file.Path;
 import java.util.Arrays;
@@ -131,5 +133,49 @@ class WriterOpenFailureTest {
             () -> McapWriterOptions.defaults().library("robot\uD800"));
     assertTrue(refused.getMessage().contains("library") && refused.getMessage().contains("unpaired surrogate"),
         refused.getMessage());
+  }
+
+  /** Opens files for real, and hands out channels whose writes fail as a full disk's do. */
+  private static final OutputOpener FULL_DISK = path -> new ForwardingFileChannel(OutputOpener.FILES.open(path)) {
+    @Override
+    public int write(ByteBuffer source) throws IOException {
+      throw new IOException("No space left on device");
+    }
+  };
+
+  /**
+   * A failure writing the magic and Header (after the file was truncated: no check before it can
+   * foresee an I/O error) fails the open saying which file and what became of it: an earlier
+   * file there is left empty, as the open's documentation says, and the path is given up.
+   */
+  @Test
+  void aFailureWritingTheHeaderSaysTheEarlierFileWasEmptied() throws Exception {
+    assumeTrue(Files.isDirectory(Path.of("/proc/self/fd")), "needs /proc/self/fd to see open files");
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(earlier.channel("ticks", Integer.class).write(1, 1, 1, 7));
+    }
+
+    IOException e = assertThrows(IOException.class,
+        () -> McapWriter.open(file, McapWriterOptions.defaults().synchronous(), FULL_DISK).close());
+
+    assertTrue(e.getMessage().contains(file.toString()) && e.getMessage().contains("No space left on device")
+        && e.getMessage().contains("truncated"), e.getMessage());
+    assertEquals(0, Files.size(file), "the earlier file is left empty, as documented: " + e.getMessage());
+    assertEquals(List.of(), openDescriptorsOn(file), "the file's output is closed");
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
+  }
+
+  /** A failure writing the Header of a file the open created removes that file: the path is as it was. */
+  @Test
+  void aFailureWritingTheHeaderOfANewFileLeavesNoFile() {
+    Path file = dir.resolve("new.mcap");
+
+    IOException e = assertThrows(IOException.class,
+        () -> McapWriter.open(file, McapWriterOptions.defaults(), FULL_DISK).close());
+
+    assertTrue(e.getMessage().contains(file.toString()), e.getMessage());
+    assertFalse(Files.exists(file), "the file the open created is removed: " + e.getMessage());
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
   }
 }
