@@ -197,7 +197,7 @@ public final class McapWriter implements Closeable {
       // that fails on the way leaves that first file and the rotated files it has not reached
       deleteEarlierRotatedFiles(path);
       openFile(path);
-    } catch (IOException | RuntimeException e) {
+    } catch (IOException | RuntimeException | Error e) {
       releaseLock(e);
       throw e;
     }
@@ -726,7 +726,7 @@ public final class McapWriter implements Closeable {
       // a device or a pipe (/dev/null) cannot be forced
       fileIsRegular = Files.isRegularFile(path);
       file = new McapFileWriter(channel, options.library(), options.chunkSize(), fileIsRegular);
-    } catch (IOException | RuntimeException e) {
+    } catch (IOException | RuntimeException | Error e) {
       try {
         channel.close();
       } catch (IOException closing) {

@@ -178,4 +178,27 @@ class WriterOpenFailureTest {
     assertFalse(Files.exists(file), "the file the open created is removed: " + e.getMessage());
     assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
   }
+
+  /**
+   * An Error while the Header is written (the heap exhausted) still gives the path up, with the
+   * file's output closed: the next writer there is not refused as if this one held it.
+   */
+  @Test
+  void anErrorWritingTheHeaderGivesThePathUp() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    OutputOpener exhausted = path -> new ForwardingFileChannel(OutputOpener.FILES.open(path)) {
+      @Override
+      public int write(ByteBuffer source) {
+        throw new OutOfMemoryError("a heap exhausted while the Header is written");
+      }
+    };
+
+    assertThrows(OutOfMemoryError.class,
+        () -> McapWriter.open(file, McapWriterOptions.defaults().synchronous(), exhausted).close());
+
+    assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
+    try (McapWriter next = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(next.channel("ticks", Integer.class).write(1, 1, 1, 7));
+    }
+  }
 }
