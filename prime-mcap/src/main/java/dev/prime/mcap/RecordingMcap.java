@@ -82,6 +82,8 @@ public final class RecordingMcap {
    * @throws IOException if the file cannot be opened
    * @throws IllegalArgumentException if {@code options} are synchronous or a metadata name is
    *     reserved or empty (a type given for a name never recorded is never used)
+   * @throws NullPointerException if an argument, or a name or type in {@code types}, is null
+   *     (refused before the path is touched)
    */
   public static McapRecorder stream(
       Recording recording,
@@ -112,6 +114,7 @@ public final class RecordingMcap {
               + " the disk; use McapWriterOptions.defaults() (or .queue(messages, bytes)), not"
               + " synchronous()");
     }
+    checkTypes(types);
     checkMetadata(metadata);
     return new McapRecorder(recording, path, options, types, metadata, opener);
   }
@@ -175,6 +178,8 @@ public final class RecordingMcap {
    *     unpaired surrogate, which MCAP's UTF-8 strings cannot hold), or a metadata name is
    *     reserved or empty: each is refused before the file at the path is touched, so a file
    *     already there stays as it was
+   * @throws NullPointerException if an argument, or a name or type in {@code types}, is null
+   *     (also refused before the path is touched)
    */
   public static long write(
       Recording recording,
@@ -186,6 +191,7 @@ public final class RecordingMcap {
     Objects.requireNonNull(path, "path must not be null");
     Objects.requireNonNull(types, "types must not be null");
     Objects.requireNonNull(metadata, "metadata must not be null");
+    checkTypes(types);
     checkMetadata(metadata);
     for (String name : types.keySet()) {
       if (!recording.names().contains(name)) {
@@ -253,6 +259,16 @@ public final class RecordingMcap {
       }
     }
     return written;
+  }
+
+  /** Refuses a null name or type in {@code types}, naming it, before the path is touched. */
+  private static void checkTypes(Map<String, ValueType<?>> types) {
+    types.forEach((name, type) -> {
+      Objects.requireNonNull(name, "a name in types must not be null: give the recorded names");
+      Objects.requireNonNull(type, () -> "the type given for '" + name + "' must not be null: give its"
+          + " ValueType, or leave '" + name + "' out of types to type its channel by its first"
+          + " value's class");
+    });
   }
 
   /**

@@ -3,8 +3,16 @@ package dev.prime.mcap;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.CoreConfig;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.RecordingOptions;
+import dev.prime.liberty.LibertyCore;
 import java.lang.reflect.Type;
+import java.nio.file.Files;
 import java.nio.file.Path;
+import java.util.Arrays;
+import java.util.HashMap;
 import java.util.Map;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.function.Executable;
@@ -53,5 +61,30 @@ class NullArgumentTest {
     try (McapWriter writer = McapWriter.open(dir.resolve("run.mcap"), McapWriterOptions.defaults().synchronous())) {
       refusedNaming("metadata", () -> writer.channel("ticks", ValueType.of(Integer.class), (Map<String, String>) null));
     }
+  }
+
+  /**
+   * A null type given for a name is refused naming the name, by {@link RecordingMcap#write} and
+   * {@link RecordingMcap#stream}, before the file at the path is touched.
+   */
+  @Test
+  void recordingMcapRefusesANullTypeNamingItsName() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(earlier.channel("earlier", Integer.class).write(1, 1, 1, 7));
+    }
+    byte[] before = Files.readAllBytes(file);
+    Map<String, ValueType<?>> types = new HashMap<>();
+    types.put("ticks", null);
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(4)).build())) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      core.source("ticks", ticks);
+      core.start();
+      ticks.publish(1);
+      refusedNaming("the type given for 'ticks'", () -> RecordingMcap.write(core.recording(), file, types));
+      refusedNaming("the type given for 'ticks'",
+          () -> RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults(), types, Map.of()).close());
+    }
+    assertTrue(Arrays.equals(before, Files.readAllBytes(file)), "the file at the path stays");
   }
 }
