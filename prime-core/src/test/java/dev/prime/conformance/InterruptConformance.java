@@ -887,8 +887,7 @@ public interface InterruptConformance extends ConformanceBase {
     List<String> found = new java.util.concurrent.CopyOnWriteArrayList<>();
     List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
     CountDownLatch heard = new CountDownLatch(3);
-    CoreConfig config =
-        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    CoreConfig config = failuresInto(failures);
     try (PrimeCore core = newCore(config)) {
       EventBlock<Integer> events = new EventBlock<>();
       Source<Integer> source = core.source("restless-values", events);
@@ -936,8 +935,7 @@ public interface InterruptConformance extends ConformanceBase {
       throws InterruptedException {
     List<String> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
     List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    CoreConfig config = failuresInto(failures);
     try (PrimeCore core = newCore(config)) {
       EventBlock<Integer> events = new EventBlock<>();
       Chain<Integer, Integer> first =
@@ -986,8 +984,7 @@ public interface InterruptConformance extends ConformanceBase {
       throws InterruptedException {
     List<String> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
     List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    CoreConfig config = failuresInto(failures);
     try (PrimeCore core = newCore(config)) {
       EventBlock<Integer> events = new EventBlock<>();
       Source<Integer> source = core.source("restless-parts", events);
@@ -1069,8 +1066,7 @@ public interface InterruptConformance extends ConformanceBase {
       throws InterruptedException {
     List<String> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
     List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
-    CoreConfig config =
-        CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
+    CoreConfig config = failuresInto(failures);
     try (PrimeCore core = newCore(config)) {
       Block<Integer, Integer> callee = core.chain("callee", (Integer x) -> x + 1).toBlock();
       EventBlock<Integer> events = new EventBlock<>();
@@ -1100,6 +1096,11 @@ public interface InterruptConformance extends ConformanceBase {
           "the flag stays set after the call, and the next value starts without it");
       assertEquals(List.of(), failures, "nothing failed");
     }
+  }
+
+  /** A configuration whose error handler adds every failure it gets to {@code failures}. */
+  private static CoreConfig failuresInto(List<Throwable> failures) {
+    return CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
   }
 
   /**
