@@ -75,10 +75,9 @@ final class ModelChain<I, O, F> implements Chain<I, O> {
    * ChainAlreadyUsedException} naming this chain: the chain then stays consumed.
    */
   private void unconsumeUnlessKept(Throwable failed) {
-    if (failed instanceof ChainAlreadyUsedException kept && name.equals(kept.chainName())) {
-      return;
+    if (!ModelCompiler.isKept(name, failed)) {
+      used.set(false);
     }
-    used.set(false);
   }
 
   /**

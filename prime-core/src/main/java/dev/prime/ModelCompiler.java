@@ -302,7 +302,7 @@ final class ModelCompiler<F> {
   }
 
   /** Whether {@code failed} says that the media could not undo what it began with {@code chain}. */
-  private static boolean isKept(String chain, Throwable failed) {
+  static boolean isKept(String chain, Throwable failed) {
     return failed instanceof ChainAlreadyUsedException used && chain.equals(used.chainName());
   }
 

@@ -881,10 +881,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     internal fun unbindForCalls(chainName: String): Boolean {
         val names = calledServices[chainName] ?: return true
-        val runs = names.mapNotNull { name -> stopRun(name) }
-        val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
-        hostLeases.release(names.filter { it in hostLeases.services }) // a run still in its block stores nothing
-        if (stillRunning) {
+        if (takeBack(names, claimed = names.filter { it in hostLeases.services })) {
             LOG.warn(
                 "core '{}': a declaration that took chain '{}' failed, and a service of it (of {}) was still running a " +
                     "block {} after it was stopped: its services stay bound, and the chain cannot be declared again",
@@ -893,11 +890,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             return false
         }
         calledServices.remove(chainName)
-        for (name in names) {
-            services.remove(name)
-            launched -= name
-            notRunning -= name
-        }
+        notRunning -= names.toSet()
         return true
     }
 
@@ -1123,11 +1116,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         notRunningBefore: Set<String>,
         failure: Throwable,
     ) {
-        val runs = bound.mapNotNull { name -> stopRun(name) }
-        val claimed = names.filter { it in hostLeases.services && it !in leasesBefore }
-        val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
-        hostLeases.release(claimed) // a run still in its block then stores nothing (its steps are fenced)
-        if (stillRunning) {
+        if (takeBack(bound, claimed = names.filter { it in hostLeases.services && it !in leasesBefore })) {
             throw dev.prime.ChainAlreadyUsedException(
                 chain,
                 "a service it had started here (of $bound) was still running a block ${config().shutdownTimeout()} after " +
@@ -1135,11 +1124,26 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 failure,
             )
         }
-        for (name in bound) {
-            services.remove(name)
-            launched -= name
-        }
         notRunning -= names.filterNot { it in notRunningBefore }.toSet()
+    }
+
+    /**
+     * Takes back services [bound] by a declaration that failed: stops their runs ([stopRun]) and
+     * waits for them, at most the shutdown timeout, gives up the host leases [claimed] for them (a
+     * run still in its block then stores nothing: its steps are fenced) and, unless a run still
+     * runs a block, forgets them. Whether one still does (then they stay bound).
+     */
+    private fun takeBack(bound: Collection<String>, claimed: Collection<String>): Boolean {
+        val runs = bound.mapNotNull(::stopRun)
+        val stillRunning = awaitEnded(runs, boundedNanos(config().shutdownTimeout()))
+        hostLeases.release(claimed)
+        if (!stillRunning) {
+            for (name in bound) {
+                services.remove(name)
+                launched -= name
+            }
+        }
+        return stillRunning
     }
 
     /**
