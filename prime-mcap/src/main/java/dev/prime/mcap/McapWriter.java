@@ -128,7 +128,8 @@ public final class McapWriter implements Closeable {
   /** The name of the Metadata record that reports losses, one per file. */
   public static final String LOSS_METADATA = "prime.mcap";
 
-  private static final int MAX_ID = 0xFFFF;
+  /** The most channels a file holds: channel ids are 16 bits, and 0 is none. */
+  static final int MAX_CHANNELS = 0xFFFF;
 
   private final Path firstPath;
   private final McapWriterOptions options;
@@ -463,7 +464,7 @@ public final class McapWriter implements Closeable {
         McapChannel<T> same = (McapChannel<T>) existing;
         return same;
       }
-      if (channelsByTopic.size() >= MAX_ID) {
+      if (channelsByTopic.size() >= MAX_CHANNELS) {
         throw new IllegalArgumentException("an MCAP file holds at most 65535 channels");
       }
       Integer schemaId = schemaIds.get(type);

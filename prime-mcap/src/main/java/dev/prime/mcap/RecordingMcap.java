@@ -174,7 +174,8 @@ public final class RecordingMcap {
    * @throws IllegalArgumentException if {@code types} names a name that is not recorded, a
    *     channel's type cannot be made from its first value's class, a name with no type given has
    *     values of more than one class, a value does not fit the type given for its name (or its
-   *     wall-clock time is before 1970), a recorded name or pseudoname is not Unicode text (an
+   *     wall-clock time is before 1970), values are recorded under more names than the 65535
+   *     channels a file holds, a recorded name or pseudoname is not Unicode text (an
    *     unpaired surrogate, which MCAP's UTF-8 strings cannot hold), or a metadata name is
    *     reserved or empty: each is refused before the file at the path is touched, so a file
    *     already there stays as it was
@@ -208,6 +209,14 @@ public final class RecordingMcap {
         byName.put(name, entries);
         all.addAll(entries);
       }
+    }
+    if (byName.size() > McapWriter.MAX_CHANNELS) {
+      // the writer would refuse the 65536th channel only after it replaced the file at the path
+      throw new IllegalArgumentException(
+          "the recording has values under " + byName.size() + " names, and an MCAP file holds at most "
+              + McapWriter.MAX_CHANNELS + " channels (one per name; channel ids are 16 bits): record"
+              + " fewer names in one core (name only the sources and chains you need recorded), or"
+              + " write the recordings of several cores to one file each");
     }
     all.sort(Comparator.comparing(RecordedValue::wallTime));
     // Everything the writer would refuse is refused here, before the file at the path is

@@ -16,6 +16,7 @@ import java.nio.file.Files;
 import java.nio.file.Path;
 import java.time.Duration;
 import java.time.Instant;
+import java.util.ArrayList;
 import java.util.Arrays;
 import java.util.List;
 import java.util.Map;
@@ -210,6 +211,39 @@ class RecordingMcapTest {
       assertTrue(pseudoname.getMessage().contains("unpaired surrogate"), pseudoname.getMessage());
       assertTrue(Arrays.equals(before, Files.readAllBytes(file)),
           "the file at the path stays: " + pseudoname.getMessage());
+    }
+  }
+
+  /**
+   * A file holds at most 65535 channels (their ids are 16 bits): a recording with values under
+   * more names is refused by {@link RecordingMcap#write} before the path is touched, naming the
+   * count and the limit, so the recording already there stays byte for byte.
+   */
+  @Test
+  void moreRecordedNamesThanAFileHoldsAreRefusedBeforeTheFileAtThePathIsTouched() throws Exception {
+    Path file = dir.resolve("run.mcap");
+    try (McapWriter earlier = McapWriter.open(file, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(earlier.channel("earlier", Integer.class).write(1, 1, 1, 7));
+    }
+    byte[] before = Files.readAllBytes(file);
+    int names = 65_536;
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(1)).build())) {
+      List<EventBlock<Integer>> events = new ArrayList<>(names);
+      for (int i = 0; i < names; i++) {
+        EventBlock<Integer> name = new EventBlock<>();
+        core.source("n" + i, name);
+        events.add(name);
+      }
+      core.start();
+      for (int i = 0; i < names; i++) {
+        events.get(i).publish(i);
+      }
+      assertEquals(names, core.recording().names().size(), "every name is recorded");
+
+      IllegalArgumentException e =
+          assertThrows(IllegalArgumentException.class, () -> RecordingMcap.write(core.recording(), file));
+      assertTrue(Arrays.equals(before, Files.readAllBytes(file)), "the file at the path stays: " + e.getMessage());
+      assertTrue(e.getMessage().contains("65536") && e.getMessage().contains("65535"), e.getMessage());
     }
   }
 
