@@ -7,6 +7,7 @@ import java.io.PrintStream;
 import java.io.UncheckedIOException;
 import java.nio.channels.FileChannel;
 import java.nio.file.AtomicMoveNotSupportedException;
+import java.nio.file.FileAlreadyExistsException;
 import java.nio.file.Files;
 import java.nio.file.Path;
 import java.nio.file.StandardCopyOption;
@@ -25,6 +26,7 @@ import java.util.Objects;
 import java.util.PriorityQueue;
 import java.util.Set;
 import java.util.TreeMap;
+import java.util.concurrent.ThreadLocalRandom;
 import java.util.stream.Collectors;
 
 /**
@@ -166,8 +168,10 @@ public final class McapMerge {
    * @param inputs the files, at least one, each a finished MCAP file (a writer that was killed
    *     leaves an unfinished one: see {@link Options#readUnfinished()})
    * @param output the merged file; created or overwritten once the merge is complete (it is
-   *     written to {@code OUTPUT.partial} beside it first, forced to the storage device, then
+   *     written to a new file beside it first, {@code .OUTPUT.<random>.partial}, under a name no
+   *     file there has, so that none of the user's is replaced; forced to the storage device, then
    *     moved into place, and the folder forced): a merge that fails leaves it as it was, and
+   *     removes that file, and
    *     one that returned survives a power cut; not one of the inputs. The output is a recording
    *     of one file: the rotated files of an earlier recording at that path ({@code
    *     run-0001.mcap}... for {@code run.mcap}) are deleted just before the move, from the last
@@ -234,7 +238,7 @@ public final class McapMerge {
       throws IOException {
     try (OpenInputs open = OpenInputs.open(inputs, options.readUnfinished)) {
       Channels channels = Channels.unify(open.readers);
-      Path partial = partialPath(output);
+      Path partial = createPartial(output);
       try {
         Result result;
         try (FileChannel out = opener.open(partial)) {
@@ -263,13 +267,33 @@ public final class McapMerge {
     }
   }
 
+  /** How many names {@link #createPartial} tries before it gives up (each taken by another file). */
+  private static final int PARTIAL_ATTEMPTS = 100;
+
   /**
-   * Where a merge is written until it is complete: beside the output, so that a merge that fails
-   * part way (an input found corrupt) leaves neither a half-written file at the output path nor
-   * the loss of what was there (an earlier merge).
+   * Creates the file a merge is written to until it is complete: beside the output (so that it
+   * is moved into place within one file system), so that a merge that fails part way (an input
+   * found corrupt) leaves neither a half-written file at the output path nor the loss of what was
+   * there (an earlier merge). Its name ({@code .run.mcap.<random>.partial}) is one no file there
+   * has: it is created new, never opened over a file of the user's, which a fixed name (say
+   * {@code run.mcap.partial}) could be. Made with the permissions a new file gets (as a writer's
+   * file), not a temporary file's owner-only ones, since it becomes the output.
    */
-  private static Path partialPath(Path output) {
-    return output.resolveSibling(output.getFileName() + ".partial");
+  private static Path createPartial(Path output) throws IOException {
+    String prefix = "." + output.getFileName() + ".";
+    for (int attempt = 1; ; attempt++) {
+      Path partial = output.resolveSibling(
+          prefix + Long.toUnsignedString(ThreadLocalRandom.current().nextLong(), 36) + ".partial");
+      try {
+        return Files.createFile(partial);
+      } catch (FileAlreadyExistsException taken) {
+        if (attempt == PARTIAL_ATTEMPTS) {
+          throw new IOException("cannot create a file beside " + output + " to write the merge into until it"
+              + " is complete: " + PARTIAL_ATTEMPTS + " new names (" + prefix + "<random>.partial) were each"
+              + " taken; remove the files named so there, or write the merge to another folder", taken);
+        }
+      }
+    }
   }
 
   private static void moveInPlace(Path partial, Path output) throws IOException {
@@ -343,11 +367,6 @@ public final class McapMerge {
             "input " + input + " is rotated file " + McapWriter.rotationIndex(out, in) + " of a recording at "
                 + output + ", whose rotated files the merge deletes (the merge is the recording there"
                 + " now): write the merge to another file");
-      }
-      if (in.equals(partialPath(out))) {
-        throw new IllegalArgumentException(
-            "input " + input + " is where the merge into " + output + " is written until it is"
-                + " complete: rename the input, or write the merge to another file");
       }
     }
   }

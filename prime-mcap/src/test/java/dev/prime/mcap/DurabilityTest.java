@@ -18,6 +18,7 @@ import java.util.ArrayList;
 import java.util.Arrays;
 import java.util.Collections;
 import java.util.List;
+import java.util.concurrent.atomic.AtomicReference;
 import java.util.function.Supplier;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
@@ -213,24 +214,40 @@ class DurabilityTest {
       }
     }
     Path output = dir.resolve("merged.mcap");
-    Path partial = dir.resolve("merged.mcap.partial");
+    // the file the merge is written to until it is complete: the one file it opens to write
+    AtomicReference<Path> partial = new AtomicReference<>();
     byte[] earlier = "an earlier merge".getBytes(StandardCharsets.UTF_8);
     Files.write(output, earlier);
     Supplier<String> state = () -> {
       try {
-        return " (" + (Files.exists(partial) ? "partial" : "no partial") + ", "
+        return " (" + (Files.exists(partial.get()) ? "partial" : "no partial") + ", "
             + (Arrays.equals(Files.readAllBytes(output), earlier) ? "earlier output" : "new output") + ")";
       } catch (IOException e) {
         throw new UncheckedIOException(e);
       }
     };
+    OutputOpener watched = watching(state);
+    OutputOpener opener = new OutputOpener() {
+      @Override
+      public FileChannel open(Path path) throws IOException {
+        assertTrue(partial.compareAndSet(null, path), "one file opened to write: " + partial.get() + ", " + path);
+        return watched.open(path);
+      }
 
-    McapMerge.merge(List.of(input), output, McapMerge.Options.defaults(), watching(state));
+      @Override
+      public FileChannel openFolder(Path folder) throws IOException {
+        return watched.openFolder(folder);
+      }
+    };
 
+    McapMerge.merge(List.of(input), output, McapMerge.Options.defaults(), opener);
+
+    String name = partial.get().getFileName().toString();
+    assertEquals(dir, partial.get().getParent(), "written beside the output: " + partial.get());
     assertEquals(
         List.of(
-            "force merged.mcap.partial (partial, earlier output)",
-            "close merged.mcap.partial",
+            "force " + name + " (partial, earlier output)",
+            "close " + name,
             "force folder (no partial, new output)",
             "close folder"),
         forcesAndCloses(),

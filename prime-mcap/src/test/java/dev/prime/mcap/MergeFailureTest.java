@@ -103,4 +103,36 @@ class MergeFailureTest {
     assertFalse(Files.exists(output), "no unfinished file at the output path");
     assertEquals(List.of(robot, worker), filesIn());
   }
+
+  /**
+   * A merge is written beside its output until it is complete, under a name of its own that no
+   * file there has: a user's file named like the output with a suffix ({@code run.mcap.partial})
+   * is neither replaced nor deleted, by a merge that succeeds nor by one that fails, and may
+   * itself be an input.
+   */
+  @Test
+  void aUsersFileBesideTheOutputIsNeverTheMergesPartialFile() throws Exception {
+    Path robot = recording("robot.mcap", 200);
+    Path output = dir.resolve("run.mcap");
+    Path users = dir.resolve("run.mcap.partial");
+    byte[] notes = "the user's own notes, not a merge".getBytes(StandardCharsets.UTF_8);
+    Files.write(users, notes);
+
+    McapMerge.merge(List.of(robot), output);
+
+    assertArrayEquals(notes, Files.readAllBytes(users), "a merge that succeeds leaves the user's file as it was");
+    assertEquals(List.of(robot, output, users), filesIn(), "and no file of its own beside the output");
+
+    Path worker = recording("worker.mcap", 200);
+    corruptLastChunk(worker);
+    assertThrows(McapFormatException.class, () -> McapMerge.merge(List.of(robot, worker), output));
+    assertArrayEquals(notes, Files.readAllBytes(users), "a merge that fails leaves the user's file as it was");
+    assertEquals(List.of(robot, output, users, worker), filesIn(), "and no file of its own beside the output");
+
+    Path copy = dir.resolve("robot-copy.mcap.partial");
+    Files.copy(robot, copy);
+    Path other = dir.resolve("robot-copy.mcap");
+    McapMerge.Result merged = McapMerge.merge(List.of(copy), other);
+    assertEquals(200, merged.messages(), "an input named like the output with the suffix is merged");
+  }
 }
