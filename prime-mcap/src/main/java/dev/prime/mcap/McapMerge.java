@@ -177,7 +177,9 @@ public final class McapMerge {
    *     run-0001.mcap}... for {@code run.mcap}) are deleted just before the move, from the last
    *     one back, as a {@link McapWriter} opened there deletes them, so that {@link
    *     McapReader#recordingFiles} lists the merge alone (a deletion that fails fails the merge,
-   *     the earlier recording left without a gap)
+   *     the earlier recording left without a gap). If it is a symbolic link, the link stays: the
+   *     file it leads to is the one replaced (or made), as a writer opened at a link writes that
+   *     file, and the merge is refused while a writer writes it
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
    *     (or another merge), in this JVM or another process, is writing the output path, or a rotated
@@ -238,7 +240,10 @@ public final class McapMerge {
       throws IOException {
     try (OpenInputs open = OpenInputs.open(inputs, options.readUnfinished)) {
       Channels channels = Channels.unify(open.readers);
-      Path partial = createPartial(output);
+      // a symbolic link at the output stays: the merge replaces the file it leads to, as a
+      // writer opened there writes that file
+      Path replaced = fileAt(output);
+      Path partial = createPartial(replaced);
       try {
         Result result;
         try (FileChannel out = opener.open(partial)) {
@@ -252,7 +257,7 @@ public final class McapMerge {
         // the output is a recording of one file: an earlier recording's rotated files at its path
         // would be listed with it (McapReader.recordingFiles), so they go first, as a writer's do
         McapWriter.deleteEarlierRotatedFiles(output);
-        moveInPlace(partial, output);
+        moveInPlace(partial, replaced);
         // the move is a change of the folder's entries: stored once the folder is forced
         Durability.forceFolderOf(output, opener);
         return result;
@@ -265,6 +270,25 @@ public final class McapMerge {
         throw e;
       }
     }
+  }
+
+  /** The most symbolic links {@link #fileAt} follows (Linux's own bound). */
+  private static final int MAX_LINKS = 40;
+
+  /**
+   * The file a merge into {@code output} replaces: {@code output} itself, or, if it is a
+   * symbolic link, the file it leads to (through links to links), whether it exists yet or not.
+   */
+  static Path fileAt(Path output) throws IOException {
+    Path path = output;
+    for (int links = 0; Files.isSymbolicLink(path); links++) {
+      if (links == MAX_LINKS) {
+        throw new IOException("cannot merge into " + output + ": it is a symbolic link that leads through more than "
+            + MAX_LINKS + " links (a loop of them?); make it a link to a file, or write the merge to another path");
+      }
+      path = path.resolveSibling(Files.readSymbolicLink(path));
+    }
+    return path;
   }
 
   /** How many names {@link #createPartial} tries before it gives up (each taken by another file). */

@@ -44,8 +44,9 @@ import java.util.stream.Stream;
  * each other. In this JVM, taking and giving up holds is serialized, so that such a look never
  * closes a channel on a lock file that a writer of this JVM holds.
  *
- * <p>A writer opened at a symbolic link writes the file it links to: it holds that file's path
- * too ({@code <target>.lock}), so that writers at the file and at links to it refuse each other.
+ * <p>A writer opened at a symbolic link writes the file it links to, and a merge into a link
+ * replaces that file: it holds that file's path too ({@code <target>.lock}), so that writers (and
+ * merges) at the file and at links to it refuse each other.
  *
  * <p>A path that is a device or a pipe ({@code /dev/null}) is not held. Released by the writer
  * once its last file is finished: the lock file is deleted (while still
@@ -100,9 +101,9 @@ final class RecordingLock {
       RecordingLock lock = take(first, action);
       try {
         refuseOverlaps(first, action, rotatedFiles);
-        // a writer writes through a symbolic link into the file it names (a merge replaces the
-        // link itself, and the file it named is left alone): that file is held too
-        Path linked = rotatedFiles ? linkTarget(first) : null;
+        // a writer writes through a symbolic link into the file it names, and a merge replaces
+        // that file (the link stays): that file is held too
+        Path linked = linkTarget(first);
         if (linked != null) {
           try {
             lock.target = take(linked, action);
