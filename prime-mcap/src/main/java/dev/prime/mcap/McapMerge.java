@@ -246,28 +246,77 @@ public final class McapMerge {
       Path partial = createPartial(replaced);
       try {
         Result result;
-        try (FileChannel out = opener.open(partial)) {
+        try (FileChannel out = OutputFailed.of(() -> opener.open(partial))) {
           // forced before it is moved into place: a power cut after the move must not leave an
           // empty or zero-filled file where an earlier merge was
-          McapFileWriter file =
-              new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize, true);
+          McapFileWriter file = OutputFailed.of(() ->
+              new McapFileWriter(out, McapWriterOptions.defaults().library() + " merge", options.chunkSize, true));
           result = write(open.readers, channels, file, output);
-          file.finish();
+          OutputFailed.of(() -> {
+            file.finish();
+            return file;
+          });
         }
         // the output is a recording of one file: an earlier recording's rotated files at its path
         // would be listed with it (McapReader.recordingFiles), so they go first, as a writer's do
         McapWriter.deleteEarlierRotatedFiles(output);
-        moveInPlace(partial, replaced);
+        OutputFailed.of(() -> {
+          moveInPlace(partial, replaced);
+          return replaced;
+        });
         // the move is a change of the folder's entries: stored once the folder is forced
         Durability.forceFolderOf(output, opener);
         return result;
       } catch (IOException | RuntimeException | Error e) {
+        IOException notDeleted = null;
         try {
           Files.deleteIfExists(partial);
         } catch (IOException deleting) {
+          notDeleted = deleting;
           e.addSuppressed(deleting);
         }
+        if (e instanceof OutputFailed failed) {
+          // the channel's own message ("No space left on device") names no file
+          IOException named = new IOException(
+              "could not write the merge into " + output + ": " + failed.getMessage() + "; it was being written to "
+                  + partial + (notDeleted == null ? ", which is removed" : ", which could not be removed (" + notDeleted
+                  + "): delete it") + ", and " + output + " is left as it was; free the disk (or fix the device) and"
+                  + " merge again",
+              failed.getCause());
+          for (Throwable suppressed : failed.getSuppressed()) {
+            named.addSuppressed(suppressed);
+          }
+          throw named;
+        }
         throw e;
+      }
+    }
+  }
+
+  /**
+   * An I/O error writing the merge's own file (not reading an input), told apart so that the
+   * merge's failure can name the output and say what became of it.
+   */
+  private static final class OutputFailed extends IOException {
+    private static final long serialVersionUID = 1L;
+
+    OutputFailed(IOException cause) {
+      super(cause.getMessage(), cause);
+    }
+
+    /** An output step whose I/O error is the output's. */
+    @FunctionalInterface
+    interface Step<T> {
+      T run() throws IOException;
+    }
+
+    static <T> T of(Step<T> step) throws OutputFailed {
+      try {
+        return step.run();
+      } catch (OutputFailed e) {
+        throw e;
+      } catch (IOException e) {
+        throw new OutputFailed(e);
       }
     }
   }
@@ -416,7 +465,10 @@ public final class McapMerge {
         Head head = heads.poll();
         McapMessage m = head.current;
         int id = channels.outputId(head.input, m.channel().id());
-        file.addMessage(id, m.sequence(), m.logTime(), m.publishTime(), m.data());
+        OutputFailed.of(() -> {
+          file.addMessage(id, m.sequence(), m.logTime(), m.publishTime(), m.data());
+          return file;
+        });
         counts.merge(m.channel().topic(), 1L, Long::sum);
         perInput[head.input]++;
         total++;
@@ -435,7 +487,10 @@ public final class McapMerge {
           Map<String, String> copy = new TreeMap<>(pairs);
           // a record an earlier merge copied keeps the file it came from
           copy.putIfAbsent(MERGED_FROM, from);
-          file.addMetadata(name, copy);
+          OutputFailed.of(() -> {
+            file.addMetadata(name, copy);
+            return file;
+          });
         }
       }
     }
@@ -451,7 +506,10 @@ public final class McapMerge {
         input.put("unfinished", "true");
         input.put("complete_records_end", Long.toString(reader.unfinishedAt()));
       }
-      file.addMetadata(INPUT_METADATA, input);
+      OutputFailed.of(() -> {
+        file.addMetadata(INPUT_METADATA, input);
+        return file;
+      });
     }
     return new Result(output, total, counts);
   }

@@ -56,7 +56,9 @@ import java.util.stream.Stream;
  * queued, not even on an empty queue: its write is refused with an {@link
  * IllegalArgumentException} naming its size and the bound, and nothing is dropped. If the disk
  * fails, the writer thread stops writing, the messages after it count as dropped, and {@link
- * #close()} throws the failure.
+ * #close()} throws the failure, naming the file and saying that it is left unfinished (without
+ * its summary and footer: {@link McapReader#openUnfinished} reads the records written before the
+ * failure).
  *
  * <p>Memory is bounded by the queue's byte bound, plus the open chunk (about the chunk size),
  * plus a chunk index (about 70 bytes, and 10 per channel in the chunk) per chunk of the current
@@ -134,6 +136,13 @@ public final class McapWriter implements Closeable {
   private final Path firstPath;
   private final McapWriterOptions options;
   private final OutputOpener opener;
+  /**
+   * Whether a file left unfinished by a failure is removed (or, if it was there before, emptied)
+   * rather than kept for {@link McapReader#openUnfinished}: for a snapshot written at once
+   * ({@link RecordingMcap#write}), whose caller still has what it wrote, not for a recording
+   * streamed over a run, whose complete chunks are worth reading.
+   */
+  private final boolean discardUnfinished;
   /** This writer's hold on the recording's path; released once its last file is finished. */
   private final RecordingLock lock;
 
@@ -159,6 +168,10 @@ public final class McapWriter implements Closeable {
   private McapFileWriter file;
   /** Whether {@link #file} is a regular file (forced when finished), not a device or a pipe. */
   private boolean fileIsRegular;
+  /** Whether a file was at {@link #file}'s path before it was opened (and truncated). */
+  private boolean fileExisted;
+  /** What became of the file being written when writing failed; set as the last file is finished. */
+  private volatile String failedFileFate;
   private int fileIndex;
   private long droppedAtFileStart;
   private int metadataAtFileStart;
@@ -187,10 +200,12 @@ public final class McapWriter implements Closeable {
   /** The largest message bound given an array queue (its array: 4 to 8 MiB). */
   private static final int ARRAY_QUEUE_LIMIT = 1 << 20;
 
-  private McapWriter(Path path, McapWriterOptions options, OutputOpener opener) throws IOException {
+  private McapWriter(Path path, McapWriterOptions options, OutputOpener opener, boolean discardUnfinished)
+      throws IOException {
     this.firstPath = path;
     this.options = options;
     this.opener = opener;
+    this.discardUnfinished = discardUnfinished;
     // before anything is truncated or deleted: those are the files of a writer that holds the path
     this.lock = RecordingLock.acquire(path, "open an MCAP writer at", true);
     try {
@@ -310,9 +325,19 @@ public final class McapWriter implements Closeable {
   }
 
   static McapWriter open(Path path, McapWriterOptions options, OutputOpener opener) throws IOException {
+    return open(path, options, opener, false);
+  }
+
+  /**
+   * Opens a writer that, if writing fails after its Header, removes the file it was writing (if
+   * it created it) or leaves it empty (if it truncated an earlier one), rather than leave an
+   * unfinished file that a reader could take for a recording; one file only (no rotation).
+   */
+  static McapWriter open(Path path, McapWriterOptions options, OutputOpener opener, boolean discardUnfinished)
+      throws IOException {
     Objects.requireNonNull(path, "path");
     Objects.requireNonNull(options, "options");
-    return new McapWriter(path, options, opener);
+    return new McapWriter(path, options, opener, discardUnfinished);
   }
 
   /**
@@ -585,7 +610,10 @@ public final class McapWriter implements Closeable {
         requireOpen(channel);
         process(entry);
         if (failure != null) {
-          throw new UncheckedIOException("writing " + currentPath() + " failed", failure);
+          throw new UncheckedIOException(
+              "writing MCAP file " + currentPath() + " failed: " + failure.getMessage() + "; the writer writes"
+                  + " nothing more: close it (its close() says what becomes of the file)",
+              failure);
         }
       }
       return true;
@@ -653,9 +681,43 @@ public final class McapWriter implements Closeable {
       }
     }
     try {
-      finishFile();
+      finishLastFile();
     } finally {
       releaseLock(null);
+    }
+  }
+
+  /**
+   * Finishes the last file; if writing failed, says (in {@link #failedFileFate}) what became of
+   * the file being written, having removed or emptied it if this writer discards unfinished
+   * files. Called before the path is given up, so that no other writer has opened it.
+   */
+  private void finishLastFile() {
+    finishFile();
+    if (failure == null || file == null) {
+      return; // finished; or a rotated file failed to open, which its own failure says
+    }
+    Path path = currentPath();
+    String unfinished = "the file is left unfinished, without its summary and footer: McapReader.open refuses"
+        + " it, McapReader.openUnfinished reads the records written before the failure"
+        + (files.size() > 1 ? "; the recording's files before it are finished" : "");
+    if (!discardUnfinished || !fileIsRegular) {
+      failedFileFate = unfinished;
+      return;
+    }
+    try {
+      if (fileExisted) {
+        // no CREATE: a file removed meanwhile is not made again
+        FileChannel.open(path, StandardOpenOption.WRITE, StandardOpenOption.TRUNCATE_EXISTING).close();
+        failedFileFate = "the file was truncated as the writer opened it, so what it held before is gone;"
+            + " it is left empty, not an MCAP file";
+      } else {
+        Files.deleteIfExists(path);
+        failedFileFate = "the file the writer created is removed, so the path is as it was";
+      }
+    } catch (IOException e) {
+      failure.addSuppressed(e);
+      failedFileFate = unfinished + " (it could not be " + (fileExisted ? "emptied" : "removed") + ": " + e + ")";
     }
   }
 
@@ -722,6 +784,7 @@ public final class McapWriter implements Closeable {
    */
   private void openFile(Path path) throws IOException {
     boolean existed = Files.exists(path, LinkOption.NOFOLLOW_LINKS);
+    fileExisted = existed;
     FileChannel channel = opener.open(path);
     try {
       // a device or a pipe (/dev/null) cannot be forced
@@ -831,8 +894,8 @@ public final class McapWriter implements Closeable {
    * called while another thread's is under way returns once that one has finished the file (so
    * that the file is complete when either returns); a close after that does nothing.
    *
-   * @throws IOException if writing failed at any point (the first failure; the file is then
-   *     incomplete); an {@link InterruptedIOException} if interrupted while waiting for another
+   * @throws IOException if writing failed at any point (the first failure; the message names the
+   *     file, which is left unfinished, and says so); an {@link InterruptedIOException} if interrupted while waiting for another
    *     thread's close
    */
   @Override
@@ -871,7 +934,7 @@ public final class McapWriter implements Closeable {
       // waits (blocked, not spinning) for a write under way, which may wait for the disk
       synchronized (syncLock) {
         try {
-          finishFile();
+          finishLastFile();
         } finally {
           releaseLock(null);
         }
@@ -906,7 +969,13 @@ public final class McapWriter implements Closeable {
       }
     }
     if (failure != null) {
-      throw new IOException("writing MCAP file " + currentPath() + " failed: " + failure.getMessage(), failure);
+      String fate = failedFileFate;
+      throw new IOException(
+          fate != null
+              ? "writing MCAP file " + currentPath() + " failed: " + failure.getMessage() + "; " + fate
+              : "writing the MCAP recording at " + firstPath + " failed: " + failure.getMessage()
+                  + (files.isEmpty() ? "" : "; its files up to " + currentPath() + " are finished"),
+          failure);
     }
   }
 }

@@ -3,6 +3,7 @@ package dev.prime.mcap;
 import dev.prime.RecordedValue;
 import dev.prime.Recording;
 import java.io.IOException;
+import java.io.UncheckedIOException;
 import java.nio.file.Path;
 import java.time.Instant;
 import java.util.ArrayList;
@@ -170,7 +171,10 @@ public final class RecordingMcap {
    *     McapReader#metadata(String)}); not {@value #PROCESS_METADATA} nor {@value
    *     McapWriter#LOSS_METADATA}, which are written anyway
    * @return the number of messages written
-   * @throws IOException if the file cannot be written
+   * @throws IOException if the file cannot be written: a failure after its Header (a full disk)
+   *     names the file and says what became of it: removed if this write created it (the path is
+   *     as it was), or else left empty (what it held was gone once the writer truncated it), so
+   *     that no unfinished file is left for a reader to take as the recording
    * @throws IllegalArgumentException if {@code types} names a name that is not recorded, a
    *     channel's type cannot be made from its first value's class, a name with no type given has
    *     values of more than one class, a value does not fit the type given for its name (or its
@@ -187,6 +191,16 @@ public final class RecordingMcap {
       Path path,
       Map<String, ValueType<?>> types,
       Map<String, Map<String, String>> metadata)
+      throws IOException {
+    return write(recording, path, types, metadata, OutputOpener.FILES);
+  }
+
+  static long write(
+      Recording recording,
+      Path path,
+      Map<String, ValueType<?>> types,
+      Map<String, Map<String, String>> metadata,
+      OutputOpener opener)
       throws IOException {
     Objects.requireNonNull(recording, "recording must not be null");
     Objects.requireNonNull(path, "path must not be null");
@@ -254,7 +268,10 @@ public final class RecordingMcap {
       }
     }
     long written = 0;
-    try (McapWriter writer = McapWriter.open(path, McapWriterOptions.defaults().synchronous())) {
+    // a failure to write (a full disk) after the Header removes the file if this write created
+    // it, or else leaves it empty: no unfinished file a reader could take for the recording
+    try (McapWriter writer =
+        McapWriter.open(path, McapWriterOptions.defaults().synchronous(), opener, true)) {
       writer.metadata(PROCESS_METADATA, process.metadata());
       metadata.forEach(writer::metadata);
       Map<String, McapChannel<Object>> channels = new LinkedHashMap<>();
@@ -262,8 +279,12 @@ public final class RecordingMcap {
           (name, type) -> channels.put(name, writer.channel(name, type, channelMetadata.get(name))));
       for (int i = 0; i < all.size(); i++) {
         RecordedValue<Object> entry = all.get(i);
-        if (channels.get(entry.service()).writeJson(times[i], times[i], entry.sequence(), encoded.get(i))) {
-          written++;
+        try {
+          if (channels.get(entry.service()).writeJson(times[i], times[i], entry.sequence(), encoded.get(i))) {
+            written++;
+          }
+        } catch (UncheckedIOException failed) {
+          break; // the writer keeps the failure: its close, next, throws it, saying what became of the file
         }
       }
     }
