@@ -5,6 +5,7 @@ import redis.clients.jedis.Pipeline
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
+import java.util.concurrent.locks.ReentrantLock
 
 /**
  * The host leases of the services one core instance runs: a service has one host at a time.
@@ -25,6 +26,12 @@ import java.util.concurrent.ConcurrentHashMap
  * standby's claim that Redis granted while the core closed may not be in the held set yet, and
  * releasing a lease another instance holds changes nothing ([LeaseScripts.HOST_RELEASE] checks
  * the holder), so the next standby takes over within a third of the lease instead of a whole one.
+ * A renewal and a [release] are serialised by [renewal]: a renewal holds it from its snapshot of
+ * the held set until its script has run, and a release removes its services from the held set
+ * under it, so a renewal sent before a release ends before the release deletes, and one after it
+ * no longer names the released services: a released lease is never written again by a renewal
+ * (which re-claims a lapsed one for a service without a processing list). The release waits at
+ * most one renewal's round trip; neither adds one.
  */
 internal class HostLeases(
     private val keys: Keys,
@@ -40,6 +47,17 @@ internal class HostLeases(
     private val claimed: MutableSet<String> = ConcurrentHashMap.newKeySet()
     private val instanceId = instance.toByteArray(UTF_8)
     private val leaseMillis = leaseTime.toMillis().toString().toByteArray(UTF_8)
+
+    /** Held by [renew] from its snapshot of [held] to its script's reply; [release] updates [held] under it. */
+    private val renewal = ReentrantLock()
+
+    /** Test seam: runs in [renew] between its snapshot of the held leases and its script. */
+    @Volatile
+    internal var beforeRenewScript: () -> Unit = {}
+
+    /** Test seam: runs in [release] when it finds a renewal in flight, before it waits for it. */
+    @Volatile
+    internal var releaseWaitsForRenewal: () -> Unit = {}
 
     /** The services whose lease this instance holds. */
     val services: Set<String> get() = held.toSet()
@@ -131,10 +149,18 @@ internal class HostLeases(
      * may have held the lease meanwhile), so only a fresh read may follow a fresh claim.
      */
     fun renew(jedis: Jedis): Map<String, String> {
-        val services = held.toList()
-        if (services.isEmpty()) return emptyMap()
-        val reclaim = services.joinToString("") { if (reclaimsItsOwnLease(it)) "0" else "1" }.toByteArray(UTF_8)
-        val reply = LeaseScripts.HOST_RENEW.run(jedis, services.map(keys::hostLease), listOf(instanceId, leaseMillis, reclaim)) as List<*>
+        val services: List<String>
+        val reply: List<*>
+        renewal.lock()
+        try {
+            services = held.toList()
+            if (services.isEmpty()) return emptyMap()
+            val reclaim = services.joinToString("") { if (reclaimsItsOwnLease(it)) "0" else "1" }.toByteArray(UTF_8)
+            beforeRenewScript()
+            reply = LeaseScripts.HOST_RENEW.run(jedis, services.map(keys::hostLease), listOf(instanceId, leaseMillis, reclaim)) as List<*>
+        } finally {
+            renewal.unlock()
+        }
         val taken = LinkedHashMap<String, String>()
         services.forEachIndexed { i, service ->
             val holder = (reply[2 * i] as ByteArray).toString(UTF_8)
@@ -146,11 +172,20 @@ internal class HostLeases(
     /**
      * Gives up the leases of [services], which a declaration that failed claimed: no longer
      * renewed, and released in Redis once, if Redis answers (else each lapses within the lease
-     * time), so that another process can host them.
+     * time), so that another process can host them. A renewal in flight ends first (see the
+     * design note): no renewal writes a released lease again.
      */
     fun release(services: Collection<String>) {
         if (services.isEmpty()) return
-        held -= services.toSet()
+        if (!renewal.tryLock()) {
+            releaseWaitsForRenewal()
+            renewal.lock()
+        }
+        try {
+            held -= services.toSet()
+        } finally {
+            renewal.unlock()
+        }
         try {
             RedisSession(connections).use { session -> session.once { release(it, services.toList()) } }
         } catch (e: Exception) {

@@ -2,16 +2,21 @@ package dev.prime.optimus
 
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertNull
+import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import redis.clients.jedis.Jedis
 import java.net.URI
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.Executors
+import java.util.concurrent.TimeUnit.SECONDS
 
 /**
  * What a closing core releases of its host leases ([HostLeases.releaseAll]): every lease it holds in
  * Redis, also one a standby's claim won while the core closed (granted by Redis, not yet recorded
- * as held), and never a lease another instance holds.
+ * as held), and never a lease another instance holds; and what a failed declaration releases
+ * ([HostLeases.release]) stays released though a renewal was in flight.
  */
 class HostLeaseReleaseTest {
 
@@ -49,6 +54,46 @@ class HostLeaseReleaseTest {
             assertEquals("instance-a", jedis.get(keys.hostLease("svc"))?.toString(UTF_8))
         }
         connections.closeAll()
+    }
+
+    @Test
+    fun aLeaseReleasedWhileARenewalIsInFlightIsNotWrittenAgainByIt() {
+        val keys = Keys("lease-release-renewal")
+        val connections = RedisConnections(RedisTarget.parse(TestRedis.url, keys), "lease-release-renewal")
+        // { false }: a combinator's or timer's lease, which the heartbeat claims again when it finds it gone
+        val leases = HostLeases(keys, connections, "instance-a", LEASE) { false }
+        val threads = Executors.newFixedThreadPool(2)
+        try {
+            Jedis(URI(TestRedis.url)).use { jedis ->
+                jedis.del(keys.hostLease("svc"))
+                leases.claim(listOf("svc"), "lease-release-renewal")
+                assertEquals("instance-a", jedis.get(keys.hostLease("svc"))?.toString(UTF_8), "claimed")
+                val renewing = CountDownLatch(1)
+                val proceed = CountDownLatch(1)
+                leases.beforeRenewScript = {
+                    renewing.countDown()
+                    assertTrue(proceed.await(10, SECONDS), "the renewal was let go on")
+                }
+                leases.releaseWaitsForRenewal = { proceed.countDown() }
+                val renewal = threads.submit<Map<String, String>> { Jedis(URI(TestRedis.url)).use(leases::renew) }
+                assertTrue(renewing.await(10, SECONDS), "the heartbeat's renewal took its snapshot of the held leases")
+                // the declaration that claimed it failed: its undo releases the lease while the renewal is in flight
+                val release = threads.submit { leases.release(listOf("svc")) }
+                release.get(10, SECONDS)
+                proceed.countDown()
+                assertEquals(emptyMap<String, String>(), renewal.get(10, SECONDS))
+                assertNull(
+                    jedis.get(keys.hostLease("svc"))?.toString(UTF_8),
+                    "the released lease stays released; a renewal in flight wrote it again, for ${jedis.pttl(keys.hostLease("svc"))} ms",
+                )
+                assertEquals(emptySet<String>(), leases.services, "no longer held")
+                assertEquals(emptyMap<String, String>(), leases.renew(jedis), "the next renewal does not name it")
+                assertNull(jedis.get(keys.hostLease("svc")), "nor claims it again")
+            }
+        } finally {
+            threads.shutdownNow()
+            connections.closeAll()
+        }
     }
 
     private companion object {
