@@ -946,7 +946,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * combinator, timer and generic service (see {@link dev.prime.topology.TopologyNode}); linked
    * chains and sources are not services. The
    * same declarations give the same names on every media; a media that spreads services over
-   * processes (Optimus) leaves out those hosted elsewhere.
+   * processes (Optimus) leaves out those hosted elsewhere. Like {@link #topology()}, it never
+   * waits for a declaration under way on another thread.
    *
    * @return a snapshot
    */
@@ -958,6 +959,11 @@ public abstract class PrimeCore implements AutoCloseable {
    * The diagram declared on this core so far, as data: chains, sources, links, templates,
    * services, readers and where each service is hosted. The same declarations give an equal
    * topology, and the same Mermaid and DOT drawings, on every media.
+   *
+   * <p>It never waits for a declaration under way on another thread (one that waits for another
+   * process, or a slow compilation): it shows every declaration that finished, and nothing of one
+   * under way, which may still fail and leave nothing. So an inspector, metrics or a monitoring
+   * thread reading it is never held up by a declaration.
    *
    * @return an immutable snapshot
    */

@@ -4,6 +4,7 @@ import dev.prime.internal.Names;
 import dev.prime.topology.Topology;
 import dev.prime.topology.TopologyNode;
 import java.util.ArrayList;
+import java.util.Arrays;
 import java.util.Collections;
 import java.util.LinkedHashSet;
 import java.util.Set;
@@ -36,9 +37,16 @@ import java.util.function.Supplier;
  * two declarations of one core never interleave, and a declaration made inside another (a
  * repeater's collector) joins it (the monitor is reentrant). A declaration that throws forgets
  * the nodes it recorded and releases their names; one that succeeds releases their logic, so the
- * recorder holds the user's blocks only while they are compiled. Snapshots and readers wait for a
- * declaration under way; nothing here waits for another thread while holding the monitor, except
- * what a media's compiler does in a declaration.
+ * recorder holds the user's blocks only while they are compiled. Snapshots ({@link #snapshot},
+ * {@link #hostedServices}) never wait for a declaration under way (a media's may wait for Redis or
+ * another process's lease): whenever no declaration is under way, what is recorded is published
+ * as an immutable {@link Published} view, which readers on other threads take without the
+ * monitor, so they see every finished declaration and nothing of one under way (it may still be
+ * forgotten). The thread that declares sees its declaration's nodes (it holds the monitor). Nodes
+ * are only appended, and a failed declaration forgets only nodes never published, so the view
+ * shares one append-only array: publishing costs the nodes added, not the whole diagram. Nothing
+ * here waits for another thread while holding the monitor, except what a media's compiler does in
+ * a declaration.
  */
 final class TopologyRecorder {
   private final PrimeCore owner;
@@ -49,6 +57,25 @@ final class TopologyRecorder {
   private final Map<Object, String> foreign = new HashMap<>(); // guarded by this
   private final Map<String, Integer> readers = new HashMap<>(); // guarded by this
   private final Map<String, String> pseudonames = new HashMap<>(); // guarded by this
+
+  /** How many declarations this thread is inside (nested ones join): publishing waits for 0. */
+  private int declaring; // guarded by this
+
+  /** The published nodes, in order: only appended to, and never changed below the published size. */
+  private TopologyNode[] shelf = new TopologyNode[16]; // guarded by this
+
+  /** What was recorded when no declaration was under way, for readers that must not wait. */
+  private volatile Published published = new Published(shelf, 0, Map.of());
+
+  /**
+   * An immutable view of the recorded nodes: the first {@code size} of {@code nodes} (never
+   * changed once published) and the pseudonames.
+   */
+  private record Published(TopologyNode[] nodes, int size, Map<String, String> pseudonames) {
+    List<TopologyNode> list() {
+      return Collections.unmodifiableList(Arrays.asList(nodes).subList(0, size));
+    }
+  }
 
   /**
    * @param owner the core whose diagram this records
@@ -436,16 +463,58 @@ final class TopologyRecorder {
   synchronized <T> T declare(Supplier<T> declaration) {
     int mark = nodes.size();
     T made;
+    declaring++;
     try {
       made = declaration.get();
     } catch (RuntimeException | Error e) {
       forgetSince(mark);
       throw e;
+    } finally {
+      declaring--;
+      publish();
     }
     for (int i = mark; i < nodes.size(); i++) {
       logic.remove(nodes.get(i).name());
     }
     return made;
+  }
+
+  /**
+   * Publishes what is recorded for readers that must not wait ({@link #view}), unless a
+   * declaration is under way: that one publishes when it ends.
+   */
+  private void publish() {
+    if (declaring > 0) {
+      return;
+    }
+    Published last = published;
+    int size = nodes.size();
+    if (size < last.size()) {
+      throw new IllegalStateException(
+          "published nodes were forgotten: " + size + " recorded, " + last.size() + " published");
+    }
+    if (size > shelf.length) {
+      shelf = Arrays.copyOf(shelf, Math.max(size, shelf.length * 2));
+    }
+    for (int i = last.size(); i < size; i++) {
+      shelf[i] = nodes.get(i);
+    }
+    Map<String, String> names =
+        last.pseudonames().equals(pseudonames) ? last.pseudonames() : Map.copyOf(pseudonames);
+    published = new Published(shelf, size, names);
+  }
+
+  /**
+   * What a snapshot shows: on the thread that holds the monitor (a declaration under way, whose
+   * media reads the topology it declares), what is recorded now; on any other thread, what was
+   * published, without waiting for a declaration under way.
+   */
+  private Published view() {
+    if (Thread.holdsLock(this)) {
+      TopologyNode[] now = nodes.toArray(new TopologyNode[0]);
+      return new Published(now, now.length, Map.copyOf(pseudonames));
+    }
+    return published;
   }
 
   /** Forgets the nodes recorded after the first {@code mark}, latest first. */
@@ -475,6 +544,7 @@ final class TopologyRecorder {
   synchronized void pseudoname(String name, String pseudoname) {
     node(name);
     pseudonames.put(name, checkPseudoname(pseudoname));
+    publish();
   }
 
   /**
@@ -507,19 +577,22 @@ final class TopologyRecorder {
   }
 
   /**
-   * A snapshot of what was recorded.
+   * A snapshot of what was recorded: every finished declaration, never one under way on another
+   * thread (see the design note: it does not wait for it).
    *
    * @param hostedHere whether this process runs a service
    * @return the topology
    */
-  synchronized Topology snapshot(Predicate<String> hostedHere) {
+  Topology snapshot(Predicate<String> hostedHere) {
+    Published view = view();
+    List<TopologyNode> recorded = view.list();
     List<String> elsewhere = new ArrayList<>();
-    for (TopologyNode node : nodes) {
+    for (TopologyNode node : recorded) {
       if (node.isService() && !hostedHere.test(node.name())) {
         elsewhere.add(node.name());
       }
     }
-    return Topology.of(nodes, elsewhere, pseudonames);
+    return Topology.of(recorded, elsewhere, view.pseudonames());
   }
 
   /**
@@ -528,9 +601,9 @@ final class TopologyRecorder {
    * @param hostedHere whether this process runs a service
    * @return an unmodifiable set
    */
-  synchronized Set<String> hostedServices(Predicate<String> hostedHere) {
+  Set<String> hostedServices(Predicate<String> hostedHere) {
     Set<String> hosted = new LinkedHashSet<>();
-    for (TopologyNode node : nodes) {
+    for (TopologyNode node : view().list()) {
       if (node.isService() && hostedHere.test(node.name())) {
         hosted.add(node.name());
       }
@@ -542,6 +615,7 @@ final class TopologyRecorder {
     nodes.add(node);
     byName.put(node.name(), node);
     logic.put(node.name(), runs);
+    publish();
     return node.name();
   }
 

@@ -1,7 +1,13 @@
 package dev.prime.conformance;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+import static org.junit.jupiter.api.Assertions.fail;
 
+import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
@@ -12,6 +18,7 @@ import dev.prime.Repeat;
 import dev.prime.Source;
 import dev.prime.Token;
 import dev.prime.Tuple2;
+import dev.prime.topology.Topology;
 import dev.prime.topology.TopologyNode;
 import dev.prime.topology.TopologyNode.AsyncCollector;
 import dev.prime.topology.TopologyNode.BlockChain;
@@ -33,6 +40,15 @@ import dev.prime.topology.TopologyNode.SourceLink;
 import dev.prime.topology.TopologyNode.SyncCollector;
 import dev.prime.topology.TopologyNode.Union;
 import java.util.List;
+import java.util.Set;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.ExecutionException;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
+import java.util.concurrent.Future;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.TimeoutException;
+import java.util.concurrent.atomic.AtomicInteger;
 import org.junit.jupiter.api.Test;
 
 /**
@@ -235,6 +251,80 @@ public interface TopologyConformance extends ConformanceBase {
       assertEquals(
           List.of("source-1", "source-2", "source-3", "source-1>half"),
           List.of(first.name(), mine.name(), third.name(), linked.name()));
+    }
+  }
+
+  /**
+   * {@link PrimeCore#topology()} and {@link PrimeCore#serviceNames()}: they "never wait for a
+   * declaration under way on another thread", and show every finished declaration and nothing of
+   * the one under way. The declaration is held in its checks by a chain of the program's own
+   * implementation, whose {@code core()} waits on a latch there; it is then refused and leaves
+   * nothing, so the topology is what it was before.
+   */
+  @Test
+  default void topologyNeverWaitsForADeclarationUnderWay() throws Exception {
+    long patience = patience().toMillis();
+    try (PrimeCore core = newCore()) {
+      Chain<Integer, Integer> first = core.chain("first", (Integer x) -> x + 1);
+      core.source("numbers", new EventBlock<Integer>());
+      Topology before = core.topology();
+      Set<String> servicesBefore = core.serviceNames();
+      CountDownLatch inside = new CountDownLatch(1);
+      CountDownLatch release = new CountDownLatch(1);
+      AtomicInteger calls = new AtomicInteger();
+      Chain<Integer, Integer> held =
+          new Chain<>() {
+            @Override
+            public PrimeCore core() {
+              // the first call picks the cores whose declaration locks the link takes; the second
+              // is the declaration's own check, made holding them
+              if (calls.incrementAndGet() == 2) {
+                inside.countDown();
+                try {
+                  release.await(patience, TimeUnit.MILLISECONDS);
+                } catch (InterruptedException e) {
+                  Thread.currentThread().interrupt();
+                }
+              }
+              return core;
+            }
+
+            @Override
+            public String name() {
+              return "held";
+            }
+
+            @Override
+            public Block<Integer, Integer> toBlock() {
+              throw new UnsupportedOperationException("a chain of the program's own, never run");
+            }
+          };
+      ExecutorService threads = Executors.newFixedThreadPool(3);
+      try {
+        Future<Chain<Integer, Integer>> declaring = threads.submit(() -> core.link(first, held));
+        assertTrue(inside.await(patience, TimeUnit.MILLISECONDS), "the declaration is under way");
+        Future<Topology> topology = threads.submit(core::topology);
+        Future<Set<String>> services = threads.submit(core::serviceNames);
+        try {
+          assertEquals(before, topology.get(patience, TimeUnit.MILLISECONDS));
+          assertEquals(servicesBefore, services.get(patience, TimeUnit.MILLISECONDS));
+        } catch (TimeoutException e) {
+          fail("topology() or serviceNames() waited " + patience + " ms for a declaration under way");
+        }
+        assertFalse(declaring.isDone(), "the declaration is still under way");
+        release.countDown();
+        ExecutionException refused =
+            assertThrows(
+                ExecutionException.class, () -> declaring.get(patience, TimeUnit.MILLISECONDS));
+        assertInstanceOf(IllegalArgumentException.class, refused.getCause());
+        assertEquals(before, core.topology(), "the refused declaration left nothing");
+        assertFalse(
+            core.topology().node("first>held").isPresent(), "no node of the refused link");
+      } finally {
+        release.countDown();
+        threads.shutdownNow();
+        assertTrue(threads.awaitTermination(patience, TimeUnit.MILLISECONDS), "the threads ended");
+      }
     }
   }
 }
