@@ -25,7 +25,8 @@ import java.util.logging.Logger;
  * cannot keep up the value is dropped and counted ({@link #droppedCount()}), never stalling the
  * controller. A name's channel is defined on its first value (typed by that value's class unless
  * a type was given). A value that cannot be written (no channel type for its class, JSON encoding
- * fails, or its message is larger than the queue's byte bound) is counted in {@link
+ * fails, its message is larger than the queue's byte bound, or its name came after the 65535
+ * channels a file holds) is counted in {@link
  * #unwritableCount()} with its first reason. {@link #close()} unsubscribes, flushes the queue,
  * finishes the file (whose {@code prime.mcap} Metadata record reports the drops) and logs a line
  * when anything was lost. A recorder that is never closed goes on recording, and holds its path,
@@ -88,26 +89,48 @@ public final class McapRecorder implements AutoCloseable {
   @SuppressWarnings("unchecked")
   private McapChannel<Object> define(RecordedValue<Object> entry) {
     String name = entry.service();
+    if (writer.channelCount() >= McapWriter.MAX_CHANNELS) {
+      unwritable(overLimit(name));
+      return null;
+    }
+    ValueType<Object> type;
     try {
       ValueType<?> given = types.get(name);
-      ValueType<Object> type =
+      type =
           (ValueType<Object>)
               (given != null ? given : ValueType.of(RecordingMcap.channelClass(entry.value())));
-      Map<String, String> metadata = new LinkedHashMap<>();
-      metadata.put("prime.service", name);
-      if (entry.pseudoname() != null) {
-        metadata.put("prime.pseudoname", entry.pseudoname());
-      }
-      metadata.put(RecordingMcap.PROCESS_METADATA, process.id());
-      McapChannel<Object> channel = writer.channel(name, type, metadata);
-      McapChannel<Object> raced = channels.putIfAbsent(name, channel);
-      return raced != null ? raced : channel;
-    } catch (IllegalArgumentException | IllegalStateException e) {
+    } catch (IllegalArgumentException e) {
       unwritable(
           name + ": values of " + RecordingMcap.channelClass(entry.value()).getName() + " have no channel type ("
               + e.getMessage() + "); give its type in RecordingMcap.stream(..., types)");
       return null;
     }
+    Map<String, String> metadata = new LinkedHashMap<>();
+    metadata.put("prime.service", name);
+    if (entry.pseudoname() != null) {
+      metadata.put("prime.pseudoname", entry.pseudoname());
+    }
+    metadata.put(RecordingMcap.PROCESS_METADATA, process.id());
+    try {
+      McapChannel<Object> channel = writer.channel(name, type, metadata);
+      McapChannel<Object> raced = channels.putIfAbsent(name, channel);
+      return raced != null ? raced : channel;
+    } catch (IllegalArgumentException | IllegalStateException e) {
+      // the channel's type is made: the writer refused the name itself (the channel limit, a
+      // name that is not Unicode text) or is closed
+      unwritable(writer.channelCount() >= McapWriter.MAX_CHANNELS
+          ? overLimit(name)
+          : name + ": no channel can be defined for it: " + e.getMessage());
+      return null;
+    }
+  }
+
+  /** Why the values of {@code name}, a name recorded after the file's last channel, are not written. */
+  private static String overLimit(String name) {
+    return name + ": an MCAP file holds at most " + McapWriter.MAX_CHANNELS + " channels (one per name; channel"
+        + " ids are 16 bits), and the recording has values under more names: the values of this name, and of"
+        + " any later one, are not written; record fewer names in one core (name only the sources and chains"
+        + " you need recorded), or stream the recordings of several cores to one file each";
   }
 
   private void unwritable(String reason) {
@@ -130,7 +153,11 @@ public final class McapRecorder implements AutoCloseable {
     return writer.droppedCount();
   }
 
-  /** {@return values that could not be written (no channel type for their class, or encoding failed)} */
+  /**
+   * {@return values that could not be written: no channel type for their class, encoding failed,
+   * a message larger than the queue's byte bound, or a name recorded after the file's last
+   * channel (a file holds at most 65535, one per name)}
+   */
   public long unwritableCount() {
     return unwritable.sum();
   }

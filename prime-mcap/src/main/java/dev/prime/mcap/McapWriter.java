@@ -490,7 +490,9 @@ public final class McapWriter implements Closeable {
         return same;
       }
       if (channelsByTopic.size() >= MAX_CHANNELS) {
-        throw new IllegalArgumentException("an MCAP file holds at most 65535 channels");
+        throw new IllegalArgumentException(
+            "an MCAP file holds at most " + MAX_CHANNELS + " channels (channel ids are 16 bits): topic '" + topic
+                + "' would be one more; write the other topics to another file");
       }
       Integer schemaId = schemaIds.get(type);
       if (schemaId == null) {
@@ -583,6 +585,13 @@ public final class McapWriter implements Closeable {
                 + " (a surrogate pair, or the character itself)",
             what, text, (int) c, i));
       }
+    }
+  }
+
+  /** The number of channels defined so far (at most {@link #MAX_CHANNELS}). */
+  int channelCount() {
+    synchronized (definitions) {
+      return channelsByTopic.size();
     }
   }
 

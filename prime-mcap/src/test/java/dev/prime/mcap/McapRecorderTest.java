@@ -1,6 +1,7 @@
 package dev.prime.mcap;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
@@ -302,6 +303,46 @@ class McapRecorderTest {
           List.of("before", "after"),
           reader.messages("words", String.class).map(TypedMessage::value).toList());
       assertEquals("0", reader.metadata(McapWriter.LOSS_METADATA).get(0).get("dropped_messages"));
+    }
+  }
+
+  /**
+   * A file holds at most {@value McapWriter#MAX_CHANNELS} channels: the values of a name recorded
+   * past that are unwritable for that reason, which the close's WARNING line gives with what to
+   * do, not as values without a channel type (their type is fine); the other names are written.
+   */
+  @Test
+  void theNameAfterTheLastChannelAFileHoldsIsUnwritableForThatReason() throws Exception {
+    Path file = dir.resolve("names.mcap");
+    int names = McapWriter.MAX_CHANNELS + 1;
+    try (PrimeCore core = core(1); RecorderWarnings logged = new RecorderWarnings()) {
+      List<EventBlock<Integer>> events = new ArrayList<>(names);
+      for (int i = 0; i < names; i++) {
+        EventBlock<Integer> name = new EventBlock<>();
+        core.source("n" + i, name);
+        events.add(name);
+      }
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults().queue(names + 10, 1 << 30));
+      try (recorder) {
+        for (int i = 0; i < names; i++) {
+          events.get(i).publish(i); // recorded on this thread (Liberty) before publish returns
+        }
+        assertEquals(1, recorder.unwritableCount(), "the last name's value");
+        assertEquals(names - 1L, recorder.writtenCount(), "one value per channel the file holds");
+        assertEquals(0, recorder.droppedCount());
+      }
+      List<String> warnings = logged.lines();
+      assertEquals(1, warnings.size(), warnings.toString());
+      String warning = warnings.get(0);
+      assertTrue(warning.contains("could not write 1") && warning.contains("n" + (names - 1))
+          && warning.contains("at most 65535 channels") && warning.contains("record fewer names"), warning);
+      assertFalse(warning.contains("give its type"), "its type is not the cause: " + warning);
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(names - 1, reader.channels().size());
+      assertEquals(1, reader.messageCount("n" + (names - 2)));
     }
   }
 
