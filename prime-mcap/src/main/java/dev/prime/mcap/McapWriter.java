@@ -168,8 +168,10 @@ public final class McapWriter implements Closeable {
   private McapFileWriter file;
   /** Whether {@link #file} is a regular file (forced when finished), not a device or a pipe. */
   private boolean fileIsRegular;
-  /** Whether a file was at {@link #file}'s path before it was opened (and truncated). */
+  /** Whether a file was at {@link #file}'s path (or where its link leads) before it was opened (and truncated). */
   private boolean fileExisted;
+  /** The file {@link #file} writes: its path, or, if that is a symbolic link, the file it leads to. */
+  private Path fileTarget;
   /** What became of the file being written when writing failed; set as the last file is finished. */
   private volatile String failedFileFate;
   private int fileIndex;
@@ -307,7 +309,9 @@ public final class McapWriter implements Closeable {
    *   <li>its magic and Header are written. An I/O error here (a full disk, a failing device),
    *       which no check can foresee, fails the open: a file the open created is removed, so the
    *       path is as it was; a file that was there is left truncated (empty, or with part of the
-   *       Header; not an MCAP file), what it held gone. The exception says which.
+   *       Header; not an MCAP file), what it held gone. The exception says which. At a symbolic
+   *       link, the file is the one the link leads to: a link to a file not there yet has the open
+   *       create that file, which such a failure removes, the link left as it was.
    * </ol>
    *
    * To keep an earlier recording, open the writer at another path (or move the recording first).
@@ -721,8 +725,8 @@ public final class McapWriter implements Closeable {
         failedFileFate = "the file was truncated as the writer opened it, so what it held before is gone;"
             + " it is left empty, not an MCAP file";
       } else {
-        Files.deleteIfExists(path);
-        failedFileFate = "the file the writer created is removed, so the path is as it was";
+        Files.deleteIfExists(fileTarget);
+        failedFileFate = "the file the writer created is removed" + linkedAs(path, fileTarget) + ", so the path is as it was";
       }
     } catch (IOException e) {
       failure.addSuppressed(e);
@@ -792,8 +796,12 @@ public final class McapWriter implements Closeable {
    * truncated (empty, or with part of the Header), what it held gone.
    */
   private void openFile(Path path) throws IOException {
-    boolean existed = Files.exists(path, LinkOption.NOFOLLOW_LINKS);
+    // through a symbolic link the open writes (and creates) the file the link leads to: that
+    // file existed or not, whatever the link does
+    Path target = linkedFile(path);
+    boolean existed = Files.exists(target, LinkOption.NOFOLLOW_LINKS);
     fileExisted = existed;
+    fileTarget = target;
     FileChannel channel = opener.open(path);
     try {
       // a device or a pipe (/dev/null) cannot be forced
@@ -810,7 +818,7 @@ public final class McapWriter implements Closeable {
       }
       if (!existed) {
         try {
-          Files.deleteIfExists(path);
+          Files.deleteIfExists(target);
         } catch (IOException deleting) {
           failed.addSuppressed(deleting);
         }
@@ -820,11 +828,35 @@ public final class McapWriter implements Closeable {
               + (existed
                   ? "the file was truncated as it was opened, so what it held before is gone and it"
                       + " is left empty (or with part of the Header): not an MCAP file"
-                  : "the file the open created is removed")
+                  : "the file the open created is removed" + linkedAs(path, target))
               + "; free the disk (or fix the device) and open the writer again",
           failed);
     }
     files.add(path);
+  }
+
+  /** The most symbolic links {@link #linkedFile} follows (Linux's own bound). */
+  private static final int MAX_LINKS = 40;
+
+  /**
+   * The file an open of {@code path} writes: {@code path} itself, or, if it is a symbolic link,
+   * the file it leads to (through links to links), whether that exists yet or not; {@code path}
+   * for a loop of links, which the open then fails on, touching nothing.
+   */
+  static Path linkedFile(Path path) throws IOException {
+    Path file = path;
+    for (int links = 0; Files.isSymbolicLink(file); links++) {
+      if (links == MAX_LINKS) {
+        return path;
+      }
+      file = file.resolveSibling(Files.readSymbolicLink(file));
+    }
+    return file;
+  }
+
+  /** How a message names the file a link leads to: nothing if {@code path} is no link. */
+  private static String linkedAs(Path path, Path target) {
+    return target.equals(path) ? "" : " (" + target + ", where the symbolic link " + path + " leads; the link stays)";
   }
 
   /** The next file of a rotated recording. */

@@ -173,7 +173,8 @@ public final class RecordingMcap {
    * @return the number of messages written
    * @throws IOException if the file cannot be written: a failure after its Header (a full disk)
    *     names the file and says what became of it: removed if this write created it (the path is
-   *     as it was), or else left empty (what it held was gone once the writer truncated it), so
+   *     as it was; at a symbolic link to a file not there yet, the file made where it leads), or
+   *     else left empty (what it held was gone once the writer truncated it), so
    *     that no unfinished file is left for a reader to take as the recording
    * @throws IllegalArgumentException if {@code types} names a name that is not recorded, a
    *     channel's type cannot be made from its first value's class, a name with no type given has

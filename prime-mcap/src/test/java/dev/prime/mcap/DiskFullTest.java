@@ -119,6 +119,35 @@ class DiskFullTest {
   }
 
   /**
+   * A path that is a symbolic link to a file not there yet: the write creates that file, so a
+   * full disk removes it (the link is left as it was) and says so, not that an earlier file's
+   * contents are gone.
+   */
+  @Test
+  void aRecordingWriteThroughADanglingLinkThatFillsTheDiskRemovesTheFileItCreated() throws Exception {
+    Path target = dir.resolve("run.mcap");
+    Path link = dir.resolve("latest.mcap");
+    try {
+      Files.createSymbolicLink(link, target.getFileName());
+    } catch (UnsupportedOperationException | IOException e) {
+      assumeTrue(false, "no symbolic links here: " + e);
+    }
+    try (PrimeCore core = new LibertyCore(CoreConfig.builder().recording(RecordingOptions.ring(16)).build())) {
+      Recording recording = recorded(core, 16);
+
+      IOException e = assertThrows(IOException.class,
+          () -> RecordingMcap.write(recording, link, Map.of(), Map.of(), fullAfter(2)));
+
+      assertEquals(List.of(link), filesIn(), "the link alone, as before: no half-written file, nor an empty one: "
+          + e.getMessage());
+      assertTrue(Files.isSymbolicLink(link) && Files.readSymbolicLink(link).equals(target.getFileName()),
+          "the link stays as it was");
+      assertTrue(e.getMessage().contains("No space left on device") && e.getMessage().contains("removed")
+          && !e.getMessage().contains("what it held before is gone"), e.getMessage());
+    }
+  }
+
+  /**
    * A writer (the one {@link RecordingMcap#stream} records into) whose disk fills keeps what it
    * wrote, which {@link McapReader#openUnfinished} reads; its close says the file is unfinished.
    */

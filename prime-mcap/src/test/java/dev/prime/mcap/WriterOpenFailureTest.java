@@ -10,6 +10,7 @@ import java.io.IOException;
 import java.nio.ByteBuffer;
 import java.nio.channels.FileChannel;
 import java.nio.file.Files;
+import java.nio.file.LinkOption;
 import java.nio.file.Path;
 import java.util.Arrays;
 import java.util.List;
@@ -177,6 +178,32 @@ class WriterOpenFailureTest {
     assertTrue(e.getMessage().contains(file.toString()), e.getMessage());
     assertFalse(Files.exists(file), "the file the open created is removed: " + e.getMessage());
     assertFalse(Files.exists(RecordingLock.lockPath(file)), "the path is given up");
+  }
+
+  /**
+   * A symbolic link whose file is not there yet: the open creates that file, so a failure writing
+   * its Header removes it (the link is left as it was, leading nowhere) and says so, not that an
+   * earlier file's contents are gone.
+   */
+  @Test
+  void aFailureWritingTheHeaderOfTheFileADanglingLinkLeadsToRemovesThatFile() throws Exception {
+    Path target = dir.resolve("run.mcap");
+    Path link = dir.resolve("latest.mcap");
+    try {
+      Files.createSymbolicLink(link, target.getFileName());
+    } catch (UnsupportedOperationException | IOException e) {
+      assumeTrue(false, "no symbolic links here: " + e);
+    }
+
+    IOException e = assertThrows(IOException.class,
+        () -> McapWriter.open(link, McapWriterOptions.defaults().synchronous(), FULL_DISK).close());
+
+    assertFalse(Files.exists(target, LinkOption.NOFOLLOW_LINKS), "the file the open created is removed: " + e.getMessage());
+    assertTrue(Files.isSymbolicLink(link), "the link stays: " + e.getMessage());
+    assertTrue(e.getMessage().contains("removed") && !e.getMessage().contains("what it held before is gone"),
+        e.getMessage());
+    assertFalse(Files.exists(RecordingLock.lockPath(link)) || Files.exists(RecordingLock.lockPath(target)),
+        "the path is given up");
   }
 
   /**
