@@ -65,6 +65,13 @@ import java.util.stream.Collectors;
  *       library}, {@code messages} and {@code topics}.
  *   <li>The output is a complete MCAP file like {@link McapWriter}'s: uncompressed chunks with
  *       message indexes, a summary with statistics, chunk and metadata indexes.
+ *   <li><b>The output is a new file</b>, moved onto the output path once complete (so that a
+ *       merge that fails leaves the output as it was; see {@link #merge(List, Path)}), not the
+ *       earlier file rewritten in place, as a {@link McapWriter} opened there rewrites it. So a
+ *       hard link to the earlier output keeps the earlier contents (it is no longer the output),
+ *       and the output has the permissions (those the umask leaves), owner and group of a file
+ *       the merging process creates, not the earlier file's: set them again after the merge if
+ *       they matter. Through a symbolic link this is the file the link leads to; the link stays.
  * </ul>
  *
  * <p>Memory: the open chunk of the output, plus, per input, the chunks that overlap in time with
@@ -172,14 +179,18 @@ public final class McapMerge {
    *     file there has, so that none of the user's is replaced; forced to the storage device, then
    *     moved into place, and the folder forced): a merge that fails leaves it as it was, and
    *     removes that file, and
-   *     one that returned survives a power cut; not one of the inputs. The output is a recording
-   *     of one file: the rotated files of an earlier recording at that path ({@code
-   *     run-0001.mcap}... for {@code run.mcap}) are deleted just before the move, from the last
-   *     one back, as a {@link McapWriter} opened there deletes them, so that {@link
+   *     one that returned survives a power cut; not one of the inputs. Being a new file, the
+   *     output has a new file's permissions, owner and group, not the earlier one's, and a hard
+   *     link to the earlier output keeps the earlier contents (see the class description). The
+   *     output is a recording of one file: the rotated files of an earlier recording at that path
+   *     ({@code run-0001.mcap}... for {@code run.mcap}) are deleted just before the move, from the
+   *     last one back, as a {@link McapWriter} opened there deletes them, so that {@link
    *     McapReader#recordingFiles} lists the merge alone (a deletion that fails fails the merge,
    *     the earlier recording left without a gap). If it is a symbolic link, the link stays: the
    *     file it leads to is the one replaced (or made), as a writer opened at a link writes that
-   *     file, and the merge is refused while a writer writes it
+   *     file, and the merge is refused while a writer writes it; the rotated files deleted are
+   *     those named after the link ({@code latest-0001.mcap}... beside {@code latest.mcap}), as a
+   *     writer opened at the link deletes them, not those named after the file it leads to
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
    *     (or another merge), in this JVM or another process, is writing the output path, or a rotated

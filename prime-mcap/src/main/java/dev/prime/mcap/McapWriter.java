@@ -303,7 +303,10 @@ public final class McapWriter implements Closeable {
    *   <li>the rotated files of an earlier recording at this path ({@link #rotatedPath}{@code
    *       (path, n)}, n from 1) are deleted, so that {@link McapReader#recordingFiles} lists this
    *       recording's files only, from the last one back: an open that fails on one leaves the
-   *       earlier recording's first file and the rotated files before that one;
+   *       earlier recording's first file and the rotated files before that one. At a symbolic
+   *       link these are the files named after the link ({@code latest-0001.mcap}... beside
+   *       {@code latest.mcap}, the names this writer's rotations take), not those named after the
+   *       file it leads to;
    *   <li>the first file is opened: created, or truncated to nothing (a file that cannot be opened
    *       to write, such as one without write permission, fails here as it was, untruncated);
    *   <li>its magic and Header are written. An I/O error here (a full disk, a failing device),

@@ -7,9 +7,13 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import static org.junit.jupiter.api.Assumptions.assumeTrue;
 
 import java.io.IOException;
+import java.nio.file.FileSystems;
 import java.nio.file.Files;
 import java.nio.file.Path;
+import java.nio.file.attribute.PosixFilePermission;
+import java.nio.file.attribute.PosixFilePermissions;
 import java.util.List;
+import java.util.Set;
 import java.util.stream.Stream;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.io.TempDir;
@@ -77,6 +81,95 @@ class MergeOutputLinkTest {
     try (McapReader reader = McapReader.open(fresh)) {
       assertEquals(3, reader.messageCount("robot"));
     }
+  }
+
+  /** An earlier recording of at least three files (two rotated) at {@code first}. */
+  private static List<Path> rotatedRecording(Path first) throws IOException {
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous().chunkSize(64).rotateAtSize(512);
+    try (McapWriter writer = McapWriter.open(first, options)) {
+      McapChannel<Reading> channel = writer.channel("earlier", Reading.class);
+      for (int i = 0; i < 1_000 && writer.files().size() < 3; i++) {
+        assertTrue(channel.write(i, i, i, new Reading(i)));
+      }
+      assertTrue(writer.files().size() >= 3, "the earlier recording rotated: " + writer.files());
+      return writer.files();
+    }
+  }
+
+  /**
+   * A writer opened at a link, and a merge into one, delete the rotated files of an earlier
+   * recording named after the link ({@code latest-0001.mcap}, the names its own rotations take),
+   * not those named after the file it leads to ({@code run-0001.mcap}).
+   */
+  @Test
+  void aWriterAtALinkAndAMergeIntoOneDeleteTheRotatedFilesNamedAfterTheLink() throws Exception {
+    Path robot = recording(dir.resolve("robot.mcap"), "robot", 3);
+    Path runs = Files.createDirectory(dir.resolve("runs"));
+    Path target = recording(runs.resolve("run.mcap"), "earlier", 1);
+    Path targetRotated = Files.writeString(McapWriter.rotatedPath(target, 1), "named after the file the link leads to");
+    Path link = link(dir.resolve("latest.mcap"), dir.relativize(target));
+
+    List<Path> earlier = rotatedRecording(link);
+    assertEquals(earlier, McapReader.recordingFiles(link), "the earlier recording at the link");
+    assertEquals(McapWriter.rotatedPath(link, 1), earlier.get(1), "its rotated files are named after the link");
+    McapMerge.merge(List.of(robot), link);
+    assertEquals(List.of(link), McapReader.recordingFiles(link), "the merge is the recording at the link");
+    for (Path rotated : earlier.subList(1, earlier.size())) {
+      assertTrue(Files.notExists(rotated), rotated + " is deleted");
+    }
+    assertTrue(Files.isSymbolicLink(link), "the link stays");
+    assertTrue(Files.exists(targetRotated), "a file named after the file the link leads to is not the link's");
+
+    earlier = rotatedRecording(link);
+    assertTrue(earlier.size() >= 3, earlier.toString());
+    try (McapWriter writer = McapWriter.open(link, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(writer.channel("later", Reading.class).write(1, 1, 1, new Reading(1)));
+    }
+    assertEquals(List.of(link), McapReader.recordingFiles(link), "the writer's recording alone, as the merge's");
+    assertTrue(Files.exists(targetRotated), "and the writer leaves it too");
+  }
+
+  /**
+   * A merge moves a new file onto the output (so that one that fails leaves the output as it
+   * was): a hard link to the earlier output keeps the earlier contents, and the output has a new
+   * file's permissions, not the earlier file's; a writer, which truncates the file in place, keeps
+   * both.
+   */
+  @Test
+  void aMergedOutputIsANewFileHardLinksKeepTheEarlierOneAndPermissionsAreANewFiles() throws Exception {
+    assumeTrue(FileSystems.getDefault().supportedFileAttributeViews().contains("posix"), "needs POSIX permissions");
+    Path robot = recording(dir.resolve("robot.mcap"), "robot", 3);
+    Path output = recording(dir.resolve("run.mcap"), "earlier", 1);
+    Path newFile = Files.createFile(dir.resolve("new-file"));
+    Set<PosixFilePermission> fresh = Files.getPosixFilePermissions(newFile);
+    Set<PosixFilePermission> ownerOnly = PosixFilePermissions.fromString("r--------");
+    assumeTrue(!fresh.equals(ownerOnly), "a umask that gives new files r-------- already");
+    Files.setPosixFilePermissions(output, ownerOnly);
+    Path hard;
+    try {
+      hard = Files.createLink(dir.resolve("hard.mcap"), output);
+    } catch (UnsupportedOperationException | IOException e) {
+      assumeTrue(false, "no hard links here: " + e);
+      throw new AssertionError(e);
+    }
+    byte[] earlier = Files.readAllBytes(output);
+
+    McapMerge.merge(List.of(robot), output);
+
+    assertArrayEquals(earlier, Files.readAllBytes(hard), "the hard link keeps the earlier output");
+    assertTrue(!Files.isSameFile(hard, output), "and is no longer the output");
+    assertEquals(fresh, Files.getPosixFilePermissions(output), "the output has a new file's permissions");
+    try (McapReader reader = McapReader.open(output)) {
+      assertEquals(3, reader.messageCount("robot"));
+    }
+
+    Files.setPosixFilePermissions(output, PosixFilePermissions.fromString("rw-------"));
+    Path writerHard = Files.createLink(dir.resolve("writer-hard.mcap"), output);
+    try (McapWriter writer = McapWriter.open(output, McapWriterOptions.defaults().synchronous())) {
+      assertTrue(writer.channel("later", Reading.class).write(1, 1, 1, new Reading(1)));
+    }
+    assertTrue(Files.isSameFile(writerHard, output), "a writer rewrites the file in place");
+    assertEquals(PosixFilePermissions.fromString("rw-------"), Files.getPosixFilePermissions(output));
   }
 
   /**
