@@ -1098,6 +1098,53 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * architecture.md (<i>Interrupts</i>): the same holds when the chain the block calls is another
+   * open core's (its {@code toBlock()}): on Liberty and Radiant the called block runs inline, on
+   * Optimus the call is made as if the flag were not set, whichever open core the chain is of; the
+   * flag is set again after the call, and the service clears it before its next value.
+   */
+  @Test
+  default void aBlockThatInterruptedItsThreadStillGetsTheResultOfAnotherCoresChainItCalls()
+      throws InterruptedException {
+    List<String> seen = new java.util.concurrent.CopyOnWriteArrayList<>();
+    List<Throwable> failures = new java.util.concurrent.CopyOnWriteArrayList<>();
+    CoreConfig config = failuresInto(failures);
+    try (PrimeCore other = newCore(config);
+        PrimeCore core = newCore(config)) {
+      Block<Integer, Integer> callee =
+          other.chain("other-core-callee", (Integer x) -> x + 1).toBlock();
+      other.start();
+      EventBlock<Integer> events = new EventBlock<>();
+      Reader<Integer> results =
+          core.source("restless-cross-caller", events)
+              .then(
+                  core.chain(
+                      "cross-caller",
+                      (Integer x) -> {
+                        boolean flaggedBefore = Thread.currentThread().isInterrupted();
+                        Thread.currentThread().interrupt();
+                        Integer result = callee.process(x);
+                        seen.add(
+                            x
+                                + (flaggedBefore ? " flagged before" : "")
+                                + (Thread.currentThread().isInterrupted() ? " flagged after" : ""));
+                        return result;
+                      }))
+              .reader();
+      core.start();
+      events.publish(1);
+      events.publish(2);
+      assertEquals(
+          List.of(2, 3), takeOrFail(results, 2), "each value's call to the other core got its result");
+      assertEquals(
+          List.of("1 flagged after", "2 flagged after"),
+          seen,
+          "the flag stays set after the call, and the next value starts without it");
+      assertEquals(List.of(), failures, "nothing failed");
+    }
+  }
+
   /** A configuration whose error handler adds every failure it gets to {@code failures}. */
   private static CoreConfig failuresInto(List<Throwable> failures) {
     return CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();

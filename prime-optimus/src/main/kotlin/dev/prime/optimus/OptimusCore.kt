@@ -232,7 +232,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     private val threadNumbers = AtomicInteger()
     private val threads = ConcurrentLinkedQueue<Thread>()
     private val executor: ExecutorService = Executors.newCachedThreadPool { task ->
-        Thread(task, "prime-${name()}-optimus-${threadNumbers.incrementAndGet()}").apply {
+        val owner = this
+        Thread({ ownerOfThread.set(owner); task.run() }, "prime-${name()}-optimus-${threadNumbers.incrementAndGet()}").apply {
             isDaemon = true
             threads += this
         }
@@ -577,8 +578,10 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
-     * Clears the interrupt flag of the calling thread if it is one of this core's own (a service,
-     * a template, a listener) and the core is open, and says whether it did. Such a flag was left
+     * Clears the interrupt flag of the calling thread if it is one of the own threads (a service,
+     * a template, a listener) of an open Optimus core of this JVM (this one or another: a block
+     * may call another core's chain through its `toBlock()`) and this core is open too, and says
+     * whether it did. Such a flag was left
      * by a block (an `ifThenElse` condition, a block that interrupted itself before calling a
      * chain): while the core is open, the services clear the flag before their next value, and
      * only [close] ends them, or, for a generic service, the loss of its host lease to another
@@ -586,11 +589,21 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * stores is fenced by the lease). A call of a chain made then is made without the flag, as on
      * Liberty and Radiant, where the called blocks run inline and a call never waits for a reply;
      * the caller sets the flag again after the call. A close that interrupts the thread meanwhile
-     * still ends the call: it closes the call's connections, and the flag it sets ends the wait.
+     * still ends the call: this core's closes the call's connections, and the flag that either
+     * core's close sets ends the wait. A close of the thread's core that began before the flag was
+     * cleared may have set it: the flag is kept then, and the call fails as an interrupted one.
+     * A thread of no Optimus core (a user's) keeps its flag, and its call fails as interrupted.
      */
     internal fun clearFlagLeftByABlock(): Boolean {
         val current = Thread.currentThread()
-        return current.isInterrupted && !isClosed && current in threads && Thread.interrupted()
+        if (!current.isInterrupted || isClosed) return false
+        val owner = ownerOfThread.get() ?: return false
+        if (owner.isClosed || !Thread.interrupted()) return false
+        if (owner.isClosed) { // its close began meanwhile: the flag may be the close's
+            current.interrupt()
+            return false
+        }
+        return true
     }
 
     /**
@@ -1835,6 +1848,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     public companion object {
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
+
+        /** The Optimus core whose own thread the current thread is ([clearFlagLeftByABlock]); `null` on any other thread. */
+        private val ownerOfThread = ThreadLocal<OptimusCore?>()
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
