@@ -158,6 +158,64 @@ public interface MisuseConformance extends LoggingConformance {
   }
 
   /**
+   * "A {@code null} ... is a {@code NullPointerException} naming the argument" (architecture,
+   * <i>Errors</i>, "Misuse"), for what reads and feeds a source: the event block a source is made
+   * of, a source given to a link or a collector, a value published, a reader's (and a conflated
+   * reader's) timeout. Each is refused at the call, on every media the same way: a {@link
+   * NullPointerException} whose message names the parameter ({@code events}, {@code source},
+   * {@code chain}, {@code timeout}) and says it must not be {@code null} (or, for a value, what to
+   * publish instead) — never an exception the JVM or a language runtime makes up.
+   */
+  @Test
+  default void everyNullGivenToASourceOrAReaderIsRefusedNamingTheParameter()
+      throws InterruptedException {
+    try (PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> source = core.source("fed", events);
+      Reader<Integer> reader = source.reader();
+      Reader<Integer> conflated = source.conflatedReader();
+      Map<String, Map.Entry<String, Executable>> calls = new LinkedHashMap<>();
+      calls.put("source(null)", Map.entry("events", () -> core.source((EventBlock<Integer>) null)));
+      calls.put(
+          "source(name, null)", Map.entry("events", () -> core.source("unfed", (EventBlock<Integer>) null)));
+      calls.put(
+          "link(null, chain)",
+          Map.entry("source", () -> core.link((Source<Integer>) null, core.chain((Integer x) -> x))));
+      calls.put(
+          "link(source, null)",
+          Map.entry("chain", () -> core.link(source, (Chain<Integer, Integer>) null)));
+      calls.put("syncCollector(null)", Map.entry("source", () -> core.syncCollector(null)));
+      calls.put("asyncCollector(null)", Map.entry("source", () -> core.asyncCollector(null)));
+      core.start();
+      calls.put("events.publish(null)", Map.entry("Optional", () -> events.publish(null)));
+      calls.put("reader.take(null)", Map.entry("timeout", () -> reader.take(null)));
+      calls.put("conflatedReader.take(null)", Map.entry("timeout", () -> conflated.take(null)));
+      List<String> wrong = new ArrayList<>();
+      for (Map.Entry<String, Map.Entry<String, Executable>> call : calls.entrySet()) {
+        String named = call.getValue().getKey();
+        try {
+          call.getValue().getValue().execute();
+          wrong.add(call.getKey() + " was accepted");
+        } catch (NullPointerException e) {
+          String message = e.getMessage();
+          if (message == null
+              || !message.contains(named)
+              || !message.contains("null")
+              || message.contains("Parameter specified as non-null")
+              || message.contains("Cannot invoke")) {
+            wrong.add(call.getKey() + " threw a NullPointerException saying " + message);
+          }
+        } catch (Throwable t) {
+          wrong.add(call.getKey() + " threw " + t);
+        }
+      }
+      assertEquals(List.of(), wrong, "each null is refused with a NullPointerException naming it");
+      events.publish(1);
+      assertEquals(1, takeOrFail(reader), "the source still carries values after the refused calls");
+    }
+  }
+
+  /**
    * {@link PrimeCore#serviceNames()}: "in declaration order: every chain made of a block, every
    * template chain and every filter, flat-map and listener; linked chains and sources are not
    * services", and every combinator, timer and generic service, each "a service of this core":

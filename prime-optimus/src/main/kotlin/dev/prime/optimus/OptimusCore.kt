@@ -327,6 +327,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * filter, a flat-map) is only ever published by that service, and a combinator's output or a
      * timer only by the core; they are refused.
      *
+     * Both parameters are typed nullable for callers in Java, whose `null` for either is refused
+     * with a [NullPointerException] naming it and saying what to pass, as the core's other
+     * declarations refuse a `null` (rather than with the message Kotlin makes for a non-null
+     * parameter); a `null` value among [values] is an [IllegalArgumentException] naming its
+     * position and saying what to publish instead.
+     *
+     * @throws NullPointerException if [source] or [values] is `null`
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or is
      *     a service's, a combinator's or a timer's output, or a value is `null` or of a type the
      *     codec does not allow
@@ -336,7 +343,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * @throws IllegalStateException if the core is not started yet, whatever [values] holds
      * @throws CoreClosedException if the core is closed
      */
-    public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
+    public fun <T> publishAll(source: Source<T>?, values: Iterable<T>?) {
+        if (source == null) {
+            throw NullPointerException(
+                "publishAll(source, values): source must not be null; pass the Source that core.source(events) returned",
+            )
+        }
+        if (values == null) {
+            throw NullPointerException(
+                "publishAll(source, values): values must not be null; pass an empty list to publish nothing",
+            )
+        }
         checkOpen()
         val target = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }
         require(target.ofEvents) {
@@ -355,8 +372,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val beganNanos = System.nanoTime()
         val published = values.toList()
         val envelopes = holdCodec().use { held ->
-            published.map { value ->
-                requireNotNull(value) { "sources carry no null values" }
+            published.mapIndexed { index, value ->
+                requireNotNull(value) {
+                    "publishAll(source, values): value $index of values is null, and sources carry no null values; " +
+                        "publish an Optional or a sentinel instead (nothing was published)"
+                }
                 Envelope.withId(valueEnvelope(value, held), ids.next())
             }
         }

@@ -36,6 +36,47 @@ class PublishAllTest {
         }
     }
 
+    /**
+     * Called from Java, a `null` source or a `null` values is refused with a [NullPointerException]
+     * that names the parameter and says what to pass, as the core's other declarations refuse a
+     * `null`, not with the message Kotlin makes for a non-null parameter; nothing is published.
+     */
+    @Test
+    fun aNullSourceOrValuesFromJavaIsRefusedNamingIt() {
+        TestRedis.core(named()).use { core ->
+            val numbers = core.source("numbers", EventBlock<Int?>())
+            val reader = numbers.reader()
+            core.start()
+            val publishAll = OptimusCore::class.java.getMethod("publishAll", dev.prime.Source::class.java, Iterable::class.java)
+            val fromJava = { source: Any?, values: Any? ->
+                try {
+                    publishAll.invoke(core, source, values)
+                    null
+                } catch (e: java.lang.reflect.InvocationTargetException) {
+                    e.cause
+                }
+            }
+            val noSource = fromJava(null, listOf(1))
+            assertTrue(noSource is NullPointerException, "a null source: $noSource")
+            assertTrue(
+                "source must not be null" in noSource!!.message!! && "core.source(events)" in noSource.message!!,
+                noSource.message,
+            )
+            val noValues = fromJava(numbers, null)
+            assertTrue(noValues is NullPointerException, "a null values: $noValues")
+            assertTrue(
+                "values must not be null" in noValues!!.message!! && "empty list" in noValues.message!!,
+                noValues.message,
+            )
+            val nullValue = assertThrows(IllegalArgumentException::class.java) { core.publishAll(numbers, listOf(1, null, 3)) }
+            assertTrue(
+                "value 1 of values is null" in nullValue.message!! && "Optional" in nullValue.message!!,
+                nullValue.message,
+            )
+            assertEquals(Optional.empty<Int?>(), reader.poll(), "nothing was published")
+        }
+    }
+
     @Test
     fun aSourceOfAnotherCoreIsRefused() {
         TestRedis.core(named()).use { mine ->
