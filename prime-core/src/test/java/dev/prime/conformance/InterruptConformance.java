@@ -456,6 +456,39 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * As above, a chain called back by a chain its block calls ({@code ping} calls {@code pong},
+   * whose block calls {@code ping}): on Optimus {@code ping}'s service waits for {@code pong}'s,
+   * which runs on another thread, and the call back is refused at once there, not after the call
+   * timeout.
+   */
+  @Test
+  default void aChainCalledBackByAChainItCallsRecursesOnTheCallersThreadOrFailsAtOnce()
+      throws InterruptedException {
+    assertACallOfItsOwnChain(
+        (core, self) -> {
+          Block<Integer, Integer> pong =
+              core.chain("pong", (Integer x) -> self.get().process(x)).toBlock();
+          return core.chain("ping", (Integer x) -> x > 0 ? pong.process(x - 1) + 1 : 0);
+        });
+  }
+
+  /**
+   * As above, a template called by one of its parts (the branch of an {@code ifThenElse} calls
+   * the template): on Optimus the template's service waits for the part's, and the part's call of
+   * the template is refused at once, not after the call timeout.
+   */
+  @Test
+  default void aTemplateCalledByItsPartRecursesOnTheCallersThreadOrFailsAtOnce()
+      throws InterruptedException {
+    assertACallOfItsOwnChain(
+        (core, self) ->
+            core.ifThenElse(
+                (Integer x) -> x > 0,
+                core.chain("count-down", (Integer x) -> self.get().process(x - 1) + 1),
+                core.chain("at-zero", (Integer x) -> 0)));
+  }
+
+  /**
    * A chain whose block calls its own chain without end (architecture, <i>Errors</i>, "A chain
    * that calls itself"): where the call runs on the caller's thread (Liberty, Radiant) it recurses
    * until the stack's limit, and the {@link StackOverflowError} reaches the caller unwrapped;

@@ -598,6 +598,28 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
+     * Refuses a call to chain [chainName], whose own services are [serviceKeys] (each by its
+     * [CallPaths] name), if one of them waits, in this process, for the request whose block makes
+     * the call ([path], [CallPaths.current]): a chain called back by a chain its block calls, a
+     * template called by its part, a chain called through another core of its topology. That
+     * service takes one request at a time (unless it is [Hosting.UNORDERED]), so the call would
+     * wait for itself until [Builder.callTimeout]. Run only on a thread that runs a request's block.
+     */
+    internal fun refuseCallOnItsOwnPath(chainName: String, serviceKeys: Map<String, String>, path: Set<String>) {
+        for ((service, key) in serviceKeys) {
+            if (key !in path || sharedHosting.modeOf(service) == Hosting.UNORDERED) continue
+            val running = runningRequests.get().takeIf { it.active }?.service
+            throw IllegalStateException(
+                "chain '$chainName' was called from inside itself: its service '$service' is waiting for the call " +
+                    "that led to this one (" + (running?.let { "made by the block of service '$it', " } ?: "") +
+                    "through a chain its block called, a template's part or another core's block), and on Optimus a " +
+                    "service takes one request at a time, so the call would wait for itself. For recursion, let the " +
+                    "block call a method of its own rather than a chain that calls back",
+            )
+        }
+    }
+
+    /**
      * Clears the interrupt flag of the calling thread if it is one of the own threads (a service,
      * a template, a listener) of an open Optimus core of this JVM (this one or another: a block
      * may call another core's chain through its `toBlock()`) and this core is open too, and says

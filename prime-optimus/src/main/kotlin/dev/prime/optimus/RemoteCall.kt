@@ -29,11 +29,16 @@ internal class RemoteCall<I, O>(
     @Volatile
     var selfCalls: SelfCalls? = null
 
+    /** Each of [services] by the name a [CallPaths] path gives it. */
+    private val serviceKeys: Map<String, String> = services.associateWith { CallPaths.named(core.keys.serviceInput(it)) }
+
     override fun process(value: I): O {
         core.checkOpen()
         core.checkStarted("calling chain '$chainName'")
         selfCalls?.check(chainName)
         core.refuseCallThroughItself(chainName, services)
+        val path = CallPaths.current()
+        if (path != null) core.refuseCallOnItsOwnPath(chainName, serviceKeys, path)
         val flagLeft = core.clearFlagLeftByABlock()
         try {
             if (flagLeft) core.checkOpen() // the flag was the close's: the call fails as a closed core's
@@ -43,7 +48,7 @@ internal class RemoteCall<I, O>(
             val slot = core.reachingRedisFor(chainName, sent = false) { core.borrowSlot(deadline, chainName) }
             try {
                 @Suppress("UNCHECKED_CAST")
-                return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline) } as O
+                return core.explainingRefusals("calling chain '$chainName'") { slot.call(input, payload, chainName, deadline, path) } as O
             } finally {
                 core.returnSlot(slot)
             }
@@ -95,10 +100,16 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
      */
     private var roundTrip = 0L
 
-    /** Calls the service of [chainName] with [payload]; gives up at [deadline] (a [System.nanoTime]; `null`: never). */
-    fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?): Any? {
+    /**
+     * Calls the service of [chainName] with [payload]; gives up at [deadline] (a [System.nanoTime];
+     * `null`: never). [path]: the services that wait for the calling thread ([CallPaths.current]),
+     * recorded for the request while the call waits.
+     */
+    fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?, path: Set<String>?): Any? {
         val id = core.ids.next()
-        val reply = core.reachingRedisFor(chainName, sent = true) { awaitReply(id, input, payload, chainName, deadline) }
+        val reply = CallPaths.waitingFor(id, path) {
+            core.reachingRedisFor(chainName, sent = true) { awaitReply(id, input, payload, chainName, deadline) }
+        }
         return answer(reply, id)
     }
 

@@ -1,5 +1,7 @@
 package dev.prime.optimus
 
+import java.util.concurrent.ConcurrentHashMap
+
 /**
  * Refuses a call to a user of isolated chain [shared] made from inside that chain: on a thread
  * that runs, in this process, a request's block of one of the services that run only for it
@@ -33,4 +35,69 @@ internal class SelfCalls(private val core: OptimusCore, private val shared: Stri
             )
         }
     }
+}
+
+/**
+ * The services of this process that wait, on the way of calls, for what the current thread does:
+ * seen by a call made on a service's thread that goes to one of them, which would wait for itself
+ * ([OptimusCore.refuseCallOnItsOwnPath]), wherever in the path that service is.
+ *
+ * A service names itself and the services that wait for the request it takes around the request's
+ * block ([entered]); a call made in that block records the path for its request id while it
+ * waits ([waitingFor]), so the service that takes the request in this process (of any core of
+ * the JVM: a core of the same topology shares its services) adds it to its own. So a chain called
+ * back by a chain its block calls, a template called by its part, and a chain called through the
+ * block of another core of the same topology in this process are seen, not only the call made on
+ * the thread of the very service it goes to ([OptimusCore.refuseCallThroughItself]).
+ *
+ * A service is named by its input list's key ([Keys.serviceInput]), which holds its topology's
+ * name: services of two topologies are never taken for each other. The path does not travel with
+ * a request to another process: a call back made there waits as any call for a busy service, until
+ * the call timeout, as does one made on a thread the block hands it to. A call made on a thread
+ * that runs no request (a user's, a value's service) starts no path and costs a thread-local
+ * read; a request a service takes costs a read of whether any call waits in this process.
+ */
+internal object CallPaths {
+    /** The path of the request the current thread runs a block for; `null` on a thread that runs none. */
+    private val current = ThreadLocal<Set<String>?>()
+
+    /** The path of each call made, in this process, from a request's block, by its request id, while it waits. */
+    private val waiting = ConcurrentHashMap<Long, Set<String>>()
+
+    /** The path of the request the current thread runs a block for, or `null`. */
+    fun current(): Set<String>? = current.get()
+
+    /**
+     * A service ([self]: a set of its own key alone) takes request [id]: its path is [self] and
+     * the path of the call that made the request, if made in this process and still waiting.
+     */
+    fun entered(id: Long, self: Set<String>) {
+        val callers = if (waiting.isEmpty()) null else waiting[id]
+        current.set(if (callers == null) self else callers + self)
+    }
+
+    /** The service's block for the request has returned. */
+    fun left() = current.set(null)
+
+    /** Runs [call], the call of request [id] made with [path] (see [current]; `null`: none), recording the path meanwhile. */
+    inline fun <T> waitingFor(id: Long, path: Set<String>?, call: () -> T): T {
+        if (path == null) return call()
+        record(id, path)
+        try {
+            return call()
+        } finally {
+            forget(id)
+        }
+    }
+
+    fun record(id: Long, path: Set<String>) {
+        waiting[id] = path
+    }
+
+    fun forget(id: Long) {
+        waiting.remove(id)
+    }
+
+    /** The text of service key [key], as paths hold it. */
+    fun named(key: ByteArray): String = String(key, Charsets.ISO_8859_1)
 }

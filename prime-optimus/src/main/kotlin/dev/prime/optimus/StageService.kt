@@ -76,6 +76,8 @@ internal class StageService(
     seat: HostSeat? = null,
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
+    /** This service alone, as a [CallPaths] path names it. */
+    private val onPath: Set<String> = setOf(CallPaths.named(input))
     private val seat: HostSeat = seat ?: core.soleSeat(name)
     private val processing = this.seat.processing
     private val queued = core.keys.queuedOf(input)
@@ -641,9 +643,11 @@ internal class StageService(
             running.id = envelope.id
             running.service = name
             running.active = true
+            CallPaths.entered(envelope.id, onPath)
             try {
                 logic.process(value) { result = it }
             } finally {
+                CallPaths.left()
                 running.active = false
                 clearOwnInterrupt()
             }
