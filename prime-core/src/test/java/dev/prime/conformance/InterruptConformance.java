@@ -387,6 +387,23 @@ public interface InterruptConformance extends ConformanceBase {
   }
 
   /**
+   * As above, the call made by a chain the isolated chain's block calls through a block it was
+   * given ({@code toBlock()} of a chain it did not consume): on Liberty and Radiant that chain
+   * runs inline, on Optimus it is a service of its own, on another thread, whose call the isolated
+   * chain's service waits for in the same process.
+   */
+  @Test
+  default void anIsolatedChainCalledBackByAChainItCallsFailsInsteadOfWaitingForItself()
+      throws InterruptedException {
+    assertAFailedCallFromInsideItself(
+        (core, inner) -> {
+          Block<Integer, Integer> helper =
+              core.chain("helper", (Integer x) -> inner.get().process(x) + 1).toBlock();
+          return core.chain("counter", (Integer x) -> x > 0 ? helper.process(x - 1) : 0);
+        });
+  }
+
+  /**
    * As above, the call made by the chain an isolated repeater runs (on Optimus a service of its
    * own that the repeater's service calls, round after round).
    */

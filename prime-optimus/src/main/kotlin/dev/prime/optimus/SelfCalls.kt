@@ -16,14 +16,33 @@ import java.util.concurrent.ConcurrentHashMap
  * [services] are never hosted unordered (`start()` refuses it), so a process runs each of them
  * once at a time.
  *
- * What it cannot see: a call made on a thread that does not run one of those services, though on
- * the chain's behalf (the service of a chain its block calls through a block it was given, not
- * one it consumed; a thread the block hands the call to). Such a call waits as any call for a
- * busy isolated chain, up to the call timeout.
+ * A call made on a thread that runs none of those services, for a call that one of them waits
+ * for in this process (the service of a chain its block calls through a block it was given, not
+ * one it consumed), is seen through the services waiting on the way of calls ([CallPaths]). What
+ * it cannot see: a call made on a thread the block hands it to, or in another process. Such a
+ * call waits as any call for a busy isolated chain, up to the call timeout.
  */
 internal class SelfCalls(private val core: OptimusCore, private val shared: String, private val services: Set<String>) {
-    /** Throws [IllegalStateException] if this thread runs a block for the isolated chain now. */
+    /** Each of [services] by the name a [CallPaths] path gives it. */
+    private val serviceKeys: Map<String, String> = services.associateWith { CallPaths.named(core.keys.serviceInput(it)) }
+
+    /**
+     * Throws [IllegalStateException] if this thread runs a block for the isolated chain now, or
+     * for a call that such a block waits for in this process ([CallPaths]).
+     */
     fun check(chainName: String) {
+        checkThisThread(chainName)
+        val path = CallPaths.current() ?: return
+        val waiting = serviceKeys.entries.firstOrNull { it.value in path } ?: return
+        throw IllegalStateException(
+            "isolated chain '$shared' was called from inside itself: its service '${waiting.key}', which runs for it, " +
+                "is waiting for the call that led to this one (through a chain its block called), and '$chainName' is a " +
+                "user of the same isolated chain, so the call would wait for itself. Inside the shared chain, call what " +
+                "it needs directly, not through a user of its own isolated chain",
+        )
+    }
+
+    private fun checkThisThread(chainName: String) {
         val running = core.runningRequest()
         val service = running.service
         if (running.active && service in services) {

@@ -2,8 +2,9 @@ package dev.prime.optimus
 
 import dev.prime.Block
 import dev.prime.CoreConfig
-import dev.prime.PrimeException
+import dev.prime.ChainFailedException
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertInstanceOf
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
@@ -13,8 +14,8 @@ import java.util.concurrent.atomic.AtomicReference
 /**
  * A block of an isolated chain that calls the same isolated chain through another user
  * ([SelfCalls]): refused at once where the call is made on the thread of the chain's service,
- * wherever the users run; a call made on another service's thread on the chain's behalf waits,
- * as any call for a busy isolated chain, until the call timeout.
+ * wherever the users run, and where it is made on another service's thread, for a call that the
+ * chain's service waits for in the same process.
  */
 class IsolatedSelfCallTest {
 
@@ -39,14 +40,13 @@ class IsolatedSelfCallTest {
 
     /**
      * The isolated chain's block calls another chain, whose block calls the isolated chain: that
-     * call runs on the other chain's service thread, which cannot know it is made on the isolated
-     * chain's behalf. It waits, and the outer call ends by its call timeout; the calls that waited
-     * end by theirs, give up, and the isolated chain then serves the next call.
+     * call runs on the other chain's service thread, but the isolated chain's service, which waits
+     * for it in this process, is on its path ([CallPaths]): it is refused at once, not by the call
+     * timeout (60 s here), and the isolated chain then serves the next call.
      */
     @Test
-    fun aCallFromInsideItselfThroughAnotherServiceEndsByTheCallTimeout() {
-        val timeout = Duration.ofSeconds(2)
-        OptimusCore.builder().config(named()).redis(TestRedis.url).callTimeout(timeout).build().use { core ->
+    fun aCallFromInsideItselfThroughAnotherServiceIsRefusedAtOnce() {
+        TestRedis.core(named()).use { core ->
             val user = AtomicReference<Block<Int, Int>>()
             val relay = core.chain("relay") { x: Int -> user.get().process(x) }.toBlock()
             val isolated = core.isolate(core.chain("counter") { x: Int -> if (x > 0) relay.process(x - 1) + 1 else 0 })
@@ -54,11 +54,11 @@ class IsolatedSelfCallTest {
             user.set(isolated.newUser().toBlock())
             core.start()
             val began = System.nanoTime()
-            val failure = assertThrows(PrimeException::class.java) { outer.process(1) }
+            val failure = assertThrows(ChainFailedException::class.java) { outer.process(1) }
             val took = Duration.ofNanos(System.nanoTime() - began)
-            assertTrue("did not reply within $timeout" in failure.message!!, failure.toString())
-            assertTrue(took >= timeout, "ended by the call timeout, after $took")
-            // the inner calls end by their own timeouts a moment later; the next call waits for that
+            assertTrue(took < Duration.ofSeconds(10), "refused at once, not by the call timeout of 60 s: after $took")
+            val refusal = assertInstanceOf(IllegalStateException::class.java, failure.cause, failure.toString())
+            assertTrue("isolated chain 'counter' was called from inside itself" in refusal.message!!, refusal.message)
             assertEquals(0, outer.process(0), "the isolated chain serves the next call")
         }
     }
