@@ -8,9 +8,11 @@ import java.io.UncheckedIOException;
 import java.net.InetAddress;
 import java.net.ServerSocket;
 import java.net.Socket;
+import java.nio.charset.StandardCharsets;
 import java.time.Duration;
 import java.util.Set;
 import java.util.concurrent.ConcurrentHashMap;
+import java.util.concurrent.CountDownLatch;
 import java.util.concurrent.TimeUnit;
 import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.atomic.AtomicReference;
@@ -41,6 +43,7 @@ final class FaultProxy implements AutoCloseable {
   private long firstClientCloseSinceFreeze = -1; // guarded by gate
   private volatile long delayNanos;
   private final AtomicReference<byte[]> cutPattern = new AtomicReference<>();
+  private final AtomicReference<Trigger> trigger = new AtomicReference<>();
   private final AtomicInteger cuts = new AtomicInteger();
   private final AtomicInteger accepted = new AtomicInteger();
   private final AtomicInteger threadNumbers = new AtomicInteger();
@@ -115,6 +118,26 @@ final class FaultProxy implements AutoCloseable {
    */
   void cutAfterNextClientWrite(byte[] pattern) {
     cutPattern.set(pattern.clone());
+  }
+
+  /**
+   * Arms a one-shot trigger: the next client write that contains every one of {@code parts} runs
+   * {@code action} on the proxy's thread before it is forwarded (a fault that strikes just as a
+   * given command is sent, such as killing the server: the write then reaches no server).
+   *
+   * @return a latch that opens once {@code action} has run
+   */
+  CountDownLatch beforeNextClientWriteContaining(Runnable action, String... parts) {
+    byte[][] patterns = new byte[parts.length][];
+    for (int i = 0; i < parts.length; i++) patterns[i] = parts[i].getBytes(StandardCharsets.UTF_8);
+    Trigger armed = new Trigger(patterns, action);
+    trigger.set(armed);
+    return armed.fired;
+  }
+
+  /** Connections open now (each a client's socket and its upstream socket). */
+  int openConnections() {
+    return connections.size();
   }
 
   /** How many connections were cut after a marked client write was answered. */
@@ -216,6 +239,7 @@ final class FaultProxy implements AutoCloseable {
           long delay = delayNanos;
           if (delay > 0) LockSupport.parkNanos(delay);
           if (fromClient) markIfArmed(buffer, n); // before the write: its answer may come at once
+          if (fromClient) fireIfArmed(buffer, n);
           forward(fromClient ? heldUp : heldDown, out, buffer, n);
         }
       } catch (IOException e) {
@@ -269,6 +293,31 @@ final class FaultProxy implements AutoCloseable {
       connections.remove(this);
       closeQuietly(client);
       closeQuietly(upstream);
+    }
+  }
+
+  /** A one-shot action run before the first client write that contains all of {@code patterns}. */
+  private record Trigger(byte[][] patterns, Runnable action, CountDownLatch fired) {
+    Trigger(byte[][] patterns, Runnable action) {
+      this(patterns, action, new CountDownLatch(1));
+    }
+
+    boolean matches(byte[] chunk, int length) {
+      for (byte[] pattern : patterns) {
+        if (!contains(chunk, length, pattern)) return false;
+      }
+      return true;
+    }
+  }
+
+  private void fireIfArmed(byte[] chunk, int length) {
+    Trigger armed = trigger.get();
+    if (armed != null && armed.matches(chunk, length) && trigger.compareAndSet(armed, null)) {
+      try {
+        armed.action.run();
+      } finally {
+        armed.fired.countDown();
+      }
     }
   }
 

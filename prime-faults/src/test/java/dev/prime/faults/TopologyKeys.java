@@ -19,6 +19,16 @@ final class TopologyKeys {
     return prefix + "svc:" + service + ":in";
   }
 
+  /** The host lease of a service that has one host at a time: the id of the instance that runs it. */
+  String hostLease(String service) {
+    return prefix + "svc:" + service + ":host";
+  }
+
+  /** Host leases of the topology's services, as a SCAN pattern. */
+  String hostLeases() {
+    return prefix + "svc:*:host";
+  }
+
   String sourceReaders(String source) {
     return prefix + "src:" + source + ":readers";
   }

@@ -1,0 +1,222 @@
+package dev.prime.faults;
+
+import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
+import static org.junit.jupiter.api.Assertions.assertTrue;
+
+import dev.prime.Chain;
+import dev.prime.EventBlock;
+import dev.prime.PrimeCore;
+import dev.prime.Reader;
+import dev.prime.Source;
+import dev.prime.optimus.OptimusCore;
+import java.nio.file.Path;
+import java.time.Duration;
+import java.util.List;
+import java.util.Set;
+import java.util.concurrent.CompletableFuture;
+import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.TimeUnit;
+import java.util.concurrent.atomic.AtomicReference;
+import org.junit.jupiter.api.Test;
+import org.junit.jupiter.api.io.TempDir;
+import redis.clients.jedis.Jedis;
+
+/**
+ * A declaration made after {@code start()} that hosts a service here and fails (another process
+ * holds the service's host lease) is taken back and can be made again, also when the process that
+ * held the lease is killed with SIGKILL, when redis-server is killed and restarted while the failed
+ * declaration is undone or while its retry is made: counted in values lost and duplicated, seconds
+ * to recover and host leases left behind.
+ */
+class RetriedDeclarationFaultTest {
+  /** How a one-key {@code HOST_RELEASE} script call starts on the wire: EVALSHA, its hash, 1, the key, the instance. */
+  private static final String ONE_KEY_RELEASE = "*5\r\n$7\r\nEVALSHA\r\n";
+  /** How a two-key {@code HOST_CLAIM} script call starts: EVALSHA, its hash, 2, two keys, the instance, the lease. */
+  private static final String TWO_KEY_CLAIM = "*7\r\n$7\r\nEVALSHA\r\n";
+
+  @Test
+  void aRetryAfterAKilledHostsLeaseLapsedHostsTheServiceAndEveryValueArrivesOnce() throws Exception {
+    int n = FaultMode.current().idsPerRun;
+    String name = "retried-after-kill";
+    TopologyKeys keys = new TopologyKeys(name);
+    AtomicReference<Ledger> sink = new AtomicReference<>();
+    EventBlock<Long> ids = new EventBlock<>();
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        Jedis raw = redis.client();
+        OptimusCore observer = Cores.core(redis.url(), name, StreamTopology.WIDE_RETENTION);
+        OptimusCore declaring = Cores.builder(redis.url(), name, StreamTopology.WIDE_RETENTION, null).build()) {
+      var stream = StreamTopology.declareStream(observer, ids, 0, true);
+      Source<Long> declaredIds = declaring.source("ids", new EventBlock<Long>());
+      Chain<Long, Long> stamp = declaring.chain("stamp", id -> 2 * StreamTopology.GENERATION + id);
+      observer.start();
+      declaring.start();
+      LedgerFeed.start(stream.observer(), sink, name);
+      StreamRun runs = new StreamRun(redis.url(), name, StreamTopology.WIDE_RETENTION, ids, sink);
+      Ledger ledger = new Ledger(0, n);
+      sink.set(ledger);
+      CountDownLatch killed = new CountDownLatch(1);
+      Thread publisher;
+      String refusal;
+      long refusedIn;
+      long killedAt;
+      long lapsedIn;
+      long retriedIn;
+      try (WorkerJvm host = runs.startWorker(1)) {
+        publisher = StreamRun.publisher(ids, ledger, 0, n, 2 * n / 5, killed);
+        assertTrue(ledger.awaitDistinct(n / 3, FaultMode.PATIENCE), "before the refusal: " + ledger.counts() + "\n" + host.output());
+        long started = System.nanoTime();
+        IllegalStateException refused = assertThrows(IllegalStateException.class, () -> declaredIds.then(stamp),
+            "the worker holds the host lease of 'stamp'");
+        refusedIn = System.nanoTime() - started;
+        refusal = refused.getMessage();
+        host.kill();
+        killedAt = System.nanoTime();
+      }
+      Source<Long> hosted;
+      try {
+        killed.countDown(); // the rest is published while nobody hosts 'stamp'
+        lapsedIn = Bounded.await(Duration.ofSeconds(20), () -> !raw.exists(keys.hostLease("stamp")));
+        long retried = System.nanoTime();
+        hosted = declaredIds.then(stamp);
+        retriedIn = System.nanoTime() - retried;
+        ledger.awaitAll(FaultMode.PATIENCE);
+        Bounded.hold(Duration.ofMillis(300)); // duplicates would come right behind
+      } finally {
+        killed.countDown();
+        publisher.join(FaultMode.PATIENCE.toMillis());
+      }
+      long recovered = ledger.firstArrivalOf(2).orElse(Long.MAX_VALUE);
+      Figures.report("retried declaration after a SIGKILLed host: refused after " + Figures.seconds(refusedIn)
+          + ", the killed host's lease lapsed " + (lapsedIn < 0 ? "never" : Figures.seconds(lapsedIn)) + " after the kill, the retry took "
+          + Figures.seconds(retriedIn) + "; " + ledger.counts() + ", first value of the retried host "
+          + (recovered == Long.MAX_VALUE ? "never" : Figures.seconds(recovered - killedAt)) + " after the kill, host switches "
+          + ledger.tagSwitches());
+      assertDeclarationRefused(refusal, "stamp");
+      assertTrue(lapsedIn >= 0, "the killed worker's host lease of 'stamp' lapses");
+      assertEquals(Set.of("stamp"), Set.copyOf(declaring.serviceNames()), "the retried declaration hosts 'stamp' here");
+      assertTrue(hosted != null && recovered != Long.MAX_VALUE, "the retried host delivers values");
+      assertEquals(0, ledger.lost(), ledger.counts());
+      assertEquals(0, ledger.duplicated(), ledger.counts());
+      assertEquals(0, ledger.reordered(), ledger.counts());
+      assertEquals(0, ledger.refusedCount(), ledger.counts());
+      assertEquals(1, ledger.tagSwitches(), "the worker, then the retried host: never both");
+    }
+  }
+
+  @Test
+  void redisKilledWhileAFailedDeclarationIsUndoneAndWhileItsRetryIsMadeLosesNothing(@TempDir Path dir) throws Exception {
+    int before = FaultMode.current().idsPerRun / 4;
+    int after = FaultMode.current().idsPerRun / 4;
+    String name = "retried-redis-kill";
+    TopologyKeys keys = new TopologyKeys(name);
+    Duration lease = Duration.ofSeconds(2);
+    AtomicReference<Ledger> sink = new AtomicReference<>();
+    EventBlock<Long> ids = new EventBlock<>();
+    Ledger ledger = new Ledger(0, before + after);
+    sink.set(ledger);
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.AOF_ALWAYS, dir);
+        FaultProxy proxy = new FaultProxy(redis.port())) {
+      OptimusCore observer = Cores.builder(redis.url(), name, StreamTopology.WIDE_RETENTION, null)
+          .hosts(List.of()).leaseTime(lease).build();
+      OptimusCore holder = Cores.builder(redis.url(), name, StreamTopology.WIDE_RETENTION, null)
+          .hosts(List.of("stamp")).leaseTime(lease).build();
+      OptimusCore declaring = Cores.builder(proxy.url(), name, StreamTopology.WIDE_RETENTION, null).leaseTime(lease).build();
+      try {
+        Reader<Long> results = linked(observer, ids, 0).reader();
+        linked(holder, new EventBlock<>(), 1);
+        Source<Long> declaredIds = declaring.source("ids", new EventBlock<Long>());
+        observer.start();
+        holder.start();
+        declaring.start();
+        Chain<Long, Long> chain = declaring.<Long, Long>chain("pre", id -> id)
+            .then(declaring.chain("stamp", id -> 2 * StreamTopology.GENERATION + id));
+        LedgerFeed.start(results, sink, name);
+        for (long id = 0; id < before; id++) ids.publish(id); // accepted: they wait in the input of 'pre', which nobody hosts
+
+        // 1. the declaration claims 'pre', is refused 'stamp', and Redis is killed as it gives 'pre' back
+        CountDownLatch killedInUndo = proxy.beforeNextClientWriteContaining(redis::kill, ONE_KEY_RELEASE, keys.hostLease("pre"));
+        CompletableFuture<Long> restartedInUndo = restartOnce(redis, killedInUndo);
+        long started = System.nanoTime();
+        IllegalStateException refused = assertThrows(IllegalStateException.class, () -> declaredIds.then(chain),
+            "another core holds the host lease of 'stamp'");
+        long refusedIn = System.nanoTime() - started;
+        assertEquals(0, killedInUndo.getCount(), "Redis was killed as the failed declaration gave the lease of 'pre' back");
+        long undoOutage = restartedInUndo.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        assertDeclarationRefused(refused.getMessage(), "stamp");
+        holder.close(); // the other host is gone: its lease is released
+
+        // 2. the retry claims both leases, and Redis is killed as it does
+        CountDownLatch killedInRetry = proxy.beforeNextClientWriteContaining(redis::kill, TWO_KEY_CLAIM,
+            keys.hostLease("pre"), keys.hostLease("stamp"));
+        CompletableFuture<Long> restartedInRetry = restartOnce(redis, killedInRetry);
+        long retried = System.nanoTime();
+        Source<Long> hosted = declaredIds.then(chain);
+        long retriedIn = System.nanoTime() - retried;
+        assertEquals(0, killedInRetry.getCount(), "Redis was killed as the retry claimed the host leases");
+        long retryOutage = restartedInRetry.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        for (long id = before; id < before + after; id++) {
+          try {
+            ids.publish(id);
+          } catch (RuntimeException e) {
+            ledger.refused(id);
+          }
+        }
+        boolean all = ledger.awaitAll(FaultMode.PATIENCE);
+        Bounded.hold(Duration.ofMillis(300)); // duplicates would come right behind
+        Set<String> serving = Set.copyOf(declaring.serviceNames());
+        String preHolder;
+        try (Jedis raw = redis.client()) {
+          preHolder = raw.get(keys.hostLease("pre"));
+          declaring.close();
+          observer.close();
+          Set<String> leasesLeft = Leftovers.keys(raw, keys.hostLeases());
+          Figures.report("redis SIGKILLed (AOF always) while a failed declaration was undone (down " + Figures.seconds(undoOutage)
+              + "; refused after " + Figures.seconds(refusedIn) + ") and while its retry claimed its leases (down "
+              + Figures.seconds(retryOutage) + "; the retry took " + Figures.seconds(retriedIn) + "): " + ledger.counts()
+              + ", " + before + " of them accepted before the first kill; " + leasesLeft.size() + " host leases left after close");
+          assertTrue(all, "every value arrives: " + ledger.counts());
+          assertEquals(0, ledger.lost(), ledger.counts());
+          assertEquals(0, ledger.duplicated(), ledger.counts());
+          assertEquals(0, ledger.reordered(), ledger.counts());
+          assertEquals(0, ledger.refusedCount(), ledger.counts());
+          assertEquals(Set.of("pre", "stamp"), serving, "the retry hosts both services of the chain here");
+          assertTrue(hosted != null && preHolder != null, "the retry holds the host lease of 'pre'");
+          assertEquals(Set.of(), leasesLeft, "host leases left behind after every core closed");
+        }
+      } finally {
+        declaring.close();
+        holder.close();
+        observer.close();
+      }
+    }
+  }
+
+  /** Declares {@code ids → pre → stamp} (stamp marking with {@code generation}) on {@code core}. */
+  private static Source<Long> linked(PrimeCore core, EventBlock<Long> ids, int generation) {
+    Chain<Long, Long> pre = core.chain("pre", id -> id);
+    Chain<Long, Long> stamp = core.chain("stamp", id -> generation * StreamTopology.GENERATION + id);
+    return core.source("ids", ids).then(pre.then(stamp));
+  }
+
+  /** Restarts {@code redis} with its data once {@code killed} opens; the outage's nanoseconds. */
+  private static CompletableFuture<Long> restartOnce(RedisProcess redis, CountDownLatch killed) {
+    return CompletableFuture.supplyAsync(() -> {
+      try {
+        if (!killed.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS)) return -1L;
+      } catch (InterruptedException e) {
+        Thread.currentThread().interrupt();
+        return -1L;
+      }
+      long down = System.nanoTime();
+      redis.restart(true);
+      return System.nanoTime() - down;
+    });
+  }
+
+  /** A refusal of a declaration after start() names the service and says the declaration can be made again. */
+  private static void assertDeclarationRefused(String message, String service) {
+    assertTrue(message != null && message.contains("already hosted by") && message.contains("'" + service + "'"), message);
+    assertTrue(message.contains("can be made again"), message);
+  }
+}
