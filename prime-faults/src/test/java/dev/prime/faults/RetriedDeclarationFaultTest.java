@@ -1,10 +1,13 @@
 package dev.prime.faults;
 
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import dev.prime.Chain;
+import dev.prime.CoreClosedException;
+import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.PrimeCore;
 import dev.prime.Reader;
@@ -26,14 +29,17 @@ import redis.clients.jedis.Jedis;
  * A declaration made after {@code start()} that hosts a service here and fails (another process
  * holds the service's host lease) is taken back and can be made again, also when the process that
  * held the lease is killed with SIGKILL, when redis-server is killed and restarted while the failed
- * declaration is undone or while its retry is made: counted in values lost and duplicated, seconds
- * to recover and host leases left behind.
+ * declaration is undone or while its retry is made, and when the network to Redis freezes while the
+ * declaration waits: counted in values lost and duplicated, seconds to recover, threads,
+ * connections and host leases left behind.
  */
 class RetriedDeclarationFaultTest {
   /** How a one-key {@code HOST_RELEASE} script call starts on the wire: EVALSHA, its hash, 1, the key, the instance. */
   private static final String ONE_KEY_RELEASE = "*5\r\n$7\r\nEVALSHA\r\n";
   /** How a two-key {@code HOST_CLAIM} script call starts: EVALSHA, its hash, 2, two keys, the instance, the lease. */
   private static final String TWO_KEY_CLAIM = "*7\r\n$7\r\nEVALSHA\r\n";
+  /** How a one-key {@code HOST_CLAIM} script call starts. */
+  private static final String ONE_KEY_CLAIM = "*6\r\n$7\r\nEVALSHA\r\n";
 
   @Test
   void aRetryAfterAKilledHostsLeaseLapsedHostsTheServiceAndEveryValueArrivesOnce() throws Exception {
@@ -192,6 +198,66 @@ class RetriedDeclarationFaultTest {
     }
   }
 
+  @Test
+  void closeWhileADeclarationWaitsOnAFrozenRedisEndsInTimeAndLeavesNothing() throws Exception {
+    String name = "retried-frozen";
+    Duration shutdown = Duration.ofSeconds(5);
+    TopologyKeys keys = new TopologyKeys(name);
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port());
+        WorkerJvm host = WorkerJvm.start(name + "-host", "stream", redis.url(), name,
+            Integer.toString(StreamTopology.WIDE_RETENTION), "1")) {
+      host.awaitReady();
+      int threadsBefore = Leftovers.threadsOf(name).size();
+      OptimusCore declaring = OptimusCore.builder()
+          .config(CoreConfig.builder().name(name).shutdownTimeout(shutdown).build())
+          .redis(proxy.url()).build();
+      CompletableFuture<Object> declaration = new CompletableFuture<>();
+      try {
+        Source<Long> declaredIds = declaring.source("ids", new EventBlock<Long>());
+        Chain<Long, Long> stamp = declaring.chain("stamp", id -> 2 * StreamTopology.GENERATION + id);
+        declaring.start();
+        int connectionsOpen = proxy.openConnections();
+        // the declaration claims the lease the worker holds, and the network freezes as it asks
+        CountDownLatch frozen = proxy.beforeNextClientWriteContaining(proxy::freeze, ONE_KEY_CLAIM, keys.hostLease("stamp"));
+        Thread declarer = new Thread(() -> {
+          try {
+            declaration.complete(declaredIds.then(stamp));
+          } catch (Throwable e) {
+            declaration.complete(e);
+          }
+        }, "fault-declarer");
+        declarer.start();
+        assertTrue(frozen.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "the declaration claimed the lease of 'stamp'");
+        long closing = System.nanoTime();
+        declaring.close();
+        long closeTook = System.nanoTime() - closing;
+        List<String> threadsAtReturn = Leftovers.threadsOf(name);
+        Object outcome = declaration.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        long declarationEnded = System.nanoTime() - closing;
+        long threadsGone = Bounded.await(Duration.ofSeconds(10), () -> Leftovers.threadsOf(name).size() <= threadsBefore);
+        long connectionsGone = Bounded.await(Duration.ofSeconds(10), () -> proxy.openConnections() == 0);
+        List<String> threadsLeft = Leftovers.threadsOf(name);
+        int connectionsLeft = proxy.openConnections();
+        Figures.report("close() while a declaration waits on a frozen Redis: close " + Figures.seconds(closeTook)
+            + " (shutdownTimeout " + Figures.seconds(shutdown) + "), the declaration ended " + Figures.seconds(declarationEnded)
+            + " after the close began with " + describe(outcome) + "; left: " + (threadsLeft.size() - threadsBefore)
+            + " threads of the core (" + threadsBefore + " before it; " + (threadsAtReturn.size() - threadsBefore)
+            + " as close() returned), " + connectionsLeft + " of " + connectionsOpen
+            + " proxied connections (gone " + (connectionsGone < 0 ? "never" : "after " + Figures.seconds(connectionsGone)) + ")"
+            + ", threads gone " + (threadsGone < 0 ? "never" : "after " + Figures.seconds(threadsGone)));
+        assertTrue(closeTook <= shutdown.toNanos(), "close() took " + Figures.seconds(closeTook));
+        assertInstanceOf(CoreClosedException.class, outcome, "the waiting declaration ends with the close: " + describe(outcome));
+        assertEquals(threadsBefore, threadsAtReturn.size(), "threads of the core still running as close() returned: " + threadsAtReturn);
+        assertEquals(threadsBefore, threadsLeft.size(), "threads of the core left: " + threadsLeft);
+        assertEquals(0, connectionsLeft, "connections left open through the proxy");
+      } finally {
+        proxy.thaw();
+        declaring.close();
+      }
+    }
+  }
+
   /** Declares {@code ids → pre → stamp} (stamp marking with {@code generation}) on {@code core}. */
   private static Source<Long> linked(PrimeCore core, EventBlock<Long> ids, int generation) {
     Chain<Long, Long> pre = core.chain("pre", id -> id);
@@ -218,5 +284,9 @@ class RetriedDeclarationFaultTest {
   private static void assertDeclarationRefused(String message, String service) {
     assertTrue(message != null && message.contains("already hosted by") && message.contains("'" + service + "'"), message);
     assertTrue(message.contains("can be made again"), message);
+  }
+
+  private static String describe(Object outcome) {
+    return outcome instanceof Throwable e ? e.getClass().getSimpleName() + " (" + e.getMessage() + ")" : "no exception: " + outcome;
   }
 }

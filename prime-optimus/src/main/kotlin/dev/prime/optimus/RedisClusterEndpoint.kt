@@ -6,6 +6,7 @@ import redis.clients.jedis.exceptions.JedisAccessControlException
 import redis.clients.jedis.exceptions.JedisClusterOperationException
 import redis.clients.jedis.exceptions.JedisConnectionException
 import redis.clients.jedis.providers.ClusterConnectionProvider
+import java.net.Socket
 import java.time.Duration
 
 /**
@@ -105,9 +106,9 @@ internal class ClusterRoute(private val cluster: RedisClusterEndpoint, keys: Key
 
     override val user: String? get() = cluster.user
 
-    override fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration): Jedis {
+    override fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration, onSocket: (Socket) -> Unit): Jedis {
         val config = RedisEndpoint.clientConfig(cluster.user, cluster.password, cluster.tls, 0, clientName, timeout, blockingTimeout)
-        return RedisEndpoint.open(master(timeout), config)
+        return RedisEndpoint.open(master(timeout), config, onSocket)
     }
 
     override fun routeFailed() {

@@ -7,6 +7,8 @@ import redis.clients.jedis.Protocol
 import redis.clients.jedis.exceptions.JedisConnectionException
 import redis.clients.jedis.exceptions.JedisDataException
 import redis.clients.jedis.exceptions.JedisRedirectionException
+import java.io.IOException
+import java.net.Socket
 import java.net.SocketTimeoutException
 import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
@@ -17,8 +19,10 @@ import java.util.concurrent.atomic.AtomicBoolean
 /**
  * Every Redis connection of one core, so that closing the core closes them all: closing a
  * connection is the only way to wake a thread blocked in a socket read (neither an interrupt nor
- * a coroutine cancellation does). Blocking commands ask the server for at most [POLL_SECONDS];
- * the socket of a blocking command gives up after [BLOCKING_SOCKET_TIMEOUT], so a half-open
+ * a coroutine cancellation does). That holds for a connection still logging in too ([open] keeps
+ * its socket from the moment it is connected), or a thread waiting for a frozen Redis to answer
+ * its login would outlast the close by up to its timeout. Blocking commands ask the server for at
+ * most [POLL_SECONDS]; the socket of a blocking command gives up after [BLOCKING_SOCKET_TIMEOUT], so a half-open
  * connection is noticed instead of waiting forever. Operations with a deadline (a call, a timed
  * read) bound connecting and every socket wait by that deadline as well ([RedisSession.once]).
  * On a Redis Cluster every connection goes to the master of the topology's slot ([ClusterRoute]);
@@ -33,6 +37,8 @@ internal class RedisConnections(
     val replicaAcks: ReplicaAcks? = null,
 ) {
     private val open: MutableSet<Jedis> = ConcurrentHashMap.newKeySet()
+    // the sockets of connections still logging in ([open]), which [closeAll] closes too
+    private val connecting: MutableSet<Socket> = ConcurrentHashMap.newKeySet()
     private val closedLatch = CountDownLatch(1)
     // the latches of waits that also end on their owner's close (pauseInterruptibly(millis, wake)); closeAll opens them
     private val wakes: MutableSet<CountDownLatch> = ConcurrentHashMap.newKeySet()
@@ -45,12 +51,20 @@ internal class RedisConnections(
     /** A new connection; [timeout] bounds connecting, logging in and each later command's reply. */
     fun open(timeout: Duration = COMMAND_TIMEOUT): Jedis {
         ensureOpen()
+        var socket: Socket? = null // this connection's, while it logs in (set on this thread)
         val jedis = try {
-            endpoint.connect("prime-$coreName", timeout, BLOCKING_SOCKET_TIMEOUT)
+            endpoint.connect("prime-$coreName", timeout, BLOCKING_SOCKET_TIMEOUT) { connected ->
+                socket = connected
+                connecting += connected
+                if (isClosed) closeQuietly(connected) // closeAll ran meanwhile: it may not have seen it
+            }
         } catch (e: RuntimeException) {
+            if (isClosed) throw CoreClosedException(coreName).apply { initCause(e) }
             if (isTransient(e)) endpoint.routeFailed()
             if (e is JedisDataException && e.message?.contains(MAX_CLIENTS) == true) throw TooManyClients(endpoint.toString(), e)
             throw e
+        } finally {
+            socket?.let(connecting::remove)
         }
         open.add(jedis)
         if (isClosed) {
@@ -66,6 +80,14 @@ internal class RedisConnections(
             jedis.close()
         } catch (_: RuntimeException) {
             // a broken connection may fail to close cleanly; it is gone either way
+        }
+    }
+
+    private fun closeQuietly(socket: Socket) {
+        try {
+            socket.close()
+        } catch (_: IOException) {
+            // closed either way
         }
     }
 
@@ -129,6 +151,7 @@ internal class RedisConnections(
         isClosed = true
         closedLatch.countDown()
         wakes.forEach(CountDownLatch::countDown)
+        for (socket in connecting.toList()) closeQuietly(socket)
         for (jedis in open.toList()) release(jedis)
         endpoint.close()
     }

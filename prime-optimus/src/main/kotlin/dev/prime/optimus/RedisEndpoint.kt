@@ -7,6 +7,7 @@ import redis.clients.jedis.Jedis
 import redis.clients.jedis.JedisClientConfig
 import redis.clients.jedis.SslOptions
 import java.io.ByteArrayOutputStream
+import java.net.Socket
 import java.nio.charset.StandardCharsets.UTF_8
 import java.time.Duration
 
@@ -36,8 +37,8 @@ internal class RedisEndpoint private constructor(
      * exceed the longest server-side wait the caller asks for. Errors are Jedis's, which never
      * hold the password.
      */
-    override fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration): Jedis =
-        open(HostAndPort(host, port), clientConfig(user, password, tls, database, clientName, timeout, blockingTimeout))
+    override fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration, onSocket: (Socket) -> Unit): Jedis =
+        open(HostAndPort(host, port), clientConfig(user, password, tls, database, clientName, timeout, blockingTimeout), onSocket)
 
     override fun toString(): String {
         val login = when {
@@ -112,9 +113,10 @@ internal class RedisEndpoint private constructor(
         /**
          * A connection to [address], connected (errors are Jedis's, which never hold the password).
          * Its socket is opened once ([OneSocket]): a closed connection fails, never reconnects.
+         * [onSocket] gets the socket before the login ([RedisTarget.connect]).
          */
-        fun open(address: HostAndPort, config: JedisClientConfig): Jedis {
-            val jedis = Jedis(OneSocket(DefaultJedisSocketFactory(address, config)), config)
+        fun open(address: HostAndPort, config: JedisClientConfig, onSocket: (Socket) -> Unit = {}): Jedis {
+            val jedis = Jedis(OneSocket(DefaultJedisSocketFactory(address, config), onSocket), config)
             try {
                 jedis.connect()
             } catch (e: RuntimeException) {

@@ -1,6 +1,7 @@
 package dev.prime.optimus
 
 import redis.clients.jedis.Jedis
+import java.net.Socket
 import java.time.Duration
 
 /**
@@ -15,9 +16,11 @@ internal interface RedisTarget {
     /**
      * Opens a new connection to the server that holds the core's keys. [timeout] bounds
      * connecting, logging in and every command; [blockingTimeout] bounds how long a blocking
-     * command may keep the socket silent.
+     * command may keep the socket silent. [onSocket] gets the connection's socket as soon as it is
+     * connected, before logging in, on the calling thread: closing it ends a login that waits for
+     * a Redis that does not answer.
      */
-    fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration): Jedis
+    fun connect(clientName: String, timeout: Duration, blockingTimeout: Duration, onSocket: (Socket) -> Unit = {}): Jedis
 
     /**
      * A connection failed or Redis redirected a command: the next [connect] looks up again which
