@@ -5,6 +5,7 @@ import static org.junit.jupiter.api.Assertions.assertInstanceOf;
 import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.Block;
 import dev.prime.Chain;
 import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
@@ -147,7 +148,7 @@ class RetriedDeclarationFaultTest {
         IllegalStateException refused = assertThrows(IllegalStateException.class, () -> declaredIds.then(chain),
             "another core holds the host lease of 'stamp'");
         long refusedIn = System.nanoTime() - started;
-        assertEquals(0, killedInUndo.getCount(), "Redis was killed as the failed declaration gave the lease of 'pre' back");
+        assertTrue(killedInUndo.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "Redis was killed as the failed declaration gave the lease of 'pre' back");
         long undoOutage = restartedInUndo.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
         assertDeclarationRefused(refused.getMessage(), "stamp");
         holder.close(); // the other host is gone: its lease is released
@@ -159,7 +160,7 @@ class RetriedDeclarationFaultTest {
         long retried = System.nanoTime();
         Source<Long> hosted = declaredIds.then(chain);
         long retriedIn = System.nanoTime() - retried;
-        assertEquals(0, killedInRetry.getCount(), "Redis was killed as the retry claimed the host leases");
+        assertTrue(killedInRetry.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "Redis was killed as the retry claimed the host leases");
         long retryOutage = restartedInRetry.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
         for (long id = before; id < before + after; id++) {
           try {
@@ -194,6 +195,67 @@ class RetriedDeclarationFaultTest {
         declaring.close();
         holder.close();
         observer.close();
+      }
+    }
+  }
+
+  @Test
+  void redisKilledWhileARefusedTemplateIsTakenBackAndWhileItIsMadeAgain(@TempDir Path dir) throws Exception {
+    int calls = 200;
+    String name = "retried-template-kill";
+    TopologyKeys keys = new TopologyKeys(name);
+    Duration lease = Duration.ofSeconds(2);
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.AOF_ALWAYS, dir);
+        FaultProxy proxy = new FaultProxy(redis.port())) {
+      OptimusCore holder = Cores.builder(redis.url(), name, 1024, null).leaseTime(lease).build();
+      OptimusCore declaring = Cores.builder(proxy.url(), name, 1024, null).leaseTime(lease).build();
+      try {
+        holder.<Long, Long>chain("below", x -> -x).toBlock();
+        holder.start();
+        declaring.start();
+        Chain<Long, Long> above = declaring.chain("above", x -> x + 1);
+        Chain<Long, Long> below = declaring.chain("below", x -> -x);
+
+        // 1. 'above' is bound and runs, 'below' is refused, and Redis is killed as 'above' is taken back
+        CountDownLatch killedInUndo = proxy.beforeNextClientWriteContaining(redis::kill, ONE_KEY_RELEASE, keys.hostLease("above"));
+        CompletableFuture<Long> restartedInUndo = restartOnce(redis, killedInUndo);
+        long started = System.nanoTime();
+        IllegalStateException refused = assertThrows(IllegalStateException.class,
+            () -> declaring.ifThenElse((Long x) -> x >= 0, above, below), "another core holds the host lease of 'below'");
+        long refusedIn = System.nanoTime() - started;
+        assertTrue(killedInUndo.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "Redis was killed as the refused template gave the lease of 'above' back");
+        long undoOutage = restartedInUndo.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        assertDeclarationRefused(refused.getMessage(), "below");
+        holder.close();
+
+        // 2. the same template again, and Redis is killed as it claims the lease of 'above'
+        CountDownLatch killedInRetry = proxy.beforeNextClientWriteContaining(redis::kill, ONE_KEY_CLAIM, keys.hostLease("above"));
+        CompletableFuture<Long> restartedInRetry = restartOnce(redis, killedInRetry);
+        long retried = System.nanoTime();
+        Block<Long, Long> chosen = declaring.ifThenElse((Long x) -> x >= 0, above, below).toBlock();
+        long retriedIn = System.nanoTime() - retried;
+        assertTrue(killedInRetry.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "Redis was killed as the retry claimed the lease of 'above'");
+        long retryOutage = restartedInRetry.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        int wrong = 0;
+        for (long i = 0; i < calls; i++) {
+          long x = i % 2 == 0 ? i : -i;
+          if (chosen.process(x) != (x >= 0 ? x + 1 : -x)) wrong++;
+        }
+        Set<String> serving = Set.copyOf(declaring.serviceNames());
+        try (Jedis raw = redis.client()) {
+          declaring.close();
+          Set<String> leasesLeft = Leftovers.keys(raw, keys.hostLeases());
+          Figures.report("redis SIGKILLed (AOF always) while a refused template was taken back (down " + Figures.seconds(undoOutage)
+              + "; refused after " + Figures.seconds(refusedIn) + ") and while it was made again (down " + Figures.seconds(retryOutage)
+              + "; the retry took " + Figures.seconds(retriedIn) + "): " + calls + " calls, " + wrong + " wrong; hosting " + serving
+              + "; " + leasesLeft.size() + " host leases left after close");
+          assertEquals(0, wrong, "every call of the template made again returns its branch's value");
+          assertTrue(serving.containsAll(Set.of("above", "below")), "both parts run here: " + serving);
+          assertEquals(Set.of(), leasesLeft, "host leases left behind after every core closed");
+        }
+      } finally {
+        declaring.close();
+        holder.close();
       }
     }
   }
