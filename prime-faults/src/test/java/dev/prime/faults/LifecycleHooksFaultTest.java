@@ -105,6 +105,61 @@ class LifecycleHooksFaultTest {
     }
   }
 
+  @Test
+  void redisKilledWhileAHookStartsInStart() throws Exception {
+    String name = "hooks-redis-killed-in-hook";
+    Hooks hooks = new Hooks();
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null)) {
+      OptimusCore core = core(redis.url(), name);
+      try {
+        EventBlock<Long> ids = new EventBlock<>();
+        core.source("ids", ids).reader();
+        hooks.add(core);
+        CountDownLatch killed = new CountDownLatch(1);
+        AtomicInteger publishing = new AtomicInteger();
+        AtomicInteger closedWhilePublishing = new AtomicInteger();
+        core.whenRunning("publisher", () -> {
+          redis.kill(); // Redis dies as this hook starts, inside start()
+          killed.countDown();
+          publishing.incrementAndGet();
+          try {
+            ids.publish(1L); // waits for Redis until the close ends it
+          } finally {
+            publishing.decrementAndGet();
+          }
+        }, () -> {
+          if (publishing.get() > 0) closedWhilePublishing.incrementAndGet();
+          hooks.publisherClosed.incrementAndGet();
+        });
+        hooks.add(core);
+        CompletableFuture<Object> start = startOn(core);
+        assertTrue(killed.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "the second hook's start killed Redis");
+        long closing = System.nanoTime();
+        core.close();
+        long closeTook = System.nanoTime() - closing;
+        Object started = start.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        long startEnded = System.nanoTime() - closing;
+        long publisherClosed = Bounded.await(Duration.ofSeconds(10), () -> hooks.publisherClosed.get() > 0);
+        long threadsGone = Bounded.await(Duration.ofSeconds(5), () -> Leftovers.threadsOf(name).isEmpty());
+        Figures.report("whenRunning, Redis SIGKILLed by a hook's onStart inside start(), its publish waiting: close() "
+            + Figures.seconds(closeTook) + " (shutdownTimeout " + Figures.seconds(SHUTDOWN) + "), start() ended "
+            + Figures.seconds(startEnded) + " after the close began with " + describe(started) + "; onStart ran " + hooks.starts()
+            + " and onClose " + hooks.closes() + " times for the other hooks, the publishing hook's onClose "
+            + hooks.publisherClosed.get() + " times (" + closedWhilePublishing.get() + " while its onStart still ran, "
+            + (publisherClosed < 0 ? "never" : Figures.seconds(publisherClosed) + " after close() returned") + "); threads left "
+            + Leftovers.threadsOf(name).size());
+        assertEquals(List.of(1, 0), hooks.starts(), "the hook before the publishing one started, the one after it never");
+        assertEquals(List.of(1, 1), hooks.closes(), "each other hook's onClose runs once");
+        assertEquals(1, hooks.publisherClosed.get(), "the publishing hook's onClose runs once");
+        assertEquals(0, closedWhilePublishing.get(), "and only after its onStart returned");
+        assertTrue(closeTook <= 3 * SHUTDOWN.toNanos(), "close() took " + Figures.seconds(closeTook));
+        assertTrue(threadsGone >= 0, "threads left: " + Leftovers.threadsOf(name));
+      } finally {
+        core.close();
+      }
+    }
+  }
+
   private static OptimusCore core(String url, String name) {
     CoreConfig config = CoreConfig.builder().name(name).shutdownTimeout(SHUTDOWN).sourceRetention(StreamTopology.WIDE_RETENTION).build();
     return OptimusCore.builder().config(config).redis(url).build();
@@ -135,6 +190,7 @@ class LifecycleHooksFaultTest {
     private final List<AtomicInteger> starts = new ArrayList<>();
     private final List<AtomicInteger> closes = new ArrayList<>();
     final AtomicInteger closedBeforeStarting = new AtomicInteger();
+    final AtomicInteger publisherClosed = new AtomicInteger();
 
     synchronized void add(OptimusCore core) {
       AtomicInteger started = new AtomicInteger();
