@@ -3,6 +3,7 @@ package dev.prime.faults;
 import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
+import dev.prime.CoreClosedException;
 import dev.prime.CoreConfig;
 import dev.prime.EventBlock;
 import dev.prime.optimus.OptimusCore;
@@ -100,6 +101,45 @@ class LifecycleHooksFaultTest {
         assertTrue(started instanceof RuntimeException, "start() fails once the core is closed: " + describe(started));
         assertTrue(threadsGone >= 0, "threads left: " + Leftovers.threadsOf(name));
       } finally {
+        core.close();
+      }
+    }
+  }
+
+  @Test
+  void networkFrozenDuringStartAndTheCoreClosed() throws Exception {
+    String name = "hooks-frozen";
+    Hooks hooks = new Hooks();
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port())) {
+      OptimusCore core = core(proxy.url(), name);
+      try {
+        StreamTopology.declareStream(core, new EventBlock<>(), 1, false);
+        for (int i = 0; i < 3; i++) hooks.add(core);
+        CountDownLatch frozen = proxy.beforeNextClientWriteContaining(proxy::freeze, ONE_KEY_CLAIM, new TopologyKeys(name).hostLease("stamp"));
+        CompletableFuture<Object> start = startOn(core);
+        assertTrue(frozen.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "the network froze as start() claimed its host lease");
+        int connectionsOpen = proxy.openConnections();
+        long closing = System.nanoTime();
+        core.close();
+        long closeTook = System.nanoTime() - closing;
+        List<String> threadsAtReturn = Leftovers.threadsOf(name);
+        Object started = start.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+        long startEnded = System.nanoTime() - closing;
+        long connectionsGone = Bounded.await(Duration.ofSeconds(10), () -> proxy.openConnections() == 0);
+        Figures.report("whenRunning, network frozen during start(), core closed: close() " + Figures.seconds(closeTook)
+            + ", start() ended " + Figures.seconds(startEnded) + " after the close began with " + describe(started) + "; onStart ran "
+            + hooks.starts() + ", onClose " + hooks.closes() + " times per hook; " + threadsAtReturn.size()
+            + " threads of the core as close() returned, " + proxy.openConnections() + " of " + connectionsOpen
+            + " proxied connections left (gone " + (connectionsGone < 0 ? "never" : "after " + Figures.seconds(connectionsGone)) + ")");
+        assertEquals(List.of(0, 0, 0), hooks.starts(), "no onStart runs: the start never completed");
+        assertEquals(List.of(1, 1, 1), hooks.closes(), "each hook's onClose runs once");
+        assertTrue(started instanceof CoreClosedException, "start() ends with the close: " + describe(started));
+        assertTrue(closeTook <= SHUTDOWN.toNanos(), "close() took " + Figures.seconds(closeTook));
+        assertEquals(List.of(), threadsAtReturn, "threads of the core still running as close() returned");
+        assertTrue(connectionsGone >= 0, proxy.openConnections() + " connections left open through the proxy");
+      } finally {
+        proxy.thaw();
         core.close();
       }
     }
