@@ -320,6 +320,45 @@ class RetriedDeclarationFaultTest {
     }
   }
 
+  @Test
+  void anInterruptEndsADeclarationWaitingOnAFrozenRedisAndItCanBeMadeAgain() throws Exception {
+    String name = "retried-frozen-interrupt";
+    TopologyKeys keys = new TopologyKeys(name);
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port());
+        OptimusCore declaring = Cores.builder(proxy.url(), name, 1024, null).build()) {
+      declaring.start();
+      Chain<Long, Long> late = declaring.chain("late", x -> x + 1);
+      CountDownLatch frozen = proxy.beforeNextClientWriteContaining(proxy::freeze, ONE_KEY_CLAIM, keys.hostLease("late"));
+      CompletableFuture<Object> declaration = new CompletableFuture<>();
+      Thread declarer = new Thread(() -> {
+        try {
+          declaration.complete(late.toBlock());
+        } catch (Throwable e) {
+          declaration.complete(e);
+        }
+      }, "fault-declarer");
+      declarer.start();
+      assertTrue(frozen.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "the declaration claimed the lease of 'late'");
+      long interrupted = System.nanoTime();
+      declarer.interrupt();
+      Object outcome = declaration.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+      long ended = System.nanoTime() - interrupted;
+      proxy.thaw();
+      long retried = System.nanoTime();
+      Block<Long, Long> block = late.toBlock();
+      long retriedIn = System.nanoTime() - retried;
+      long answer = block.process(1L);
+      Figures.report("an interrupt of a declaration waiting on a frozen Redis: it ended " + Figures.seconds(ended)
+          + " after the interrupt with " + describe(outcome) + "; made again after the thaw in " + Figures.seconds(retriedIn)
+          + ", its block answered " + answer);
+      assertTrue(outcome instanceof dev.prime.PrimeException && !(outcome instanceof CoreClosedException),
+          "the interrupted declaration fails with a PrimeException saying so: " + describe(outcome));
+      assertTrue(ended < Duration.ofSeconds(2).toNanos(), "the interrupt ends the wait within about a second: " + Figures.seconds(ended));
+      assertEquals(2L, answer, "the same declaration works once Redis answers again");
+    }
+  }
+
   /** Declares {@code ids → pre → stamp} (stamp marking with {@code generation}) on {@code core}. */
   private static Source<Long> linked(PrimeCore core, EventBlock<Long> ids, int generation) {
     Chain<Long, Long> pre = core.chain("pre", id -> id);

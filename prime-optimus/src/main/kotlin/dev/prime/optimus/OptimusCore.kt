@@ -307,7 +307,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     internal fun serviceOn(source: OptimusSource<*>, stages: List<StageSpec>, output: String?, chain: String = stages.first().name): OptimusSource<Any>? {
         val published = output?.let { OptimusSource<Any>(this, it, ofEvents = false) }
-        interruptibleInOutage({ "linking to source '${source.name()}'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+        interruptibleInOutage({ "linking to source '${source.name()}'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE, abortsWaitsForAnswers = true) {
             bindToSource(chain, source, stages, published)
         }
         return published
@@ -415,7 +415,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         if (!isStarted) return
         val wasRunning = name !in notRunning
         try {
-            interruptibleInOutage({ "declaring generic service '$name'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+            interruptibleInOutage({ "declaring generic service '$name'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE, abortsWaitsForAnswers = true) {
                 launchHosted(name) { runInterruptible { loop.run() } }
             }
         } catch (e: Throwable) {
@@ -689,6 +689,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         { "start() of core '${name()}'" },
         "; the core started only in part: close it and make a new one",
         WAITED_FOR_REDIS_OR_LEASE,
+        abortsWaitsForAnswers = true,
     ) {
         startHere()
     }
@@ -750,7 +751,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     override fun hostOnCoreThreads(service: String) {
         if (!isHosted(service) || isClosed || service in hostLeases.services) return
         // refused: the declaration fails and is forgotten, nothing runs
-        interruptibleInOutage({ "declaring '$service'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+        interruptibleInOutage({ "declaring '$service'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE, abortsWaitsForAnswers = true) {
             claimHostLeases(listOf(service), "'$service' declared after start()")
         }
         coreThreadClaims += service
@@ -915,7 +916,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * calls are such is read from the topology at [start], or at once after it.
      */
     internal fun <I, O> bindForCalls(chainName: String, stages: List<StageSpec>): Block<I, O> {
-        interruptibleInOutage({ "declaring chain '$chainName'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE) {
+        interruptibleInOutage({ "declaring chain '$chainName'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE, abortsWaitsForAnswers = true) {
             bind(chainName, stages, null, counted = false)
         }
         calledServices[chainName] = stages.map { it.name }
@@ -1043,15 +1044,29 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Runs [op], which may wait between two attempts to reach Redis (an outage) on the caller's
      * thread. That wait ends with [CoreClosedException] when the thread's interrupt flag is set: on
      * an open core, [op] fails instead with a [dev.prime.PrimeException] saying that [what] was
-     * interrupted while it waited [waitedFor] (then [outcome]), the flag kept.
+     * interrupted while it waited [waitedFor] (then [outcome]), the flag kept. With
+     * [abortsWaitsForAnswers] (a declaration, a start) an interrupt that comes while [op] waits for
+     * Redis's answer ends that wait too, at once, the same way ([RedisSession.ABORTS_ON_INTERRUPT]):
+     * a frozen Redis answers never, and the socket would wait out its timeout.
      */
     internal inline fun <T> interruptibleInOutage(
         what: () -> String,
         outcome: String = "",
         waitedFor: String = "to reach Redis again",
+        abortsWaitsForAnswers: Boolean = false,
         op: () -> T,
     ): T = try {
-        op()
+        if (abortsWaitsForAnswers) {
+            val outer = RedisSession.ABORTS_ON_INTERRUPT.get()
+            RedisSession.ABORTS_ON_INTERRUPT.set(true)
+            try {
+                op()
+            } finally {
+                RedisSession.ABORTS_ON_INTERRUPT.set(outer)
+            }
+        } else {
+            op()
+        }
     } catch (e: CoreClosedException) {
         if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
         throw dev.prime.PrimeException(

@@ -10,6 +10,7 @@ import redis.clients.jedis.exceptions.JedisRedirectionException
 import java.io.IOException
 import java.net.Socket
 import java.net.SocketTimeoutException
+import java.nio.channels.ClosedByInterruptException
 import java.time.Duration
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.CountDownLatch
@@ -257,7 +258,16 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 current.connection.setSoTimeout(limit)
                 socketMillis = limit
             }
-            val result = op(current)
+            val result = if (ABORTS_ON_INTERRUPT.get() == true && !Thread.currentThread().isInterrupted) {
+                try {
+                    InterruptibleWait(this).run { op(current) }
+                } catch (e: ClosedByInterruptException) {
+                    // as an interrupted pause between two attempts ends ([RedisConnections.pause])
+                    throw CoreClosedException(connections.coreName).apply { initCause(e) }
+                }
+            } else {
+                op(current)
+            }
             if (confirmed) connections.replicaAcks?.confirm(current, deadline)
             return result
         } catch (e: Exception) {
@@ -430,6 +440,17 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
     }
 
     companion object {
+        /**
+         * Set on a thread while it makes a declaration or a start that an interrupt ends
+         * ([OptimusCore.interruptibleInOutage]): then an interrupt that comes while an operation
+         * of a session waits for Redis's answer aborts its connection at once ([InterruptibleWait])
+         * and the operation fails with [CoreClosedException], as an interrupted pause between two
+         * attempts does; else a frozen Redis would hold the interrupted thread until the socket
+         * timeout ([RedisConnections.COMMAND_TIMEOUT]). A flag set before the operation began
+         * changes nothing (it is seen by the pauses, as before).
+         */
+        val ABORTS_ON_INTERRUPT: ThreadLocal<Boolean> = ThreadLocal()
+
         private const val MIN_WAIT_MS = 10L
         private val POLL_MILLIS = (RedisConnections.POLL_SECONDS * 1000).toLong()
 
