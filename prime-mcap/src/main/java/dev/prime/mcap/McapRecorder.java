@@ -27,9 +27,12 @@ import java.util.logging.Logger;
  * a type was given). A value that cannot be written (no channel type for its class, JSON encoding
  * fails, its message is larger than the queue's byte bound, or its name came after the 65535
  * channels a file holds) is counted in {@link
- * #unwritableCount()} with its first reason. {@link #close()} unsubscribes, flushes the queue,
- * finishes the file (whose {@code prime.mcap} Metadata record reports the drops) and logs a line
- * when anything was lost. A recorder that is never closed goes on recording, and holds its path,
+ * #unwritableCount()} with its first reason. Both losses are in the loss record of the file
+ * being written when they happen (its {@code prime.mcap} Metadata record: {@code
+ * dropped_messages} and {@code dropped.<topic>} for the drops, {@code unwritable_messages} for the
+ * values that could not be written), so a reader of the file alone sees that values are missing.
+ * {@link #close()} unsubscribes, flushes the queue, finishes the file and logs a line when
+ * anything was lost. A recorder that is never closed goes on recording, and holds its path,
  * as its {@link McapWriter} does, until its JVM exits (see "One writer per path" there).
  */
 public final class McapRecorder implements AutoCloseable {
@@ -135,6 +138,7 @@ public final class McapRecorder implements AutoCloseable {
 
   private void unwritable(String reason) {
     unwritable.increment();
+    writer.countUnwritable();
     firstUnwritable.compareAndSet(null, reason);
   }
 
@@ -156,7 +160,8 @@ public final class McapRecorder implements AutoCloseable {
   /**
    * {@return values that could not be written: no channel type for their class, encoding failed,
    * a message larger than the queue's byte bound, or a name recorded after the file's last
-   * channel (a file holds at most 65535, one per name)}
+   * channel (a file holds at most 65535, one per name); each file's loss record counts those of
+   * its time as {@code unwritable_messages}}
    */
   public long unwritableCount() {
     return unwritable.sum();

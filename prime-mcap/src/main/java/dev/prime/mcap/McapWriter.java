@@ -52,7 +52,9 @@ import java.util.stream.Stream;
  * A write that finds the queue full does not wait: the message is dropped, counted in
  * {@link #droppedCount()} and per channel, and the loss is reported in the file itself (a
  * {@code prime.mcap} Metadata record per file: {@code dropped_messages} and
- * {@code dropped.<topic>} counts). A message larger than the queue's byte bound could never be
+ * {@code dropped.<topic>} counts, and {@code unwritable_messages}, the values an {@link
+ * McapRecorder} could not write at all, see {@link McapRecorder#unwritableCount()}; 0 when the
+ * writer is used directly). A message larger than the queue's byte bound could never be
  * queued, not even on an empty queue: its write is refused with an {@link
  * IllegalArgumentException} naming its size and the bound, and nothing is dropped. If the disk
  * fails, the writer thread stops writing, the messages after it count as dropped, and {@link
@@ -130,6 +132,12 @@ public final class McapWriter implements Closeable {
   /** The name of the Metadata record that reports losses, one per file. */
   public static final String LOSS_METADATA = "prime.mcap";
 
+  /**
+   * The key of the loss record ({@value #LOSS_METADATA}) that counts the values a recorder ({@link
+   * McapRecorder}) could not write while the file was being written; 0 for a writer used directly.
+   */
+  static final String UNWRITABLE_MESSAGES = "unwritable_messages";
+
   /** The most channels a file holds: channel ids are 16 bits, and 0 is none. */
   static final int MAX_CHANNELS = 0xFFFF;
 
@@ -157,6 +165,8 @@ public final class McapWriter implements Closeable {
   private final BlockingQueue<Entry> queue;
   private final AtomicLong queuedBytes = new AtomicLong();
   private final LongAdder dropped = new LongAdder();
+  /** Values an {@link McapRecorder} could not write (see {@link #countUnwritable()}). */
+  private final LongAdder unwritable = new LongAdder();
   private final AtomicInteger inFlight = new AtomicInteger();
   private volatile boolean closed;
   private final Thread thread;
@@ -176,6 +186,7 @@ public final class McapWriter implements Closeable {
   private volatile String failedFileFate;
   private int fileIndex;
   private long droppedAtFileStart;
+  private long unwritableAtFileStart;
   private int metadataAtFileStart;
   private final Map<Integer, Long> channelDroppedAtFileStart = new HashMap<>();
   private volatile IOException failure;
@@ -595,6 +606,15 @@ public final class McapWriter implements Closeable {
     }
   }
 
+  /**
+   * Counts a value that its recorder ({@link McapRecorder}) could not write (no channel type, a
+   * message larger than the queue's byte bound, a name past the channel limit), so that the loss
+   * record of the file being written says values are missing ({@value #UNWRITABLE_MESSAGES}).
+   */
+  void countUnwritable() {
+    unwritable.increment();
+  }
+
   /** The number of channels defined so far (at most {@link #MAX_CHANNELS}). */
   int channelCount() {
     synchronized (definitions) {
@@ -890,7 +910,8 @@ public final class McapWriter implements Closeable {
     }
     try {
       if (file == null) {
-        if (dropped.sum() == droppedAtFileStart && metadata.size() == metadataAtFileStart) {
+        if (dropped.sum() == droppedAtFileStart && unwritable.sum() == unwritableAtFileStart
+            && metadata.size() == metadataAtFileStart) {
           return;
         }
         openNextFile();
@@ -907,9 +928,11 @@ public final class McapWriter implements Closeable {
       }
       // counted once: what is dropped after this goes into the next file's report
       long droppedNow = dropped.sum();
+      long unwritableNow = unwritable.sum();
       Map<Integer, Long> channelDroppedNow = new HashMap<>();
       Map<String, String> loss = new TreeMap<>();
       loss.put("dropped_messages", Long.toString(droppedNow - droppedAtFileStart));
+      loss.put(UNWRITABLE_MESSAGES, Long.toString(unwritableNow - unwritableAtFileStart));
       for (int id : ids) {
         McapChannel<?> channel = channelsById.get(id);
         channelDroppedNow.put(id, channel.droppedCount());
@@ -922,6 +945,7 @@ public final class McapWriter implements Closeable {
         Durability.forceFolderOf(currentPath(), opener);
       }
       droppedAtFileStart = droppedNow;
+      unwritableAtFileStart = unwritableNow;
       channelDroppedAtFileStart.clear();
       channelDroppedAtFileStart.putAll(channelDroppedNow);
       metadataAtFileStart = records.size();

@@ -307,6 +307,44 @@ class McapRecorderTest {
   }
 
   /**
+   * Values the recorder could not write are in the file's own loss record ({@code
+   * unwritable_messages} in {@value McapWriter#LOSS_METADATA}, next to {@code dropped_messages}),
+   * so that a reader of the file alone sees that values are missing.
+   */
+  @Test
+  void valuesTheRecorderCouldNotWriteAreCountedInTheFilesLossRecord() throws Exception {
+    Path file = dir.resolve("unwritable.mcap");
+    try (PrimeCore core = core(4); RecorderWarnings logged = new RecorderWarnings()) {
+      EventBlock<String> words = new EventBlock<>();
+      EventBlock<Integer> ticks = new EventBlock<>();
+      core.source("words", words);
+      Source<Integer> source = core.source("ticks", ticks);
+      Reader<Opaque> opaque = source.then(core.chain("opaque", (Integer t) -> new Opaque(t))).reader();
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults().queue(16, 512));
+      try (recorder) {
+        // recorded on this thread (Liberty) before publish returns
+        words.publish("before");
+        words.publish("x".repeat(2_000)); // larger than the queue's byte bound
+        for (int i = 0; i < 2; i++) {
+          ticks.publish(i); // its chain's Opaque value has no channel type
+          assertTrue(opaque.take(Duration.ofSeconds(10)).isPresent());
+        }
+        words.publish("after");
+        assertEquals(3, recorder.unwritableCount(), "the large value and the two Opaque values");
+        assertEquals(0, recorder.droppedCount());
+      }
+      assertEquals(1, logged.lines().size(), logged.lines().toString());
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      Map<String, String> loss = reader.metadata(McapWriter.LOSS_METADATA).get(0);
+      assertEquals("3", loss.get("unwritable_messages"), "the file says values are missing: " + loss);
+      assertEquals("0", loss.get("dropped_messages"), loss.toString());
+    }
+  }
+
+  /**
    * A file holds at most {@value McapWriter#MAX_CHANNELS} channels: the values of a name recorded
    * past that are unwritable for that reason, which the close's WARNING line gives with what to
    * do, not as values without a channel type (their type is fine); the other names are written.
