@@ -24,7 +24,8 @@ import java.util.logging.Logger;
  * encodes the value and offers it to the writer's queue, which never waits: when the writer
  * cannot keep up the value is dropped and counted ({@link #droppedCount()}), never stalling the
  * controller. A name's channel is defined on its first value (typed by that value's class unless
- * a type was given). A value that cannot be written (no channel type for its class, JSON encoding
+ * a type was given); a name the writer refuses a channel (past the channel limit) is refused
+ * once, its later values counted without asking the writer again. A value that cannot be written (no channel type for its class, JSON encoding
  * fails, its message is larger than the queue's byte bound, or its name came after the 65535
  * channels a file holds) is counted in {@link
  * #unwritableCount()} with its first reason. Both losses are in the loss record of the file
@@ -43,9 +44,16 @@ public final class McapRecorder implements AutoCloseable {
   private final Map<String, ValueType<?>> types;
   private final ProcessIdentity process;
   private final Map<String, McapChannel<Object>> channels = new ConcurrentHashMap<>();
+  /**
+   * The names the writer refused a channel (past the channel limit, or a name it cannot hold),
+   * with why: their later values are counted as unwritable without asking the writer again.
+   */
+  private final Map<String, String> refused = new ConcurrentHashMap<>();
   private final LongAdder accepted = new LongAdder();
   private final LongAdder unwritable = new LongAdder();
   private final AtomicReference<String> firstUnwritable = new AtomicReference<>();
+  /** Times a name's channel was looked for in the writer (defined, or refused), for tests. */
+  private final LongAdder definitionAttempts = new LongAdder();
   private final Recording.Subscription subscription;
   private final AtomicBoolean closed = new AtomicBoolean();
 
@@ -74,6 +82,11 @@ public final class McapRecorder implements AutoCloseable {
   private void record(RecordedValue<Object> entry) {
     McapChannel<Object> channel = channels.get(entry.service());
     if (channel == null) {
+      String refusal = refused.get(entry.service());
+      if (refusal != null) {
+        unwritable(refusal);
+        return;
+      }
       channel = define(entry);
       if (channel == null) {
         return;
@@ -91,9 +104,10 @@ public final class McapRecorder implements AutoCloseable {
 
   @SuppressWarnings("unchecked")
   private McapChannel<Object> define(RecordedValue<Object> entry) {
+    definitionAttempts.increment();
     String name = entry.service();
     if (writer.channelCount() >= McapWriter.MAX_CHANNELS) {
-      unwritable(overLimit(name));
+      refuse(name, overLimit(name));
       return null;
     }
     ValueType<Object> type;
@@ -118,12 +132,16 @@ public final class McapRecorder implements AutoCloseable {
       McapChannel<Object> channel = writer.channel(name, type, metadata);
       McapChannel<Object> raced = channels.putIfAbsent(name, channel);
       return raced != null ? raced : channel;
-    } catch (IllegalArgumentException | IllegalStateException e) {
+    } catch (IllegalArgumentException e) {
       // the channel's type is made: the writer refused the name itself (the channel limit, a
-      // name that is not Unicode text) or is closed
-      unwritable(writer.channelCount() >= McapWriter.MAX_CHANNELS
+      // name that is not Unicode text), as it will each time
+      refuse(name, writer.channelCount() >= McapWriter.MAX_CHANNELS
           ? overLimit(name)
           : name + ": no channel can be defined for it: " + e.getMessage());
+      return null;
+    } catch (IllegalStateException e) {
+      // the writer is closed
+      unwritable(name + ": no channel can be defined for it: " + e.getMessage());
       return null;
     }
   }
@@ -136,10 +154,21 @@ public final class McapRecorder implements AutoCloseable {
         + " you need recorded), or stream the recordings of several cores to one file each";
   }
 
+  /** Counts a value of {@code name}, refused a channel, and remembers the refusal for its later ones. */
+  private void refuse(String name, String reason) {
+    refused.putIfAbsent(name, reason);
+    unwritable(reason);
+  }
+
   private void unwritable(String reason) {
     unwritable.increment();
     writer.countUnwritable();
     firstUnwritable.compareAndSet(null, reason);
+  }
+
+  /** How many times a channel was defined for a name, or tried and refused; a seam for tests. */
+  long definitionAttempts() {
+    return definitionAttempts.sum();
   }
 
   /** {@return the recording this recorder writes} */

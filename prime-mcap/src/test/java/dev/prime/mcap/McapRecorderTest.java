@@ -384,6 +384,47 @@ class McapRecorderTest {
     }
   }
 
+  /**
+   * A name refused a channel (here: recorded past the channel limit) is refused once: its later
+   * values are counted as unwritable without defining its channel again (the writer's lock and an
+   * exception per value).
+   */
+  @Test
+  void aNameRefusedAChannelIsNotRetriedOnEachValue() throws Exception {
+    Path file = dir.resolve("refused.mcap");
+    int names = McapWriter.MAX_CHANNELS + 1;
+    int later = 100;
+    try (PrimeCore core = core(1); RecorderWarnings logged = new RecorderWarnings()) {
+      List<EventBlock<Integer>> events = new ArrayList<>(names);
+      for (int i = 0; i < names; i++) {
+        EventBlock<Integer> name = new EventBlock<>();
+        core.source("n" + i, name);
+        events.add(name);
+      }
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults().queue(names + 10, 1 << 30));
+      try (recorder) {
+        for (int i = 0; i < names; i++) {
+          events.get(i).publish(i); // recorded on this thread (Liberty) before publish returns
+        }
+        EventBlock<Integer> last = events.get(names - 1);
+        for (int i = 0; i < later; i++) {
+          last.publish(i);
+        }
+        assertEquals(1L + later, recorder.unwritableCount(), "every value of the refused name");
+        assertEquals(names - 1L, recorder.writtenCount());
+        assertEquals(names, recorder.definitionAttempts(), "one channel definition (or refusal) per name");
+      }
+      String warning = logged.lines().get(0);
+      assertTrue(warning.contains("could not write " + (1 + later)) && warning.contains("at most 65535 channels"),
+          warning);
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(names - 1, reader.channels().size());
+    }
+  }
+
   @Test
   void synchronousOptionsAreRefusedWithTheFix() throws Exception {
     try (PrimeCore core = core(2)) {
