@@ -253,7 +253,7 @@ public final class McapMerge {
       Channels channels = Channels.unify(open.readers);
       // a symbolic link at the output stays: the merge replaces the file it leads to, as a
       // writer opened there writes that file
-      Path replaced = fileAt(output);
+      Path replaced = SymbolicLinks.target(output, "merge into");
       Path partial = createPartial(replaced);
       try {
         Result result;
@@ -330,25 +330,6 @@ public final class McapMerge {
         throw new OutputFailed(e);
       }
     }
-  }
-
-  /** The most symbolic links {@link #fileAt} follows (Linux's own bound). */
-  private static final int MAX_LINKS = 40;
-
-  /**
-   * The file a merge into {@code output} replaces: {@code output} itself, or, if it is a
-   * symbolic link, the file it leads to (through links to links), whether it exists yet or not.
-   */
-  static Path fileAt(Path output) throws IOException {
-    Path path = output;
-    for (int links = 0; Files.isSymbolicLink(path); links++) {
-      if (links == MAX_LINKS) {
-        throw new IOException("cannot merge into " + output + ": it is a symbolic link that leads through more than "
-            + MAX_LINKS + " links (a loop of them?); make it a link to a file, or write the merge to another path");
-      }
-      path = path.resolveSibling(Files.readSymbolicLink(path));
-    }
-    return path;
   }
 
   /** How many names {@link #createPartial} tries before it gives up (each taken by another file). */

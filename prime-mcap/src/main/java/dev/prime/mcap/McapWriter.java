@@ -109,7 +109,9 @@ import java.util.stream.Stream;
  * the second of the merge's recording). Writers at {@code run-0001.mcap} and
  * {@code run-0002.mcap} do not overlap, and may write at once. A writer opened at a symbolic
  * link holds the file it links to as well: a writer at {@code latest.mcap}, a link to {@code
- * run.mcap}, is refused while {@code run.mcap} is written, and the other way round. Across processes this is
+ * run.mcap}, is refused while {@code run.mcap} is written, and the other way round. A path that
+ * is a loop of symbolic links (or leads through more than 40) names no file: a writer (or merge)
+ * there is refused, naming the path and the fix, before anything is made or deleted. Across processes this is
  * an advisory lock on {@code <path>.lock} beside the file, deleted at close; the operating system
  * releases it when its process dies, so the lock file a killed process leaves does not stop the
  * next writer. A device or a pipe ({@code /dev/null}) is not held.
@@ -821,7 +823,7 @@ public final class McapWriter implements Closeable {
   private void openFile(Path path) throws IOException {
     // through a symbolic link the open writes (and creates) the file the link leads to: that
     // file existed or not, whatever the link does
-    Path target = linkedFile(path);
+    Path target = SymbolicLinks.target(path, "open an MCAP writer at");
     boolean existed = Files.exists(target, LinkOption.NOFOLLOW_LINKS);
     fileExisted = existed;
     fileTarget = target;
@@ -856,25 +858,6 @@ public final class McapWriter implements Closeable {
           failed);
     }
     files.add(path);
-  }
-
-  /** The most symbolic links {@link #linkedFile} follows (Linux's own bound). */
-  private static final int MAX_LINKS = 40;
-
-  /**
-   * The file an open of {@code path} writes: {@code path} itself, or, if it is a symbolic link,
-   * the file it leads to (through links to links), whether that exists yet or not; {@code path}
-   * for a loop of links, which the open then fails on, touching nothing.
-   */
-  static Path linkedFile(Path path) throws IOException {
-    Path file = path;
-    for (int links = 0; Files.isSymbolicLink(file); links++) {
-      if (links == MAX_LINKS) {
-        return path;
-      }
-      file = file.resolveSibling(Files.readSymbolicLink(file));
-    }
-    return file;
   }
 
   /** How a message names the file a link leads to: nothing if {@code path} is no link. */

@@ -89,9 +89,12 @@ final class RecordingLock {
    *     first} (a writer), or only {@code first} itself (a merge's output); either is refused while
    *     a rotated file of {@code first} is held, which would be read as part of its recording
    * @throws IOException naming the path and the holder if another writer holds it, or holds a path
-   *     whose files overlap with the caller's, or if the lock file cannot be made
+   *     whose files overlap with the caller's, or if the lock file cannot be made; naming the path
+   *     and the fix, before anything is made, if it is a loop of symbolic links
    */
   static RecordingLock acquire(Path first, String action, boolean rotatedFiles) throws IOException {
+    // a loop of links is refused before anything is made (the lock file)
+    Path linked = linkTarget(first, action);
     if (Files.exists(first) && !Files.isRegularFile(first) && !Files.isDirectory(first)) {
       // a device or a pipe (/dev/null for a benchmark): no recording a second writer could
       // truncate, and no folder of its own to put a lock file in
@@ -103,7 +106,6 @@ final class RecordingLock {
         refuseOverlaps(first, action, rotatedFiles);
         // a writer writes through a symbolic link into the file it names, and a merge replaces
         // that file (the link stays): that file is held too
-        Path linked = linkTarget(first);
         if (linked != null) {
           try {
             lock.target = take(linked, action);
@@ -305,22 +307,15 @@ final class RecordingLock {
     }
   }
 
-  /** The maximum number of symbolic links followed from a writer's path (Linux's own bound). */
-  private static final int MAX_LINKS = 40;
-
   /**
    * The file that {@code first} is a symbolic link to (followed through links to links, whether
    * it exists yet or not), if its lock file is not {@code first}'s own; null if {@code first} is
-   * no link, or a loop of them (which the writer's open then fails on).
+   * no link.
+   *
+   * @throws IOException for a loop of links (see {@link SymbolicLinks#target})
    */
-  private static Path linkTarget(Path first) throws IOException {
-    Path path = first;
-    for (int links = 0; Files.isSymbolicLink(path); links++) {
-      if (links == MAX_LINKS) {
-        return null;
-      }
-      path = path.resolveSibling(Files.readSymbolicLink(path));
-    }
+  private static Path linkTarget(Path first, String action) throws IOException {
+    Path path = SymbolicLinks.target(first, action);
     return path.equals(first) || key(lockPath(path)).equals(key(lockPath(first))) ? null : path;
   }
 
