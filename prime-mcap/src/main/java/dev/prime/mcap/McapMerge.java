@@ -189,8 +189,9 @@ public final class McapMerge {
    *     the earlier recording left without a gap). If it is a symbolic link, the link stays: the
    *     file it leads to is the one replaced (or made), as a writer opened at a link writes that
    *     file, and the merge is refused while a writer writes it; the rotated files deleted are
-   *     those named after the link ({@code latest-0001.mcap}... beside {@code latest.mcap}), as a
-   *     writer opened at the link deletes them, not those named after the file it leads to
+   *     those named after that file ({@code runs/run-0001.mcap}... for {@code latest.mcap} to
+   *     {@code runs/run.mcap}), as a writer opened at the link deletes them (and names its own),
+   *     so that the recording read through either name is the merge alone
    * @return what was written
    * @throws IOException if an input cannot be read or the output cannot be written, or a writer
    *     (or another merge), in this JVM or another process, is writing the output path, or a rotated
@@ -270,7 +271,7 @@ public final class McapMerge {
         }
         // the output is a recording of one file: an earlier recording's rotated files at its path
         // would be listed with it (McapReader.recordingFiles), so they go first, as a writer's do
-        McapWriter.deleteEarlierRotatedFiles(output);
+        McapWriter.deleteEarlierRotatedFiles(replaced);
         OutputFailed.of(() -> {
           moveInPlace(partial, replaced);
           return replaced;
@@ -416,6 +417,8 @@ public final class McapMerge {
     }
     Set<Path> seen = new HashSet<>();
     Path out = output.toAbsolutePath().normalize();
+    // the rotated files the merge deletes are those of the file it replaces (where a link leads)
+    Path replaced = SymbolicLinks.target(output, "merge into").toAbsolutePath().normalize();
     for (Path input : inputs) {
       Objects.requireNonNull(input, "an input path is null");
       Path in = input.toAbsolutePath().normalize();
@@ -427,10 +430,11 @@ public final class McapMerge {
         throw new IllegalArgumentException(
             "the output " + output + " is also an input: write the merge to another file");
       }
-      if (McapWriter.rotationIndex(out, in) > 0 && out.getParent().equals(in.getParent())) {
+      if (McapWriter.rotationIndex(replaced, in) > 0 && replaced.getParent().equals(in.getParent())) {
         throw new IllegalArgumentException(
-            "input " + input + " is rotated file " + McapWriter.rotationIndex(out, in) + " of a recording at "
-                + output + ", whose rotated files the merge deletes (the merge is the recording there"
+            "input " + input + " is rotated file " + McapWriter.rotationIndex(replaced, in) + " of a recording at "
+                + output + (replaced.equals(out) ? "" : " (" + replaced + ", where that symbolic link leads)")
+                + ", whose rotated files the merge deletes (the merge is the recording there"
                 + " now): write the merge to another file");
       }
     }

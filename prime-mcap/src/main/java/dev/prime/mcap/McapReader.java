@@ -147,34 +147,45 @@ public final class McapReader implements Closeable {
   /**
    * The files of a recording that {@link McapWriter} may have rotated: {@code first}, then
    * {@link McapWriter#rotatedPath}{@code (first, 1)}, {@code (first, 2)}, ... as long as they
-   * exist. Open each with {@link #open}.
+   * exist. Open each with {@link #open}. If {@code first} is a symbolic link, the rotated files are
+   * those of the file it leads to ({@code runs/run-0001.mcap}... for {@code latest.mcap}, a link to
+   * {@code runs/run.mcap}), as a writer opened at the link names them: the recording is the same
+   * read through either name.
    *
    * @param first the path the writer was opened with
    * @return the existing files in order (empty if no file of the recording exists)
    * @throws IllegalStateException if a file of the recording is missing while a later one exists
    *     (it was moved or deleted): reading on would leave out part of the recording
    *     without a word, so the message names the missing file
-   * @throws UncheckedIOException if the folder could not be listed to look for later files
+   * @throws UncheckedIOException if the folder could not be listed to look for later files, or
+   *     {@code first} is a loop of symbolic links
    */
   public static List<Path> recordingFiles(Path first) {
     Objects.requireNonNull(first, "first must not be null: give the path the writer was opened with");
+    // a writer opened at a symbolic link names its rotated files after the file the link leads to
+    Path base;
+    try {
+      base = SymbolicLinks.target(first, "list the files of the recording at");
+    } catch (IOException e) {
+      throw new UncheckedIOException(e.getMessage(), e);
+    }
     List<Path> files = new ArrayList<>();
     int index = 0;
-    while (Files.exists(McapWriter.rotatedPath(first, index))) {
-      files.add(McapWriter.rotatedPath(first, index));
+    while (Files.exists(index == 0 ? first : McapWriter.rotatedPath(base, index))) {
+      files.add(index == 0 ? first : McapWriter.rotatedPath(base, index));
       index++;
     }
     int later;
     try {
-      SortedMap<Integer, Path> rotated = McapWriter.rotatedFilesIn(first);
+      SortedMap<Integer, Path> rotated = McapWriter.rotatedFilesIn(base);
       later = rotated.isEmpty() ? -1 : rotated.lastKey();
     } catch (IOException e) {
       throw new UncheckedIOException("could not list the folder of " + first + " for the files of its recording", e);
     }
     if (later > index) {
       throw new IllegalStateException(
-          "file " + McapWriter.rotatedPath(first, index) + " of the recording is missing, yet "
-              + McapWriter.rotatedPath(first, later) + " exists: a file of the recording was"
+          "file " + (index == 0 ? first : McapWriter.rotatedPath(base, index)) + " of the recording is missing, yet "
+              + McapWriter.rotatedPath(base, later) + " exists: a file of the recording was"
               + " moved or deleted; put it back, or open the files there are one by one with"
               + " McapReader.open");
     }

@@ -78,7 +78,11 @@ import java.util.stream.Stream;
  * With {@link McapWriterOptions#rotateAtSize(long)}, the first file is the path given; the
  * n-th next one inserts {@code -NNNN} (n, at least 4 digits) before the last dot of the file
  * name: {@code run.mcap}, {@code run-0001.mcap}, {@code run-0002.mcap}, ... (no dot: the suffix
- * goes at the end). A file is finished once it reaches the size, and the next one is started by
+ * goes at the end). At a symbolic link ({@code latest.mcap} to {@code runs/run.mcap}) they are
+ * named after the file the link leads to, beside it ({@code runs/run-0001.mcap}, ...; {@link
+ * #files()} gives the first file as the path given): the recording's files lie together, it is the
+ * same recording read through either name ({@link McapReader#recordingFiles}), and a link moved on
+ * to the next run's file leaves the earlier run whole. A file is finished once it reaches the size, and the next one is started by
  * the next message (or at close, only to hold messages dropped or Metadata records added since),
  * so a recording does not end with an empty file. Existing files of those names are overwritten.
  * See {@link #rotatedPath}.
@@ -144,6 +148,12 @@ public final class McapWriter implements Closeable {
   static final int MAX_CHANNELS = 0xFFFF;
 
   private final Path firstPath;
+  /**
+   * What the rotated files are named after: {@link #firstPath}, or, if that is a symbolic link,
+   * the file it leads to, so that they lie beside the recording's first file and are its files
+   * read through either name ({@link McapReader#recordingFiles}).
+   */
+  private final Path rotationBase;
   private final McapWriterOptions options;
   private final OutputOpener opener;
   /**
@@ -221,12 +231,13 @@ public final class McapWriter implements Closeable {
     this.options = options;
     this.opener = opener;
     this.discardUnfinished = discardUnfinished;
+    this.rotationBase = SymbolicLinks.target(path, "open an MCAP writer at");
     // before anything is truncated or deleted: those are the files of a writer that holds the path
     this.lock = RecordingLock.acquire(path, "open an MCAP writer at", true);
     try {
       // the earlier recording's rotated files go before its first file is overwritten: an open
       // that fails on the way leaves that first file and the rotated files it has not reached
-      deleteEarlierRotatedFiles(path);
+      deleteEarlierRotatedFiles(rotationBase);
       openFile(path);
     } catch (IOException | RuntimeException | Error e) {
       releaseLock(e);
@@ -317,9 +328,10 @@ public final class McapWriter implements Closeable {
    *       (path, n)}, n from 1) are deleted, so that {@link McapReader#recordingFiles} lists this
    *       recording's files only, from the last one back: an open that fails on one leaves the
    *       earlier recording's first file and the rotated files before that one. At a symbolic
-   *       link these are the files named after the link ({@code latest-0001.mcap}... beside
-   *       {@code latest.mcap}, the names this writer's rotations take), not those named after the
-   *       file it leads to;
+   *       link these are the files named after the file it leads to ({@code runs/run-0001.mcap}...
+   *       for {@code latest.mcap} to {@code runs/run.mcap}, the names this writer's rotations
+   *       take); files named after the link ({@code latest-0001.mcap}) are no file of the
+   *       recording, and are left;
    *   <li>the first file is opened: created, or truncated to nothing (a file that cannot be opened
    *       to write, such as one without write permission, fails here as it was, untruncated);
    *   <li>its magic and Header are written. An I/O error here (a full disk, a failing device),
@@ -363,7 +375,8 @@ public final class McapWriter implements Closeable {
   /**
    * The name of the {@code index}-th file of a rotated recording.
    *
-   * @param first the path given to {@link #open}
+   * @param first the path given to {@link #open}; if that is a symbolic link, the file it leads
+   *     to, after which a writer opened at the link names its rotated files
    * @param index 0 for the first file, n for the n-th rotation
    * @return {@code first} for 0, else {@code first} with {@code -NNNN} before its extension
    */
@@ -867,7 +880,7 @@ public final class McapWriter implements Closeable {
 
   /** The next file of a rotated recording. */
   private void openNextFile() throws IOException {
-    openFile(rotatedPath(firstPath, fileIndex + 1));
+    openFile(rotatedPath(rotationBase, fileIndex + 1));
     fileIndex++;
   }
 

@@ -46,7 +46,8 @@ import java.util.stream.Stream;
  *
  * <p>A writer opened at a symbolic link writes the file it links to, and a merge into a link
  * replaces that file: it holds that file's path too ({@code <target>.lock}), so that writers (and
- * merges) at the file and at links to it refuse each other.
+ * merges) at the file and at links to it refuse each other; a writer's rotated files are then
+ * named after that file, so its overlaps are looked for as for a writer there.
  *
  * <p>A path that is a device or a pipe ({@code /dev/null}) is not held. Released by the writer
  * once its last file is finished: the lock file is deleted (while still
@@ -109,7 +110,7 @@ final class RecordingLock {
         if (linked != null) {
           try {
             lock.target = take(linked, action);
-            refuseOverlaps(linked, action, false);
+            refuseOverlaps(linked, action, rotatedFiles);
           } catch (IOException e) {
             throw new IOException("cannot " + action + " " + first + ", a symbolic link to " + linked + ": "
                 + e.getMessage(), e);

@@ -12,6 +12,7 @@ import java.nio.file.Files;
 import java.nio.file.Path;
 import java.nio.file.attribute.PosixFilePermission;
 import java.nio.file.attribute.PosixFilePermissions;
+import java.util.ArrayList;
 import java.util.List;
 import java.util.Set;
 import java.util.stream.Stream;
@@ -83,50 +84,74 @@ class MergeOutputLinkTest {
     }
   }
 
-  /** An earlier recording of at least three files (two rotated) at {@code first}. */
-  private static List<Path> rotatedRecording(Path first) throws IOException {
+  /** A recording of at least {@code files} files at {@code first}, all but the first rotated. */
+  private static List<Path> rotatedRecording(Path first, int files) throws IOException {
     McapWriterOptions options = McapWriterOptions.defaults().synchronous().chunkSize(64).rotateAtSize(512);
     try (McapWriter writer = McapWriter.open(first, options)) {
       McapChannel<Reading> channel = writer.channel("earlier", Reading.class);
-      for (int i = 0; i < 1_000 && writer.files().size() < 3; i++) {
+      for (int i = 0; i < 1_000 && writer.files().size() < files; i++) {
         assertTrue(channel.write(i, i, i, new Reading(i)));
       }
-      assertTrue(writer.files().size() >= 3, "the earlier recording rotated: " + writer.files());
+      assertTrue(writer.files().size() >= files, "the recording rotated: " + writer.files());
       return writer.files();
     }
   }
 
+  /** {@code files} with the first replaced by {@code first}: the recording read through another name. */
+  private static List<Path> readThrough(Path first, List<Path> files) {
+    List<Path> through = new ArrayList<>(files);
+    through.set(0, first);
+    return through;
+  }
+
   /**
-   * A writer opened at a link, and a merge into one, delete the rotated files of an earlier
-   * recording named after the link ({@code latest-0001.mcap}, the names its own rotations take),
-   * not those named after the file it leads to ({@code run-0001.mcap}).
+   * A writer opened at a link ({@code latest.mcap} to {@code runs/run.mcap}) rotates into files
+   * named after the file the link leads to, beside it ({@code runs/run-0001.mcap}), and it, like a
+   * merge into the link, replaces the recording there, deleting that recording's rotated files:
+   * read through either name, the recording is the new one, with nothing of the earlier one. A
+   * file named after the link is no file of that recording, and is left; and a link moved on to
+   * the next run leaves the earlier run whole.
    */
   @Test
-  void aWriterAtALinkAndAMergeIntoOneDeleteTheRotatedFilesNamedAfterTheLink() throws Exception {
+  void aWriterAtALinkAndAMergeIntoOneReplaceTheRecordingOfTheFileItLeadsTo() throws Exception {
     Path robot = recording(dir.resolve("robot.mcap"), "robot", 3);
     Path runs = Files.createDirectory(dir.resolve("runs"));
-    Path target = recording(runs.resolve("run.mcap"), "earlier", 1);
-    Path targetRotated = Files.writeString(McapWriter.rotatedPath(target, 1), "named after the file the link leads to");
+    Path target = runs.resolve("run.mcap");
+    List<Path> earlier = rotatedRecording(target, 5);
     Path link = link(dir.resolve("latest.mcap"), dir.relativize(target));
+    Path namedAfterLink = Files.writeString(McapWriter.rotatedPath(link, 1), "a file named after the link");
 
-    List<Path> earlier = rotatedRecording(link);
-    assertEquals(earlier, McapReader.recordingFiles(link), "the earlier recording at the link");
-    assertEquals(McapWriter.rotatedPath(link, 1), earlier.get(1), "its rotated files are named after the link");
+    List<Path> written = rotatedRecording(link, 3);
+    assertTrue(written.size() < earlier.size(), written + " " + earlier);
+    assertEquals(link, written.get(0), "the first file as the writer was given it");
+    assertEquals(McapWriter.rotatedPath(target, 1), written.get(1),
+        "rotated files are named after the file the link leads to, beside it");
+    assertEquals(written, McapReader.recordingFiles(link), "read through the link: the new recording alone");
+    assertEquals(readThrough(target, written), McapReader.recordingFiles(target),
+        "read through the file: the same recording, nothing of the earlier one");
+    try (McapReader reader = McapReader.open(written.get(written.size() - 1))) {
+      assertEquals(List.of("earlier"), reader.channels().stream().map(ChannelInfo::topic).toList());
+    }
+    assertTrue(Files.exists(namedAfterLink), "a file named after the link is not the recording's");
+
+    IllegalArgumentException own =
+        assertThrows(IllegalArgumentException.class, () -> McapMerge.merge(List.of(written.get(1)), link));
+    assertTrue(own.getMessage().contains("is rotated file 1 of a recording at " + link), own.getMessage());
     McapMerge.merge(List.of(robot), link);
     assertEquals(List.of(link), McapReader.recordingFiles(link), "the merge is the recording at the link");
-    for (Path rotated : earlier.subList(1, earlier.size())) {
-      assertTrue(Files.notExists(rotated), rotated + " is deleted");
-    }
+    assertEquals(List.of(target), McapReader.recordingFiles(target), "and at the file it leads to");
     assertTrue(Files.isSymbolicLink(link), "the link stays");
-    assertTrue(Files.exists(targetRotated), "a file named after the file the link leads to is not the link's");
+    assertTrue(Files.exists(namedAfterLink), "and the merge leaves that file too");
 
-    earlier = rotatedRecording(link);
-    assertTrue(earlier.size() >= 3, earlier.toString());
-    try (McapWriter writer = McapWriter.open(link, McapWriterOptions.defaults().synchronous())) {
-      assertTrue(writer.channel("later", Reading.class).write(1, 1, 1, new Reading(1)));
-    }
-    assertEquals(List.of(link), McapReader.recordingFiles(link), "the writer's recording alone, as the merge's");
-    assertTrue(Files.exists(targetRotated), "and the writer leaves it too");
+    // the link moved on to the next run: the run it led to is left whole
+    List<Path> first = rotatedRecording(link, 3);
+    Path next = runs.resolve("next.mcap");
+    Files.delete(link);
+    link(link, dir.relativize(next));
+    List<Path> second = rotatedRecording(link, 3);
+    assertEquals(readThrough(target, first), McapReader.recordingFiles(target), "the earlier run is kept whole");
+    assertEquals(readThrough(next, second), McapReader.recordingFiles(next));
+    assertEquals(second, McapReader.recordingFiles(link));
   }
 
   /**
