@@ -83,6 +83,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private enum State {
     NEW,
     STARTED,
+    FAILED, // start() threw: closed only by close()
     CLOSED
   }
 
@@ -98,6 +99,7 @@ public abstract class PrimeCore implements AutoCloseable {
   private final Object lifecycle = new Object();
   private volatile State state = State.NEW;
   private volatile boolean started; // start() was called (and accepted), closed or not
+  private volatile Throwable startFailure; // what start() threw, if it did
   private volatile Thread closingThread; // the thread of the first close(), set under lifecycle
   private final CountDownLatch closed = new CountDownLatch(1); // the first close() has finished
   private final long creationOrder = CREATED.incrementAndGet();
@@ -1097,13 +1099,28 @@ public abstract class PrimeCore implements AutoCloseable {
   /**
    * Starts the services declared so far; services declared later start at once.
    *
-   * @throws IllegalStateException if the core was already started
+   * <p>A {@code start()} that throws (on Optimus: a Redis that refuses what the core needs, a
+   * hosting it may not take, a wait for Redis interrupted; Liberty and Radiant have no such
+   * failure) leaves the core <em>failed to start</em>, on every media: it may have launched part
+   * of its services, and it runs nothing more. A second {@code start()} and every declaration
+   * (a chain, a source, {@link Chain#toBlock()}, a link, a template, a combinator, a timer, a
+   * generic service) then throw an {@link IllegalStateException} that says {@code start()} failed,
+   * quotes its message, carries what it threw as its cause, and says to close the core and make a
+   * new one. Everything else is as on a core that was not started ({@link #isStarted()} is true,
+   * as for any start that was accepted). {@link #close()} works as on any core and releases
+   * everything the partial start took (threads, connections and, on Optimus, the core's leases
+   * and seats in Redis).
+   *
+   * @throws IllegalStateException if the core was already started, or its start failed
    * @throws CoreClosedException if the core is closed
    */
   public final void start() {
     synchronized (lifecycle) {
       if (state == State.CLOSED) {
         throw new CoreClosedException(name);
+      }
+      if (state == State.FAILED) {
+        throw startFailed("a second start()");
       }
       if (state == State.STARTED) {
         throw new IllegalStateException(
@@ -1112,7 +1129,17 @@ public abstract class PrimeCore implements AutoCloseable {
       state = State.STARTED;
       started = true;
     }
-    onStart();
+    try {
+      onStart();
+    } catch (RuntimeException | Error e) {
+      synchronized (lifecycle) {
+        startFailure = e;
+        if (state == State.STARTED) { // not if a close() came meanwhile
+          state = State.FAILED;
+        }
+      }
+      throw e;
+    }
     combinators.started();
     services.startAll();
     hooks.started();
@@ -1256,6 +1283,35 @@ public abstract class PrimeCore implements AutoCloseable {
     if (state == State.CLOSED) {
       throw new CoreClosedException(name);
     }
+  }
+
+  /**
+   * Throws if {@link #start()} failed: a core that failed to start runs nothing more, so it
+   * refuses {@code what} (every declaration, and on a media that refuses such use before {@code
+   * start()}, a publish, a call or a read).
+   *
+   * @param what what is refused, such as {@code "a declaration"}
+   * @throws IllegalStateException if it failed, saying so, quoting the failure (its cause)
+   */
+  protected final void ensureStartDidNotFail(String what) {
+    if (state == State.FAILED) {
+      throw startFailed(what);
+    }
+  }
+
+  private IllegalStateException startFailed(String what) {
+    Throwable failure = startFailure;
+    return new IllegalStateException(
+        "core '"
+            + name
+            + "' failed to start (start() threw "
+            + failure
+            + "), so "
+            + what
+            + " is refused: a core whose start() failed runs nothing more and takes no"
+            + " declaration and no second start(); close() it, which releases what the failed"
+            + " start took, and make a new core",
+        failure);
   }
 
   /** Checks chains given to a declaration before it consumes any ({@link DeclarationChecks}). */

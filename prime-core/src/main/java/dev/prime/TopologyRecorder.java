@@ -461,6 +461,7 @@ final class TopologyRecorder {
    * @return what it made
    */
   synchronized <T> T declare(Supplier<T> declaration) {
+    owner.ensureStartDidNotFail("a declaration");
     int mark = nodes.size();
     T made;
     declaring++;

@@ -45,7 +45,8 @@ class SpiSurfaceTest {
                 "startDetails",
                 "onStart",
                 "onClose",
-                "ensureOpen")),
+                "ensureOpen",
+                "ensureStartDidNotFail")),
         forMedia);
   }
 

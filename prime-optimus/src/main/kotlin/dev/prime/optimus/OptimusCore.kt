@@ -683,7 +683,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * Declares and claims in Redis what this process hosts and reads, then launches its services;
      * it waits for Redis in an outage, and for another process's host lease to lapse. Interrupted
      * while it waits, it fails with a [dev.prime.PrimeException] that says so (the flag kept), not
-     * with the close's [CoreClosedException]: the core is open, but started only in part, so close it.
+     * with the close's [CoreClosedException]: the core is open, but failed to start ([PrimeCore.start]), so close it.
      */
     override fun onStart(): Unit = interruptibleInOutage(
         { "start() of core '${name()}'" },
@@ -841,8 +841,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         ensureOpen()
     }
 
-    /** Fails at once if [start] was not called: before it, no service of this process runs. */
+    /** Fails at once if [start] was not called, or failed: then no service of this process runs. */
     internal fun checkStarted(what: String) {
+        ensureStartDidNotFail(what) // a failed start runs nothing: as before start(), refused
         check(isStarted || isClosed) { // a closed core fails where its use does: CoreClosedException
             "$what of core '${name()}' before start(): start() was not called; declare the topology, then call " +
                 "core.start(), then call chains and read sources"
