@@ -1306,7 +1306,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         )
 
     /**
-     * Refuses hosting modes for services the topology lacks, or that are not chains' services, and
+     * Refuses hosting modes for services the topology lacks, for chains nothing used by start() (their
+     * services do not run), or for services that are not chains', and
      * [Hosting.UNORDERED] for the services that run for an isolated chain ([refuseUnorderedIsolatedChains]).
      */
     private fun checkHostingModes() {
@@ -1316,7 +1317,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             "core '${name()}' is given hosting modes for $unknown, which its topology does not declare; its services: " +
                 "${topology().services().sorted()}"
         }
-        val notChains = moded - services.keys
+        val notRunning = moded - services.keys
+        val topology = topology()
+        val (unusedChains, notChains) = notRunning.partition { topology.node(it).map { node -> node.isChain() }.orElse(false) }
+        require(unusedChains.isEmpty()) {
+            "core '${name()}' is given a hosting mode for ${unusedChains.joinToString { "chain '$it' (Hosting.${sharedHosting.modeOf(it)})" }}, " +
+                "which no chain of this process has used by start() (toBlock(), a link, a template or a source's then()): " +
+                "a chain's service runs only once the chain is used, so its mode cannot be agreed with its other hosts. " +
+                "Use the chain before start(), as the other processes of the topology do (the toBlock() calls too), or " +
+                "remove hosting(...) for it from this process's builder"
+        }
         require(notChains.isEmpty()) {
             "core '${name()}' is given Hosting.ORDERED or UNORDERED for $notChains: those are combinators, timers or generic " +
                 "services, which have one host at a time (Hosting.EXCLUSIVE); hosting modes apply to the services of chains"
@@ -1772,7 +1782,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
          *   own, each chain of a linked chain, a template's parts, a repeater's chain), whose hosts
          *   would run it for two calls at once; give those [Hosting.EXCLUSIVE] or [Hosting.ORDERED].
          *
-         * Only chains' services take a mode (combinators, timers and generic services are exclusive).
+         * Only chains' services take a mode (combinators, timers and generic services are exclusive),
+         * and only those this process used by `start()` (`toBlock()`, a link, a template or a source's
+         * `then()`): `start()` refuses a mode for a chain nothing used, whose service does not run.
          * Every process that hosts the service must give the same mode: `start()` of one that
          * disagrees with the running hosts fails with an [IllegalStateException] that names the
          * service, both modes and the fix. A process that does not host the service ignores its mode.
