@@ -38,4 +38,5 @@ public interface MediaConformance
         ConcurrentDeclarationConformance,
         CoreReleaseConformance,
         BlockKindsConformance,
-        UnusualNameConformance {}
+        UnusualNameConformance,
+        FailedStartConformance {}
