@@ -1107,7 +1107,8 @@ public abstract class PrimeCore implements AutoCloseable {
    * generic service) then throw an {@link IllegalStateException} that says {@code start()} failed,
    * quotes its message, carries what it threw as its cause, and says to close the core and make a
    * new one. Everything else is as on a core that was not started ({@link #isStarted()} is true,
-   * as for any start that was accepted). {@link #close()} works as on any core and releases
+   * as for any start that was accepted): services it did not launch never run, and no {@link
+   * #whenRunning} hook starts (each {@code onClose} runs at {@code close()}). {@link #close()} works as on any core and releases
    * everything the partial start took (threads, connections and, on Optimus, the core's leases
    * and seats in Redis).
    *

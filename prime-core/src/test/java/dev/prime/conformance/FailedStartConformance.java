@@ -1,5 +1,6 @@
 package dev.prime.conformance;
 
+import static org.junit.jupiter.api.Assertions.assertEquals;
 import static org.junit.jupiter.api.Assertions.assertFalse;
 import static org.junit.jupiter.api.Assertions.assertSame;
 import static org.junit.jupiter.api.Assertions.assertThrows;
@@ -13,6 +14,7 @@ import dev.prime.PrimeCore;
 import dev.prime.Source;
 import java.time.Duration;
 import java.util.Set;
+import java.util.concurrent.CountDownLatch;
 import org.junit.jupiter.api.Assumptions;
 import org.junit.jupiter.api.Test;
 import org.junit.jupiter.api.function.Executable;
@@ -21,7 +23,8 @@ import org.junit.jupiter.api.function.Executable;
  * A {@code start()} that throws leaves the core failed to start ({@link PrimeCore#start()}): a
  * second {@code start()} and every declaration are refused with an {@link
  * IllegalStateException} that says so, quotes the failure (its cause) and says to close the core
- * and make a new one; a publish is as before a start; {@code close()} leaves no thread. The
+ * and make a new one; a publish is as before a start; no {@code whenRunning} hook starts, each
+ * one's {@code onClose} runs at {@code close()}, which leaves no thread. The
  * failure is a host the topology lacks ({@link #newCoreHosting}): only a media of several
  * processes has a {@code start()} that can fail, the others run every service they declare.
  */
@@ -36,12 +39,16 @@ public interface FailedStartConformance extends GenericServiceConformance {
     Assumptions.assumeTrue(
         core != null,
         "this media runs every service it declares and has no start() that can fail");
+    CountDownLatch hookStarted = new CountDownLatch(2);
+    CountDownLatch hookClosed = new CountDownLatch(2);
     try {
       Chain<Integer, Integer> unused = core.chain("unused", (Integer x) -> x + 1);
       Block<Integer, Integer> doubled = core.chain("double", (Integer x) -> x * 2).toBlock();
       EventBlock<Integer> events = new EventBlock<>();
       Source<Integer> source = core.source("ticks", events);
+      core.whenRunning("before", hookStarted::countDown, hookClosed::countDown);
       RuntimeException failure = assertThrows(RuntimeException.class, core::start);
+      core.whenRunning("after", hookStarted::countDown, hookClosed::countDown);
       assertTrue(failure.getMessage().contains("nowhere"), failure.getMessage());
 
       assertRefused(failure, "a second start()", core::start);
@@ -59,9 +66,11 @@ public interface FailedStartConformance extends GenericServiceConformance {
         assertThrows(IllegalStateException.class, () -> doubled.process(1));
       }
       assertTrue(core.isStarted() && !core.isClosed(), "accepted, failed, not closed");
+      assertEquals(2, hookStarted.getCount(), "no whenRunning hook starts");
     } finally {
       core.close();
     }
+    assertEquals(0, hookClosed.getCount(), "each hook's onClose ran at close()");
     awaitNoThreadsLeft(core);
   }
 
