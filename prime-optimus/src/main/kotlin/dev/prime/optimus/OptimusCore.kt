@@ -605,9 +605,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * service takes one request at a time (unless it is [Hosting.UNORDERED]), so the call would
      * wait for itself until [Builder.callTimeout]. Run only on a thread that runs a request's block.
      */
-    internal fun refuseCallOnItsOwnPath(chainName: String, serviceKeys: Map<String, String>, path: Set<String>) {
+    internal fun refuseCallOnItsOwnPath(chainName: String, serviceKeys: Map<String, String>, path: CallPath) {
         for ((service, key) in serviceKeys) {
-            if (key !in path || sharedHosting.modeOf(service) == Hosting.UNORDERED) continue
+            if (!path.waits(key) || sharedHosting.modeOf(service) == Hosting.UNORDERED) continue
             val running = runningRequests.get().takeIf { it.active }?.service
             throw IllegalStateException(
                 "chain '$chainName' was called from inside itself: its service '$service' is waiting for the call " +

@@ -105,7 +105,7 @@ internal class CallerSlot(private val core: OptimusCore, private val replyKey: B
      * `null`: never). [path]: the services that wait for the calling thread ([CallPaths.current]),
      * recorded for the request while the call waits.
      */
-    fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?, path: Set<String>?): Any? {
+    fun call(input: ByteArray, payload: ByteArray?, chainName: String, deadline: Long?, path: CallPath?): Any? {
         val id = core.ids.next()
         val reply = CallPaths.waitingFor(id, path) {
             core.reachingRedisFor(chainName, sent = true) { awaitReply(id, input, payload, chainName, deadline) }

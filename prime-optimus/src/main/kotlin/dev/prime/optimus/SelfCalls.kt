@@ -33,7 +33,7 @@ internal class SelfCalls(private val core: OptimusCore, private val shared: Stri
     fun check(chainName: String) {
         checkThisThread(chainName)
         val path = CallPaths.current() ?: return
-        val waiting = serviceKeys.entries.firstOrNull { it.value in path } ?: return
+        val waiting = serviceKeys.entries.firstOrNull { path.waits(it.value) } ?: return
         throw IllegalStateException(
             "isolated chain '$shared' was called from inside itself: its service '${waiting.key}', which runs for it, " +
                 "is waiting for the call that led to this one (through a chain its block called), and '$chainName' is a " +
@@ -63,7 +63,8 @@ internal class SelfCalls(private val core: OptimusCore, private val shared: Stri
  *
  * A service names itself and the services that wait for the request it takes around the request's
  * block ([entered]); a call made in that block records the path for its request id while it
- * waits ([waitingFor]), so the service that takes the request in this process (of any core of
+ * waits ([waitingFor]), each service with the id of the call it waits for, so a service whose
+ * call gave up (its call timeout) is no longer taken for waiting ([CallPath.waits]), so the service that takes the request in this process (of any core of
  * the JVM: a core of the same topology shares its services) adds it to its own. So a chain called
  * back by a chain its block calls, a template called by its part, and a chain called through the
  * block of another core of the same topology in this process are seen, not only the call made on
@@ -78,28 +79,31 @@ internal class SelfCalls(private val core: OptimusCore, private val shared: Stri
  */
 internal object CallPaths {
     /** The path of the request the current thread runs a block for; `null` on a thread that runs none. */
-    private val current = ThreadLocal<Set<String>?>()
-
-    /** The path of each call made, in this process, from a request's block, by its request id, while it waits. */
-    private val waiting = ConcurrentHashMap<Long, Set<String>>()
-
-    /** The path of the request the current thread runs a block for, or `null`. */
-    fun current(): Set<String>? = current.get()
+    private val current = ThreadLocal<CallPath?>()
 
     /**
-     * A service ([self]: a set of its own key alone) takes request [id]: its path is [self] and
-     * the path of the call that made the request, if made in this process and still waiting.
+     * The callers of each call made, in this process, from a request's block, by its request id,
+     * while it waits: each service on the path, with the id of the call it waits for.
      */
-    fun entered(id: Long, self: Set<String>) {
+    private val waiting = ConcurrentHashMap<Long, Map<String, Long>>()
+
+    /** The path of the request the current thread runs a block for, or `null`. */
+    fun current(): CallPath? = current.get()
+
+    /**
+     * A service ([self]: its path alone, [CallPath.alone]) takes request [id]: its path is [self]
+     * and the callers of the call that made the request, if made in this process and still waiting.
+     */
+    fun entered(id: Long, self: CallPath) {
         val callers = if (waiting.isEmpty()) null else waiting[id]
-        current.set(if (callers == null) self else callers + self)
+        current.set(if (callers == null) self else CallPath(self.self, callers))
     }
 
     /** The service's block for the request has returned. */
     fun left() = current.set(null)
 
     /** Runs [call], the call of request [id] made with [path] (see [current]; `null`: none), recording the path meanwhile. */
-    inline fun <T> waitingFor(id: Long, path: Set<String>?, call: () -> T): T {
+    inline fun <T> waitingFor(id: Long, path: CallPath?, call: () -> T): T {
         if (path == null) return call()
         record(id, path)
         try {
@@ -109,14 +113,41 @@ internal object CallPaths {
         }
     }
 
-    fun record(id: Long, path: Set<String>) {
-        waiting[id] = path
+    fun record(id: Long, path: CallPath) {
+        waiting[id] = path.callersOf(id)
     }
 
     fun forget(id: Long) {
         waiting.remove(id)
     }
 
+    /** Whether the call of request [id] made in this process still waits for its reply. */
+    fun stillWaiting(id: Long): Boolean = waiting.containsKey(id)
+
     /** The text of service key [key], as paths hold it. */
     fun named(key: ByteArray): String = String(key, Charsets.ISO_8859_1)
+}
+
+/**
+ * The services that wait for what a thread does ([CallPaths]): [self], the service whose block it
+ * runs, and [callers], each service that waits, on the way of calls, for the request it runs,
+ * with the id of the call that service's block made. A caller whose call gave up (its call
+ * timeout, an interrupt) is free again: it no longer waits, though the request it made still
+ * runs, so a call back to it is not refused.
+ */
+internal class CallPath(val self: String, private val callers: Map<String, Long>) {
+    /** Whether service [key] waits for what this thread does: it runs its block, or its call on the way still waits. */
+    fun waits(key: String): Boolean {
+        if (key == self) return true
+        val id = callers[key] ?: return false
+        return CallPaths.stillWaiting(id)
+    }
+
+    /** The callers of call [id] made by this thread's block: [callers] and [self], which waits for it. */
+    fun callersOf(id: Long): Map<String, Long> = if (callers.isEmpty()) mapOf(self to id) else callers + (self to id)
+
+    companion object {
+        /** The path of service [key] that runs a request no call of this process waits for. */
+        fun alone(key: String): CallPath = CallPath(key, emptyMap())
+    }
 }

@@ -77,7 +77,7 @@ internal class StageService(
 ) {
     val input: ByteArray = core.keys.serviceInput(name)
     /** This service alone, as a [CallPaths] path names it. */
-    private val onPath: Set<String> = setOf(CallPaths.named(input))
+    private val onPath: CallPath = CallPath.alone(CallPaths.named(input))
     private val seat: HostSeat = seat ?: core.soleSeat(name)
     private val processing = this.seat.processing
     private val queued = core.keys.queuedOf(input)
