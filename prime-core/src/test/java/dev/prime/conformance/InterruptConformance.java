@@ -1195,6 +1195,71 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * architecture.md (<i>Interrupts</i>, <i>Lifecycle</i>): a close of a core whose service's block
+   * is in a call of another core's chain, whose block waits (interruptibly), ends that call at
+   * once, not after {@code shutdownTimeout}: on Liberty and Radiant the called block runs inline,
+   * on the service's thread that the close interrupts; on Optimus the close interrupts the
+   * service's wait for the other core's reply. The close returns long before {@code
+   * shutdownTimeout} (here three times the kit's patience).
+   */
+  @Test
+  default void aCloseEndsAServicesCallOfAnotherCoresChainWithoutWaitingForTheShutdownTimeout()
+      throws InterruptedException {
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CountDownLatch closed = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore other = newCore(config);
+    PrimeCore core = newCore(config);
+    try {
+      Block<Integer, Integer> waiting =
+          other
+              .chain(
+                  "other-core-waiting",
+                  (Integer x) -> {
+                    inside.countDown();
+                    try {
+                      release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                    }
+                    return x;
+                  })
+              .toBlock();
+      other.start();
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source("closing-caller-events", events)
+          .then(core.chain("closing-caller", (Integer x) -> waiting.process(x)))
+          .reader();
+      core.start();
+      events.publish(1);
+      assertTrue(
+          inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the other core's block runs");
+      Thread closer =
+          new Thread(
+              () -> {
+                core.close();
+                closed.countDown();
+              },
+              "closing-caller-closer");
+      closer.setDaemon(true);
+      closer.start();
+      assertTrue(
+          closed.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "close() returned within "
+              + patience()
+              + ", though its service's block was in a call of another core's chain (shutdownTimeout "
+              + config.shutdownTimeout()
+              + ")");
+    } finally {
+      release.countDown();
+      core.close();
+      other.close();
+    }
+  }
+
   /** A configuration whose error handler adds every failure it gets to {@code failures}. */
   private static CoreConfig failuresInto(List<Throwable> failures) {
     return CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();

@@ -238,6 +238,11 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             threads += this
         }
     }
+    /**
+     * This core's own threads that are in a call of another Optimus core's chain ([callOfAnotherCore]),
+     * whose wait this core's [close] does not reach by closing its own connections: it interrupts them.
+     */
+    internal val inCallsOfOtherCores: MutableSet<Thread> = ConcurrentHashMap.newKeySet()
     private val dispatcher: ExecutorCoroutineDispatcher = executor.asCoroutineDispatcher()
     private val supervisor = SupervisorJob()
     private val scope = CoroutineScope(supervisor + dispatcher + CoroutineName("optimus-${name()}"))
@@ -636,6 +641,31 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * cleared may have set it: the flag is kept then, and the call fails as an interrupted one.
      * A thread of no Optimus core (a user's) keeps its flag, and its call fails as interrupted.
      */
+    /**
+     * Runs [call], a call of this core's chain. Made on an own thread of another Optimus core (a
+     * block of that core's service calling this core's chain through its `toBlock()`), the thread
+     * is noted for that core while the call lasts, so that core's [close] interrupts the call at
+     * once, after it closed its connections (nothing the block returns could then be stored, and
+     * the value stays in its processing list), rather than waiting `shutdownTimeout` for a reply
+     * this core's service may never send. A close of that core that began before the thread was
+     * noted sets the flag itself: the call fails as an interrupted one.
+     */
+    internal inline fun <T> callOfAnotherCore(call: () -> T): T {
+        val owner = ownerOfCurrentThread()
+        if (owner == null || owner === this) return call()
+        val current = Thread.currentThread()
+        owner.inCallsOfOtherCores += current
+        try {
+            if (owner.isClosed) current.interrupt() // its close may have looked for such calls before this one
+            return call()
+        } finally {
+            owner.inCallsOfOtherCores -= current
+        }
+    }
+
+    /** The Optimus core whose own thread the current thread is, or `null`. */
+    internal fun ownerOfCurrentThread(): OptimusCore? = ownerOfThread.get()
+
     internal fun clearFlagLeftByABlock(): Boolean {
         val current = Thread.currentThread()
         if (!current.isInterrupted || isClosed) return false
@@ -782,6 +812,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             null
         }
         connections.closeAll() // wakes every blocked read
+        // a service's call of another core's chain waits on that core's connections: its interrupt ends it
+        inCallsOfOtherCores.forEach { if (it !== Thread.currentThread()) it.interrupt() }
         cleanup?.use { jedis ->
             try {
                 val pipeline = jedis.pipelined()

@@ -39,6 +39,11 @@ internal class RemoteCall<I, O>(
         core.refuseCallThroughItself(chainName, services)
         val path = CallPaths.current()
         if (path != null) core.refuseCallOnItsOwnPath(chainName, serviceKeys, path)
+        return core.callOfAnotherCore { call(value, path) }
+    }
+
+    /** The call itself, once it was found to be no call from inside itself. */
+    private fun call(value: I, path: CallPath?): O {
         val flagLeft = core.clearFlagLeftByABlock()
         try {
             if (flagLeft) core.checkOpen() // the flag was the close's: the call fails as a closed core's

@@ -12,8 +12,7 @@ import java.util.concurrent.atomic.AtomicReference
  * A block of one core that left its thread's interrupt flag set calls a chain of another open
  * core of this JVM: the call is made as if the flag were not set (the kit checks that it gets
  * its result), yet a close of either core still ends the call, long before the call timeout: the
- * called core's close closes the call's connections, the calling core's interrupts its threads
- * (once its services had `shutdownTimeout` to return).
+ * called core's close closes the call's connections, the calling core's interrupts the call at once.
  */
 class CrossCoreFlagTest {
 
