@@ -30,6 +30,8 @@ import java.util.concurrent.TimeUnit
  * @param flow the values to publish, collected while the core runs
  * @return a new source of this core
  */
+@JvmSynthetic // Java calls sourceFromJava, under the name source
+@JvmName("sourceOfFlow")
 public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBlock(), flow) { source(it) }
 
 /**
@@ -64,13 +66,49 @@ public fun <T : Any> PrimeCore.source(flow: Flow<T>): Source<T> = feed(EventBloc
  * (not the cancellation `runInterruptible` would make of it), with the value as the input, and
  * collection goes on.
  *
+ * From Java these are `FlowSources.source(core, name, flow)` and `FlowSources.source(core, flow)`,
+ * which refuse a `null` argument with a [NullPointerException] naming it and saying what to pass,
+ * as the core's declarations refuse a `null` (Kotlin callers cannot pass one); nothing is declared
+ * then.
+ *
  * @param name the source's name, unique in this core
  * @param flow the values to publish, collected while the core runs
  * @return a new source of this core
  * @throws dev.prime.CoreClosedException if the core is closed
  */
+@JvmSynthetic // Java calls sourceFromJava, under the name source
+@JvmName("sourceOfFlow")
 public fun <T : Any> PrimeCore.source(name: String, flow: Flow<T>): Source<T> =
     feed(EventBlock(), flow) { source(name, it) }
+
+/**
+ * [source] as Java sees it, `FlowSources.source(core, flow)`: internal, so not part of the Kotlin
+ * API, and with nullable parameters, so that a `null` from Java is refused by the checks here,
+ * naming the parameter and what to pass, not by the check Kotlin makes of a non-null parameter.
+ */
+@JvmName("source")
+internal fun <T : Any> sourceFromJava(core: PrimeCore?, flow: Flow<T>?): Source<T> =
+    checkedCore(core, "source(core, flow)").source(checkedFlow(flow, "source(core, flow)"))
+
+/** [source] with a name as Java sees it, `FlowSources.source(core, name, flow)` (see the other). */
+@JvmName("source")
+internal fun <T : Any> sourceFromJava(core: PrimeCore?, name: String?, flow: Flow<T>?): Source<T> {
+    val what = "source(core, name, flow)"
+    val checkedCore = checkedCore(core, what)
+    if (name == null) {
+        throw NullPointerException("FlowSources.$what: name must not be null; pass the source's name, unique in its core")
+    }
+    return checkedCore.source(name, checkedFlow(flow, what))
+}
+
+private fun checkedCore(core: PrimeCore?, what: String): PrimeCore = core
+    ?: throw NullPointerException("FlowSources.$what: core must not be null; pass the PrimeCore the source belongs to")
+
+private fun <T : Any> checkedFlow(flow: Flow<T>?, what: String): Flow<T> = flow
+    ?: throw NullPointerException(
+        "FlowSources.$what: flow must not be null; pass the Flow whose values the source publishes " +
+            "(flowOf() for none)",
+    )
 
 private inline fun <T : Any> PrimeCore.feed(
     events: EventBlock<T>,

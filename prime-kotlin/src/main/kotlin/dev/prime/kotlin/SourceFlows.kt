@@ -36,8 +36,14 @@ import kotlinx.coroutines.runInterruptible
  * the flow does not end as if cancelled, which in a `launch` would end the collection without a
  * word.
  *
+ * From Java it is `SourceFlows.asFlow(source)`, which refuses a `null` source with a
+ * [NullPointerException] naming it and saying what to pass, as the core's declarations refuse a
+ * `null` (Kotlin callers cannot pass one).
+ *
  * @return a flow of this source's values
  */
+@JvmSynthetic // Java calls asFlowFromJava, under the name asFlow
+@JvmName("asFlowOfSource")
 public fun <T> Source<T>.asFlow(): Flow<T> = flow {
     val reader = try {
         reader()
@@ -60,6 +66,22 @@ public fun <T> Source<T>.asFlow(): Flow<T> = flow {
         }
     }
 }.flowOn(Dispatchers.IO)
+
+/**
+ * [asFlow] as Java sees it, `SourceFlows.asFlow(source)`: internal, so not part of the Kotlin API,
+ * and with a nullable parameter, so that a `null` from Java is refused by the check here, naming
+ * the parameter, not by the check Kotlin makes of a non-null parameter (which names it `<this>`).
+ */
+@JvmName("asFlow")
+internal fun <T> asFlowFromJava(source: Source<T>?): Flow<T> {
+    if (source == null) {
+        throw NullPointerException(
+            "SourceFlows.asFlow(source): source must not be null; pass the Source whose values the flow " +
+                "emits (one that core.source(...) or a chain's reader made)",
+        )
+    }
+    return source.asFlow()
+}
 
 /**
  * The reader's next value, or [Interrupted] if an interrupt ended the take: `runInterruptible`
