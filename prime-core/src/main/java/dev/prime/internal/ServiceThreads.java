@@ -37,7 +37,16 @@ public final class ServiceThreads {
   private final Map<String, Runnable> releases = new HashMap<>(); // run if the thread never ran
   private final Supplier<? extends RuntimeException> stoppedError;
   private boolean started;
-  private boolean stopped;
+  private volatile boolean stopped; // set before the services are interrupted; read by their marks
+
+  /**
+   * Whether the core whose own thread the current thread is has closed ({@link #markOwnThread});
+   * {@code null} on a thread of no core (a user's).
+   */
+  private static final ThreadLocal<BooleanSupplier> OWNER_CLOSED = new ThreadLocal<>();
+
+  /** This core's services' mark ({@link #markOwnThread}): whether they are stopped. */
+  private final BooleanSupplier isStopped = () -> stopped;
 
   /**
    * @param coreName the core's name; threads are named {@code prime-<core>-<service>}
@@ -110,7 +119,14 @@ public final class ServiceThreads {
     if (threads.containsKey(service)) {
       throw new IllegalArgumentException("service '" + service + "' already exists");
     }
-    Thread thread = new Thread(logFatal(shownAs, body), prefix + service);
+    Runnable logged = logFatal(shownAs, body);
+    Thread thread =
+        new Thread(
+            () -> {
+              markOwnThread(isStopped);
+              logged.run();
+            },
+            prefix + service);
     thread.setDaemon(true);
     threads.put(service, thread);
     if (release != null) {
@@ -233,5 +249,47 @@ public final class ServiceThreads {
     if (Thread.interrupted() && closed.getAsBoolean()) {
       Thread.currentThread().interrupt();
     }
+  }
+
+  /**
+   * Marks the current thread as an own thread of a core (of any media: a service's, a listener's),
+   * whose services clear the interrupt flag the user's code leaves while the core is open ({@link
+   * #clearOwnInterrupt}); every service thread of this class is marked, and a media marks the
+   * threads of its own. A call that waits for a reply ({@link #clearFlagLeftOnOwnThread}) is then
+   * made without such a flag.
+   *
+   * @param closed whether the thread's core is closed (or its services stopped); its close must
+   *     make it true before it interrupts the thread
+   */
+  public static void markOwnThread(BooleanSupplier closed) {
+    OWNER_CLOSED.set(closed);
+  }
+
+  /**
+   * Clears the interrupt flag of the current thread if it is a core's own thread ({@link
+   * #markOwnThread}) whose core is open, and says whether it did: such a flag was left by the
+   * user's code (a block that restored the flag of an {@code InterruptedException} it caught),
+   * which the thread's service clears after the block, and is nobody's request to a call the
+   * block makes of a chain that waits for a reply (another media's); the caller makes the call
+   * without it and sets the flag again after it. The flag is cleared first and the core asked
+   * after, as in {@link #clearOwnInterrupt}: a flag its close set is kept, and the call fails as an
+   * interrupted one. A thread of no core (a user's) keeps its flag.
+   *
+   * @return whether the flag was set and cleared (the caller sets it again after its call)
+   */
+  public static boolean clearFlagLeftOnOwnThread() {
+    Thread current = Thread.currentThread();
+    if (!current.isInterrupted()) {
+      return false;
+    }
+    BooleanSupplier closed = OWNER_CLOSED.get();
+    if (closed == null || closed.getAsBoolean() || !Thread.interrupted()) {
+      return false;
+    }
+    if (closed.getAsBoolean()) { // its close began meanwhile: the flag may be the close's
+      current.interrupt();
+      return false;
+    }
+    return true;
   }
 }

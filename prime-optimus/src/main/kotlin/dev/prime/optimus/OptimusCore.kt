@@ -16,6 +16,7 @@ import dev.prime.GenericServiceLoop
 import dev.prime.SourceCompiler
 import dev.prime.internal.Deadlines.boundedNanos
 import dev.prime.internal.RateLimitedLog
+import dev.prime.internal.ServiceThreads
 import dev.prime.topology.Topology
 import dev.prime.topology.TopologyNode
 import kotlinx.coroutines.CancellationException
@@ -47,6 +48,7 @@ import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.ExecutorService
 import java.util.concurrent.Executors
 import java.util.concurrent.atomic.AtomicInteger
+import java.util.function.BooleanSupplier
 
 /**
  * The Optimus media: every chain is a real service over Redis lists, so parts of one topology can
@@ -229,11 +231,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         override fun removeEldestEntry(eldest: MutableMap.MutableEntry<Long, Throwable>?) = size > FAILURES_KEPT
     })
 
+    /** Whether this core is closed, the mark of its own threads ([ServiceThreads.markOwnThread]). */
+    private val closedMark = BooleanSupplier { isClosed }
     private val threadNumbers = AtomicInteger()
     private val threads = ConcurrentLinkedQueue<Thread>()
     private val executor: ExecutorService = Executors.newCachedThreadPool { task ->
         val owner = this
-        Thread({ ownerOfThread.set(owner); task.run() }, "prime-${name()}-optimus-${threadNumbers.incrementAndGet()}").apply {
+        Thread({
+            ownerOfThread.set(owner)
+            ServiceThreads.markOwnThread(owner.closedMark)
+            task.run()
+        }, "prime-${name()}-optimus-${threadNumbers.incrementAndGet()}").apply {
             isDaemon = true
             threads += this
         }
@@ -625,23 +633,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     }
 
     /**
-     * Clears the interrupt flag of the calling thread if it is one of the own threads (a service,
-     * a template, a listener) of an open Optimus core of this JVM (this one or another: a block
-     * may call another core's chain through its `toBlock()`) and this core is open too, and says
-     * whether it did. Such a flag was left
-     * by a block (an `ifThenElse` condition, a block that interrupted itself before calling a
-     * chain): while the core is open, the services clear the flag before their next value, and
-     * only [close] ends them, or, for a generic service, the loss of its host lease to another
-     * process (it is interrupted then, and finishes a call it is making before it stops; what it
-     * stores is fenced by the lease). A call of a chain made then is made without the flag, as on
-     * Liberty and Radiant, where the called blocks run inline and a call never waits for a reply;
-     * the caller sets the flag again after the call. A close that interrupts the thread meanwhile
-     * still ends the call: this core's closes the call's connections, and the flag that either
-     * core's close sets ends the wait. A close of the thread's core that began before the flag was
-     * cleared may have set it: the flag is kept then, and the call fails as an interrupted one.
-     * A thread of no Optimus core (a user's) keeps its flag, and its call fails as interrupted.
-     */
-    /**
      * Runs [call], a call of this core's chain. Made on an own thread of another Optimus core (a
      * block of that core's service calling this core's chain through its `toBlock()`), the thread
      * is noted for that core while the call lasts, so that core's [close] interrupts the call at
@@ -666,16 +657,26 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     /** The Optimus core whose own thread the current thread is, or `null`. */
     internal fun ownerOfCurrentThread(): OptimusCore? = ownerOfThread.get()
 
+    /**
+     * Clears the interrupt flag of the calling thread if it is an own thread of an open core of
+     * this JVM, of any media ([ServiceThreads.markOwnThread]: a service, a template, a listener
+     * of an Optimus core, this one or another, a Liberty or Radiant core's service), and this core
+     * is open too, and says whether it did. Such a flag was left by a block (an `ifThenElse`
+     * condition, a block that interrupted itself before calling a chain): while the core is open,
+     * the services clear the flag before their next value, and only its close ends them, or, for
+     * an Optimus generic service, the loss of its host lease to another process (it is interrupted
+     * then, and finishes a call it is making before it stops; what it stores is fenced by the
+     * lease). A call of a chain made then is made without the flag, as where the called blocks run
+     * inline (Liberty, Radiant) and a call never waits for a reply; the caller sets the flag again
+     * after the call. A close that interrupts the thread meanwhile still ends the call: this core's
+     * closes the call's connections, and the flag that either core's close sets ends the wait. A
+     * close of the thread's core that began before the flag was cleared may have set it: the flag
+     * is kept then, and the call fails as an interrupted one. A thread of no core (a user's) keeps
+     * its flag, and its call fails as interrupted.
+     */
     internal fun clearFlagLeftByABlock(): Boolean {
-        val current = Thread.currentThread()
-        if (!current.isInterrupted || isClosed) return false
-        val owner = ownerOfThread.get() ?: return false
-        if (owner.isClosed || !Thread.interrupted()) return false
-        if (owner.isClosed) { // its close began meanwhile: the flag may be the close's
-            current.interrupt()
-            return false
-        }
-        return true
+        if (!Thread.currentThread().isInterrupted || isClosed) return false
+        return ServiceThreads.clearFlagLeftOnOwnThread()
     }
 
     /**
