@@ -1952,7 +1952,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     public companion object {
         private val LOG = LoggerFactory.getLogger(OptimusCore::class.java)
 
-        /** The Optimus core whose own thread the current thread is ([clearFlagLeftByABlock]); `null` on any other thread. */
+        /** The Optimus core whose own thread the current thread is ([callOfAnotherCore]); `null` on any other thread. */
         private val ownerOfThread = ThreadLocal<OptimusCore?>()
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
