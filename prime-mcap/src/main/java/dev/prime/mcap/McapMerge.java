@@ -183,7 +183,9 @@ public final class McapMerge {
    *     output has a new file's permissions, owner and group, not the earlier one's, and a hard
    *     link to the earlier output keeps the earlier contents (see the class description). The
    *     output is a recording of one file: the rotated files of an earlier recording at that path
-   *     ({@code run-0001.mcap}... for {@code run.mcap}) are deleted just before the move, from the
+   *     ({@code run-0001.mcap}... for {@code run.mcap}, up to the first name missing: a file
+   *     further on, such as a user's {@code run-2026.mcap}, is none of them and is left) are
+   *     deleted just before the move, from the
    *     last one back, as a {@link McapWriter} opened there deletes them, so that {@link
    *     McapReader#recordingFiles} lists the merge alone (a deletion that fails fails the merge,
    *     the earlier recording left without a gap). If it is a symbolic link, the link stays: the
@@ -199,7 +201,8 @@ public final class McapMerge {
    *     the path and that writer (see {@link McapWriter}, "One writer per path")
    * @throws McapFormatException if an input is not a well-formed, finished MCAP file
    * @throws IllegalArgumentException for no inputs, an input given twice, the output among the
-   *     inputs, an input that is a rotated file of a recording at the output, or a topic whose
+   *     inputs, an input that is a rotated file of a recording at the output (one the merge
+   *     would delete), or a topic whose
    *     schema (or message encoding) differs between inputs
    */
   public static Result merge(List<Path> inputs, Path output) throws IOException {
@@ -419,6 +422,9 @@ public final class McapMerge {
     Path out = output.toAbsolutePath().normalize();
     // the rotated files the merge deletes are those of the file it replaces (where a link leads)
     Path replaced = SymbolicLinks.target(output, "merge into").toAbsolutePath().normalize();
+    // those it finds there now: the contiguous run from -0001 on (a file further on is none of them)
+    Map<Path, Integer> rotated = new HashMap<>();
+    McapWriter.rotatedFilesIn(replaced).forEach((index, file) -> rotated.put(file, index));
     for (Path input : inputs) {
       Objects.requireNonNull(input, "an input path is null");
       Path in = input.toAbsolutePath().normalize();
@@ -430,9 +436,9 @@ public final class McapMerge {
         throw new IllegalArgumentException(
             "the output " + output + " is also an input: write the merge to another file");
       }
-      if (McapWriter.rotationIndex(replaced, in) > 0 && replaced.getParent().equals(in.getParent())) {
+      if (rotated.containsKey(in)) {
         throw new IllegalArgumentException(
-            "input " + input + " is rotated file " + McapWriter.rotationIndex(replaced, in) + " of a recording at "
+            "input " + input + " is rotated file " + rotated.get(in) + " of a recording at "
                 + output + (replaced.equals(out) ? "" : " (" + replaced + ", where that symbolic link leads)")
                 + ", whose rotated files the merge deletes (the merge is the recording there"
                 + " now): write the merge to another file");

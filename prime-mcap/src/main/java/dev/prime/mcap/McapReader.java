@@ -22,7 +22,6 @@ import java.util.Map;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.Set;
-import java.util.SortedMap;
 import java.util.Spliterator;
 import java.util.Spliterators;
 import java.util.TreeMap;
@@ -55,6 +54,11 @@ public final class McapReader implements Closeable {
   private static final int RECORD_PREFIX = 1 + 8;
   private static final int FOOTER_LENGTH = RECORD_PREFIX + 8 + 8 + 4;
   private static final int DATA_END_LENGTH = RECORD_PREFIX + 4;
+  /**
+   * How many names past a missing file of a recording {@link #recordingFiles} looks for a later
+   * file of it, taken for one moved or deleted (further on, a file is no file of the recording).
+   */
+  static final int GAP_LOOKED_ACROSS = 2;
 
   private final Path path;
   private final FileChannel file;
@@ -147,18 +151,22 @@ public final class McapReader implements Closeable {
   /**
    * The files of a recording that {@link McapWriter} may have rotated: {@code first}, then
    * {@link McapWriter#rotatedPath}{@code (first, 1)}, {@code (first, 2)}, ... as long as they
-   * exist. Open each with {@link #open}. If {@code first} is a symbolic link, the rotated files are
+   * exist: a recording's rotated files are contiguous (a writer rotates into them in order), so
+   * the first missing one ends it, and a file further on whose name only looks like a rotated
+   * file's (a user's date-named {@code run-2026.mcap} beside {@code run.mcap}) is no file of it
+   * and is not listed. Only a file of those names just past the missing one (one of the next
+   * two) is taken for the rest of the recording, one of whose files was moved or deleted: that is
+   * refused (see below). Open each with {@link #open}. If {@code first} is a symbolic link, the rotated files are
    * those of the file it leads to ({@code runs/run-0001.mcap}... for {@code latest.mcap}, a link to
    * {@code runs/run.mcap}), as a writer opened at the link names them: the recording is the same
    * read through either name.
    *
    * @param first the path the writer was opened with
    * @return the existing files in order (empty if no file of the recording exists)
-   * @throws IllegalStateException if a file of the recording is missing while a later one exists
-   *     (it was moved or deleted): reading on would leave out part of the recording
+   * @throws IllegalStateException if a file of the recording is missing while one of the next two
+   *     names is there (a file of the recording was moved or deleted): reading on would leave out part of the recording
    *     without a word, so the message names the missing file
-   * @throws UncheckedIOException if the folder could not be listed to look for later files, or
-   *     {@code first} is a loop of symbolic links
+   * @throws UncheckedIOException if {@code first} is a loop of symbolic links
    */
   public static List<Path> recordingFiles(Path first) {
     Objects.requireNonNull(first, "first must not be null: give the path the writer was opened with");
@@ -175,14 +183,18 @@ public final class McapReader implements Closeable {
       files.add(index == 0 ? first : McapWriter.rotatedPath(base, index));
       index++;
     }
-    int later;
-    try {
-      SortedMap<Integer, Path> rotated = McapWriter.rotatedFilesIn(base);
-      later = rotated.isEmpty() ? -1 : rotated.lastKey();
-    } catch (IOException e) {
-      throw new UncheckedIOException("could not list the folder of " + first + " for the files of its recording", e);
+    // a gap ends the recording; but a file of it just after the gap (one of the next
+    // GAP_LOOKED_ACROSS) says a file of it was moved or deleted, which reading on would hide
+    int later = -1;
+    for (int next = index + 1; next <= index + GAP_LOOKED_ACROSS && later < 0; next++) {
+      if (Files.exists(McapWriter.rotatedPath(base, next))) {
+        later = next;
+      }
     }
-    if (later > index) {
+    if (later > 0) {
+      while (later < Integer.MAX_VALUE && Files.exists(McapWriter.rotatedPath(base, later + 1))) {
+        later++;
+      }
       throw new IllegalStateException(
           "file " + (index == 0 ? first : McapWriter.rotatedPath(base, index)) + " of the recording is missing, yet "
               + McapWriter.rotatedPath(base, later) + " exists: a file of the recording was"
