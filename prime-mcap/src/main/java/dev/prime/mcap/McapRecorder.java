@@ -25,7 +25,9 @@ import java.util.logging.Logger;
  * cannot keep up the value is dropped and counted ({@link #droppedCount()}), never stalling the
  * controller. A name's channel is defined on its first value (typed by that value's class unless
  * a type was given); a name the writer refuses a channel (past the channel limit) is refused
- * once, its later values counted without asking the writer again. A value that cannot be written (no channel type for its class, JSON encoding
+ * once, its later values counted without asking the writer again; likewise a class with no
+ * channel type is looked at once (the refusal kept with the class, so values of ever more classes
+ * grow no map here), its later values, under any name, counted without another look. A value that cannot be written (no channel type for its class, JSON encoding
  * fails, its message is larger than the queue's byte bound, or its name came after the 65535
  * channels a file holds) is counted in {@link
  * #unwritableCount()} with its first reason. Both losses are in the loss record of the file
@@ -52,6 +54,8 @@ public final class McapRecorder implements AutoCloseable {
   private final LongAdder accepted = new LongAdder();
   private final LongAdder unwritable = new LongAdder();
   private final AtomicReference<String> firstUnwritable = new AtomicReference<>();
+  /** Times a value's class was looked at for its channel type ({@link ValueType#of}), for tests. */
+  private final LongAdder typeLookups = new LongAdder();
   /** Times a name's channel was looked for in the writer (defined, or refused), for tests. */
   private final LongAdder definitionAttempts = new LongAdder();
   private final Recording.Subscription subscription;
@@ -110,18 +114,15 @@ public final class McapRecorder implements AutoCloseable {
       refuse(name, overLimit(name));
       return null;
     }
-    ValueType<Object> type;
-    try {
-      ValueType<?> given = types.get(name);
-      type =
-          (ValueType<Object>)
-              (given != null ? given : ValueType.of(RecordingMcap.channelClass(entry.value())));
-    } catch (IllegalArgumentException e) {
+    ValueType<?> given = types.get(name);
+    Object found = given != null ? given : channelTypes.get(RecordingMcap.channelClass(entry.value()));
+    if (found instanceof String refusal) {
       unwritable(
           name + ": values of " + RecordingMcap.channelClass(entry.value()).getName() + " have no channel type ("
-              + e.getMessage() + "); give its type in RecordingMcap.stream(..., types)");
+              + refusal + "); give its type in RecordingMcap.stream(..., types)");
       return null;
     }
+    ValueType<Object> type = (ValueType<Object>) found;
     Map<String, String> metadata = new LinkedHashMap<>();
     metadata.put("prime.service", name);
     if (entry.pseudoname() != null) {
@@ -164,6 +165,30 @@ public final class McapRecorder implements AutoCloseable {
     unwritable.increment();
     writer.countUnwritable();
     firstUnwritable.compareAndSet(null, reason);
+  }
+
+  /**
+   * The channel type of a value's class, or (a String) why it has none, looked at once per class:
+   * the later values of a class with no type are counted without another look and the exception
+   * it makes. Kept with the class ({@link ClassValue}), not in a map of the recorder's, so that
+   * values of ever more classes grow nothing here, and dropped with the recorder.
+   */
+  private final ClassValue<Object> channelTypes =
+      new ClassValue<>() {
+        @Override
+        protected Object computeValue(Class<?> type) {
+          typeLookups.increment();
+          try {
+            return ValueType.of(type);
+          } catch (IllegalArgumentException e) {
+            return e.getMessage();
+          }
+        }
+      };
+
+  /** How many times a value's class was looked at for its channel type; a seam for tests. */
+  long typeLookups() {
+    return typeLookups.sum();
   }
 
   /** How many times a channel was defined for a name, or tried and refused; a seam for tests. */

@@ -425,6 +425,42 @@ class McapRecorderTest {
     }
   }
 
+  /**
+   * A class with no channel type is looked at once: the refusal is remembered for the class, so
+   * its later values (under any name) are counted as unwritable without another look (and the
+   * exception each look makes).
+   */
+  @Test
+  void aClassWithNoChannelTypeIsLookedAtOnce() throws Exception {
+    Path file = dir.resolve("opaque.mcap");
+    int published = 100;
+    try (PrimeCore core = core(4); RecorderWarnings logged = new RecorderWarnings()) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Source<Integer> source = core.source("ticks", ticks);
+      Reader<Opaque> opaque = source.then(core.chain("opaque", (Integer t) -> new Opaque(t))).reader();
+      Reader<Opaque> again = source.then(core.chain("again", (Integer t) -> new Opaque(-t))).reader();
+      core.start();
+      McapRecorder recorder =
+          RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults().queue(published * 2, 1 << 30));
+      try (recorder) {
+        for (int i = 0; i < published; i++) {
+          ticks.publish(i); // the chains' values are recorded on this thread (Liberty) before publish returns
+          assertTrue(opaque.take(Duration.ofSeconds(10)).isPresent());
+          assertTrue(again.take(Duration.ofSeconds(10)).isPresent());
+        }
+        assertEquals(2L * published, recorder.unwritableCount(), "every Opaque value");
+        assertEquals(published, recorder.writtenCount(), "the ticks");
+        assertEquals(2, recorder.typeLookups(), "one look per class: Integer, then Opaque");
+      }
+      String warning = logged.lines().get(0);
+      assertTrue(warning.contains("could not write " + 2 * published)
+          && warning.contains(": values of " + Opaque.class.getName() + " have no channel type"), warning);
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      assertEquals(List.of("ticks"), reader.channels().stream().map(ChannelInfo::topic).toList());
+    }
+  }
+
   @Test
   void synchronousOptionsAreRefusedWithTheFix() throws Exception {
     try (PrimeCore core = core(2)) {
