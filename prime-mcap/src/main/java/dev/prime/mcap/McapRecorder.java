@@ -84,6 +84,19 @@ public final class McapRecorder implements AutoCloseable {
   }
 
   private void record(RecordedValue<Object> entry) {
+    try {
+      recordOrCount(entry);
+    } catch (VirtualMachineError e) {
+      throw e; // the JVM itself is in trouble
+    } catch (RuntimeException | Error e) {
+      // what the encoder or a value's own code throws that no rule above foresaw: the value is
+      // not written, and counted as the others are, in the file's loss record too (rather than
+      // only in the subscription's failures, which no file says)
+      unwritable(entry.service() + ": the value could not be written: " + e);
+    }
+  }
+
+  private void recordOrCount(RecordedValue<Object> entry) {
     McapChannel<Object> channel = channels.get(entry.service());
     if (channel == null) {
       String refusal = refused.get(entry.service());
@@ -212,7 +225,8 @@ public final class McapRecorder implements AutoCloseable {
   }
 
   /**
-   * {@return values that could not be written: no channel type for their class, encoding failed,
+   * {@return values that could not be written: no channel type for their class, encoding failed
+   * (whatever the encoder or the value's own code threw),
    * a message larger than the queue's byte bound, or a name recorded after the file's last
    * channel (a file holds at most 65535, one per name); each file's loss record counts those of
    * its time as {@code unwritable_messages}}
@@ -243,13 +257,18 @@ public final class McapRecorder implements AutoCloseable {
     subscription.close();
     writer.close();
     long dropped = droppedCount();
-    long failed = unwritableCount() + subscription.failures();
-    if (dropped > 0 || failed > 0) {
+    // the values the files' loss records count as unwritable_messages, so the two agree
+    long failed = unwritableCount();
+    // a failure that reached the subscription (none should: record() counts what it catches) is
+    // in no file, so it is named apart
+    long failedInRecorder = subscription.failures();
+    if (dropped > 0 || failed > 0 || failedInRecorder > 0) {
       LOG.warning(
           "MCAP recording " + writer.files() + ": wrote " + writtenCount() + " values, dropped "
               + dropped + " (the writer could not keep up; see the prime.mcap Metadata record),"
-              + " could not write " + failed
-              + (firstUnwritable.get() == null ? "" : " (first: " + firstUnwritable.get() + ")"));
+              + " could not write " + failed + " (unwritable_messages there)"
+              + (firstUnwritable.get() == null ? "" : " (first: " + firstUnwritable.get() + ")")
+              + (failedInRecorder == 0 ? "" : ", and " + failedInRecorder + " failed in the recorder itself (in no file)"));
     }
   }
 

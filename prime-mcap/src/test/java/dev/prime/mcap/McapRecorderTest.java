@@ -425,6 +425,58 @@ class McapRecorderTest {
     }
   }
 
+  /** A record whose list fails with an Error as it is read, which the JSON encoder passes on as it is. */
+  record Faulty(List<Integer> items) {
+    static Faulty of(int n) {
+      return new Faulty(new java.util.AbstractList<>() {
+        @Override
+        public Integer get(int index) {
+          throw new AssertionError("a broken list of " + n);
+        }
+
+        @Override
+        public int size() {
+          return 1;
+        }
+      });
+    }
+  }
+
+  /**
+   * A value whose write fails in a way the recorder did not foresee (here: an Error from a list
+   * of its record, which the JSON encoder passes on unwrapped) is counted where the recorder's
+   * other unwritable values are: in the file's loss record ({@code unwritable_messages}) as in the
+   * WARNING line's "could not write", which agree.
+   */
+  @Test
+  void aValueWhoseWriteFailsIsCountedInTheFileAsInTheWarningLine() throws Exception {
+    Path file = dir.resolve("failing.mcap");
+    int published = 3;
+    String warning;
+    try (PrimeCore core = core(4); RecorderWarnings logged = new RecorderWarnings()) {
+      EventBlock<Integer> ticks = new EventBlock<>();
+      Reader<Faulty> faulty = core.source("ticks", ticks).then(core.chain("faulty", (Integer t) -> Faulty.of(t))).reader();
+      core.start();
+      McapRecorder recorder = RecordingMcap.stream(core.recording(), file, McapWriterOptions.defaults());
+      try (recorder) {
+        for (int i = 0; i < published; i++) {
+          ticks.publish(i); // the chain's value is recorded on this thread (Liberty) before publish returns
+          assertTrue(faulty.take(Duration.ofSeconds(10)).isPresent());
+        }
+      }
+      assertEquals(1, logged.lines().size(), logged.lines().toString());
+      warning = logged.lines().get(0);
+      assertTrue(warning.contains("could not write " + published), warning);
+    }
+    try (McapReader reader = McapReader.open(file)) {
+      Map<String, String> loss = reader.metadata(McapWriter.LOSS_METADATA).get(0);
+      assertEquals(String.valueOf(published), loss.get("unwritable_messages"),
+          "the file counts what the WARNING line says could not be written (" + warning + "): " + loss);
+      assertEquals(published, reader.messageCount("ticks"), "the other values are written");
+    }
+    assertTrue(warning.contains("a broken list of 0"), "says why: " + warning);
+  }
+
   /**
    * A class with no channel type is looked at once: the refusal is remembered for the class, so
    * its later values (under any name) are counted as unwritable without another look (and the
