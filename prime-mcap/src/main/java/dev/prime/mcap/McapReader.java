@@ -166,14 +166,19 @@ public final class McapReader implements Closeable {
    * @throws IllegalStateException if a file of the recording is missing while one of the next two
    *     names is there (a file of the recording was moved or deleted): reading on would leave out part of the recording
    *     without a word, so the message names the missing file
-   * @throws UncheckedIOException if {@code first} is a loop of symbolic links
+   * @throws UncheckedIOException if {@code first} is a symbolic link that leads through more than
+   *     40 links (a loop of them), which names no file: the message (that of the {@link
+   *     IOException} within) names the path and says to give the recording's first file, or make
+   *     the link lead to it; not taken for a recording with no file
    */
   public static List<Path> recordingFiles(Path first) {
     Objects.requireNonNull(first, "first must not be null: give the path the writer was opened with");
     // a writer opened at a symbolic link names its rotated files after the file the link leads to
     Path base;
     try {
-      base = SymbolicLinks.target(first, "list the files of the recording at");
+      // a loop of links names no file: refused, rather than taken for no recording there
+      base = SymbolicLinks.target(first, "list the files of the recording at",
+          "give the path of the recording's first file, or make the link lead to it");
     } catch (IOException e) {
       throw new UncheckedIOException(e.getMessage(), e);
     }

@@ -28,12 +28,21 @@ final class SymbolicLinks {
    *     them), naming the path and what to do; or if a link cannot be read
    */
   static Path target(Path path, String action) throws IOException {
+    return target(path, action, "make it a link to a file (or no link), or write to another path");
+  }
+
+  /**
+   * As {@link #target(Path, String)}, for a caller whose fix for a loop of links is another's
+   * (a reader's: to give the recording's first file).
+   *
+   * @param fix what to do about a loop of links, for the refusal
+   */
+  static Path target(Path path, String action, String fix) throws IOException {
     Path file = path;
     for (int links = 0; Files.isSymbolicLink(file); links++) {
       if (links == MAX_LINKS) {
         throw new IOException("cannot " + action + " " + path + ": it is a symbolic link that leads through more than "
-            + MAX_LINKS + " links (a loop of them?), so it names no file; make it a link to a file (or no link),"
-            + " or write to another path");
+            + MAX_LINKS + " links (a loop of them?), so it names no file; " + fix);
       }
       file = file.resolveSibling(Files.readSymbolicLink(file));
     }

@@ -6,6 +6,7 @@ import static org.junit.jupiter.api.Assertions.assertTrue;
 import static org.junit.jupiter.api.Assumptions.assumeTrue;
 
 import java.io.IOException;
+import java.io.UncheckedIOException;
 import java.nio.file.Files;
 import java.nio.file.Path;
 import java.util.List;
@@ -77,5 +78,20 @@ class LinkLoopTest {
   void aMergeIntoALoopOfLinksIsRefused() throws IOException {
     IOException refused = assertThrows(IOException.class, () -> McapMerge.merge(List.of(input), loop));
     assertRefused(refused, "merge into");
+  }
+
+  /**
+   * Listing the files of a recording at a loop of links is refused, as a writer there is, naming
+   * the path and what to do: for a reader, to give the recording's first file (not "no files", as
+   * if no recording were there, nor a writer's "write to another path").
+   */
+  @Test
+  void theFilesOfARecordingAtALoopOfLinksAreRefused() throws IOException {
+    UncheckedIOException refused = assertThrows(UncheckedIOException.class, () -> McapReader.recordingFiles(loop));
+    assertEquals("cannot list the files of the recording at " + loop + ": it is a symbolic link that leads through"
+        + " more than " + SymbolicLinks.MAX_LINKS + " links (a loop of them?), so it names no file; give the path"
+        + " of the recording's first file, or make the link lead to it", refused.getMessage());
+    assertEquals(refused.getMessage(), refused.getCause().getMessage(), "the IOException within says the same");
+    assertEquals(List.of(loop, other, input), filesIn(), "nothing is made beside the links");
   }
 }
