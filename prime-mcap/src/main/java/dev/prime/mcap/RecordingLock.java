@@ -47,7 +47,10 @@ import java.util.stream.Stream;
  * <p>A writer opened at a symbolic link writes the file it links to, and a merge into a link
  * replaces that file: it holds that file's path too ({@code <target>.lock}), so that writers (and
  * merges) at the file and at links to it refuse each other; a writer's rotated files are then
- * named after that file, so its overlaps are looked for as for a writer there.
+ * named after that file, so its overlaps are looked for as for a writer there, and not as for a
+ * writer at the link: a writer at {@code latest-0001.mcap} beside a link {@code latest.mcap} to
+ * {@code runs/run.mcap} shares no file with a writer at the link, and neither refuses the other
+ * (whether the path is a link is looked at as a holder opens).
  *
  * <p>A path that is a device or a pipe ({@code /dev/null}) is not held. Released by the writer
  * once its last file is finished: the lock file is deleted (while still
@@ -135,7 +138,10 @@ final class RecordingLock {
    */
   private static void refuseOverlaps(Path first, String action, boolean rotatedFiles) throws IOException {
     Path recording = McapWriter.recordingOf(first);
-    if (recording != null) {
+    // a writer at a symbolic link (latest.mcap to runs/run.mcap) rotates into the files named
+    // after the file it leads to (runs/run-0001.mcap), not after the link (latest-0001.mcap):
+    // its overlaps are those of a writer at that file, looked for there
+    if (recording != null && !leadsElsewhere(recording)) {
       String holder = holderOf(recording);
       if (holder != null) {
         throw new IOException("cannot " + action + " " + first + ": " + holder + " is writing the recording at "
@@ -147,7 +153,7 @@ final class RecordingLock {
       }
     }
     Path folder = first.toAbsolutePath().getParent();
-    if (folder == null || !Files.isDirectory(folder)) {
+    if (folder == null || !Files.isDirectory(folder) || leadsElsewhere(first)) {
       return;
     }
     List<Path> rotated = new ArrayList<>();
@@ -318,6 +324,19 @@ final class RecordingLock {
   private static Path linkTarget(Path first, String action) throws IOException {
     Path path = SymbolicLinks.target(first, action);
     return path.equals(first) || key(lockPath(path)).equals(key(lockPath(first))) ? null : path;
+  }
+
+  /**
+   * Whether {@code path} is a symbolic link to a file of another lock file, whose name a writer
+   * there names its rotated files after; false if not, or if that cannot be told (a loop of
+   * links: then its overlaps are looked for as a file's, the safer way).
+   */
+  private static boolean leadsElsewhere(Path path) {
+    try {
+      return linkTarget(path, "look at") != null;
+    } catch (IOException e) {
+      return false;
+    }
   }
 
   private static IOException held(String action, Path first, Path lockFile, String holder) {

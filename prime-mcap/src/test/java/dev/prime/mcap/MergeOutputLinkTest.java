@@ -223,4 +223,36 @@ class MergeOutputLinkTest {
       assertEquals(2, reader.messageCount("readings"));
     }
   }
+
+  /**
+   * A writer at a symbolic link ({@code latest.mcap} to {@code runs/run.mcap}) rotates into
+   * {@code runs/run-0001.mcap}..., so a writer at {@code latest-0001.mcap}, beside the link, shares
+   * no file with it: neither refuses the other, whichever opens first. A writer at the file it
+   * rotates into is still refused.
+   */
+  @Test
+  void aWriterAtALinkAndOneAtAFileNamedAfterTheLinkDoNotOverlap() throws Exception {
+    Path runs = Files.createDirectory(dir.resolve("runs"));
+    Path target = runs.resolve("run.mcap");
+    Path link = link(dir.resolve("latest.mcap"), dir.relativize(target));
+    Path besideLink = McapWriter.rotatedPath(link, 1);
+    McapWriterOptions options = McapWriterOptions.defaults().synchronous();
+    try (McapWriter atLink = McapWriter.open(link, options);
+        McapWriter beside = McapWriter.open(besideLink, options)) {
+      assertTrue(atLink.channel("robot", Reading.class).write(1, 1, 1, new Reading(1)));
+      assertTrue(beside.channel("notes", Reading.class).write(1, 1, 1, new Reading(2)));
+      IOException refused = assertThrows(IOException.class,
+          () -> McapWriter.open(McapWriter.rotatedPath(target, 1), options).close());
+      assertTrue(refused.getMessage().contains(McapWriter.rotatedPath(target, 1).toString()), refused.getMessage());
+    }
+    try (McapWriter beside = McapWriter.open(besideLink, options);
+        McapWriter atLink = McapWriter.open(link, options)) {
+      assertTrue(beside.channel("notes", Reading.class).write(1, 1, 1, new Reading(3)));
+      assertTrue(atLink.channel("robot", Reading.class).write(1, 1, 1, new Reading(4)));
+    }
+    try (McapReader reader = McapReader.open(besideLink)) {
+      assertEquals(List.of(3), reader.messages("notes", Reading.class).map(m -> m.value().value()).toList());
+    }
+    assertEquals(List.of(link), McapReader.recordingFiles(link));
+  }
 }
