@@ -183,7 +183,7 @@ public final class McapMerge {
    *     output has a new file's permissions, owner and group, not the earlier one's, and a hard
    *     link to the earlier output keeps the earlier contents (see the class description). The
    *     output is a recording of one file: the rotated files of an earlier recording at that path
-   *     ({@code run-0001.mcap}... for {@code run.mcap}, up to the first name missing: a file
+   *     ({@code run-0001.mcap}... for {@code run.mcap}, up to a gap of more than two names: a file
    *     further on, such as a user's {@code run-2026.mcap}, is none of them and is left) are
    *     deleted just before the move, from the
    *     last one back, as a {@link McapWriter} opened there deletes them, so that {@link
@@ -422,7 +422,7 @@ public final class McapMerge {
     Path out = output.toAbsolutePath().normalize();
     // the rotated files the merge deletes are those of the file it replaces (where a link leads)
     Path replaced = SymbolicLinks.target(output, "merge into").toAbsolutePath().normalize();
-    // those it finds there now: the contiguous run from -0001 on (a file further on is none of them)
+    // those it finds there now: from -0001 on, up to a gap of more than two names (see rotatedFilesIn)
     Map<Path, Integer> rotated = new HashMap<>();
     McapWriter.rotatedFilesIn(replaced).forEach((index, file) -> rotated.put(file, index));
     for (Path input : inputs) {

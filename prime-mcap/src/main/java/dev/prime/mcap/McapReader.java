@@ -22,6 +22,7 @@ import java.util.Map;
 import java.util.Objects;
 import java.util.Optional;
 import java.util.Set;
+import java.util.SortedMap;
 import java.util.Spliterator;
 import java.util.Spliterators;
 import java.util.TreeMap;
@@ -54,11 +55,6 @@ public final class McapReader implements Closeable {
   private static final int RECORD_PREFIX = 1 + 8;
   private static final int FOOTER_LENGTH = RECORD_PREFIX + 8 + 8 + 4;
   private static final int DATA_END_LENGTH = RECORD_PREFIX + 4;
-  /**
-   * How many names past a missing file of a recording {@link #recordingFiles} looks for a later
-   * file of it, taken for one moved or deleted (further on, a file is no file of the recording).
-   */
-  static final int GAP_LOOKED_ACROSS = 2;
 
   private final Path path;
   private final FileChannel file;
@@ -189,17 +185,10 @@ public final class McapReader implements Closeable {
       index++;
     }
     // a gap ends the recording; but a file of it just after the gap (one of the next
-    // GAP_LOOKED_ACROSS) says a file of it was moved or deleted, which reading on would hide
-    int later = -1;
-    for (int next = index + 1; next <= index + GAP_LOOKED_ACROSS && later < 0; next++) {
-      if (Files.exists(McapWriter.rotatedPath(base, next))) {
-        later = next;
-      }
-    }
-    if (later > 0) {
-      while (later < Integer.MAX_VALUE && Files.exists(McapWriter.rotatedPath(base, later + 1))) {
-        later++;
-      }
+    // McapWriter.GAP_BRIDGED) says a file of it was moved or deleted, which reading on would hide
+    SortedMap<Integer, Path> rotated = McapWriter.rotatedFilesIn(base);
+    int later = rotated.isEmpty() ? -1 : rotated.lastKey();
+    if (later > index) {
       throw new IllegalStateException(
           "file " + (index == 0 ? first : McapWriter.rotatedPath(base, index)) + " of the recording is missing, yet "
               + McapWriter.rotatedPath(base, later) + " exists: a file of the recording was"

@@ -84,8 +84,8 @@ import java.util.concurrent.atomic.LongAdder;
  * to the next run's file leaves the earlier run whole. A file is finished once it reaches the size, and the next one is started by
  * the next message (or at close, only to hold messages dropped or Metadata records added since),
  * so a recording does not end with an empty file. Existing files of those names are overwritten.
- * A recording's rotated files are thus contiguous, from {@code -0001} on: the first name missing
- * ends it, so that a file further on whose name only looks like a rotated file's (a user's
+ * A recording's rotated files are thus contiguous, from {@code -0001} on: a gap of more than
+ * two names ends it (a gap of one or two is taken for files moved or deleted by hand), so that a file further on whose name only looks like a rotated file's (a user's
  * date-named {@code run-2026.mcap} beside {@code run.mcap}) is no file of it, never deleted by a
  * writer or merge opened at {@code run.mcap} nor listed by {@link McapReader#recordingFiles}.
  * See {@link #rotatedPath}.
@@ -328,8 +328,8 @@ public final class McapWriter implements Closeable {
    *       an earlier recording there has rotated files, that its first file can be opened to
    *       write and none of those files is a folder. A failure here leaves every file as it was;
    *   <li>the rotated files of an earlier recording at this path ({@link #rotatedPath}{@code
-   *       (path, n)}, n from 1 up to the first that is not there: a gap ends a recording, and a
-   *       file further on, such as a user's date-named {@code run-2026.mcap}, is no file of it and
+   *       (path, n)}, n from 1 up to a gap of more than two names, which ends a recording (a
+   *       smaller one is taken for files moved or deleted by hand): a file further on, such as a user's date-named {@code run-2026.mcap}, is no file of it and
    *       is left) are deleted, so that {@link McapReader#recordingFiles} lists this
    *       recording's files only, from the last one back: an open that fails on one leaves the
    *       earlier recording's first file and the rotated files before that one. At a symbolic
@@ -400,23 +400,34 @@ public final class McapWriter implements Closeable {
   }
 
   /**
+   * The most names a gap in a recording's rotated files spans and is still taken for files of it
+   * moved or deleted by hand (which {@link McapReader#recordingFiles} refuses over, and a new
+   * writer or merge deletes); a longer gap ends the recording.
+   */
+  static final int GAP_BRIDGED = 2;
+
+  /**
    * The rotated files of a recording at {@code first}, by index (1 and up), whoever wrote them:
    * this writer, or an earlier one at the same path. They are contiguous: {@link #rotatedPath}
-   * {@code (first, 1)}, {@code (first, 2)}, ... up to the first that is not there (a writer rotates
-   * into them in order, and deletes an earlier recording's from the last one back, leaving a
-   * prefix). A gap ends the recording: a file further on whose name only looks like a rotated
-   * file's ({@code run-2026.mcap}, a user's date-named file, beside {@code run.mcap}) is no file
-   * of it, so nothing here ever lists or deletes it.
+   * {@code (first, 1)}, {@code (first, 2)}, ... (a writer rotates into them in order, and deletes
+   * an earlier recording's from the last one back, leaving a prefix), but for a gap of at most
+   * {@value #GAP_BRIDGED} names, a file or two moved or deleted by hand. A longer gap ends the
+   * recording: a file further on whose name only looks like a rotated file's ({@code
+   * run-2026.mcap}, a user's date-named file, beside {@code run.mcap}) is no file of it, so
+   * nothing here ever lists or deletes it.
    */
   static SortedMap<Integer, Path> rotatedFilesIn(Path first) {
     SortedMap<Integer, Path> found = new TreeMap<>();
-    for (int index = 1; index < Integer.MAX_VALUE; index++) {
+    int missing = 0;
+    for (int index = 1; index < Integer.MAX_VALUE && missing <= GAP_BRIDGED; index++) {
       Path rotated = rotatedPath(first, index);
       // not following links: a link left with a rotated file's name is one too
-      if (!Files.exists(rotated, LinkOption.NOFOLLOW_LINKS)) {
-        break;
+      if (Files.exists(rotated, LinkOption.NOFOLLOW_LINKS)) {
+        found.put(index, rotated);
+        missing = 0;
+      } else {
+        missing++;
       }
-      found.put(index, rotated);
     }
     return found;
   }

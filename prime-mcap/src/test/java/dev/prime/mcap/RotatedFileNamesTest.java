@@ -2,6 +2,7 @@ package dev.prime.mcap;
 
 import static org.junit.jupiter.api.Assertions.assertArrayEquals;
 import static org.junit.jupiter.api.Assertions.assertEquals;
+import static org.junit.jupiter.api.Assertions.assertThrows;
 import static org.junit.jupiter.api.Assertions.assertTrue;
 
 import java.io.IOException;
@@ -73,5 +74,32 @@ class RotatedFileNamesTest {
     try (McapReader reader = McapReader.open(dated)) {
       assertEquals(10, reader.messageCount("readings"), "the input is left as it was");
     }
+  }
+
+  /**
+   * A file or two moved or deleted from the middle of a recording leaves a gap that {@link
+   * McapReader#recordingFiles} refuses over (naming the missing file); a new writer at the path
+   * deletes the earlier recording's files across such a gap too, so the new recording is listed,
+   * not refused for the earlier one's leftovers. A gap of three names or more ends a recording.
+   */
+  @Test
+  void aNewRecordingDeletesTheEarlierOnesFilesAcrossAGapTheReaderRefusesOver() throws IOException {
+    Path file = dir.resolve("gap.mcap");
+    List<Path> earlier = record(file, 300);
+    assertTrue(earlier.size() >= 6, "rotated into " + earlier);
+    Files.delete(earlier.get(2)); // gap-0002.mcap, moved away by hand
+    assertThrows(IllegalStateException.class, () -> McapReader.recordingFiles(file), "a file of it is missing");
+
+    List<Path> later = record(file, 1);
+    assertEquals(List.of(file), later);
+    assertEquals(later, McapReader.recordingFiles(file), "the new recording, not refused for the earlier one's files");
+    for (Path stale : earlier.subList(1, earlier.size())) {
+      assertTrue(Files.notExists(stale), stale + " of the earlier recording is deleted");
+    }
+
+    Path far = Files.write(McapWriter.rotatedPath(file, 4), new byte[] {1, 2, 3}); // past a gap of three names
+    assertEquals(later, McapReader.recordingFiles(file), "a gap of three names ends the recording");
+    record(file, 1);
+    assertArrayEquals(new byte[] {1, 2, 3}, Files.readAllBytes(far), "and a writer leaves what is past it");
   }
 }
