@@ -1097,7 +1097,9 @@ public abstract class PrimeCore implements AutoCloseable {
   // ---------------------------------------------------------------- lifecycle
 
   /**
-   * Starts the services declared so far; services declared later start at once.
+   * Starts the services declared so far; services declared later start at once. A declaration
+   * under way on another thread when {@code start()} is called ends first: its services start
+   * with the others (on Optimus, {@code start()} also claims its host leases).
    *
    * <p>A {@code start()} that throws (on Optimus: a Redis that refuses what the core needs, a
    * hosting it may not take, a wait for Redis interrupted; Liberty and Radiant have no such
@@ -1117,18 +1119,16 @@ public abstract class PrimeCore implements AutoCloseable {
    */
   public final void start() {
     synchronized (lifecycle) {
-      if (state == State.CLOSED) {
-        throw new CoreClosedException(name);
+      refuseStart(); // at once, not after a declaration under way (one may wait for Redis)
+    }
+    // a declaration under way on another thread ends first: it left what it made to this start
+    // (it saw the core not started), which must then see it, though topology() would not
+    synchronized (recorder) {
+      synchronized (lifecycle) {
+        refuseStart();
+        state = State.STARTED;
+        started = true;
       }
-      if (state == State.FAILED) {
-        throw startFailed("a second start()");
-      }
-      if (state == State.STARTED) {
-        throw new IllegalStateException(
-            "core '" + name + "' is already started; call start() once per core");
-      }
-      state = State.STARTED;
-      started = true;
     }
     try {
       onStart();
@@ -1145,6 +1145,20 @@ public abstract class PrimeCore implements AutoCloseable {
     services.startAll();
     hooks.started();
     LifecycleHooks.logStarted(this, media, startDetails(), serviceNames());
+  }
+
+  /** Throws what {@link #start()} throws on a core that is not new; call holding {@code lifecycle}. */
+  private void refuseStart() {
+    if (state == State.CLOSED) {
+      throw new CoreClosedException(name);
+    }
+    if (state == State.FAILED) {
+      throw startFailed("a second start()");
+    }
+    if (state == State.STARTED) {
+      throw new IllegalStateException(
+          "core '" + name + "' is already started; call start() once per core");
+    }
   }
 
   /**

@@ -42,7 +42,10 @@ import java.util.function.Supplier;
  * another process's lease): whenever no declaration is under way, what is recorded is published
  * as an immutable {@link Published} view, which readers on other threads take without the
  * monitor, so they see every finished declaration and nothing of one under way (it may still be
- * forgotten). The thread that declares sees its declaration's nodes (it holds the monitor). Nodes
+ * forgotten). {@link PrimeCore#start()} is no such reader: it takes the monitor as it marks the
+ * core started, so a declaration under way, which saw the core not started and left its services
+ * to the start, has ended and is seen by it. The thread that declares sees its declaration's
+ * nodes (it holds the monitor). Nodes
  * are only appended, and a failed declaration forgets only nodes never published, so the view
  * shares one append-only array: publishing costs the nodes added, not the whole diagram. Nothing
  * here waits for another thread while holding the monitor, except what a media's compiler does in
