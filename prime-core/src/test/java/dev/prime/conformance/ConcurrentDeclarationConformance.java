@@ -15,6 +15,9 @@ import java.util.List;
 import java.util.Set;
 import java.util.concurrent.CopyOnWriteArrayList;
 import java.util.concurrent.CountDownLatch;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
+import java.util.concurrent.Future;
 import java.util.concurrent.TimeUnit;
 import org.junit.jupiter.api.Test;
 
@@ -90,6 +93,69 @@ public interface ConcurrentDeclarationConformance extends ConformanceBase {
       events.publish(2);
       for (Reader<Integer> reader : filtered) {
         assertEquals(2, takeOrFail(reader));
+      }
+    }
+  }
+
+  /**
+   * {@link PrimeCore#start()}: "A declaration under way on another thread when {@code start()} is
+   * called ends first: its services start with the others". A merge of another core's source is
+   * held in its declaration (the source's reader, which the merge opens, waits on a latch) while
+   * {@code start()} is called on another thread; once both have ended, the merge is a service of
+   * the core and merges what the other core's source publishes.
+   */
+  @Test
+  default void aDeclarationUnderWayWhenStartIsCalledRunsOnceBothEnded() throws Exception {
+    long patience = patience().toMillis();
+    try (PrimeCore other = newCore();
+        PrimeCore core = newCore()) {
+      EventBlock<Integer> events = new EventBlock<>();
+      Source<Integer> ticks = other.source("ticks", events);
+      other.start();
+      CountDownLatch inside = new CountDownLatch(1);
+      CountDownLatch release = new CountDownLatch(1);
+      Source<Integer> held =
+          new Source<>() {
+            @Override
+            public PrimeCore core() {
+              return other;
+            }
+
+            @Override
+            public String name() {
+              return ticks.name();
+            }
+
+            @Override
+            public Reader<Integer> reader() {
+              inside.countDown();
+              try {
+                release.await(patience, TimeUnit.MILLISECONDS);
+              } catch (InterruptedException e) {
+                Thread.currentThread().interrupt();
+              }
+              return ticks.reader();
+            }
+          };
+      ExecutorService threads = Executors.newFixedThreadPool(2);
+      try {
+        Future<Source<Integer>> declaring = threads.submit(() -> core.merge(held));
+        assertTrue(inside.await(patience, TimeUnit.MILLISECONDS), "the merge's declaration is under way");
+        Future<?> starting = threads.submit(core::start);
+        release.countDown();
+        Source<Integer> merged = declaring.get(patience, TimeUnit.MILLISECONDS);
+        starting.get(patience, TimeUnit.MILLISECONDS);
+        assertTrue(
+            core.serviceNames().contains(merged.name()),
+            "the merge is a service of the core: " + core.serviceNames());
+        try (Reader<Integer> reader = merged.reader()) {
+          events.publish(7);
+          assertEquals(7, takeOrFail(reader), "the merge runs");
+        }
+      } finally {
+        release.countDown();
+        threads.shutdownNow();
+        assertTrue(threads.awaitTermination(patience, TimeUnit.MILLISECONDS), "the threads ended");
       }
     }
   }
