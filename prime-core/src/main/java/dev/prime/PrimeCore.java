@@ -1132,7 +1132,7 @@ public abstract class PrimeCore implements AutoCloseable {
     }
     try {
       onStart();
-    } catch (RuntimeException | Error e) {
+    } catch (Throwable e) { // also a checked exception, which a media in Kotlin can throw
       synchronized (lifecycle) {
         startFailure = e;
         if (state == State.STARTED) { // not if a close() came meanwhile
