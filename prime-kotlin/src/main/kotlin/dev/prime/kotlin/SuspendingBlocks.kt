@@ -38,11 +38,17 @@ import kotlin.coroutines.EmptyCoroutineContext
  * interrupts its own thread leaves no flag on it: the thread that ran the block (a pooled
  * thread, or with [EmptyCoroutineContext] the caller's) goes on with its flag cleared.
  *
+ * From Java it is `SuspendingBlocks.processSuspending(block, input, context, continuation)`, which
+ * refuses a `null` block or context with a [NullPointerException] naming it and saying what to
+ * pass (Kotlin callers cannot pass one).
+ *
  * @param input the input value
  * @param context where the block runs; [EmptyCoroutineContext] runs it on the caller's thread,
  *     still interruptibly
  * @return the block's output
  */
+@JvmSynthetic // Java calls processSuspendingFromJava, under the name processSuspending
+@JvmName("processSuspendingOfBlock")
 public suspend fun <I, O> Block<I, O>.processSuspending(
     input: I,
     context: CoroutineContext = Dispatchers.IO,
@@ -78,6 +84,30 @@ public suspend fun <I, O> Block<I, O>.processSuspending(
 }
 
 /**
+ * [processSuspending] as Java sees it, `SuspendingBlocks.processSuspending(block, input, context,
+ * continuation)`: internal, so not part of the Kotlin API, and with nullable parameters, so that a
+ * `null` from Java is refused here, naming the parameter and what to pass, at once (Kotlin makes
+ * no check of a suspending function's receiver: the null would fail later, in the block's call,
+ * with a bare [NullPointerException] given to the continuation).
+ */
+@JvmName("processSuspending")
+internal suspend fun <I, O> processSuspendingFromJava(block: Block<I, O>?, input: I, context: CoroutineContext?): O {
+    if (block == null) {
+        throw NullPointerException(
+            "SuspendingBlocks.processSuspending(block, input, context, continuation): block must not be null; " +
+                "pass the Block to call",
+        )
+    }
+    if (context == null) {
+        throw NullPointerException(
+            "SuspendingBlocks.processSuspending(block, input, context, continuation): context must not be null; " +
+                "pass where the block runs, such as Dispatchers.IO (EmptyCoroutineContext for the caller's thread)",
+        )
+    }
+    return block.processSuspending(input, context)
+}
+
+/**
  * Carries what a call's block threw out of `runInterruptible` when it would pass for the call's
  * cancellation there: an [InterruptedException], which `runInterruptible` turns into a
  * cancellation, and a [CancellationException], both also when the coroutine was not cancelled
@@ -100,15 +130,44 @@ private class CarriedOut(val thrown: Exception) : RuntimeException(thrown)
  * and a service gives it to the core's error handler, as any failure of a block. Only when a
  * `Job` in [context] was cancelled does the call end with that job's [CancellationException].
  *
+ * From Java it is `SuspendingBlocks.suspendingBlock(context, logic)`, which refuses a `null`
+ * context or logic with a [NullPointerException] naming it and saying what to pass, as the core's
+ * declarations refuse a `null` (Kotlin callers cannot pass one).
+ *
  * @param context the coroutine context [logic] runs in; its dispatcher, if any, runs the
  *     suspending parts while the calling thread waits
  * @param logic the block's logic
  * @return a block; thread-safe if [logic] is
  */
+@JvmSynthetic // Java calls suspendingBlockFromJava, under the name suspendingBlock
+@JvmName("suspendingBlockOf")
 public fun <I, O> suspendingBlock(
     context: CoroutineContext = EmptyCoroutineContext,
     logic: suspend (I) -> O,
 ): Block<I, O> = SuspendingBlock(context, logic)
+
+/**
+ * [suspendingBlock] as Java sees it, `SuspendingBlocks.suspendingBlock(context, logic)`: internal,
+ * so not part of the Kotlin API, and with nullable parameters, so that a `null` from Java is
+ * refused by the checks here, naming the parameter and what to pass, not by the check Kotlin makes
+ * of a non-null parameter.
+ */
+@JvmName("suspendingBlock")
+internal fun <I, O> suspendingBlockFromJava(context: CoroutineContext?, logic: (suspend (I) -> O)?): Block<I, O> {
+    if (context == null) {
+        throw NullPointerException(
+            "SuspendingBlocks.suspendingBlock(context, logic): context must not be null; pass the coroutine " +
+                "context the logic runs in (EmptyCoroutineContext for none)",
+        )
+    }
+    if (logic == null) {
+        throw NullPointerException(
+            "SuspendingBlocks.suspendingBlock(context, logic): logic must not be null; pass the suspending " +
+                "function the block runs for each input",
+        )
+    }
+    return SuspendingBlock(context, logic)
+}
 
 /** The block of [suspendingBlock]. */
 private class SuspendingBlock<I, O>(

@@ -12,7 +12,9 @@ import java.lang.reflect.InvocationTargetException
 import java.lang.reflect.Method
 
 /**
- * `SourceFlows.asFlow(source)` and `FlowSources.source(core, [name,] flow)` called from Java (here
+ * `SourceFlows.asFlow(source)`, `FlowSources.source(core, [name,] flow)`,
+ * `SuspendingBlocks.suspendingBlock(context, logic)` and
+ * `SuspendingBlocks.processSuspending(block, input, context, continuation)` called from Java (here
  * through the very methods Java links to) with a `null` refuse it with a [NullPointerException]
  * naming the parameter and saying what to pass, as the core's declarations do.
  */
@@ -35,6 +37,33 @@ class JavaNullArgumentsTest {
             assertRefused(named, arrayOf(core, null, emptyFlow()), "name must not be null", "pass the source's name")
             assertRefused(named, arrayOf(null, "named", emptyFlow()), "core must not be null", "pass the PrimeCore")
         }
+    }
+
+    @Test
+    fun suspendingBlockFromJavaNamesTheNullArgument() {
+        val method = javaMethod(
+            "dev.prime.kotlin.SuspendingBlocks", "suspendingBlock",
+            kotlin.coroutines.CoroutineContext::class.java, kotlin.jvm.functions.Function2::class.java,
+        )
+        val logic: suspend (Int) -> Int = { it }
+        assertRefused(method, arrayOf(kotlin.coroutines.EmptyCoroutineContext, null), "logic must not be null", "pass the suspending function")
+        assertRefused(method, arrayOf(null, logic), "context must not be null", "EmptyCoroutineContext")
+    }
+
+    @Test
+    fun processSuspendingFromJavaNamesTheNullArgument() {
+        val method = javaMethod(
+            "dev.prime.kotlin.SuspendingBlocks", "processSuspending",
+            dev.prime.Block::class.java, Any::class.java,
+            kotlin.coroutines.CoroutineContext::class.java, kotlin.coroutines.Continuation::class.java,
+        )
+        val block = dev.prime.Block<Int, Int> { it }
+        val continuation = object : kotlin.coroutines.Continuation<Any?> {
+            override val context: kotlin.coroutines.CoroutineContext = kotlin.coroutines.EmptyCoroutineContext
+            override fun resumeWith(result: Result<Any?>) {}
+        }
+        assertRefused(method, arrayOf(null, 1, kotlinx.coroutines.Dispatchers.IO, continuation), "block must not be null", "pass the Block")
+        assertRefused(method, arrayOf(block, 1, null, continuation), "context must not be null", "Dispatchers.IO")
     }
 
     private fun emptyFlow(): Flow<Int> = kotlinx.coroutines.flow.emptyFlow()
