@@ -340,13 +340,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * filter, a flat-map) is only ever published by that service, and a combinator's output or a
      * timer only by the core; they are refused.
      *
-     * Both parameters are typed nullable for callers in Java, whose `null` for either is refused
-     * with a [NullPointerException] naming it and saying what to pass, as the core's other
-     * declarations refuse a `null` (rather than with the message Kotlin makes for a non-null
-     * parameter); a `null` value among [values] is an [IllegalArgumentException] naming its
-     * position and saying what to publish instead.
+     * From Java it is `publishAll(source, values)`, which refuses a `null` for either with a
+     * [NullPointerException] naming it and saying what to pass, as the core's other declarations
+     * refuse a `null` (rather than with the message Kotlin makes for a non-null parameter; Kotlin
+     * callers cannot pass one); a `null` value among [values] is an [IllegalArgumentException]
+     * naming its position and saying what to publish instead.
      *
-     * @throws NullPointerException if [source] or [values] is `null`
+     * @throws NullPointerException if [source] or [values] is `null` (from Java)
      * @throws IllegalArgumentException if the source is not an Optimus source of this core, or is
      *     a service's, a combinator's or a timer's output, or a value is `null` or of a type the
      *     codec does not allow
@@ -356,17 +356,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * @throws IllegalStateException if the core is not started yet, whatever [values] holds
      * @throws CoreClosedException if the core is closed
      */
-    public fun <T> publishAll(source: Source<T>?, values: Iterable<T>?) {
-        if (source == null) {
-            throw NullPointerException(
-                "publishAll(source, values): source must not be null; pass the Source that core.source(events) returned",
-            )
-        }
-        if (values == null) {
-            throw NullPointerException(
-                "publishAll(source, values): values must not be null; pass an empty list to publish nothing",
-            )
-        }
+    @JvmSynthetic // Java calls publishAllFromJava, under the name publishAll
+    @JvmName("publishAllOf")
+    public fun <T> publishAll(source: Source<T>, values: Iterable<T>) {
         checkOpen()
         val target = requireNotNull(sourcePart(source, OptimusSource::class.java)) { "$source is not a source of $this" }
         require(target.ofEvents) {
@@ -402,6 +394,27 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             // recorded and metered as what the source's event block publishes
             publishedTogether(source.name(), published, began, beganNanos, accepted)
         }
+    }
+
+    /**
+     * [publishAll] as Java sees it, `publishAll(source, values)`: internal, so not part of the
+     * Kotlin API, and with nullable parameters, so that a `null` from Java is refused by the checks
+     * here, naming the parameter and what to pass, not by the check Kotlin makes of a non-null
+     * parameter.
+     */
+    @JvmName("publishAll")
+    internal fun <T> publishAllFromJava(source: Source<T>?, values: Iterable<T>?) {
+        if (source == null) {
+            throw NullPointerException(
+                "publishAll(source, values): source must not be null; pass the Source that core.source(events) returned",
+            )
+        }
+        if (values == null) {
+            throw NullPointerException(
+                "publishAll(source, values): values must not be null; pass an empty list to publish nothing",
+            )
+        }
+        publishAll(source, values)
     }
 
     /**

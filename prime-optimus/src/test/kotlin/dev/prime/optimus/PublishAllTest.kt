@@ -167,9 +167,34 @@ class PublishAllTest {
         assertThrows(CoreClosedException::class.java) { core.publishAll(numbers, emptyList()) }
     }
 
+    /**
+     * Kotlin callers keep non-null types: a call with a `Source<T>?` does not resolve to the
+     * member `publishAll`, which takes a non-null source and non-null values, but to this file's
+     * extension of the same name taking nullable ones (a member wins over an extension whenever it
+     * applies); the refusal of a Java `null` is another method's, which Kotlin does not see.
+     */
+    @Test
+    fun kotlinCallersSeeNonNullParameters() {
+        TestRedis.core(named()).use { core ->
+            val numbers: dev.prime.Source<Int>? = core.source("numbers", EventBlock<Int>())
+            val maybeValues: Iterable<Int>? = listOf(1)
+            core.start()
+            val resolved: Any = core.publishAll(numbers, listOf(1))
+            assertEquals(NULLABLE_EXTENSION, resolved, "a call with a Source<Int>? resolved to the member")
+            val resolvedForValues: Any = core.publishAll(numbers!!, maybeValues)
+            assertEquals(NULLABLE_EXTENSION, resolvedForValues, "a call with an Iterable<Int>? resolved to the member")
+        }
+    }
+
     private fun named(): CoreConfig = CoreConfig.builder().name("publish-all-" + UUID.randomUUID()).build()
 
     private companion object {
+        const val NULLABLE_EXTENSION = "the extension taking nullable parameters"
         val PATIENCE: Duration = Duration.ofSeconds(20)
     }
 }
+
+/** Chosen by a call of `publishAll` with a nullable argument only if the member takes none. */
+@Suppress("UNUSED_PARAMETER", "EXTENSION_SHADOWED_BY_MEMBER") // shadowed only if the member took nullable ones
+private fun <T> OptimusCore.publishAll(source: dev.prime.Source<T>?, values: Iterable<T>?): String =
+    "the extension taking nullable parameters"
