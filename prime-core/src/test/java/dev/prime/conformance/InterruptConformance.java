@@ -1260,6 +1260,208 @@ public interface InterruptConformance extends ConformanceBase {
     }
   }
 
+  /**
+   * As above, the other core's chain isolated ({@link PrimeCore#isolate}) and called through a
+   * user's {@code toBlock()}: the close ends the service's call at once, on Optimus too, where the
+   * call of an isolated chain also waits for the other core's reply.
+   */
+  @Test
+  default void aCloseEndsAServicesCallOfAnotherCoresIsolatedChainWithoutWaitingForTheShutdownTimeout()
+      throws InterruptedException {
+    assertACloseEndsAServicesCallOfAnotherCoresIsolatedChain(false);
+  }
+
+  /**
+   * As above, the service's call waiting for its turn (the isolated chain's block runs another
+   * user's call, which waits): a call waiting for its turn ends when its caller is interrupted
+   * ({@link PrimeCore#isolate}), so the close ends it at once too.
+   */
+  @Test
+  default void aCloseEndsAServicesWaitForItsTurnInAnotherCoresIsolatedChainWithoutWaitingForTheShutdownTimeout()
+      throws InterruptedException {
+    assertACloseEndsAServicesCallOfAnotherCoresIsolatedChain(true);
+  }
+
+  /**
+   * A service of a core calls, through a user of another core's isolated chain, the chain whose
+   * block waits; {@code behindAnotherCall}: another user's call runs the block first, so the
+   * service's call waits for its turn. The close of the service's core returns within the kit's
+   * patience, though its {@code shutdownTimeout} is three times that.
+   */
+  private void assertACloseEndsAServicesCallOfAnotherCoresIsolatedChain(boolean behindAnotherCall)
+      throws InterruptedException {
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore other = newCore(config);
+    PrimeCore core = newCore(config);
+    Thread first = null;
+    try {
+      Isolated<Integer, Integer> isolated =
+          other.isolate(
+              other.chain(
+                  "other-core-isolated",
+                  (Integer x) -> {
+                    inside.countDown();
+                    try {
+                      release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      Thread.currentThread().interrupt();
+                    }
+                    return x;
+                  }));
+      Block<Integer, Integer> firstUser = isolated.newUser().toBlock();
+      Block<Integer, Integer> serviceUser = isolated.newUser().toBlock();
+      other.start();
+      if (behindAnotherCall) {
+        first =
+            new Thread(
+                () -> {
+                  try {
+                    firstUser.process(0);
+                  } catch (RuntimeException e) {
+                    // ended by the other core's close at the end of the test: not what is checked
+                  }
+                },
+                "isolated-first-caller");
+        first.setDaemon(true);
+        first.start();
+        assertTrue(
+            inside.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+            "the first user's call runs the isolated chain's block");
+      }
+      assertACloseEndsAServicesCall(
+          core,
+          config,
+          serviceUser,
+          behindAnotherCall ? null : inside,
+          "a call of another core's isolated chain"
+              + (behindAnotherCall ? ", waiting for its turn" : ""));
+    } finally {
+      release.countDown();
+      core.close();
+      other.close();
+      if (first != null) {
+        first.join(patience().toMillis());
+      }
+    }
+  }
+
+  /**
+   * As above, the service's block calling another core's sync collector ({@link
+   * PrimeCore#syncCollector}) of a source nothing is published to: the close ends the service's
+   * wait for a value at once.
+   */
+  @Test
+  default void aCloseEndsAServicesCallOfAnotherCoresCollectorWithoutWaitingForTheShutdownTimeout()
+      throws InterruptedException {
+    CoreConfig config =
+        CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore other = newCore(config);
+    PrimeCore core = newCore(config);
+    try {
+      Block<Token, Integer> collect =
+          other.syncCollector(other.source("other-core-silent", new EventBlock<Integer>())).toBlock();
+      other.start();
+      assertACloseEndsAServicesCall(
+          core, config, x -> collect.process(Token.INSTANCE), null, "a call of another core's collector");
+    } finally {
+      core.close();
+      other.close();
+    }
+  }
+
+  /**
+   * As above, the service's block calling another core's repeater whose round's block waits: the
+   * close ends the service's call at once.
+   */
+  @Test
+  default void aCloseEndsAServicesCallOfAnotherCoresRepeaterWithoutWaitingForTheShutdownTimeout()
+      throws InterruptedException {
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch release = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore other = newCore(config);
+    PrimeCore core = newCore(config);
+    try {
+      Block<Integer, Integer> repeater =
+          other
+              .repeater(
+                  other.chain(
+                      "other-core-round",
+                      (Integer x) -> {
+                        inside.countDown();
+                        try {
+                          release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
+                        } catch (InterruptedException e) {
+                          Thread.currentThread().interrupt();
+                        }
+                        return x + 1;
+                      }),
+                  (Integer in, Integer out, List<Void> none) -> Repeat.stop(out))
+              .toBlock();
+      other.start();
+      assertACloseEndsAServicesCall(
+          core, config, repeater, inside, "a call of another core's repeater");
+    } finally {
+      release.countDown();
+      core.close();
+      other.close();
+    }
+  }
+
+  /**
+   * Declares on {@code core} (not started) a service whose block calls {@code callee}, starts it,
+   * gives the service a value, waits for {@code started} (the callee's block runs; {@code null}:
+   * the service's block is about to call) and checks that {@code core.close()} returns within the
+   * kit's patience, well before its {@code shutdownTimeout}.
+   */
+  private void assertACloseEndsAServicesCall(
+      PrimeCore core,
+      CoreConfig config,
+      Block<Integer, Integer> callee,
+      CountDownLatch started,
+      String what)
+      throws InterruptedException {
+    CountDownLatch calling = new CountDownLatch(1);
+    CountDownLatch closed = new CountDownLatch(1);
+    EventBlock<Integer> events = new EventBlock<>();
+    core.source("closing-caller-events", events)
+        .then(
+            core.chain(
+                "closing-caller",
+                (Integer x) -> {
+                  calling.countDown();
+                  return callee.process(x);
+                }))
+        .reader();
+    core.start();
+    events.publish(1);
+    assertTrue(
+        (started == null ? calling : started).await(patience().toMillis(), TimeUnit.MILLISECONDS),
+        started == null ? "the service makes " + what : "the called block runs in " + what);
+    Thread closer =
+        new Thread(
+            () -> {
+              core.close();
+              closed.countDown();
+            },
+            "closing-caller-closer");
+    closer.setDaemon(true);
+    closer.start();
+    assertTrue(
+        closed.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+        "close() returned within "
+            + patience()
+            + ", though its service's block was in "
+            + what
+            + " (shutdownTimeout "
+            + config.shutdownTimeout()
+            + ")");
+  }
+
   /** A configuration whose error handler adds every failure it gets to {@code failures}. */
   private static CoreConfig failuresInto(List<Throwable> failures) {
     return CoreConfig.builder().errorHandler((service, input, error) -> failures.add(error)).build();
