@@ -111,6 +111,45 @@ class CloseFaultTest {
     }
   }
 
+  @Test
+  void closeOnAFrozenRedisStaysWithinAShortShutdownTimeout() throws Exception {
+    String name = "close-frozen-short";
+    Duration shutdown = Duration.ofMillis(500);
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port())) {
+      OptimusCore core = OptimusCore.builder()
+          .config(CoreConfig.builder().name(name).shutdownTimeout(shutdown).sourceRetention(1024).build())
+          .redis(proxy.url()).callTimeout(Duration.ofSeconds(10)).build();
+      try {
+        EventBlock<Long> ids = new EventBlock<>();
+        var numbers = core.source("ids", ids);
+        Reader<Long> reader = numbers.reader();
+        Block<Long, Long> echo = core.<Long, Long>chain("echo", x -> x).toBlock();
+        core.start();
+        assertEquals(7L, echo.process(7L), "the core works before the freeze");
+        ids.publish(1L);
+        assertTrue(reader.take(Duration.ofSeconds(10)).isPresent(), "a reader reads before the freeze");
+        int connectionsOpen = proxy.openConnections();
+        proxy.freeze();
+        long started = System.nanoTime();
+        core.close();
+        long took = System.nanoTime() - started;
+        List<String> threadsAtReturn = Leftovers.threadsOf(name);
+        long connectionsGone = Bounded.await(Duration.ofSeconds(10), () -> proxy.openConnections() == 0);
+        Figures.report("close() on a frozen Redis with shutdownTimeout " + Figures.seconds(shutdown) + ": "
+            + Figures.seconds(took) + ", " + threadsAtReturn.size() + " threads of the core as it returned, "
+            + "proxied connections (" + connectionsOpen + " before the freeze) gone "
+            + (connectionsGone < 0 ? "never" : "after " + Figures.seconds(connectionsGone)));
+        assertTrue(took <= shutdown.toNanos(), "close() took " + Figures.seconds(took) + ", shutdownTimeout " + Figures.seconds(shutdown));
+        assertEquals(List.of(), threadsAtReturn, "threads of the core still running as close() returned");
+        assertTrue(connectionsGone >= 0, "connections left open through the proxy: " + proxy.openConnections());
+      } finally {
+        proxy.thaw();
+        core.close();
+      }
+    }
+  }
+
   private static boolean answers(URI redis) {
     try (Socket socket = new Socket()) {
       socket.connect(new InetSocketAddress("127.0.0.1", redis.getPort()), 1000);

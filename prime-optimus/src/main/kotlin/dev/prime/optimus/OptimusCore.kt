@@ -820,8 +820,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         // interruptibly). That interrupt only says "the core is closing", which the caller knows:
         // cleared, it neither cuts this close's waits short nor reaches the code after close().
         if (ownThread) Thread.interrupted()
+        // the clean-up's share of the close: on a Redis that does not answer it must not outlast shutdownTimeout
+        val cleanupNanos = cleanupNanos(config().shutdownTimeout())
+        val cleanupDeadline = System.nanoTime() + cleanupNanos
         val cleanup = try {
-            endpoint.connect("prime-${name()}-cleanup", CLEANUP_TIMEOUT, CLEANUP_TIMEOUT)
+            val limit = Duration.ofNanos(cleanupNanos)
+            endpoint.connect("prime-${name()}-cleanup", limit, limit)
         } catch (_: Exception) {
             null
         }
@@ -830,6 +834,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         inCallsOfOtherCores.forEach { if (it !== Thread.currentThread()) it.interrupt() }
         cleanup?.use { jedis ->
             try {
+                jedis.connection.setSoTimeout(ceilMillis(cleanupDeadline - System.nanoTime()).toInt())
                 val pipeline = jedis.pipelined()
                 for ((source, list) in readers) queueReaderRemoval(pipeline, keys, source, list)
                 for (slot in 1..slotNumbers.get()) pipeline.del(replyKey(slot))
@@ -1969,6 +1974,16 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val ownerOfThread = ThreadLocal<OptimusCore?>()
         private const val FAILURES_KEPT = 1024
         private val CLEANUP_TIMEOUT = Duration.ofSeconds(2)
+
+        /**
+         * How long a close spends at most on its clean-up connection (connecting, logging in and
+         * the pipeline that removes its keys, together): [CLEANUP_TIMEOUT], or half of
+         * [shutdownTimeout] if that is less, so that a close on a Redis that does not answer
+         * stays within its shutdown timeout. Connecting (at most this long) and logging in (at most
+         * this long) leave the pipeline what is left of it, at least a millisecond.
+         */
+        internal fun cleanupNanos(shutdownTimeout: Duration): Long =
+            minOf(CLEANUP_TIMEOUT.toNanos(), boundedNanos(shutdownTimeout) / 2).coerceAtLeast(1_000_000)
         private val DELETE_KEYS_TIMEOUT = Duration.ofSeconds(10)
         private val DEAD_LETTERS_TIMEOUT = Duration.ofSeconds(10)
 
