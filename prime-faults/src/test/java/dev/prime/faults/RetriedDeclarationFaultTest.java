@@ -359,6 +359,59 @@ class RetriedDeclarationFaultTest {
     }
   }
 
+  @Test
+  void aFlagAlreadySetEndsADeclarationOrAStartOnAFrozenRedisAtOnce() throws Exception {
+    String name = "retried-frozen-flag";
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port());
+        OptimusCore declaring = Cores.builder(proxy.url(), name, 1024, null).build();
+        OptimusCore starting = Cores.builder(proxy.url(), name + "-start", 1024, null).build()) {
+      declaring.start();
+      Chain<Long, Long> late = declaring.chain("late", x -> x + 1);
+      starting.chain("other", (Long x) -> x).toBlock();
+      proxy.freeze();
+      CompletableFuture<Object[]> declared = flagged("fault-flagged-declarer", late::toBlock);
+      CompletableFuture<Object[]> started = flagged("fault-flagged-starter", () -> {
+        starting.start();
+        return "started";
+      });
+      Object[] declaration = declared.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+      Object[] start = started.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+      proxy.thaw();
+      long answer = late.toBlock().process(1L);
+      Figures.report("a flag already set as a declaration or a start() begins on a frozen Redis: the declaration ended after "
+          + Figures.seconds((Long) declaration[1]) + " with " + describe(declaration[0]) + " (flag kept " + declaration[2]
+          + "), start() after " + Figures.seconds((Long) start[1]) + " with " + describe(start[0]) + " (flag kept " + start[2]
+          + "); made again after the thaw, the block answered " + answer);
+      for (Object[] outcome : List.of(declaration, start)) {
+        assertTrue(outcome[0] instanceof dev.prime.PrimeException && !(outcome[0] instanceof CoreClosedException)
+            && ((Throwable) outcome[0]).getMessage().contains("interrupted"), "fails with a PrimeException saying so: " + describe(outcome[0]));
+        assertTrue((Long) outcome[1] < Duration.ofSeconds(1).toNanos(), "the flag ends it at once: " + Figures.seconds((Long) outcome[1]));
+        assertEquals(Boolean.TRUE, outcome[2], "the flag is kept");
+      }
+      assertEquals(2L, answer, "the same declaration works once Redis answers again");
+    }
+  }
+
+  /** Runs {@code action} on a new thread whose interrupt flag is set first: what it returned or threw, its nanoseconds, whether the flag was kept. */
+  private static CompletableFuture<Object[]> flagged(String threadName, java.util.concurrent.Callable<Object> action) {
+    CompletableFuture<Object[]> outcome = new CompletableFuture<>();
+    Thread thread = new Thread(() -> {
+      Thread.currentThread().interrupt();
+      long began = System.nanoTime();
+      Object result;
+      try {
+        result = action.call();
+      } catch (Throwable e) {
+        result = e;
+      }
+      long took = System.nanoTime() - began;
+      outcome.complete(new Object[] {result, took, Thread.interrupted()});
+    }, threadName);
+    thread.start();
+    return outcome;
+  }
+
   /** Declares {@code ids → pre → stamp} (stamp marking with {@code generation}) on {@code core}. */
   private static Source<Long> linked(PrimeCore core, EventBlock<Long> ids, int generation) {
     Chain<Long, Long> pre = core.chain("pre", id -> id);

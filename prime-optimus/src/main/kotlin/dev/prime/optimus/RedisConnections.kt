@@ -248,6 +248,12 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
     fun <T> readOnce(op: (Jedis) -> T): T = attempt(null, 0, 0, false, op)
 
     private fun <T> attempt(deadline: Long?, serverWaitMillis: Long, leastAnswerMillis: Long, confirmed: Boolean, op: (Jedis) -> T): T {
+        val aborts = ABORTS_ON_INTERRUPT.get() == true
+        if (aborts && Thread.currentThread().isInterrupted) {
+            // the flag was set before this operation began: it ends it as an interrupt during its wait
+            // would, before anything is sent (else a frozen Redis would hold it until the socket timeout)
+            throw CoreClosedException(connections.coreName).apply { initCause(ClosedByInterruptException()) }
+        }
         val limit = socketLimit(deadline, serverWaitMillis, leastAnswerMillis)
         val current = jedis ?: connections.open(Duration.ofMillis(limit.toLong())).also {
             jedis = it
@@ -258,7 +264,7 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 current.connection.setSoTimeout(limit)
                 socketMillis = limit
             }
-            val result = if (ABORTS_ON_INTERRUPT.get() == true && !Thread.currentThread().isInterrupted) {
+            val result = if (aborts) {
                 try {
                     InterruptibleWait(this).run { op(current) }
                 } catch (e: ClosedByInterruptException) {
@@ -446,8 +452,8 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
          * of a session waits for Redis's answer aborts its connection at once ([InterruptibleWait])
          * and the operation fails with [CoreClosedException], as an interrupted pause between two
          * attempts does; else a frozen Redis would hold the interrupted thread until the socket
-         * timeout ([RedisConnections.COMMAND_TIMEOUT]). A flag set before the operation began
-         * changes nothing (it is seen by the pauses, as before).
+         * timeout ([RedisConnections.COMMAND_TIMEOUT]). A flag already set when an operation
+         * begins ends it the same way, before it connects or sends anything.
          */
         val ABORTS_ON_INTERRUPT: ThreadLocal<Boolean> = ThreadLocal()
 
