@@ -464,7 +464,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     public fun deadLetters(service: String): List<DeadLetter> {
         checkOpen()
-        return interruptibleInOutage({ "reading the dead letters of service '$service'" }) {
+        return interruptibleInOutage({ "reading the dead letters of service '$service'" }, waitedFor = WAITED_FOR_ANSWER, abortsWaitsForAnswers = true, flagSetBeforeEnds = false) {
             withSession { session -> session.retryingUntil(deadLettersDeadline(), "read the dead letters of service '$service'") { it.lrange(keys.deadLetters(service), 0, -1) } }
         }.map { DeadLetter.decode(service, it) }
     }
@@ -480,7 +480,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      */
     public fun trimmedDeadLetters(service: String): Long {
         checkOpen()
-        return interruptibleInOutage({ "reading how many dead letters of service '$service' were dropped" }) {
+        return interruptibleInOutage(
+            { "reading how many dead letters of service '$service' were dropped" },
+            waitedFor = WAITED_FOR_ANSWER,
+            abortsWaitsForAnswers = true,
+            flagSetBeforeEnds = false,
+        ) {
             withSession("read the dead-letter count of service '$service'") { session ->
                 session.retryingUntil(deadLettersDeadline(), "read the dead-letter count of service '$service'") {
                     it.get(keys.deadLettersTrimmed(service))
@@ -504,6 +509,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         return interruptibleInOutage(
             { "clearing the dead letters of service '$service'" },
             "; an attempt whose answer was lost may have cleared them",
+            WAITED_FOR_ANSWER,
+            abortsWaitsForAnswers = true,
+            flagSetBeforeEnds = false,
         ) {
             withSession { session ->
                 session.retryingUntil(deadLettersDeadline(), "clear the dead letters of service '$service'") { jedis ->
@@ -1061,7 +1069,13 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
     internal fun <T> newReader(source: OptimusSource<T>): Reader<T> {
         checkOpen()
         val list = keys.reader(UUID.randomUUID().toString())
-        interruptibleInOutage({ "opening a reader of source '${source.name()}'" }, "; no reader was opened") {
+        interruptibleInOutage(
+            { "opening a reader of source '${source.name()}'" },
+            "; no reader was opened",
+            WAITED_FOR_ANSWER,
+            abortsWaitsForAnswers = true,
+            flagSetBeforeEnds = false,
+        ) {
             withSession("register a reader of source '${source.name()}'") { liveness.own(it, list, source.keys.readers) }
             readers += source.keys to list
             register(source.keys, list)
@@ -1097,20 +1111,23 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * thread. That wait ends with [CoreClosedException] when the thread's interrupt flag is set: on
      * an open core, [op] fails instead with a [dev.prime.PrimeException] saying that [what] was
      * interrupted while it waited [waitedFor] (then [outcome]), the flag kept. With
-     * [abortsWaitsForAnswers] (a declaration, a start) an interrupt that comes while [op] waits for
-     * Redis's answer ends that wait too, at once, the same way ([RedisSession.ABORTS_ON_INTERRUPT]):
-     * a frozen Redis answers never, and the socket would wait out its timeout.
+     * [abortsWaitsForAnswers] an interrupt that comes while [op] waits for Redis's answer ends that
+     * wait too, at once, the same way ([RedisSession.ABORTS_ON_INTERRUPT]): a frozen Redis answers
+     * never, and the socket would wait out its timeout. With [flagSetBeforeEnds] as well (a
+     * declaration, a start) a flag already set ends each of its Redis operations before it is sent;
+     * without it (a publish, a read) such an operation is sent, and succeeds if Redis answers.
      */
     internal inline fun <T> interruptibleInOutage(
         what: () -> String,
         outcome: String = "",
         waitedFor: String = "to reach Redis again",
         abortsWaitsForAnswers: Boolean = false,
+        flagSetBeforeEnds: Boolean = abortsWaitsForAnswers,
         op: () -> T,
     ): T = try {
         if (abortsWaitsForAnswers) {
             val outer = RedisSession.ABORTS_ON_INTERRUPT.get()
-            RedisSession.ABORTS_ON_INTERRUPT.set(true)
+            RedisSession.ABORTS_ON_INTERRUPT.set(flagSetBeforeEnds)
             try {
                 op()
             } finally {
@@ -1631,6 +1648,9 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
                 val result = interruptibleInOutage(
                     { what },
                     "; it may not have been published (an attempt whose answer was lost may have stored it)",
+                    WAITED_FOR_ANSWER,
+                    abortsWaitsForAnswers = true,
+                    flagSetBeforeEnds = false,
                 ) {
                     session.retryingUntil(deadline, what) { jedis ->
                         if (source.view == null) source.refreshView(jedis, keys)
@@ -1988,6 +2008,8 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         private val DEAD_LETTERS_TIMEOUT = Duration.ofSeconds(10)
 
         /** What start(), and a declaration after it, may wait for: Redis, or another process's host lease. */
+        /** What a publish or a read may wait for: Redis, in an outage, or the answer of a Redis that stopped answering. */
+        internal const val WAITED_FOR_ANSWER = "for Redis (to reach it again, or for its answer)"
         private const val WAITED_FOR_REDIS_OR_LEASE = "for Redis (to reach it again, or for another process's host lease to lapse)"
         private const val DELETE_KEYS_BATCH = 1_000
         private val MIN_LEASE_TIME = Duration.ofMillis(300)

@@ -126,7 +126,7 @@ internal class OptimusReader<T>(
     override fun missed(): Long {
         checkUsable()
         val what = "reading the missed count of a reader of source '${source.name}'"
-        return core.interruptibleInOutage({ what }) {
+        return core.interruptibleInOutage({ what }, waitedFor = OptimusCore.WAITED_FOR_ANSWER, abortsWaitsForAnswers = true, flagSetBeforeEnds = false) {
             core.withSession(what) { pooled ->
                 pooled.retryingUntil(System.nanoTime() + NO_WAIT_BOUND_MS * 1_000_000, what) { it.get(missedKey) }
             }

@@ -248,8 +248,8 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
     fun <T> readOnce(op: (Jedis) -> T): T = attempt(null, 0, 0, false, op)
 
     private fun <T> attempt(deadline: Long?, serverWaitMillis: Long, leastAnswerMillis: Long, confirmed: Boolean, op: (Jedis) -> T): T {
-        val aborts = ABORTS_ON_INTERRUPT.get() == true
-        if (aborts && Thread.currentThread().isInterrupted) {
+        val aborts = ABORTS_ON_INTERRUPT.get()
+        if (aborts == true && Thread.currentThread().isInterrupted) {
             // the flag was set before this operation began: it ends it as an interrupt during its wait
             // would, before anything is sent (else a frozen Redis would hold it until the socket timeout)
             throw CoreClosedException(connections.coreName).apply { initCause(ClosedByInterruptException()) }
@@ -264,7 +264,8 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
                 current.connection.setSoTimeout(limit)
                 socketMillis = limit
             }
-            val result = if (aborts) {
+            // with `false`, a flag set before the operation began changes nothing: it is sent and waited for
+            val result = if (aborts == true || (aborts == false && !Thread.currentThread().isInterrupted)) {
                 try {
                     InterruptibleWait(this).run { op(current) }
                 } catch (e: ClosedByInterruptException) {
@@ -452,8 +453,11 @@ internal class RedisSession(private val connections: RedisConnections) : AutoClo
          * of a session waits for Redis's answer aborts its connection at once ([InterruptibleWait])
          * and the operation fails with [CoreClosedException], as an interrupted pause between two
          * attempts does; else a frozen Redis would hold the interrupted thread until the socket
-         * timeout ([RedisConnections.COMMAND_TIMEOUT]). A flag already set when an operation
-         * begins ends it the same way, before it connects or sends anything.
+         * timeout ([RedisConnections.COMMAND_TIMEOUT]). With `true` (a declaration, a start) a flag
+         * already set when an operation begins ends it the same way, before it connects or sends
+         * anything; with `false` (a publish, a read of dead letters, a reader's registration or
+         * count: what succeeds with the flag set when Redis answers, as on the other media) only an
+         * interrupt during the wait does. `null`: neither.
          */
         val ABORTS_ON_INTERRUPT: ThreadLocal<Boolean> = ThreadLocal()
 
