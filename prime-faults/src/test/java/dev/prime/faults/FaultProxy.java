@@ -44,6 +44,7 @@ final class FaultProxy implements AutoCloseable {
   private volatile long delayNanos;
   private final AtomicReference<byte[]> cutPattern = new AtomicReference<>();
   private final AtomicReference<Trigger> trigger = new AtomicReference<>();
+  private final AtomicReference<Trigger> answerHold = new AtomicReference<>();
   private final AtomicInteger cuts = new AtomicInteger();
   private final AtomicInteger accepted = new AtomicInteger();
   private final AtomicInteger threadNumbers = new AtomicInteger();
@@ -135,6 +136,22 @@ final class FaultProxy implements AutoCloseable {
     return armed.fired;
   }
 
+  /**
+   * Arms a one-shot hold: the next client write that contains every one of {@code parts} is
+   * forwarded to the server, and from then on nothing the server sends on that connection reaches
+   * the client (the connection stays open, as after a partition that struck just after the write;
+   * other connections go on).
+   *
+   * @return a latch that opens once that write was forwarded
+   */
+  CountDownLatch holdAnswersAfterNextClientWriteContaining(String... parts) {
+    byte[][] patterns = new byte[parts.length][];
+    for (int i = 0; i < parts.length; i++) patterns[i] = parts[i].getBytes(StandardCharsets.UTF_8);
+    Trigger armed = new Trigger(patterns, () -> {});
+    answerHold.set(armed);
+    return armed.fired;
+  }
+
   /** Connections open now (each a client's socket and its upstream socket). */
   int openConnections() {
     return connections.size();
@@ -211,6 +228,7 @@ final class FaultProxy implements AutoCloseable {
     private final Socket client;
     private final Socket upstream;
     private volatile boolean cutOnAnswer;
+    private volatile boolean holdsAnswers;
     private final ByteArrayOutputStream heldUp = new ByteArrayOutputStream(); // guarded by this
     private final ByteArrayOutputStream heldDown = new ByteArrayOutputStream(); // guarded by this
 
@@ -236,11 +254,14 @@ final class FaultProxy implements AutoCloseable {
             cuts.incrementAndGet(); // the marked write was executed; its answer never arrives
             break;
           }
+          if (!fromClient && holdsAnswers) continue; // held for good: the client never sees it
           long delay = delayNanos;
           if (delay > 0) LockSupport.parkNanos(delay);
           if (fromClient) markIfArmed(buffer, n); // before the write: its answer may come at once
           if (fromClient) fireIfArmed(buffer, n);
+          Trigger hold = fromClient ? holdIfArmed(buffer, n) : null;
           forward(fromClient ? heldUp : heldDown, out, buffer, n);
+          if (hold != null) hold.fired.countDown();
         }
       } catch (IOException e) {
         if (fromClient && !client.isClosed()) clientClosed();
@@ -280,6 +301,16 @@ final class FaultProxy implements AutoCloseable {
         heldUp.reset();
         heldDown.reset();
       }
+    }
+
+    /** The armed answer hold, if this write matches it: from now on this connection's answers are held. */
+    private Trigger holdIfArmed(byte[] chunk, int length) {
+      Trigger armed = answerHold.get();
+      if (armed != null && armed.matches(chunk, length) && answerHold.compareAndSet(armed, null)) {
+        holdsAnswers = true;
+        return armed;
+      }
+      return null;
     }
 
     private void markIfArmed(byte[] chunk, int length) {

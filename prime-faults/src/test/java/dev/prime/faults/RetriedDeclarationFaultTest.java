@@ -393,6 +393,54 @@ class RetriedDeclarationFaultTest {
     }
   }
 
+  @Test
+  void aClaimInterruptedAfterRedisGrantedItGivesTheLeaseBack() throws Exception {
+    String name = "retried-granted-interrupt";
+    TopologyKeys keys = new TopologyKeys(name);
+    try (RedisProcess redis = RedisProcess.start(RedisProcess.Persistence.NONE, null);
+        FaultProxy proxy = new FaultProxy(redis.port());
+        Jedis raw = redis.client();
+        OptimusCore declaring = Cores.builder(proxy.url(), name, 1024, null).build()) {
+      declaring.start();
+      // a first claim loads the claim script, so the claim below is one EVALSHA that Redis runs
+      assertEquals(1L, declaring.<Long, Long>chain("warm", x -> x).toBlock().process(1L));
+      Chain<Long, Long> late = declaring.chain("late", x -> x + 1);
+      String lease = keys.hostLease("late");
+      // Redis gets the claim and grants it; its answer never reaches the declaring core
+      CountDownLatch forwarded = proxy.holdAnswersAfterNextClientWriteContaining(ONE_KEY_CLAIM, lease);
+      CompletableFuture<Object> declaration = new CompletableFuture<>();
+      Thread declarer = new Thread(() -> {
+        try {
+          declaration.complete(late.toBlock());
+        } catch (Throwable e) {
+          declaration.complete(e);
+        }
+      }, "fault-declarer");
+      declarer.start();
+      assertTrue(forwarded.await(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS), "the declaration sent its claim of 'late'");
+      long granted = Bounded.await(Duration.ofSeconds(10), () -> raw.exists(lease));
+      long interrupted = System.nanoTime();
+      declarer.interrupt();
+      Object outcome = declaration.get(FaultMode.PATIENCE.toSeconds(), TimeUnit.SECONDS);
+      long ended = System.nanoTime() - interrupted;
+      String holder = raw.get(lease);
+      long leaseLeft = raw.pttl(lease);
+      long retried = System.nanoTime();
+      long answer = late.toBlock().process(1L);
+      long retriedIn = System.nanoTime() - retried;
+      Figures.report("a claim interrupted after Redis granted it (its answer held back): granted " + (granted >= 0) + ", the declaration ended "
+          + Figures.seconds(ended) + " after the interrupt with " + describe(outcome) + "; the lease then "
+          + (holder == null ? "released" : "held by " + holder + " for " + leaseLeft + " ms more") + "; made again in "
+          + Figures.seconds(retriedIn) + ", its block answered " + answer);
+      assertTrue(granted >= 0, "Redis granted the claim");
+      assertTrue(outcome instanceof dev.prime.PrimeException && !(outcome instanceof CoreClosedException),
+          "the interrupted declaration fails with a PrimeException saying so: " + describe(outcome));
+      assertTrue(ended < Duration.ofSeconds(2).toNanos(), "the interrupt ends the declaration within about a second: " + Figures.seconds(ended));
+      assertEquals(null, holder, "the lease the failed claim was granted is given back, not held for " + leaseLeft + " ms more");
+      assertEquals(2L, answer, "the same declaration works again");
+    }
+  }
+
   /** Runs {@code action} on a new thread whose interrupt flag is set first: what it returned or threw, its nanoseconds, whether the flag was kept. */
   private static CompletableFuture<Object[]> flagged(String threadName, java.util.concurrent.Callable<Object> action) {
     CompletableFuture<Object[]> outcome = new CompletableFuture<>();

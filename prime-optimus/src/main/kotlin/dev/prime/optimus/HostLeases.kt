@@ -76,7 +76,21 @@ internal class HostLeases(
         val started = System.nanoTime()
         val deadline = started + leaseTime.toNanos() + CLAIM_MARGIN.toNanos()
         val all = services.toList()
+        val heldBefore = held.toSet()
         claimed += all
+        try {
+            claimWaiting(all, coreName, declaration, ofAChain, started, deadline)
+        } catch (e: Exception) {
+            if (e is IllegalStateException) throw e // refused: the refusal released what it was granted
+            // the claim may have reached Redis and been granted, its answer lost (an interrupt, a
+            // broken connection), or it was granted some and waited for others: give back what it
+            // may hold, or no other process could host those services for a lease time
+            releaseAfterFailedClaim(all.filter { it !in heldBefore && it !in held })
+            throw e
+        }
+    }
+
+    private fun claimWaiting(all: List<String>, coreName: String, declaration: String?, ofAChain: Boolean, started: Long, deadline: Long) {
         RedisSession(connections).use { session ->
             while (true) {
                 // all of them each time: this renews the leases already claimed while others are awaited
@@ -121,6 +135,29 @@ internal class HostLeases(
                 val wait = (soonest + 1).coerceIn(MIN_WAIT_MS, ceilMillis(left))
                 connections.pause(wait)
             }
+        }
+    }
+
+    /**
+     * Releases the leases of [services] after a claim of them failed when it may have been granted
+     * (its answer lost, or it waited for others'): once, within [RELEASE_AFTER_FAILED_CLAIM], and
+     * whatever the thread's interrupt flag (an interrupt may be what ended the claim), else each
+     * lapses within the lease time. The release script checks the holder: a lease this instance
+     * does not hold is left as it is. Not on a closed core: its close releases every lease it
+     * claimed ([releaseAll]).
+     */
+    private fun releaseAfterFailedClaim(services: List<String>) {
+        if (services.isEmpty() || connections.isClosed) return
+        val aborts = RedisSession.ABORTS_ON_INTERRUPT.get()
+        RedisSession.ABORTS_ON_INTERRUPT.set(null)
+        try {
+            RedisSession(connections).use { session ->
+                session.once(System.nanoTime() + RELEASE_AFTER_FAILED_CLAIM.toNanos(), 0) { release(it, services) }
+            }
+        } catch (e: Exception) {
+            LOG.debug("could not release the host leases of {} after a failed claim (they lapse within {}): {}", services, leaseTime, e.toString())
+        } finally {
+            RedisSession.ABORTS_ON_INTERRUPT.set(aborts)
         }
     }
 
@@ -234,6 +271,9 @@ internal class HostLeases(
         /** Slack over the lease time when waiting for another's lease to lapse (timer and network jitter). */
         val CLAIM_MARGIN: Duration = Duration.ofMillis(200)
         const val MIN_WAIT_MS = 10L
+
+        /** The most a failed claim waits for the release of what it may have been granted (see [releaseAfterFailedClaim]). */
+        val RELEASE_AFTER_FAILED_CLAIM: Duration = Duration.ofMillis(500)
 
         fun ceilMillis(nanos: Long): Long = ((nanos + 999_999) / 1_000_000).coerceAtLeast(1)
     }
