@@ -1782,7 +1782,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
          * Every key of a topology carries the core name as its hash tag (`prime:{name}:...`), so a
          * topology lives in one hash slot, on one master, and the cores of many topologies (one
          * per core name, e.g. one per robot) spread over the masters. Each connection goes to the
-         * master of the topology's slot, found through Jedis's cluster client; after a failover
+         * master of the topology's slot, found by asking the cluster (`CLUSTER SLOTS`); after a failover
          * or a slot move (a refused connection, `MOVED`, `CLUSTERDOWN`, ...) the core looks the
          * master up again and carries on, waiting as in an outage until the cluster has one. A
          * cluster has database 0 only; the user and password (ACL, or `AUTH` with `requirepass`)
