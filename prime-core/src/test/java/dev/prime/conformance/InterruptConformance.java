@@ -1197,6 +1197,69 @@ public interface InterruptConformance extends ConformanceBase {
 
   /**
    * architecture.md (<i>Interrupts</i>, <i>Lifecycle</i>): a close of a core whose service's block
+   * waits interruptibly (here on a latch that never opens) interrupts the block at once and returns
+   * as soon as the block ends on it, not after {@code shutdownTimeout} (here three times the kit's
+   * patience): on Optimus too, whose connections are closed by then, so nothing the block returns
+   * could be stored.
+   */
+  @Test
+  default void aCloseInterruptsAServicesWaitingBlockWithoutWaitingForTheShutdownTimeout()
+      throws InterruptedException {
+    CountDownLatch inside = new CountDownLatch(1);
+    CountDownLatch never = new CountDownLatch(1);
+    CountDownLatch sawInterrupt = new CountDownLatch(1);
+    CountDownLatch closed = new CountDownLatch(1);
+    CoreConfig config =
+        CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
+    PrimeCore core = newCore(config);
+    try {
+      EventBlock<Integer> events = new EventBlock<>();
+      core.source("waiting-block-events", events)
+          .then(
+              core.chain(
+                  "waiting-block",
+                  (Integer x) -> {
+                    inside.countDown();
+                    try {
+                      never.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
+                    } catch (InterruptedException e) {
+                      sawInterrupt.countDown();
+                      Thread.currentThread().interrupt();
+                    }
+                    return x;
+                  }))
+          .reader();
+      core.start();
+      events.publish(1);
+      assertTrue(
+          inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the service's block runs");
+      Thread closer =
+          new Thread(
+              () -> {
+                core.close();
+                closed.countDown();
+              },
+              "waiting-block-closer");
+      closer.setDaemon(true);
+      closer.start();
+      assertTrue(
+          closed.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "close() returned within "
+              + patience()
+              + ", though its service's block waited interruptibly (shutdownTimeout "
+              + config.shutdownTimeout()
+              + ")");
+      assertTrue(
+          sawInterrupt.await(patience().toMillis(), TimeUnit.MILLISECONDS),
+          "the block's wait ended on an interrupt");
+    } finally {
+      never.countDown();
+      core.close();
+    }
+  }
+
+  /**
+   * architecture.md (<i>Interrupts</i>, <i>Lifecycle</i>): a close of a core whose service's block
    * is in a call of another core's chain, whose block waits (interruptibly), ends that call at
    * once, not after {@code shutdownTimeout}: on Liberty and Radiant the called block runs inline,
    * on the service's thread that the close interrupts; on Optimus the close interrupts the

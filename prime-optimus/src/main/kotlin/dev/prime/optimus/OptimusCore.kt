@@ -251,6 +251,12 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
      * whose wait this core's [close] does not reach by closing its own connections: it interrupts them.
      */
     internal val inCallsOfOtherCores: MutableSet<Thread> = ConcurrentHashMap.newKeySet()
+    /**
+     * This core's own threads running a generic service's loop: the cancel of [close] interrupts
+     * them (they run interruptibly) and their `shutdown()` then runs with the flag cleared, which a
+     * second interrupt must not cut short; [close] interrupts every other thread of the core.
+     */
+    private val inGenericLoops: MutableSet<Thread> = ConcurrentHashMap.newKeySet()
     private val dispatcher: ExecutorCoroutineDispatcher = executor.asCoroutineDispatcher()
     private val supervisor = SupervisorJob()
     private val scope = CoroutineScope(supervisor + dispatcher + CoroutineName("optimus-${name()}"))
@@ -442,7 +448,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         val wasRunning = name !in notRunning
         try {
             interruptibleInOutage({ "declaring generic service '$name'" }, waitedFor = WAITED_FOR_REDIS_OR_LEASE, abortsWaitsForAnswers = true) {
-                launchHosted(name) { runInterruptible { loop.run() } }
+                launchHosted(name) { runInterruptible { runGenericLoop(loop) } }
             }
         } catch (e: Throwable) {
             // the declaration fails and is forgotten: nothing of it stays, so it can be made again
@@ -781,7 +787,7 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             throw e
         }
         services.values.forEach(::launchIfHosted)
-        genericServices.values.forEach { loop -> launchHosted(loop.name()) { runInterruptible { loop.run() } } }
+        genericServices.values.forEach { loop -> launchHosted(loop.name()) { runInterruptible { runGenericLoop(loop) } } }
     }
 
     /**
@@ -838,8 +844,14 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
             null
         }
         connections.closeAll() // wakes every blocked read
-        // a service's call of another core's chain waits on that core's connections: its interrupt ends it
-        inCallsOfOtherCores.forEach { if (it !== Thread.currentThread()) it.interrupt() }
+        // A service's block that waits (a sleep, a queue's take, a call of another core's chain,
+        // which waits on that core's connections) ends on its interrupt, at once, as on Liberty
+        // and Radiant: with the connections closed nothing it returns could be stored now (the
+        // value stays in its processing list for the next run), so waiting for it buys nothing.
+        // Not the calling thread, nor a generic service's, which the cancel interrupted already.
+        val current = Thread.currentThread()
+        threads.forEach { if (it !== current && it !in inGenericLoops) it.interrupt() }
+        inCallsOfOtherCores.forEach { if (it !== current) it.interrupt() }
         cleanup?.use { jedis ->
             try {
                 jedis.connection.setSoTimeout(ceilMillis(cleanupDeadline - System.nanoTime()).toInt())
@@ -864,6 +876,17 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         shutdownResources()
         readerMisses.flush() // the misses counted since the last line: no publish of this core comes after
         readerSkips.flush() // the skips counted since the last line: no read of this core comes after
+    }
+
+    /** Runs a generic service's [loop], its thread noted in [inGenericLoops] meanwhile. */
+    private fun runGenericLoop(loop: GenericServiceLoop) {
+        val current = Thread.currentThread()
+        inGenericLoops += current
+        try {
+            loop.run()
+        } finally {
+            inGenericLoops -= current
+        }
     }
 
     /** Also this core's own threads (services, listeners, the heartbeat), which a close under way joins. */
