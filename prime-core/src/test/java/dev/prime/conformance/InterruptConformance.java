@@ -1208,7 +1208,6 @@ public interface InterruptConformance extends ConformanceBase {
     CountDownLatch inside = new CountDownLatch(1);
     CountDownLatch never = new CountDownLatch(1);
     CountDownLatch sawInterrupt = new CountDownLatch(1);
-    CountDownLatch closed = new CountDownLatch(1);
     CoreConfig config =
         CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
     PrimeCore core = newCore(config);
@@ -1233,22 +1232,7 @@ public interface InterruptConformance extends ConformanceBase {
       events.publish(1);
       assertTrue(
           inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the service's block runs");
-      Thread closer =
-          new Thread(
-              () -> {
-                core.close();
-                closed.countDown();
-              },
-              "waiting-block-closer");
-      closer.setDaemon(true);
-      closer.start();
-      assertTrue(
-          closed.await(patience().toMillis(), TimeUnit.MILLISECONDS),
-          "close() returned within "
-              + patience()
-              + ", though its service's block waited interruptibly (shutdownTimeout "
-              + config.shutdownTimeout()
-              + ")");
+      assertClosedWithinPatience(core, config, "waited interruptibly");
       assertTrue(
           sawInterrupt.await(patience().toMillis(), TimeUnit.MILLISECONDS),
           "the block's wait ended on an interrupt");
@@ -1271,7 +1255,6 @@ public interface InterruptConformance extends ConformanceBase {
       throws InterruptedException {
     CountDownLatch inside = new CountDownLatch(1);
     CountDownLatch release = new CountDownLatch(1);
-    CountDownLatch closed = new CountDownLatch(1);
     CoreConfig config =
         CoreConfig.builder().shutdownTimeout(patience().multipliedBy(3)).build();
     PrimeCore other = newCore(config);
@@ -1279,43 +1262,11 @@ public interface InterruptConformance extends ConformanceBase {
     try {
       Block<Integer, Integer> waiting =
           other
-              .chain(
-                  "other-core-waiting",
-                  (Integer x) -> {
-                    inside.countDown();
-                    try {
-                      release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
-                    } catch (InterruptedException e) {
-                      Thread.currentThread().interrupt();
-                    }
-                    return x;
-                  })
+              .chain("other-core-waiting", (Integer x) -> waitUntilReleased(inside, release, x))
               .toBlock();
       other.start();
-      EventBlock<Integer> events = new EventBlock<>();
-      core.source("closing-caller-events", events)
-          .then(core.chain("closing-caller", (Integer x) -> waiting.process(x)))
-          .reader();
-      core.start();
-      events.publish(1);
-      assertTrue(
-          inside.await(patience().toMillis(), TimeUnit.MILLISECONDS), "the other core's block runs");
-      Thread closer =
-          new Thread(
-              () -> {
-                core.close();
-                closed.countDown();
-              },
-              "closing-caller-closer");
-      closer.setDaemon(true);
-      closer.start();
-      assertTrue(
-          closed.await(patience().toMillis(), TimeUnit.MILLISECONDS),
-          "close() returned within "
-              + patience()
-              + ", though its service's block was in a call of another core's chain (shutdownTimeout "
-              + config.shutdownTimeout()
-              + ")");
+      assertACloseEndsAServicesCall(
+          core, config, waiting, inside, "a call of another core's chain");
     } finally {
       release.countDown();
       core.close();
@@ -1364,16 +1315,7 @@ public interface InterruptConformance extends ConformanceBase {
       Isolated<Integer, Integer> isolated =
           other.isolate(
               other.chain(
-                  "other-core-isolated",
-                  (Integer x) -> {
-                    inside.countDown();
-                    try {
-                      release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
-                    } catch (InterruptedException e) {
-                      Thread.currentThread().interrupt();
-                    }
-                    return x;
-                  }));
+                  "other-core-isolated", (Integer x) -> waitUntilReleased(inside, release, x)));
       Block<Integer, Integer> firstUser = isolated.newUser().toBlock();
       Block<Integer, Integer> serviceUser = isolated.newUser().toBlock();
       other.start();
@@ -1454,15 +1396,7 @@ public interface InterruptConformance extends ConformanceBase {
               .repeater(
                   other.chain(
                       "other-core-round",
-                      (Integer x) -> {
-                        inside.countDown();
-                        try {
-                          release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
-                        } catch (InterruptedException e) {
-                          Thread.currentThread().interrupt();
-                        }
-                        return x + 1;
-                      }),
+                      (Integer x) -> waitUntilReleased(inside, release, x) + 1),
                   (Integer in, Integer out, List<Void> none) -> Repeat.stop(out))
               .toBlock();
       other.start();
@@ -1489,7 +1423,6 @@ public interface InterruptConformance extends ConformanceBase {
       String what)
       throws InterruptedException {
     CountDownLatch calling = new CountDownLatch(1);
-    CountDownLatch closed = new CountDownLatch(1);
     EventBlock<Integer> events = new EventBlock<>();
     core.source("closing-caller-events", events)
         .then(
@@ -1505,6 +1438,17 @@ public interface InterruptConformance extends ConformanceBase {
     assertTrue(
         (started == null ? calling : started).await(patience().toMillis(), TimeUnit.MILLISECONDS),
         started == null ? "the service makes " + what : "the called block runs in " + what);
+    assertClosedWithinPatience(core, config, "was in " + what);
+  }
+
+  /**
+   * Closes {@code core} on a thread of its own and checks that {@code close()} returns within the
+   * kit's patience, well before {@code config}'s {@code shutdownTimeout}, though its service's
+   * block {@code what} ("was in a call of ...", "waited interruptibly").
+   */
+  private void assertClosedWithinPatience(PrimeCore core, CoreConfig config, String what)
+      throws InterruptedException {
+    CountDownLatch closed = new CountDownLatch(1);
     Thread closer =
         new Thread(
             () -> {
@@ -1518,11 +1462,26 @@ public interface InterruptConformance extends ConformanceBase {
         closed.await(patience().toMillis(), TimeUnit.MILLISECONDS),
         "close() returned within "
             + patience()
-            + ", though its service's block was in "
+            + ", though its service's block "
             + what
             + " (shutdownTimeout "
             + config.shutdownTimeout()
             + ")");
+  }
+
+  /**
+   * A block's body that says it runs ({@code inside}), waits (interruptibly, at most four times
+   * the kit's patience) until {@code release} opens, keeps an interrupt's flag and returns {@code
+   * x}.
+   */
+  private Integer waitUntilReleased(CountDownLatch inside, CountDownLatch release, Integer x) {
+    inside.countDown();
+    try {
+      release.await(patience().toMillis() * 4, TimeUnit.MILLISECONDS);
+    } catch (InterruptedException e) {
+      Thread.currentThread().interrupt();
+    }
+    return x;
   }
 
   /** A configuration whose error handler adds every failure it gets to {@code failures}. */
