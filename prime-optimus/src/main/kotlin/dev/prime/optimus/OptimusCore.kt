@@ -247,11 +247,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         }
     }
     /**
-     * This core's own threads that are in a call of another Optimus core's chain ([callOfAnotherCore]),
-     * whose wait this core's [close] does not reach by closing its own connections: it interrupts them.
-     */
-    internal val inCallsOfOtherCores: MutableSet<Thread> = ConcurrentHashMap.newKeySet()
-    /**
      * This core's own threads running a generic service's loop: the cancel of [close] interrupts
      * them (they run interruptibly) and their `shutdown()` then runs with the flag cleared, which a
      * second interrupt must not cut short; [close] interrupts every other thread of the core.
@@ -661,24 +656,18 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
 
     /**
      * Runs [call], a call of this core's chain. Made on an own thread of another Optimus core (a
-     * block of that core's service calling this core's chain through its `toBlock()`), the thread
-     * is noted for that core while the call lasts, so that core's [close] interrupts the call at
-     * once, after it closed its connections (nothing the block returns could then be stored, and
-     * the value stays in its processing list), rather than waiting `shutdownTimeout` for a reply
-     * this core's service may never send. A close of that core that began before the thread was
-     * noted sets the flag itself: the call fails as an interrupted one.
+     * block of that core's service calling this core's chain through its `toBlock()`), the call
+     * waits on this core's connections, which that core's [close] does not close: that close
+     * interrupts every thread of its own after closing its connections, which ends such a call
+     * under way at once (nothing the block returns could then be stored, and the value stays in its
+     * processing list), rather than after `shutdownTimeout`. A call made on such a thread once that
+     * core is closed (after a block that swallowed the close's interrupt) sets the flag itself: it
+     * fails as an interrupted one.
      */
     internal inline fun <T> callOfAnotherCore(call: () -> T): T {
         val owner = ownerOfCurrentThread()
-        if (owner == null || owner === this) return call()
-        val current = Thread.currentThread()
-        owner.inCallsOfOtherCores += current
-        try {
-            if (owner.isClosed) current.interrupt() // its close may have looked for such calls before this one
-            return call()
-        } finally {
-            owner.inCallsOfOtherCores -= current
-        }
+        if (owner != null && owner !== this && owner.isClosed) Thread.currentThread().interrupt()
+        return call()
     }
 
     /** The Optimus core whose own thread the current thread is, or `null`. */
@@ -851,7 +840,6 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         // Not the calling thread, nor a generic service's, which the cancel interrupted already.
         val current = Thread.currentThread()
         threads.forEach { if (it !== current && it !in inGenericLoops) it.interrupt() }
-        inCallsOfOtherCores.forEach { if (it !== current) it.interrupt() }
         cleanup?.use { jedis ->
             try {
                 jedis.connection.setSoTimeout(ceilMillis(cleanupDeadline - System.nanoTime()).toInt())
