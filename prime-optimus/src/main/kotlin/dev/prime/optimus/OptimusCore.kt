@@ -1135,23 +1135,32 @@ public class OptimusCore private constructor(config: CoreConfig, settings: Setti
         abortsWaitsForAnswers: Boolean = false,
         flagSetBeforeEnds: Boolean = abortsWaitsForAnswers,
         op: () -> T,
-    ): T = try {
-        if (abortsWaitsForAnswers) {
-            val outer = RedisSession.ABORTS_ON_INTERRUPT.get()
-            RedisSession.ABORTS_ON_INTERRUPT.set(flagSetBeforeEnds)
-            try {
+    ): T {
+        // set as it begins: with flagSetBeforeEnds, it ends before anything is sent, and never waited
+        val refusedAtOnce = flagSetBeforeEnds && Thread.currentThread().isInterrupted
+        return try {
+            if (abortsWaitsForAnswers) {
+                val outer = RedisSession.ABORTS_ON_INTERRUPT.get()
+                RedisSession.ABORTS_ON_INTERRUPT.set(flagSetBeforeEnds)
+                try {
+                    op()
+                } finally {
+                    RedisSession.ABORTS_ON_INTERRUPT.set(outer)
+                }
+            } else {
                 op()
-            } finally {
-                RedisSession.ABORTS_ON_INTERRUPT.set(outer)
             }
-        } else {
-            op()
+        } catch (e: CoreClosedException) {
+            if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
+            val why = if (refusedAtOnce) {
+                "was refused at once: its thread had been interrupted before it began (the interrupt flag was already " +
+                    "set as it began), so it neither asked Redis anything nor waited $waitedFor; clear the flag, or find who " +
+                    "set it, and make it again"
+            } else {
+                "was interrupted while it waited $waitedFor"
+            }
+            throw dev.prime.PrimeException("${what()} $why$outcome (the thread's interrupt flag is kept)").apply { initCause(e) }
         }
-    } catch (e: CoreClosedException) {
-        if (connections.isClosed || !Thread.currentThread().isInterrupted) throw e
-        throw dev.prime.PrimeException(
-            "${what()} was interrupted while it waited $waitedFor$outcome (the thread's interrupt flag is kept)",
-        ).apply { initCause(e) }
     }
 
     /**
